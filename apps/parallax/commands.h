@@ -1,0 +1,22 @@
+// The subcommands of `parallax`: each registers its options on the CLI11 app and runs when chosen.
+// Each returns the process exit status; errors in input are reported on stderr by main.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace parallax::cli {
+
+// A registered subcommand; `run` is called after parsing when it was chosen and returns the exit
+// code. Options are bound to state owned by `run` (captured shared state).
+struct Command {
+  CLI::App* subcommand = nullptr;
+  std::function<int()> run;
+};
+
+Command addInfoCommand(CLI::App& app);
+Command addGenerateCommand(CLI::App& app);
+Command addBenchCommand(CLI::App& app);
+
+}  // namespace parallax::cli

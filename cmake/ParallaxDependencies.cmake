@@ -1,0 +1,36 @@
+# Every dependency is a Debian package; a missing one fails with the package name to install
+# (scripts/install-deps.sh installs them all).
+include(FindPkgConfig)
+
+function(parallax_require_package found_var debian_package what)
+  if(NOT ${found_var})
+    message(FATAL_ERROR "${what} not found: install the Debian package '${debian_package}' "
+                        "(or run scripts/install-deps.sh)")
+  endif()
+endfunction()
+
+find_package(Threads REQUIRED)
+
+find_package(TBB CONFIG QUIET)
+parallax_require_package(TBB_FOUND libtbb-dev "oneTBB")
+
+find_package(CLI11 CONFIG QUIET)
+parallax_require_package(CLI11_FOUND libcli11-dev "CLI11")
+
+find_package(nlohmann_json CONFIG QUIET)
+parallax_require_package(nlohmann_json_FOUND nlohmann-json3-dev "nlohmann JSON")
+
+find_path(PARALLAX_FAST_FLOAT_INCLUDE fast_float/fast_float.h)
+parallax_require_package(PARALLAX_FAST_FLOAT_INCLUDE libfast-float-dev "fast_float")
+add_library(parallax_fast_float INTERFACE)
+target_include_directories(parallax_fast_float SYSTEM INTERFACE ${PARALLAX_FAST_FLOAT_INCLUDE})
+add_library(parallax::fast_float ALIAS parallax_fast_float)
+
+if(PARALLAX_BUILD_TESTS)
+  find_package(GTest CONFIG QUIET)
+  parallax_require_package(GTest_FOUND libgtest-dev "GoogleTest")
+endif()
+if(PARALLAX_BUILD_BENCH)
+  find_package(benchmark CONFIG QUIET)
+  parallax_require_package(benchmark_FOUND libbenchmark-dev "Google Benchmark")
+endif()

@@ -1,0 +1,90 @@
+#include "core/point_cloud.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include <cstring>
+
+namespace parallax {
+
+double ScalarColumn::valueAsDouble(std::size_t i) const {
+  switch (type) {
+    case ScalarType::Int8: return as<std::int8_t>()[i];
+    case ScalarType::UInt8: return as<std::uint8_t>()[i];
+    case ScalarType::Int16: return as<std::int16_t>()[i];
+    case ScalarType::UInt16: return as<std::uint16_t>()[i];
+    case ScalarType::Int32: return as<std::int32_t>()[i];
+    case ScalarType::UInt32: return as<std::uint32_t>()[i];
+    case ScalarType::Float32: return as<float>()[i];
+    case ScalarType::Float64: return as<double>()[i];
+  }
+  return 0.0;
+}
+
+std::vector<std::string> PointCloud::attributeNames() const {
+  std::vector<std::string> names = {"x", "y", "z"};
+  if (hasColors()) {
+    names.insert(names.end(), {"red", "green", "blue"});
+    if (source.has_alpha) names.push_back("alpha");
+  }
+  if (hasNormals()) names.insert(names.end(), {"nx", "ny", "nz"});
+  if (hasIntensity()) names.push_back("intensity");
+  if (hasClassification()) names.push_back("classification");
+  for (const auto& column : scalars) names.push_back(column.name);
+  return names;
+}
+
+const ScalarColumn* PointCloud::findScalar(const std::string& name) const {
+  for (const auto& column : scalars) {
+    if (column.name == name) return &column;
+  }
+  return nullptr;
+}
+
+void PointCloud::computeBounds() {
+  struct IntBox {
+    Int3 lo{INT32_MAX, INT32_MAX, INT32_MAX};
+    Int3 hi{INT32_MIN, INT32_MIN, INT32_MIN};
+  };
+  const Int3* p = positions.data();
+  IntBox box = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, count, 1 << 16), IntBox{},
+      [p](const tbb::blocked_range<std::size_t>& range, IntBox acc) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          acc.lo.x = std::min(acc.lo.x, p[i].x), acc.hi.x = std::max(acc.hi.x, p[i].x);
+          acc.lo.y = std::min(acc.lo.y, p[i].y), acc.hi.y = std::max(acc.hi.y, p[i].y);
+          acc.lo.z = std::min(acc.lo.z, p[i].z), acc.hi.z = std::max(acc.hi.z, p[i].z);
+        }
+        return acc;
+      },
+      [](IntBox a, const IntBox& b) {
+        a.lo = {std::min(a.lo.x, b.lo.x), std::min(a.lo.y, b.lo.y), std::min(a.lo.z, b.lo.z)};
+        a.hi = {std::max(a.hi.x, b.hi.x), std::max(a.hi.y, b.hi.y), std::max(a.hi.z, b.hi.z)};
+        return a;
+      });
+  bounds = Bounds3{};
+  if (count == 0) return;
+  bounds.extend(quantization.toWorld(0, box.lo.x), quantization.toWorld(1, box.lo.y),
+                quantization.toWorld(2, box.lo.z));
+  bounds.extend(quantization.toWorld(0, box.hi.x), quantization.toWorld(1, box.hi.y),
+                quantization.toWorld(2, box.hi.z));
+}
+
+PointCloud PointCloud::clone() const {
+  PointCloud copy;
+  copy.count = count;
+  copy.quantization = quantization;
+  copy.positions = positions.clone();
+  copy.colors = colors.clone();
+  copy.normals = normals.clone();
+  copy.intensity = intensity.clone();
+  copy.classification = classification.clone();
+  for (const auto& column : scalars) {
+    copy.scalars.push_back({column.name, column.type, column.data.clone()});
+  }
+  copy.source = source;
+  copy.bounds = bounds;
+  return copy;
+}
+
+}  // namespace parallax

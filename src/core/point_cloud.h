@@ -1,0 +1,99 @@
+// The point data model: one column per attribute, positions quantized to int32.
+//
+// A PointCloud is a whole cloud or one chunk of a stream; both have the same shape. Optional
+// attributes are empty columns when absent (check `hasColors()` etc., not the schema). Every
+// non-empty column has exactly `count` elements.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/bounds.h"
+#include "core/column.h"
+#include "core/quantization.h"
+#include "core/scalar_type.h"
+
+namespace parallax {
+
+struct Int3 {
+  std::int32_t x, y, z;
+  friend bool operator==(const Int3&, const Int3&) = default;
+};
+struct Float3 {
+  float x, y, z;
+  friend bool operator==(const Float3&, const Float3&) = default;
+};
+// 8-bit colour; alpha is 255 when the source has none.
+struct Rgba8 {
+  std::uint8_t r, g, b, a;
+  friend bool operator==(const Rgba8&, const Rgba8&) = default;
+};
+
+// A property the model has no dedicated column for, kept under its source name and type so that
+// writers give it back unchanged. `data` holds count * scalarSize(type) bytes, native endian.
+struct ScalarColumn {
+  std::string name;
+  ScalarType type = ScalarType::Float32;
+  ByteBuffer data;
+
+  template <class T>
+  const T* as() const {
+    return reinterpret_cast<const T*>(data.data());
+  }
+  template <class T>
+  T* as() {
+    return reinterpret_cast<T*>(data.data());
+  }
+  // Value of point i converted to double (for statistics and display).
+  double valueAsDouble(std::size_t i) const;
+};
+
+// How the source stored the attributes the model normalises (positions to int32, colours to
+// 8 bits, normals to float), so a writer can give a file back in its own types.
+struct SourceTypes {
+  ScalarType position = ScalarType::Float32;
+  ScalarType color = ScalarType::UInt8;
+  ScalarType normal = ScalarType::Float32;
+  ScalarType intensity = ScalarType::Float32;
+  ScalarType classification = ScalarType::UInt8;
+  bool has_alpha = false;
+};
+
+struct PointCloud {
+  std::uint64_t count = 0;
+  Quantization quantization;
+  Column<Int3> positions;               // always count elements
+  Column<Rgba8> colors;                 // empty: no colour
+  Column<Float3> normals;               // empty: no normals
+  Column<float> intensity;              // empty: no intensity
+  Column<std::uint8_t> classification;  // empty: no classification
+  std::vector<ScalarColumn> scalars;    // every other scalar property, in source order
+  SourceTypes source;
+  // Bounds of the points held, in world coordinates (exact: computed from the quantized values).
+  Bounds3 bounds;
+
+  bool hasColors() const { return !colors.empty(); }
+  bool hasNormals() const { return !normals.empty(); }
+  bool hasIntensity() const { return !intensity.empty(); }
+  bool hasClassification() const { return !classification.empty(); }
+
+  double worldX(std::size_t i) const { return quantization.toWorld(0, positions[i].x); }
+  double worldY(std::size_t i) const { return quantization.toWorld(1, positions[i].y); }
+  double worldZ(std::size_t i) const { return quantization.toWorld(2, positions[i].z); }
+
+  // "x y z", then "red green blue [alpha]", "nx ny nz", "intensity", "classification", then the
+  // scalar columns' names: the attributes a user sees in `info`.
+  std::vector<std::string> attributeNames() const;
+
+  const ScalarColumn* findScalar(const std::string& name) const;
+
+  // Recomputes `bounds` from the positions (parallel).
+  void computeBounds();
+
+  // A deep copy (tests, small chunks).
+  PointCloud clone() const;
+};
+
+}  // namespace parallax
