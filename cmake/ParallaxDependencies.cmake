@@ -34,3 +34,19 @@ if(PARALLAX_BUILD_BENCH)
   find_package(benchmark CONFIG QUIET)
   parallax_require_package(benchmark_FOUND libbenchmark-dev "Google Benchmark")
 endif()
+
+# Rendering (src/render, src/viewer). GL functions come from libepoxy, which loads them through
+# EGL or GLX alike; the headless context is EGL's.
+pkg_check_modules(epoxy QUIET IMPORTED_TARGET epoxy)
+parallax_require_package(epoxy_FOUND libepoxy-dev "libepoxy")
+pkg_check_modules(egl QUIET IMPORTED_TARGET egl)
+parallax_require_package(egl_FOUND libegl-dev "EGL")
+find_package(glm CONFIG QUIET)
+parallax_require_package(glm_FOUND libglm-dev "GLM")
+# Debian's libstb is a compiled library (stb_image, stb_image_write, ...).
+pkg_check_modules(stb QUIET IMPORTED_TARGET stb)
+parallax_require_package(stb_FOUND libstb-dev "stb")
+pkg_check_modules(glfw3 QUIET IMPORTED_TARGET glfw3)
+parallax_require_package(glfw3_FOUND libglfw3-dev "GLFW 3")
+pkg_check_modules(imgui QUIET IMPORTED_TARGET imgui)
+parallax_require_package(imgui_FOUND libimgui-dev "Dear ImGui")

@@ -9,6 +9,21 @@ if(PARALLAX_SANITIZE)
                                                          -fno-omit-frame-pointer)
   target_link_options(parallax_build_flags INTERFACE -fsanitize=address,undefined)
 endif()
+if(PARALLAX_BUILD_FUZZ)
+  # The libraries a fuzz target links get coverage instrumentation without libFuzzer's main
+  # (fuzzer-no-link); the fuzz targets themselves add -fsanitize=fuzzer (fuzz/CMakeLists.txt).
+  # Executables other than fuzz targets (the `parallax` app) still link: they get the sanitizer
+  # runtimes, whose coverage callbacks are no-ops without libFuzzer.
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "PARALLAX_BUILD_FUZZ needs clang (libFuzzer): configure with "
+                        "-DCMAKE_CXX_COMPILER=clang++ (Debian packages 'clang', "
+                        "'libclang-rt-14-dev')")
+  endif()
+  target_compile_options(parallax_build_flags INTERFACE -fsanitize=fuzzer-no-link,address,undefined
+                                                         -fno-sanitize-recover=undefined
+                                                         -fno-omit-frame-pointer -g)
+  target_link_options(parallax_build_flags INTERFACE -fsanitize=address,undefined)
+endif()
 add_library(parallax::build_flags ALIAS parallax_build_flags)
 
 # parallax_add_module(NAME SOURCES... DEPENDS targets...) declares one module library

@@ -1,12 +1,185 @@
-// placeholder: being written
+// `parallax bench MODE ...`: speed measurements with a same-run reference beside each number.
+//
+// Modes are sub-subcommands, each one function that registers its options on the `bench` app and
+// returns a Command (commands.h); `bench` runs whichever was chosen. Add one by writing
+// `Command addBench<Mode>Command(CLI::App& bench)` (in its own command_bench_<mode>.cpp for
+// anything large, declared in commands.h) and listing it in addBenchCommand below.
+//
+// bench load FILE [--repeat N]
+//   Loads FILE N times (default 5) with readPointFile, the path every command uses, and reports
+//   the median and best time, MB/s and M points/s. The reference, measured in the same run and
+//   interleaved with the loads: open + read() of the whole file into a newly allocated buffer,
+//   which is the least any loader must do (the kernel copy and the first touch of fresh memory).
+//   "load / reference" says how much the parsing costs on top. One warm-up read comes first so
+//   that both measure from the page cache, never from the disk. Peak memory (ru_maxrss) is shown
+//   beside the size of the columns the load produced.
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
 #include "commands.h"
+#include "core/error.h"
+#include "core/point_cloud.h"
+#include "io/point_file.h"
 
 namespace parallax::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+[[noreturn]] void throwReadError(const std::string& path, int error) {
+  throw InputError({.file = path, .expected = "a readable file", .found = std::strerror(error)});
+}
+
+// The reference: the whole file into a fresh, untouched heap buffer with read(2). Returns the
+// bytes read; the buffer is freed after the clock stops (as the loaded cloud is).
+std::uint64_t readIntoNewBuffer(const std::string& path, std::unique_ptr<std::byte[]>& buffer) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throwReadError(path, errno);
+  struct stat info {};
+  if (::fstat(fd, &info) != 0) {
+    const int error = errno;
+    ::close(fd);
+    throwReadError(path, error);
+  }
+  const std::size_t size = std::size_t(info.st_size);
+  buffer.reset(new std::byte[size]);  // default-initialised: not touched before read() fills it
+  std::size_t done = 0;
+  while (done < size) {
+    const ssize_t got = ::read(fd, buffer.get() + done, size - done);
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) {
+      const int error = got < 0 ? errno : EIO;
+      ::close(fd);
+      throwReadError(path, error);
+    }
+    done += std::size_t(got);
+  }
+  ::close(fd);
+  return done;
+}
+
+std::uint64_t columnBytes(const PointCloud& cloud) {
+  std::uint64_t bytes = cloud.positions.size() * sizeof(Int3) +
+                        cloud.colors.size() * sizeof(Rgba8) +
+                        cloud.normals.size() * sizeof(Float3) + cloud.intensity.size() * 4 +
+                        cloud.classification.size();
+  for (const auto& column : cloud.scalars) bytes += column.data.size();
+  return bytes;
+}
+
+double peakRssBytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) * 1024.0;  // Linux reports kilobytes
+}
+
+struct Times {
+  std::vector<double> seconds;
+  double median() const {
+    std::vector<double> sorted = seconds;
+    std::sort(sorted.begin(), sorted.end());
+    const std::size_t n = sorted.size();
+    return n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+  }
+  double best() const { return *std::min_element(seconds.begin(), seconds.end()); }
+};
+
+struct LoadOptions {
+  std::string file;
+  int repeat = 5;
+};
+
+int runBenchLoad(const LoadOptions& options) {
+  const std::string& path = options.file;
+  // Warm-up: puts the file in the page cache ("drop nothing": both measurements then read memory).
+  std::unique_ptr<std::byte[]> buffer;
+  const std::uint64_t file_bytes = readIntoNewBuffer(path, buffer);
+  buffer.reset();
+
+  Times load, reference;
+  std::uint64_t points = 0, columns = 0;
+  for (int i = 0; i < options.repeat; ++i) {
+    // Interleaved, so that drift in the machine's load (shared cores) hits both alike.
+    auto start = Clock::now();
+    readIntoNewBuffer(path, buffer);
+    reference.seconds.push_back(secondsSince(start));
+    buffer.reset();
+
+    start = Clock::now();
+    PointCloud cloud = readPointFile(path);
+    load.seconds.push_back(secondsSince(start));
+    points = cloud.count;
+    columns = columnBytes(cloud);
+  }
+
+  const double mb = double(file_bytes) / 1e6;
+  const double load_median = load.median(), reference_median = reference.median();
+  std::printf("file       %s: %.1f MB, %llu points\n", path.c_str(), mb,
+              static_cast<unsigned long long>(points));
+  std::printf("repeat     %d, after one warm-up read (the file is in the page cache)\n",
+              options.repeat);
+  std::printf("load       median %.4f s, best %.4f s: %.1f MB/s, %.2f M points/s\n", load_median,
+              load.best(), mb / load_median, double(points) / load_median / 1e6);
+  std::printf(
+      "reference  median %.4f s, best %.4f s: %.1f MB/s (open + read() into a new "
+      "buffer)\n",
+      reference_median, reference.best(), mb / reference_median);
+  std::printf("ratio      load / reference = %.2f (median), %.2f (best)\n",
+              load_median / reference_median, load.best() / reference.best());
+  std::printf("memory     peak RSS %.1f MB; columns %.1f MB; file %.1f MB\n", peakRssBytes() / 1e6,
+              double(columns) / 1e6, mb);
+  return 0;
+}
+
+Command addBenchLoadCommand(CLI::App& bench) {
+  auto options = std::make_shared<LoadOptions>();
+  Command command;
+  command.subcommand = bench.add_subcommand(
+      "load", "Time loading a file against reading its bytes into a new buffer");
+  command.subcommand->add_option("file", options->file, "Point file")->required();
+  command.subcommand
+      ->add_option("--repeat,-n", options->repeat, "Loads to time (median and best are shown)")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  command.run = [options] { return runBenchLoad(*options); };
+  return command;
+}
+
+}  // namespace
 
 Command addBenchCommand(CLI::App& app) {
   Command command;
-  command.subcommand = app.add_subcommand("bench", "(being written)");
-  command.run = [] { return 1; };
+  command.subcommand =
+      app.add_subcommand("bench", "Measure speed beside a same-run reference (bench load FILE)");
+  command.subcommand->require_subcommand(1);
+  // Every mode of `bench`; `bench render` joins this list.
+  auto modes = std::make_shared<std::vector<Command>>(std::vector<Command>{
+      addBenchLoadCommand(*command.subcommand),
+      addBenchRenderCommand(*command.subcommand),
+  });
+  command.run = [modes] {
+    for (const auto& mode : *modes) {
+      if (mode.subcommand->parsed()) return mode.run();
+    }
+    return 1;
+  };
   return command;
 }
 

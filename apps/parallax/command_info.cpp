@@ -1,12 +1,433 @@
-// placeholder: being written
+// `parallax info FILE [--json]`: what a point file holds and how fast it loads.
+//
+// The file is read whole with readPointFile (the same path every command uses), timed, and then
+// described: the format's own view (for PLY the header: encoding, version, comments, every
+// element with its count and typed properties), the point count, the bounds in world
+// coordinates, the quantization, and the min/max of every attribute. `--json` prints the same as
+// one JSON object on stdout (nothing else goes to stdout), for scripts and tests:
+//   file, file_bytes, format, format_details, elements (PLY), points, bounds {min, max},
+//   quantization {scale, offset}, attributes (PointCloud::attributeNames order),
+//   attribute_ranges {name: {min, max}}, load_seconds, mb_per_second, million_points_per_second.
+// Non-finite numbers (the bounds of an empty cloud) are JSON null.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
 #include "commands.h"
+#include "core/error.h"
+#include "core/point_cloud.h"
+#include "core/progress.h"
+#include "io/las_header.h"
+#include "io/ply_header.h"
+#include "io/point_file.h"
 
 namespace parallax::cli {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// ---------------------------------------------------------------------------------------------
+// Per-attribute ranges, computed in parallel over the columns.
+
+struct Range {
+  double min = std::numeric_limits<double>::infinity();
+  double max = -std::numeric_limits<double>::infinity();
+  bool empty() const { return min > max; }
+};
+
+struct NamedRange {
+  std::string name;
+  Range range;
+};
+
+// Min and max of `components` values per point, value(i, c) read as double. NaN values are
+// skipped (the comparisons are false for them), so one NaN normal does not hide the others' range.
+template <int kComponents, class ValueAt>
+std::array<Range, kComponents> columnRanges(std::size_t count, ValueAt value_at) {
+  using Ranges = std::array<Range, kComponents>;
+  constexpr std::size_t kGrain = 1 << 16;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, count, kGrain), Ranges{},
+      [&](const tbb::blocked_range<std::size_t>& block, Ranges ranges) {
+        for (std::size_t i = block.begin(); i != block.end(); ++i) {
+          for (int c = 0; c < kComponents; ++c) {
+            const double v = value_at(i, c);
+            if (v < ranges[c].min) ranges[c].min = v;
+            if (v > ranges[c].max) ranges[c].max = v;
+          }
+        }
+        return ranges;
+      },
+      [](Ranges a, const Ranges& b) {
+        for (int c = 0; c < kComponents; ++c) {
+          a[c].min = std::min(a[c].min, b[c].min);
+          a[c].max = std::max(a[c].max, b[c].max);
+        }
+        return a;
+      });
+}
+
+template <class T>
+Range scalarRange(const T* values, std::size_t count) {
+  return columnRanges<1>(count, [values](std::size_t i, int) { return double(values[i]); })[0];
+}
+
+Range scalarColumnRange(const ScalarColumn& column, std::size_t count) {
+  switch (column.type) {
+    case ScalarType::Int8:
+      return scalarRange(column.as<std::int8_t>(), count);
+    case ScalarType::UInt8:
+      return scalarRange(column.as<std::uint8_t>(), count);
+    case ScalarType::Int16:
+      return scalarRange(column.as<std::int16_t>(), count);
+    case ScalarType::UInt16:
+      return scalarRange(column.as<std::uint16_t>(), count);
+    case ScalarType::Int32:
+      return scalarRange(column.as<std::int32_t>(), count);
+    case ScalarType::UInt32:
+      return scalarRange(column.as<std::uint32_t>(), count);
+    case ScalarType::Float32:
+      return scalarRange(column.as<float>(), count);
+    case ScalarType::Float64:
+      return scalarRange(column.as<double>(), count);
+  }
+  return {};
+}
+
+// Ranges in the order of PointCloud::attributeNames(). Positions are world coordinates: the
+// range of the quantized integers mapped through the quantization (exact, like `bounds`).
+std::vector<NamedRange> attributeRanges(const PointCloud& cloud) {
+  std::vector<NamedRange> out;
+  const std::size_t n = cloud.count;
+  const char* const kAxes[3] = {"x", "y", "z"};
+  if (!cloud.positions.empty()) {
+    const Int3* p = cloud.positions.data();
+    auto q = columnRanges<3>(n, [p](std::size_t i, int c) {
+      return double(c == 0 ? p[i].x : c == 1 ? p[i].y : p[i].z);
+    });
+    for (int c = 0; c < 3; ++c) {
+      Range world;
+      if (!q[c].empty()) {
+        const double a = cloud.quantization.toWorld(c, std::int32_t(q[c].min));
+        const double b = cloud.quantization.toWorld(c, std::int32_t(q[c].max));
+        world = {std::min(a, b), std::max(a, b)};  // a negative scale swaps the ends
+      }
+      out.push_back({kAxes[c], world});
+    }
+  } else {
+    for (const char* axis : kAxes) out.push_back({axis, Range{}});
+  }
+  if (cloud.hasColors()) {
+    const Rgba8* rgba = cloud.colors.data();
+    auto r = columnRanges<4>(n, [rgba](std::size_t i, int c) {
+      return double(c == 0 ? rgba[i].r : c == 1 ? rgba[i].g : c == 2 ? rgba[i].b : rgba[i].a);
+    });
+    out.push_back({"red", r[0]});
+    out.push_back({"green", r[1]});
+    out.push_back({"blue", r[2]});
+    if (cloud.source.has_alpha) out.push_back({"alpha", r[3]});
+  }
+  if (cloud.hasNormals()) {
+    const Float3* nrm = cloud.normals.data();
+    auto r = columnRanges<3>(n, [nrm](std::size_t i, int c) {
+      return double(c == 0 ? nrm[i].x : c == 1 ? nrm[i].y : nrm[i].z);
+    });
+    out.push_back({"nx", r[0]});
+    out.push_back({"ny", r[1]});
+    out.push_back({"nz", r[2]});
+  }
+  if (cloud.hasIntensity()) out.push_back({"intensity", scalarRange(cloud.intensity.data(), n)});
+  if (cloud.hasClassification()) {
+    out.push_back({"classification", scalarRange(cloud.classification.data(), n)});
+  }
+  for (const auto& column : cloud.scalars) {
+    out.push_back({column.name, scalarColumnRange(column, n)});
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The format's own description. One function per format; add a case to describeFormat for each
+// new PointFormat (LAS: version, point data format, the header's declared bounds and scale, the
+// CRS once io exposes it; text formats: the column layout found).
+
+Json finiteOrNull(double v) {
+  return std::isfinite(v) ? Json(v) : Json(nullptr);
+}
+
+Json triple(const std::array<double, 3>& v) {
+  return Json::array({finiteOrNull(v[0]), finiteOrNull(v[1]), finiteOrNull(v[2])});
+}
+
+struct FormatDescription {
+  std::string name = "unknown";    // "ply", ...
+  std::string summary;             // one line: "PLY ascii 1.0, header 222 bytes"
+  std::vector<std::string> lines;  // human-readable details, one per line, already indented
+  Json details = Json::object();   // the same for --json ("format_details")
+  Json elements;                   // PLY elements (null for formats without them)
+  // Bounds the file itself declares (LAS header), shown beside the computed ones.
+  std::optional<Bounds3> declared_bounds;
+};
+
+std::vector<std::byte> readPrefix(const std::filesystem::path& path, std::size_t max_bytes) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<std::byte> bytes(max_bytes);
+  in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(max_bytes));
+  bytes.resize(std::size_t(in.gcount()));
+  return bytes;
+}
+
+std::string plyPropertyType(const PlyProperty& property) {
+  if (!property.is_list) return std::string(scalarName(property.type));
+  return "list " + std::string(scalarName(property.list_count_type)) + " " +
+         std::string(scalarName(property.type));
+}
+
+FormatDescription describePly(const std::filesystem::path& path) {
+  // The header is at most kMaxPlyHeaderBytes; parsePlyHeader finds its end in the prefix.
+  const std::vector<std::byte> prefix = readPrefix(path, kMaxPlyHeaderBytes);
+  const PlyHeader header = parsePlyHeader(prefix, path.string());
+
+  FormatDescription out;
+  out.name = "ply";
+  out.summary = "PLY " + std::string(plyFormatName(header.format)) + " " + header.version +
+                ", header " + std::to_string(header.body_offset) + " bytes";
+  for (const auto& comment : header.comments) out.lines.push_back("  comment " + comment);
+  for (const auto& info : header.obj_info) out.lines.push_back("  obj_info " + info);
+  out.elements = Json::array();
+  for (const auto& element : header.elements) {
+    std::string line = "  element " + element.name + " " + std::to_string(element.count);
+    if (header.format != PlyFormat::Ascii && !element.hasLists()) {
+      line += " (" + std::to_string(element.fixedRecordSize()) + " bytes a record)";
+    }
+    out.lines.push_back(line);
+    Json properties = Json::array();
+    for (const auto& property : element.properties) {
+      out.lines.push_back("    property " + plyPropertyType(property) + " " + property.name);
+      Json p = {{"name", property.name}, {"type", std::string(scalarName(property.type))}};
+      if (property.is_list) {
+        p["list"] = true;
+        p["count_type"] = std::string(scalarName(property.list_count_type));
+      }
+      properties.push_back(std::move(p));
+    }
+    out.elements.push_back(
+        {{"name", element.name}, {"count", element.count}, {"properties", properties}});
+  }
+  out.details = {{"encoding", std::string(plyFormatName(header.format))},
+                 {"version", header.version},
+                 {"header_bytes", header.body_offset},
+                 {"comments", header.comments},
+                 {"obj_info", header.obj_info}};
+  return out;
+}
+
+// LAS: the header's own account (io/las_header.h): version, point format, the header's scale,
+// offset and bounds (shown as the file's bounds beside the computed ones), the CRS, extra bytes.
+FormatDescription describeLas(const std::filesystem::path& path) {
+  const LasHeader header = readLasHeader(path);
+  FormatDescription out;
+  out.name = "las";
+  std::istringstream lines(describeLasHeader(header));
+  std::string line;
+  std::getline(lines, out.summary);
+  while (std::getline(lines, line)) out.lines.push_back("  " + line);
+  Json extra_bytes = Json::array();
+  for (const auto& extra : header.extra_bytes) {
+    extra_bytes.push_back({{"name", extra.name}, {"type", std::string(scalarName(extra.type))}});
+  }
+  Json crs = {{"summary", header.crs.summary()}, {"wkt", header.crs.wkt}};
+  if (header.crs.projected_epsg) crs["projected_epsg"] = *header.crs.projected_epsg;
+  if (header.crs.geographic_epsg) crs["geographic_epsg"] = *header.crs.geographic_epsg;
+  if (header.crs.vertical_epsg) crs["vertical_epsg"] = *header.crs.vertical_epsg;
+  out.details = {{"version", header.versionString()},
+                 {"point_format", header.point_format},
+                 {"record_length", header.record_length},
+                 {"point_count", header.point_count},
+                 {"scale", triple(header.quantization.scale)},
+                 {"offset", triple(header.quantization.offset)},
+                 {"crs", crs},
+                 {"extra_bytes", extra_bytes},
+                 {"generating_software", header.generating_software},
+                 {"system_identifier", header.system_identifier}};
+  if (!header.bounds.empty()) out.declared_bounds = header.bounds;
+  return out;
+}
+
+// One description per format: add a case for each new PointFormat. Formats without one (text)
+// show their name and what was loaded.
+FormatDescription describeFormat(const std::filesystem::path& path, PointFormat format) {
+  switch (format) {
+    case PointFormat::Ply:
+      return describePly(path);
+    case PointFormat::Las:
+      return describeLas(path);
+    default:
+      break;
+  }
+  // The name's first word in lower case, as the described formats name themselves: "text".
+  FormatDescription out;
+  out.name = pointFormatName(format);
+  out.name = out.name.substr(0, out.name.find(' '));
+  for (char& c : out.name) c = char(std::tolower(static_cast<unsigned char>(c)));
+  out.summary = pointFormatName(format);
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output.
+
+struct LoadStats {
+  std::uint64_t file_bytes = 0;
+  double seconds = 0;
+  double megabytesPerSecond() const { return seconds > 0 ? file_bytes / seconds / 1e6 : 0; }
+  double millionPointsPerSecond(std::uint64_t points) const {
+    return seconds > 0 ? points / seconds / 1e6 : 0;
+  }
+};
+
+void printJson(const std::filesystem::path& path, const FormatDescription& format,
+               const PointCloud& cloud, const std::vector<NamedRange>& ranges,
+               const LoadStats& load) {
+  Json ranges_json = Json::object();
+  for (const auto& [name, range] : ranges) {
+    ranges_json[name] = {{"min", finiteOrNull(range.min)}, {"max", finiteOrNull(range.max)}};
+  }
+  Json out = {
+      {"file", path.string()},
+      {"file_bytes", load.file_bytes},
+      {"format", format.name},
+      {"format_details", format.details},
+      {"elements", format.elements},
+      {"points", cloud.count},
+      {"bounds", {{"min", triple(cloud.bounds.min)}, {"max", triple(cloud.bounds.max)}}},
+      {"quantization",
+       {{"scale", triple(cloud.quantization.scale)},
+        {"offset", triple(cloud.quantization.offset)}}},
+      {"attributes", cloud.attributeNames()},
+      {"attribute_ranges", ranges_json},
+      {"load_seconds", load.seconds},
+      {"mb_per_second", load.megabytesPerSecond()},
+      {"million_points_per_second", load.millionPointsPerSecond(cloud.count)},
+  };
+  if (format.declared_bounds) {
+    out["declared_bounds"] = {{"min", triple(format.declared_bounds->min)},
+                              {"max", triple(format.declared_bounds->max)}};
+  }
+  std::puts(out.dump(2).c_str());
+}
+
+std::string formatTriple(const std::array<double, 3>& v) {
+  char text[128];
+  std::snprintf(text, sizeof text, "(%.10g, %.10g, %.10g)", v[0], v[1], v[2]);
+  return text;
+}
+
+void printText(const std::filesystem::path& path, const FormatDescription& format,
+               const PointCloud& cloud, const std::vector<NamedRange>& ranges,
+               const LoadStats& load) {
+  std::printf("file          %s (%llu bytes, %.1f MB)\n", path.c_str(),
+              static_cast<unsigned long long>(load.file_bytes), load.file_bytes / 1e6);
+  std::printf("format        %s\n",
+              format.summary.empty() ? format.name.c_str() : format.summary.c_str());
+  for (const auto& line : format.lines) std::printf("%s\n", line.c_str());
+  std::printf("points        %llu\n", static_cast<unsigned long long>(cloud.count));
+  if (cloud.bounds.empty()) {
+    std::printf("bounds        none (no points)\n");
+  } else {
+    std::printf("bounds        min %s\n", formatTriple(cloud.bounds.min).c_str());
+    std::printf("              max %s\n", formatTriple(cloud.bounds.max).c_str());
+    std::printf("              size %s\n", formatTriple(cloud.bounds.size()).c_str());
+  }
+  if (format.declared_bounds) {
+    std::printf("file bounds   min %s\n", formatTriple(format.declared_bounds->min).c_str());
+    std::printf("              max %s\n", formatTriple(format.declared_bounds->max).c_str());
+  }
+  std::printf("quantization  scale %s offset %s\n", formatTriple(cloud.quantization.scale).c_str(),
+              formatTriple(cloud.quantization.offset).c_str());
+  std::printf("attributes   ");
+  for (const auto& name : cloud.attributeNames()) std::printf(" %s", name.c_str());
+  std::printf("\nranges\n");
+  std::size_t width = 4;
+  for (const auto& entry : ranges) width = std::max(width, entry.name.size());
+  for (const auto& [name, range] : ranges) {
+    if (range.empty()) {
+      std::printf("  %-*s  none\n", int(width), name.c_str());
+    } else {
+      std::printf("  %-*s  %16.10g  %16.10g\n", int(width), name.c_str(), range.min, range.max);
+    }
+  }
+  std::printf("load          %.3f s (%.1f MB/s, %.2f M points/s)\n", load.seconds,
+              load.megabytesPerSecond(), load.millionPointsPerSecond(cloud.count));
+}
+
+struct InfoOptions {
+  std::string file;
+  bool json = false;
+};
+
+int runInfo(const InfoOptions& options) {
+  const std::filesystem::path path = options.file;
+  // Detection opens the file: a missing or unreadable file is an InputError naming it.
+  const PointFormat format = detectPointFormat(path);
+
+  LoadStats load;
+  std::error_code size_error;
+  load.file_bytes = std::filesystem::file_size(path, size_error);
+  if (size_error) load.file_bytes = 0;  // a pipe or special file: no rate in MB/s
+
+  PointCloud cloud;
+  {
+    TerminalProgress progress("loading " + path.filename().string(), 0);
+    PointReadOptions read_options;
+    read_options.progress = &progress;
+    const auto start = std::chrono::steady_clock::now();
+    cloud = readPointFile(path, read_options);
+    load.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  // After the load: readPointFile has already reported a malformed file with its own message.
+  const FormatDescription description = describeFormat(path, format);
+  const std::vector<NamedRange> ranges = attributeRanges(cloud);
+
+  if (options.json) {
+    printJson(path, description, cloud, ranges, load);
+  } else {
+    printText(path, description, cloud, ranges, load);
+  }
+  return 0;
+}
+
+}  // namespace
 
 Command addInfoCommand(CLI::App& app) {
+  auto options = std::make_shared<InfoOptions>();
   Command command;
-  command.subcommand = app.add_subcommand("info", "(being written)");
-  command.run = [] { return 1; };
+  command.subcommand =
+      app.add_subcommand("info",
+                         "Describe a point file: format, points, bounds, attribute "
+                         "ranges, load speed");
+  command.subcommand
+      ->add_option("file", options->file, "Point file (format detected from its content)")
+      ->required();
+  command.subcommand->add_flag("--json", options->json,
+                               "Print one JSON object (points, bounds, attributes, ...)");
+  command.run = [options] { return runInfo(*options); };
   return command;
 }
 

@@ -18,5 +18,9 @@ struct Command {
 Command addInfoCommand(CLI::App& app);
 Command addGenerateCommand(CLI::App& app);
 Command addBenchCommand(CLI::App& app);
+Command addConvertCommand(CLI::App& app);
+Command addRenderCommand(CLI::App& app);
+// `bench render` (bench_render.cpp), registered by addBenchCommand.
+Command addBenchRenderCommand(CLI::App& bench);
 
 }  // namespace parallax::cli

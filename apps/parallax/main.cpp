@@ -14,6 +14,8 @@ int main(int argc, char** argv) {
       parallax::cli::addInfoCommand(app),
       parallax::cli::addGenerateCommand(app),
       parallax::cli::addBenchCommand(app),
+      parallax::cli::addConvertCommand(app),
+      parallax::cli::addRenderCommand(app),
   };
 
   try {

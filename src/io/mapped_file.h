@@ -25,6 +25,11 @@ class MappedFile {
   std::size_t size() const { return size_; }
   const std::string& path() const { return path_; }
 
+  // Drops the whole pages inside [offset, offset + length) from this process's resident set
+  // once they have been read (the page cache keeps them; a later read faults them back in), so
+  // a large file read front to back does not count twice in the loader's peak memory.
+  void releaseRead(std::size_t offset, std::size_t length) const;
+
   // Tells the kernel the range will be read soon, front to back (read-ahead on a cold cache).
   void adviseSequential(std::size_t offset, std::size_t length) const;
 

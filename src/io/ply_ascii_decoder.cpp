@@ -1,1 +1,457 @@
-// placeholder: being written
+// Ascii PLY bodies: range planning at line boundaries, and a single-pass line parser.
+//
+// One record per line (what every writer does). Planning counts line ends in parallel blocks, so
+// each range knows its first record and line number and ranges parse independently. Numbers go
+// through fast_float (floating point) and std::from_chars (integers): no locale, no allocation.
+#include <fast_float/fast_float.h>
+#include <tbb/parallel_for.h>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "core/error.h"
+#include "io/ply_decoder.h"
+
+namespace parallax::ply {
+namespace {
+
+// Character classes by table: one load instead of a chain of compares, in the hottest loop.
+struct CharClasses {
+  bool blank[256] = {};      // separates values within a line
+  bool delimiter[256] = {};  // may follow a number: a blank or the line end
+  constexpr CharClasses() {
+    for (unsigned char c : {' ', '\t', '\r', '\v', '\f'}) blank[c] = delimiter[c] = true;
+    delimiter[(unsigned char)'\n'] = true;
+  }
+};
+constexpr CharClasses kClasses;
+
+inline bool isBlank(char c) { return kClasses.blank[static_cast<unsigned char>(c)]; }
+inline bool isDelimiter(char c) { return kClasses.delimiter[static_cast<unsigned char>(c)]; }
+
+std::uint64_t countLineEnds(const char* begin, const char* end) {
+  std::uint64_t lines = 0;
+#if defined(__SSE2__)
+  // 16 bytes a step: each compare gives -1 per line end, summed in byte lanes for up to 255 steps
+  // and then folded with psadbw (std::count does not vectorise like this at -O2, and the baseline
+  // x86-64 target has no popcnt instruction).
+  const __m128i newline = _mm_set1_epi8('\n');
+  while (end - begin >= 16) {
+    __m128i sums = _mm_setzero_si128();
+    for (int step = 0; step < 255 && end - begin >= 16; ++step, begin += 16) {
+      __m128i block = _mm_loadu_si128(reinterpret_cast<const __m128i*>(begin));
+      sums = _mm_sub_epi8(sums, _mm_cmpeq_epi8(block, newline));
+    }
+    __m128i folded = _mm_sad_epu8(sums, _mm_setzero_si128());
+    lines += std::uint64_t(_mm_cvtsi128_si64(folded)) +
+             std::uint64_t(_mm_cvtsi128_si64(_mm_unpackhi_epi64(folded, folded)));
+  }
+#endif
+  return lines + std::uint64_t(std::count(begin, end, '\n'));
+}
+
+// Powers of ten exactly representable as doubles.
+constexpr double kPowersOfTen[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                   1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                   1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
+// The common shape of numbers in point files, [+-]digits[.digits] with at most 15 significant
+// digits, parsed directly: the mantissa is an exact integer below 2^53 and 10^k is exact, so one
+// IEEE division gives the correctly rounded double (Clinger's fast path). Returns nullptr for
+// anything else (exponents, long mantissas, inf, nan), which goes to fast_float. This is the
+// byte-by-byte form, for the last bytes of a file; parseSimpleDecimal below is the fast one.
+inline const char* parseSimpleDecimalScalar(const char* p, const char* end, double& out) {
+  bool negative = false;
+  if (p != end && (*p == '-' || *p == '+')) negative = *p++ == '-';
+  std::uint64_t mantissa = 0;
+  int digits = 0, fraction = 0;
+  while (p != end && unsigned(*p - '0') < 10) {
+    mantissa = mantissa * 10 + unsigned(*p++ - '0');
+    ++digits;
+  }
+  if (p != end && *p == '.') {
+    ++p;
+    while (p != end && unsigned(*p - '0') < 10) {
+      mantissa = mantissa * 10 + unsigned(*p++ - '0');
+      ++digits, ++fraction;
+    }
+  }
+  if (digits == 0 || digits > 15 || (p != end && (*p == 'e' || *p == 'E'))) return nullptr;
+  double value = double(mantissa);
+  if (fraction > 0) value /= kPowersOfTen[fraction];
+  out = negative ? -value : value;
+  return p;
+}
+
+const char* nextLineStart(const char* p, const char* end) {
+  const void* found = std::memchr(p, '\n', std::size_t(end - p));
+  return found ? static_cast<const char*>(found) + 1 : end;
+}
+
+// Inclusive value limits of each integer type, for range checks.
+void integerLimits(ScalarType type, double& lo, double& hi) {
+  switch (type) {
+    case ScalarType::Int8: lo = -128, hi = 127; return;
+    case ScalarType::UInt8: lo = 0, hi = 255; return;
+    case ScalarType::Int16: lo = -32768, hi = 32767; return;
+    case ScalarType::UInt16: lo = 0, hi = 65535; return;
+    case ScalarType::Int32: lo = -2147483648.0, hi = 2147483647.0; return;
+    case ScalarType::UInt32: lo = 0, hi = 4294967295.0; return;
+    default: lo = -std::numeric_limits<double>::max(), hi = std::numeric_limits<double>::max();
+  }
+}
+
+// SWAR digit runs: 8 bytes loaded at once, the run of leading digits found with bit tricks and
+// converted with three multiplies. Digit-by-digit loops mispredict at every run's end (numbers
+// in point files vary in length), which costs more than the arithmetic.
+inline int leadingDigits(std::uint64_t chunk) {
+  constexpr std::uint64_t kHigh = 0x8080808080808080ull;
+  std::uint64_t above_nine = chunk + 0x4646464646464646ull;               // high bit: byte > '9'
+  std::uint64_t at_least_zero = (chunk | kHigh) - 0x3030303030303030ull;  // high bit: byte >= '0'
+  // Carries and borrows only move towards later bytes, past the first non-digit: harmless.
+  std::uint64_t non_digit = (above_nine | ~at_least_zero | chunk) & kHigh;
+  return non_digit == 0 ? 8 : std::countr_zero(non_digit) >> 3;
+}
+
+// The value of the first `count` (1 to 8) digit bytes of `chunk` (first byte lowest).
+inline std::uint64_t digitsValue(std::uint64_t chunk, int count) {
+  std::uint64_t v = (chunk - 0x3030303030303030ull) << (8 * (8 - count));
+  v = v * 10 + (v >> 8);
+  return (((v & 0x000000FF000000FFull) * (100 + (1000000ull << 32))) +
+          (((v >> 16) & 0x000000FF000000FFull) * (1 + (10000ull << 32)))) >>
+         32;
+}
+
+constexpr std::uint64_t kIntegerPowersOfTen[] = {1,      10,      100,      1000,     10000,
+                                                 100000, 1000000, 10000000, 100000000};
+
+// Appends the run of digits at `p` to `mantissa`; false if the run reaches too near the end.
+inline bool digitRun(const char*& p, const char* end, std::uint64_t& mantissa, int& digits) {
+  for (;;) {
+    if (end - p < 8) return false;
+    std::uint64_t chunk;
+    std::memcpy(&chunk, p, 8);
+    int n = leadingDigits(chunk);
+    if (n > 0) {
+      mantissa = mantissa * kIntegerPowersOfTen[n] + digitsValue(chunk, n);
+      p += n;
+      digits += n;
+    }
+    if (n < 8) return true;
+  }
+}
+
+// parseSimpleDecimalScalar's contract, a run of digits at a time.
+inline const char* parseSimpleDecimal(const char* p, const char* end, double& out) {
+  const char* start = p;
+  bool negative = false;
+  if (p != end && (*p == '-' || *p == '+')) negative = *p++ == '-';
+  std::uint64_t mantissa = 0;
+  int digits = 0, fraction = 0;
+  if (!digitRun(p, end, mantissa, digits)) return parseSimpleDecimalScalar(start, end, out);
+  if (*p == '.') {
+    ++p;
+    int integer_digits = digits;
+    if (!digitRun(p, end, mantissa, digits)) return parseSimpleDecimalScalar(start, end, out);
+    fraction = digits - integer_digits;
+  }
+  if (digits == 0 || digits > 15 || *p == 'e' || *p == 'E') return nullptr;
+  double value = double(mantissa);
+  if (fraction > 0) value /= kPowersOfTen[fraction];
+  out = negative ? -value : value;
+  return p;
+}
+
+// True when float(d) is the float nearest to every real within half a double ulp of d: d is a
+// normal float-range value whose 29 bits below float precision are not within one of the
+// midpoint pattern. Then the correctly rounded double of a decimal rounds to its correct float.
+inline bool roundsSafelyToFloat(double d) {
+  double magnitude = std::abs(d);
+  if (magnitude == 0.0) return true;
+  if (!(magnitude >= 0x1p-126 && magnitude <= 0x1.fffffep127)) return false;
+  std::uint64_t low = std::bit_cast<std::uint64_t>(d) & ((std::uint64_t{1} << 29) - 1);
+  constexpr std::uint64_t kHalf = std::uint64_t{1} << 28;
+  return low + 1 < kHalf || low > kHalf + 1;
+}
+
+class LineParser {
+ public:
+  LineParser(const DecodeContext& context, const PointLayout& layout, const char* end)
+      : context_(context), layout_(layout), end_(end) {}
+
+  // Parses the record at `p` (one line); returns the start of the next line.
+  const char* parse(const char* p, std::uint64_t line, PointCloud& cloud, std::uint64_t index,
+                    double xyz[3]) {
+    line_ = line;
+    std::size_t values = 0;
+    for (const auto& plan : layout_.properties) {
+      if (plan.is_list) {
+        double items = parseNumber(p, plan, plan.list_count_type, values, "list count");
+        ++values;
+        if (items < 0) fail(plan, "a list count of 0 or more", std::to_string(std::int64_t(items)));
+        for (std::uint64_t k = 0; k < std::uint64_t(items); ++k) {
+          skipBlanks(p);
+          if (p == end_ || *p == '\n') {
+            fail(plan, "a list of " + std::to_string(std::uint64_t(items)) + " items",
+                 std::to_string(k) + " before the end of the line");
+          }
+          parseNumber(p, plan, plan.type, values, "list item");
+        }
+        continue;
+      }
+      double value = parseNumber(p, plan, plan.type, values, "");
+      ++values;
+      int axis = int(plan.target) - int(Target::X);
+      if (axis >= 0 && axis < 3) {
+        if (!std::isfinite(value)) {
+          failNonFinite(plan, value);
+        }
+        xyz[axis] = value;
+      } else {
+        storeAttribute(cloud, plan, index, value);
+      }
+    }
+    skipBlanks(p);
+    if (p != end_ && *p != '\n') failTooManyValues(values, p);
+    return p == end_ ? p : p + 1;
+  }
+
+ private:
+  void skipBlanks(const char*& p) const {
+    while (p != end_ && isBlank(*p)) ++p;
+  }
+
+  double parseNumber(const char*& p, const PropertyPlan& plan, ScalarType type, std::size_t index,
+                     const char* what) {
+    skipBlanks(p);
+    if (p == end_ || *p == '\n') failMissingValue(plan, index, what);
+    double value = 0.0;
+    const char* stop = parseSimpleDecimal(p, end_, value);
+    // A float property means the float nearest to the text. Rounding the nearest double to float
+    // gives it except when that double sits next to a midpoint between two floats (or outside the
+    // normal range): then the text is parsed again as a float.
+    if (stop != nullptr && type == ScalarType::Float32 && !roundsSafelyToFloat(value)) {
+      stop = nullptr;
+    }
+    if (stop == nullptr) {
+      stop = parseGeneral(p, type, value);
+    } else if (type == ScalarType::Float32) {
+      value = double(narrowToFloat(value));
+    }
+    // Integer properties accept whole numbers in any spelling ("255", "255.000000", "2.55e2"):
+    // some writers print every value as a float.
+    if (!isFloatingPoint(type) && stop != p && value != std::trunc(value)) stop = p;
+    if (stop == p || (stop != end_ && !isDelimiter(*stop))) {
+      failNotANumber(plan, type, p);
+    }
+    if (!isFloatingPoint(type)) {
+      double lo, hi;
+      integerLimits(type, lo, hi);
+      if (value < lo || value > hi) failOutOfRange(plan, type, p, stop);
+    }
+    p = stop;
+    return value;
+  }
+
+  [[noreturn, gnu::noinline, gnu::cold]] void failTooManyValues(std::size_t values,
+                                                                const char* p) {
+    const char* token_end = p;
+    while (token_end != end_ && *token_end != '\n' && !isBlank(*token_end)) ++token_end;
+    failLine("", "", std::to_string(values) + " values, one per property",
+             "more: " + quoteInput(std::string_view(p, std::size_t(token_end - p))));
+  }
+
+  // The error paths, kept out of line so the parsing loop stays small.
+  [[noreturn, gnu::noinline, gnu::cold]] void failMissingValue(const PropertyPlan& plan,
+                                                               std::size_t index,
+                                                               const char* what) {
+    failLine(plan.name, "", std::to_string(expectedValues()) + " values, one per property",
+             std::to_string(index) + " (the line ends before this " +
+                 (what[0] ? std::string(what) : std::string("value")) + ")");
+  }
+
+  [[noreturn, gnu::noinline, gnu::cold]] void failNotANumber(const PropertyPlan& plan,
+                                                             ScalarType type, const char* p) {
+    const char* token_end = p;
+    while (token_end != end_ && *token_end != '\n' && !isBlank(*token_end)) ++token_end;
+    failLine(plan.name, "",
+             isFloatingPoint(type) ? std::string("a number")
+                                   : "an integer (" + std::string(scalarName(type)) + ")",
+             quoteInput(std::string_view(p, std::size_t(token_end - p))));
+  }
+
+  [[noreturn, gnu::noinline, gnu::cold]] void failOutOfRange(const PropertyPlan& plan,
+                                                             ScalarType type, const char* p,
+                                                             const char* stop) {
+    double lo, hi;
+    integerLimits(type, lo, hi);
+    failLine(plan.name, "",
+             "a value of type " + std::string(scalarName(type)) + " (" +
+                 std::to_string(std::int64_t(lo)) + " to " + std::to_string(std::int64_t(hi)) + ")",
+             std::string(p, std::size_t(stop - p)));
+  }
+
+  // Exponents, long mantissas, inf and nan: fast_float, which (like strtod) takes no '+'.
+  const char* parseGeneral(const char* p, ScalarType type, double& value) const {
+    const char* start = p;
+    if (p != end_ && *p == '+' && p + 1 != end_ && p[1] != '-' && p[1] != '+') ++p;
+    if (type == ScalarType::Float32) {
+      float narrow = 0.0f;
+      auto result = fast_float::from_chars(p, end_, narrow);
+      bool parsed = result.ec == std::errc() || result.ec == std::errc::result_out_of_range;
+      value = narrow;
+      return parsed ? result.ptr : start;
+    }
+    auto result = fast_float::from_chars(p, end_, value);
+    bool parsed = result.ec == std::errc() || result.ec == std::errc::result_out_of_range;
+    return parsed ? result.ptr : start;
+  }
+
+  std::size_t expectedValues() const { return layout_.properties.size(); }
+
+  [[noreturn, gnu::noinline, gnu::cold]] void failNonFinite(const PropertyPlan& plan,
+                                                            double value) {
+    fail(plan, "a finite coordinate", std::to_string(value),
+         "remove invalid points first (e.g. PDAL filters.range)");
+  }
+
+  [[noreturn, gnu::noinline, gnu::cold]] void fail(const PropertyPlan& plan, std::string expected, std::string found,
+                         std::string hint = "") {
+    failLine(plan.name, std::move(hint), std::move(expected), std::move(found));
+  }
+
+  [[noreturn, gnu::noinline, gnu::cold]] void failLine(const std::string& property, std::string hint, std::string expected,
+                             std::string found) {
+    InputErrorInfo info{.file = context_.file,
+                        .element = layout_.element_name,
+                        .property = property,
+                        .expected = std::move(expected),
+                        .found = std::move(found),
+                        .hint = std::move(hint)};
+    if (line_ != 0) info.line = line_;
+    throw InputError(std::move(info));
+  }
+
+  const DecodeContext& context_;
+  const PointLayout& layout_;
+  const char* end_;
+  std::uint64_t line_ = 0;
+};
+
+}  // namespace
+
+std::vector<RecordRange> planAsciiRanges(const DecodeContext& context, std::size_t target_bytes,
+                                         bool parallel) {
+  const char* text = reinterpret_cast<const char*>(context.bytes.data());
+  const char* end = text + context.bytes.size();
+  const char* p = text + context.header.body_offset;
+  std::uint64_t line = context.header.body_line;
+  const int point_element = context.header.pointElement();
+
+  // Elements before the point element: one line per record, each checked against its properties.
+  for (int e = 0; e < point_element; ++e) {
+    const PlyElement& element = context.header.elements[std::size_t(e)];
+    PointLayout skipping = skippingLayout(element);
+    LineParser parser(context, skipping, end);
+    PointCloud nothing;
+    for (std::uint64_t r = 0; r < element.count; ++r, ++line) {
+      if (p == end) {
+        throw InputError({.file = context.file,
+                          .line = line,
+                          .element = element.name,
+                          .expected = std::to_string(element.count) + " lines",
+                          .found = "the end of the file after " + std::to_string(r),
+                          .hint = "the file is truncated, or its header's count is wrong"});
+      }
+      double unused[3];
+      p = parser.parse(p, line, nothing, 0, unused);
+    }
+  }
+
+  const PlyElement& element = context.header.elements[std::size_t(point_element)];
+  // Each record has at least one character per value plus a separator: a count the rest of the
+  // file cannot hold is refused before anything is counted or allocated.
+  const std::size_t left = std::size_t(end - p);
+  const std::uint64_t min_line = 2 * context.layout.properties.size();
+  if (element.count > (left + 1) / min_line) {
+    throw InputError({.file = context.file,
+                      .line = line,
+                      .element = element.name,
+                      .expected = std::to_string(element.count) + " lines of at least " +
+                                  std::to_string(min_line) + " bytes",
+                      .found = std::to_string(left) + " bytes left in the file",
+                      .hint = "the file is truncated, or its header's count is wrong"});
+  }
+
+  // Blocks of about target_bytes, cut after a line end.
+  std::vector<const char*> starts;
+  for (const char* s = p; s < end;) {
+    starts.push_back(s);
+    const char* next = s + std::min<std::size_t>(target_bytes, std::size_t(end - s));
+    s = next == end ? end : nextLineStart(next, end);
+  }
+  std::vector<std::uint64_t> lines(starts.size());
+  auto count_block = [&](std::size_t b) {
+    const char* block_end = b + 1 < starts.size() ? starts[b + 1] : end;
+    lines[b] = countLineEnds(starts[b], block_end);
+    // A last line without its line end still holds a record.
+    if (block_end == end && block_end > starts[b] && block_end[-1] != '\n') ++lines[b];
+    context.releaseRead(std::size_t(starts[b] - text), std::size_t(block_end - text));
+  };
+  if (parallel) {
+    tbb::parallel_for(std::size_t(0), starts.size(), count_block);
+  } else {
+    for (std::size_t b = 0; b < starts.size(); ++b) count_block(b);
+  }
+
+  std::vector<RecordRange> ranges;
+  std::uint64_t first = 0;
+  for (std::size_t b = 0; b < starts.size() && first < element.count; ++b) {
+    std::uint64_t take = std::min(lines[b], element.count - first);
+    if (take > 0) {
+      ranges.push_back({first, take, std::size_t(starts[b] - text), line + first});
+    }
+    first += lines[b];
+  }
+  if (first < element.count) {
+    throw InputError({.file = context.file,
+                      .line = line + first,
+                      .element = element.name,
+                      .expected = std::to_string(element.count) + " lines, one per record",
+                      .found = "the end of the file after " + std::to_string(first),
+                      .hint = "the file is truncated, or its header's count is wrong"});
+  }
+  return ranges;
+}
+
+RangeStats decodeAsciiRange(const DecodeContext& context, const RecordRange& range,
+                            std::uint64_t count, PointCloud& cloud, std::uint64_t first_index) {
+  const char* text = reinterpret_cast<const char*>(context.bytes.data());
+  const char* end = text + context.bytes.size();
+  const char* p = text + range.begin;
+  LineParser parser(context, context.layout, end);
+  RangeStats stats;
+  const Quantization& q = cloud.quantization;
+  const double inverse[3] = {1.0 / q.scale[0], 1.0 / q.scale[1], 1.0 / q.scale[2]};
+  Bounds3& bounds = stats.raw_bounds;
+  for (std::uint64_t r = 0; r < count; ++r) {
+    double xyz[3];
+    std::uint64_t line = range.first_line == 0 ? 0 : range.first_line + r;
+    p = parser.parse(p, line, cloud, first_index + r, xyz);
+    bounds.extend(xyz[0], xyz[1], xyz[2]);
+    cloud.positions[first_index + r] = {quantizeClamped(xyz[0], q.offset[0], inverse[0]),
+                                        quantizeClamped(xyz[1], q.offset[1], inverse[1]),
+                                        quantizeClamped(xyz[2], q.offset[2], inverse[2])};
+  }
+  stats.end = std::size_t(p - text);
+  return stats;
+}
+
+}  // namespace parallax::ply

@@ -1,1 +1,348 @@
-// placeholder: being written
+// Reading PLY files: header, plan, quantization, parallel decode.
+//
+// The flow of readPly:
+//   1. parse the header and map the point element's properties onto columns;
+//   2. cut the body into ranges (checking every count against the file size first);
+//   3. choose the quantization from a strided sample of positions with a 16x margin;
+//   4. allocate the columns once and decode all ranges in parallel straight into them;
+//   5. if a point fell outside the sampled quantization (an outlier the sample missed), decode
+//      again with the exact bounds now known. Rare, and the price of never holding a second copy
+//      of the cloud (every public parser keeps the raw bytes and the decoded values at once).
+#include "io/ply_reader.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cstring>
+
+#include "core/error.h"
+#include "io/mapped_file.h"
+#include "io/ply_decoder.h"
+
+namespace parallax {
+namespace ply {
+namespace {
+Bounds3 sampleRecords(const DecodeContext& context, const std::vector<RecordRange>& ranges,
+                      std::size_t max_samples);
+}  // namespace
+
+std::vector<RecordRange> planRanges(const DecodeContext& context, std::size_t target_bytes,
+                                    bool parallel) {
+  if (context.header.format == PlyFormat::Ascii) {
+    return planAsciiRanges(context, target_bytes, parallel);
+  }
+  return planBinaryRanges(context, target_bytes);
+}
+
+RangeStats decodeRange(const DecodeContext& context, const RecordRange& range, std::uint64_t count,
+                       PointCloud& cloud, std::uint64_t first_index) {
+  if (context.header.format == PlyFormat::Ascii) {
+    return decodeAsciiRange(context, range, count, cloud, first_index);
+  }
+  return decodeBinaryRange(context, range, count, cloud, first_index);
+}
+
+Bounds3 sampleBounds(const DecodeContext& context, const std::vector<RecordRange>& ranges,
+                     std::size_t max_samples) {
+  return sampleRecords(context, ranges, max_samples);
+}
+
+namespace {
+
+Bounds3 sampleRecords(const DecodeContext& context, const std::vector<RecordRange>& ranges,
+                      std::size_t max_samples) {
+  Bounds3 bounds;
+  if (ranges.empty()) return bounds;
+  PointCloud scratch = allocatePointCloud(context.layout, 1, Quantization{});
+  auto sample = [&](const RecordRange& one) {
+    try {
+      bounds.extend(decodeRange(context, one, 1, scratch, 0).raw_bounds);
+    } catch (const InputError&) {
+      // Reported with its line or offset by the full decode.
+    }
+    // A fault maps the neighbouring pages too (the kernel's fault-around, 64 KiB): without this,
+    // a few thousand samples would keep a large part of the file resident.
+    constexpr std::size_t kFaultAround = 128 << 10;
+    std::size_t from = one.begin > kFaultAround ? one.begin - kFaultAround : 0;
+    context.releaseRead(from & ~(kFaultAround - 1), one.begin + 2 * kFaultAround);
+  };
+  const std::uint64_t total = ranges.back().first_record + ranges.back().count;
+  if (context.header.format != PlyFormat::Ascii && context.layout.fixed_size) {
+    std::uint64_t samples = std::min<std::uint64_t>(max_samples, total);
+    for (std::uint64_t k = 0; k < samples; ++k) {
+      std::uint64_t record = k * total / samples;
+      std::size_t begin = ranges.front().begin + record * context.layout.record_size;
+      sample({record, 1, begin, 0});
+    }
+    sample({total - 1, 1, ranges.front().begin + (total - 1) * context.layout.record_size, 0});
+    return bounds;
+  }
+  for (const auto& range : ranges) sample({range.first_record, 1, range.begin, 0});
+  if (context.header.format != PlyFormat::Ascii) return bounds;
+  // Ascii: lines at evenly spaced bytes; a line that is not a point record (past the element)
+  // fails to parse and is skipped.
+  const char* text = reinterpret_cast<const char*>(context.bytes.data());
+  std::size_t begin = ranges.front().begin, end = context.bytes.size();
+  std::size_t last_line_start = begin;
+  for (std::size_t k = 1; k < max_samples && end > begin; ++k) {
+    std::size_t at = begin + std::size_t(double(end - begin) * double(k) / double(max_samples));
+    if (at < last_line_start) continue;  // still inside the line sampled last
+    const void* newline = std::memchr(text + at, '\n', end - at);
+    if (newline == nullptr) break;
+    std::size_t line_start = std::size_t(static_cast<const char*>(newline) - text) + 1;
+    if (line_start < end) sample({0, 1, line_start, 0});
+    last_line_start = line_start + 1;
+  }
+  return bounds;
+}
+
+}  // namespace
+}  // namespace ply
+
+namespace {
+
+using ply::DecodeContext;
+using ply::RecordRange;
+
+// About 512 KiB of input a range: small enough to stay in L2 while its properties are decoded
+// one after another, large enough that scheduling costs nothing.
+constexpr std::size_t kRangeBytes = 512 << 10;
+constexpr std::size_t kSamples = 4096;
+// The sampled bounds are widened this much so that points the sample missed still fit.
+constexpr double kSampleMargin = 16.0;
+
+int requirePointElement(const PlyHeader& header, const std::string& file) {
+  int index = header.pointElement();
+  if (index >= 0) return index;
+  std::string found;
+  for (const auto& element : header.elements) found += (found.empty() ? "" : ", ") + element.name;
+  throw InputError({.file = file,
+                    .expected = "an element named vertex (or vertices, point, points)",
+                    .found = found.empty() ? "no elements" : "elements " + found});
+}
+
+bool fitsQuantization(const Quantization& q, const Bounds3& bounds) {
+  if (bounds.empty()) return true;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!q.fits(axis, bounds.min[axis]) || !q.fits(axis, bounds.max[axis])) return false;
+  }
+  return true;
+}
+
+// World bounds of the quantized points: quantization is monotonic, so the quantized raw extremes
+// are the extremes of the quantized points.
+Bounds3 quantizedBounds(const Quantization& q, const Bounds3& raw) {
+  Bounds3 bounds;
+  if (raw.empty()) return bounds;
+  for (int axis = 0; axis < 3; ++axis) {
+    bounds.min[axis] = q.toWorld(axis, q.toQuantized(axis, raw.min[axis]));
+    bounds.max[axis] = q.toWorld(axis, q.toQuantized(axis, raw.max[axis]));
+  }
+  return bounds;
+}
+
+struct DecodeResult {
+  Bounds3 raw_bounds;
+  std::size_t end = 0;
+};
+
+DecodeResult decodeAll(const DecodeContext& context, const std::vector<RecordRange>& ranges,
+                       PointCloud& cloud, const PlyReadOptions& options) {
+  std::vector<ply::RangeStats> stats(ranges.size());
+  auto decode = [&](std::size_t i) {
+    stats[i] = ply::decodeRange(context, ranges[i], ranges[i].count, cloud, ranges[i].first_record);
+    context.releaseRead(ranges[i].begin, stats[i].end);
+    if (options.progress) options.progress->advance(ranges[i].count);
+  };
+  if (options.parallel) {
+    tbb::parallel_for(std::size_t(0), ranges.size(), decode);
+  } else {
+    for (std::size_t i = 0; i < ranges.size(); ++i) decode(i);
+  }
+  DecodeResult result;
+  for (const auto& s : stats) result.raw_bounds.extend(s.raw_bounds);
+  if (!stats.empty()) result.end = stats.back().end;
+  return result;
+}
+
+// An ascii file whose point element is the last one must end after its records: more data means
+// the header's count is wrong, and reading on silently would drop points.
+void checkAsciiTail(const DecodeContext& context, int point_element, std::size_t end,
+                    std::uint64_t next_line) {
+  if (context.header.format != PlyFormat::Ascii ||
+      point_element + 1 != int(context.header.elements.size())) {
+    return;
+  }
+  const char* text = reinterpret_cast<const char*>(context.bytes.data());
+  std::size_t size = context.bytes.size();
+  std::size_t p = std::max(end, context.header.body_offset);
+  std::uint64_t line = next_line;
+  for (; p < size; ++p) {
+    char c = text[p];
+    if (c == '\n') {
+      ++line;
+    } else if (c != ' ' && c != '\t' && c != '\r') {
+      const PlyElement& element = context.header.elements[std::size_t(point_element)];
+      std::size_t stop = p;
+      while (stop < size && text[stop] != '\n' && text[stop] != '\r') ++stop;
+      throw InputError({.file = context.file,
+                        .line = line,
+                        .element = element.name,
+                        .expected = "the end of the file after " + std::to_string(element.count) +
+                                    " records",
+                        .found = "more data: " + quoteInput(std::string_view(text + p, stop - p)),
+                        .hint = "the header's element count is smaller than the data"});
+    }
+  }
+}
+
+PointCloud readPlyBytes(std::span<const std::byte> bytes, const std::string& name,
+                        const PlyReadOptions& options, const MappedFile* file) {
+  PlyHeader header = parsePlyHeader(bytes, name);
+  const int point_element = requirePointElement(header, name);
+  const PlyElement& element = header.elements[std::size_t(point_element)];
+  ply::PointLayout layout = ply::planPointLayout(element, name);
+  DecodeContext context{bytes, name, header, layout, file};
+
+  std::vector<RecordRange> ranges = ply::planRanges(context, kRangeBytes, options.parallel);
+  Quantization quantization =
+      chooseQuantization(ply::sampleBounds(context, ranges, kSamples), kSampleMargin);
+  PointCloud cloud = ply::allocatePointCloud(layout, element.count, quantization);
+  DecodeResult result = decodeAll(context, ranges, cloud, options);
+  checkAsciiTail(context, point_element, result.end,
+                 header.body_line + (ranges.empty() ? 0 : ranges.back().first_line -
+                                                              header.body_line +
+                                                              ranges.back().count));
+  if (!fitsQuantization(quantization, result.raw_bounds)) {
+    cloud.quantization = chooseQuantization(result.raw_bounds, 1.0);
+    PlyReadOptions again = options;
+    again.progress = nullptr;
+    result = decodeAll(context, ranges, cloud, again);
+  }
+  cloud.bounds = quantizedBounds(cloud.quantization, result.raw_bounds);
+  return cloud;
+}
+
+}  // namespace
+
+PointCloud readPly(const std::filesystem::path& path, const PlyReadOptions& options) {
+  MappedFile file(path);
+  file.adviseSequential(0, file.size());
+  return readPlyBytes(file.bytes(), file.path(), options, &file);
+}
+
+PointCloud readPlyFromMemory(std::span<const std::byte> bytes, const std::string& name,
+                             const PlyReadOptions& options) {
+  return readPlyBytes(bytes, name, options, nullptr);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Streaming
+
+struct PlyChunkReader::State {
+  explicit State(const std::filesystem::path& path)
+      : file(path),
+        header(parsePlyHeader(file.bytes(), file.path())),
+        point_element(requirePointElement(header, file.path())),
+        layout(ply::planPointLayout(header.elements[std::size_t(point_element)], file.path())),
+        context{file.bytes(), file.path(), header, layout, &file},
+        ranges(ply::planRanges(context, kRangeBytes, true)),
+        quantization(chooseQuantization(ply::sampleBounds(context, ranges, kSamples),
+                                        kSampleMargin)) {
+    if (!ranges.empty()) cursor_byte = ranges.front().begin;
+  }
+
+  MappedFile file;
+  PlyHeader header;
+  int point_element;
+  ply::PointLayout layout;
+  DecodeContext context;
+  std::vector<RecordRange> ranges;
+  Quantization quantization;
+  // Where the next chunk starts: inside ranges[range_index], after `done_in_range` records.
+  std::size_t range_index = 0;
+  std::uint64_t done_in_range = 0;
+  std::size_t cursor_byte = 0;
+  std::uint64_t delivered = 0;
+};
+
+PlyChunkReader::PlyChunkReader(const std::filesystem::path& path)
+    : state_(std::make_unique<State>(path)) {}
+PlyChunkReader::~PlyChunkReader() = default;
+PlyChunkReader::PlyChunkReader(PlyChunkReader&&) noexcept = default;
+
+const PlyHeader& PlyChunkReader::header() const { return state_->header; }
+std::uint64_t PlyChunkReader::pointCount() const {
+  return state_->header.elements[std::size_t(state_->point_element)].count;
+}
+const Quantization& PlyChunkReader::quantization() const { return state_->quantization; }
+void PlyChunkReader::setQuantization(const Quantization& quantization) {
+  state_->quantization = quantization;
+}
+
+bool PlyChunkReader::next(PointCloud& chunk, std::size_t max_points) {
+  assert(max_points > 0 && "PlyChunkReader::next needs a positive max_points");
+  State& s = *state_;
+  const std::uint64_t remaining = pointCount() - s.delivered;
+  if (remaining == 0) {
+    chunk = PointCloud{};
+    return false;
+  }
+  const std::uint64_t n = std::min<std::uint64_t>(max_points, remaining);
+  chunk = ply::allocatePointCloud(s.layout, n, s.quantization);
+
+  // The pieces of ranges this chunk covers; each starts at a known byte, so all decode at once.
+  struct Piece {
+    RecordRange range;
+    std::uint64_t count;
+    std::uint64_t dst;
+  };
+  std::vector<Piece> pieces;
+  std::uint64_t filled = 0;
+  std::size_t index = s.range_index;
+  std::uint64_t skip = s.done_in_range;
+  while (filled < n) {
+    const RecordRange& range = s.ranges[index];
+    RecordRange piece = range;
+    piece.first_record += skip;
+    piece.count -= skip;
+    if (skip > 0) {
+      piece.begin = s.cursor_byte;
+      if (piece.first_line != 0) piece.first_line += skip;
+    }
+    std::uint64_t take = std::min(piece.count, n - filled);
+    pieces.push_back({piece, take, filled});
+    filled += take;
+    if (take == piece.count) {
+      ++index;
+      skip = 0;
+    } else {
+      skip += take;
+    }
+  }
+  std::vector<ply::RangeStats> stats(pieces.size());
+  tbb::parallel_for(std::size_t(0), pieces.size(), [&](std::size_t i) {
+    stats[i] = ply::decodeRange(s.context, pieces[i].range, pieces[i].count, chunk, pieces[i].dst);
+  });
+  Bounds3 raw;
+  for (const auto& st : stats) raw.extend(st.raw_bounds);
+  if (!fitsQuantization(s.quantization, raw)) {
+    throw InputError(
+        {.file = s.file.path(),
+         .element = s.layout.element_name,
+         .property = "x, y, z",
+         .expected = "points inside the streaming quantization's range",
+         .found = "a point outside it in records " + std::to_string(s.delivered) + " to " +
+                  std::to_string(s.delivered + n - 1),
+         .hint = "the sampled bounds missed outliers; pass exact bounds with setQuantization"});
+  }
+  s.range_index = index;
+  s.done_in_range = skip;
+  if (skip > 0) s.cursor_byte = stats.back().end;
+  s.delivered += n;
+  chunk.bounds = quantizedBounds(s.quantization, raw);
+  return true;
+}
+
+}  // namespace parallax

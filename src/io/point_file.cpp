@@ -1,1 +1,210 @@
-// placeholder: being written
+#include "io/point_file.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <utility>
+
+#include "core/error.h"
+#include "io/las_header.h"
+#include "io/las_reader.h"
+#include "io/las_writer.h"
+#include "io/mapped_file.h"
+#include "io/ply_reader.h"
+#include "io/ply_writer.h"
+#include "io/text_reader.h"
+#include "io/text_writer.h"
+
+namespace parallax {
+namespace {
+
+constexpr std::size_t kSniffBytes = 64 << 10;
+
+std::string lowerExtension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+}  // namespace
+
+const char* pointFormatName(PointFormat format) {
+  switch (format) {
+    case PointFormat::Ply:
+      return "PLY";
+    case PointFormat::Las:
+      return "LAS";
+    case PointFormat::Laz:
+      return "LAZ";
+    case PointFormat::Text:
+      return "text (XYZ/CSV/PTS)";
+    case PointFormat::Unknown:
+      break;
+  }
+  return "unknown";
+}
+
+const char* supportedFormatsText() {
+  return "supported formats: PLY (ascii, binary little and big endian; .ply), LAS 1.0-1.4 "
+         "uncompressed, point formats 0-10 (.las), text with x y z [r g b ...] a line, "
+         "separated by blanks, commas or semicolons (.xyz .txt .csv .asc .pts)";
+}
+
+PointFormat detectPointFormatFromMemory(std::span<const std::byte> bytes) {
+  const auto* c = reinterpret_cast<const char*>(bytes.data());
+  // "ply" then a line end (LF or CRLF) is the PLY signature.
+  if (bytes.size() >= 4 && std::memcmp(c, "ply", 3) == 0 && (c[3] == '\n' || c[3] == '\r')) {
+    return PointFormat::Ply;
+  }
+  if (hasLasSignature(bytes)) return looksLikeLaz(bytes) ? PointFormat::Laz : PointFormat::Las;
+  if (looksLikeTextPoints(bytes)) return PointFormat::Text;
+  return PointFormat::Unknown;
+}
+
+PointFormat detectPointFormat(const std::filesystem::path& path) {
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr) {
+    throw InputError(
+        {.file = path.string(), .expected = "a readable file", .found = std::strerror(errno)});
+  }
+  std::vector<std::byte> head(kSniffBytes);
+  std::size_t got = std::fread(head.data(), 1, head.size(), file);
+  std::fclose(file);
+  head.resize(got);
+  PointFormat format = detectPointFormatFromMemory(head);
+  // A LAS header's VLRs can lie beyond the first 64 KiB; the reader checks LAZ again in full.
+  return format;
+}
+
+PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptions& options) {
+  switch (detectPointFormat(path)) {
+    case PointFormat::Ply:
+      return readPly(path, {.progress = options.progress, .parallel = options.parallel});
+    case PointFormat::Las:
+      return readLas(path, {.progress = options.progress, .parallel = options.parallel});
+    case PointFormat::Laz:
+      throwLazNotSupported(path.string());
+    case PointFormat::Text:
+      return readText(path, {.columns = options.text_columns,
+                             .progress = options.progress,
+                             .parallel = options.parallel});
+    case PointFormat::Unknown:
+      break;
+  }
+  std::string hint = supportedFormatsText();
+  if (lowerExtension(path) == ".laz") {
+    hint =
+        "LAZ is compressed LAS, which Parallax does not decompress: decompress it first, e.g. "
+        "`laszip -i in.laz -o out.las` or `pdal translate in.laz out.las`";
+  }
+  throw InputError({.file = path.string(),
+                    .byte_offset = 0,
+                    .expected = "a point cloud file",
+                    .found = "an unknown format",
+                    .hint = hint});
+}
+
+PointFormat formatForExtension(const std::filesystem::path& path) {
+  std::string ext = lowerExtension(path);
+  if (ext == ".ply") return PointFormat::Ply;
+  if (ext == ".las") return PointFormat::Las;
+  if (ext == ".xyz" || ext == ".txt" || ext == ".csv" || ext == ".asc" || ext == ".pts") {
+    return PointFormat::Text;
+  }
+  return PointFormat::Unknown;
+}
+
+std::vector<std::string> describeWriteLosses(const PointCloud& cloud,
+                                             const std::filesystem::path& path,
+                                             const PointWriteOptions& options) {
+  switch (formatForExtension(path)) {
+    case PointFormat::Las:
+      return planLasWrite(cloud, {.minor_version = options.las_minor_version}).losses;
+    case PointFormat::Text:
+      return describeTextLosses(cloud, textOptionsForPath(path));
+    default:
+      return {};  // PLY holds every column of the model
+  }
+}
+
+void writePointFile(const PointCloud& cloud, const std::filesystem::path& path,
+                    const PointWriteOptions& options) {
+  switch (formatForExtension(path)) {
+    case PointFormat::Ply:
+      writePly(cloud, path,
+               {.format = options.ply_ascii ? PlyFormat::Ascii : PlyFormat::BinaryLittleEndian,
+                .progress = options.progress});
+      return;
+    case PointFormat::Las:
+      writeLas(cloud, path,
+               {.minor_version = options.las_minor_version, .progress = options.progress});
+      return;
+    case PointFormat::Text: {
+      TextWriteOptions text = textOptionsForPath(path);
+      text.progress = options.progress;
+      writeText(cloud, path, text);
+      return;
+    }
+    default:
+      break;
+  }
+  throw InputError({.file = path.string(),
+                    .expected = "an output name ending in .ply, .las, .xyz, .txt, .csv, .asc or "
+                                ".pts",
+                    .found = "'" + path.extension().string() + "'",
+                    .hint = lowerExtension(path) == ".laz"
+                                ? "Parallax writes uncompressed LAS: write .las and compress it "
+                                  "with `laszip` if needed"
+                                : supportedFormatsText()});
+}
+
+OutputFile::OutputFile(const std::filesystem::path& path) : path_(path) {
+  temp_ = path;
+  temp_ += ".tmp-" + std::to_string(::getpid());
+  file_ = std::fopen(temp_.c_str(), "wb");
+  if (file_ == nullptr) fail("cannot create");
+  std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);
+}
+
+OutputFile::~OutputFile() {
+  if (committed_) return;
+  if (file_) std::fclose(file_);
+  std::error_code ignored;
+  std::filesystem::remove(temp_, ignored);
+}
+
+void OutputFile::fail(const char* what) {
+  throw std::runtime_error(std::string(what) + " '" + temp_.string() + "' (for '" + path_.string() +
+                           "'): " + std::strerror(errno));
+}
+
+void OutputFile::write(const void* data, std::size_t size) {
+  if (size != 0 && std::fwrite(data, 1, size, file_) != size) fail("cannot write");
+}
+
+void OutputFile::writeAt(std::uint64_t offset, const void* data, std::size_t size) {
+  if (std::fflush(file_) != 0) fail("cannot write");
+  long back = std::ftell(file_);
+  if (back < 0 || std::fseek(file_, long(offset), SEEK_SET) != 0) fail("cannot seek in");
+  write(data, size);
+  if (std::fflush(file_) != 0 || std::fseek(file_, back, SEEK_SET) != 0) fail("cannot seek in");
+}
+
+void OutputFile::commit() {
+  std::FILE* file = std::exchange(file_, nullptr);
+  if (std::fclose(file) != 0) fail("cannot write");
+  std::error_code error;
+  std::filesystem::rename(temp_, path_, error);
+  if (error) {
+    throw std::runtime_error("cannot rename '" + temp_.string() + "' to '" + path_.string() +
+                             "': " + error.message());
+  }
+  committed_ = true;
+}
+
+}  // namespace parallax

@@ -1,27 +1,93 @@
-// Format detection and reading of any supported point file.
+// Format detection, reading and writing of any supported point file, and the temporary-file
+// output that every writer uses.
 #pragma once
 
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "core/point_cloud.h"
 #include "core/progress.h"
 
 namespace parallax {
 
-enum class PointFormat { Ply, Unknown };
+enum class PointFormat { Ply, Las, Laz, Text, Unknown };
 
-// Detects the format from the file's first bytes (magic and header), not from its extension.
-// Throws InputError when the file cannot be opened.
+// "PLY", "LAS", "LAZ", "text (XYZ/CSV/PTS)", "unknown".
+const char* pointFormatName(PointFormat format);
+
+// "supported formats: PLY (...), LAS 1.0-1.4 (...), text ..." for error messages.
+const char* supportedFormatsText();
+
+// Detects the format from the file's first bytes (magic and header), not from its extension:
+// "ply" + line end is PLY; "LASF" is LAS, or LAZ when the header says LASzip; a file whose first
+// 64 KiB are printable text with a line of at least three numbers is text. Throws InputError when
+// the file cannot be opened.
 PointFormat detectPointFormat(const std::filesystem::path& path);
 
+// The same for the first bytes of a file held in memory (as many as are at hand; 64 KiB suffice).
+PointFormat detectPointFormatFromMemory(std::span<const std::byte> bytes);
+
 struct PointReadOptions {
-  Progress* progress = nullptr;
+  Progress* progress = nullptr;  // advanced by points (PLY, LAS) or bytes (text)
   bool parallel = true;
+  // Text files only: the columns' names ("x", "y", "z", "r", ..., "_" to skip one), overriding a
+  // header line and the common layouts. Empty: from the file.
+  std::vector<std::string> text_columns;
 };
 
 // Reads a whole point file of any supported format. Throws InputError for unreadable or malformed
-// files, and for an unknown format with the list of supported ones.
+// files, for LAZ (with how to decompress it), and for an unknown format with the list of
+// supported ones.
 PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptions& options = {});
+
+// The format a path's extension asks for when writing: .ply, .las, .xyz/.txt/.csv/.pts/.asc;
+// Unknown otherwise (and for .laz, which Parallax cannot write).
+PointFormat formatForExtension(const std::filesystem::path& path);
+
+struct PointWriteOptions {
+  Progress* progress = nullptr;
+  bool ply_ascii = false;     // PLY: ascii instead of binary little endian
+  int las_minor_version = 0;  // LAS: 2 or 4; 0 chooses from the attributes (see las_writer.h)
+};
+
+// What writing `cloud` to `path` would drop or change: one short phrase each ("alpha (LAS has no
+// alpha)", ...). Empty when every attribute is kept exactly.
+std::vector<std::string> describeWriteLosses(const PointCloud& cloud,
+                                             const std::filesystem::path& path,
+                                             const PointWriteOptions& options = {});
+
+// Writes `cloud` in the format of `path`'s extension (formatForExtension). Throws InputError
+// naming the supported extensions for any other, and std::runtime_error on I/O failure. The file
+// appears under its name only when complete (temporary file + rename).
+void writePointFile(const PointCloud& cloud, const std::filesystem::path& path,
+                    const PointWriteOptions& options = {});
+
+// A file written under a temporary name beside `path` and renamed over it by `commit()`; if it is
+// destroyed uncommitted (an exception), the temporary file is removed. Errors throw
+// std::runtime_error with the path and the system's reason.
+class OutputFile {
+ public:
+  explicit OutputFile(const std::filesystem::path& path);
+  ~OutputFile();
+  OutputFile(const OutputFile&) = delete;
+  OutputFile& operator=(const OutputFile&) = delete;
+
+  void write(const void* data, std::size_t size);
+  void write(std::string_view text) { write(text.data(), text.size()); }
+  // Overwrites bytes already written (headers whose counts are known at the end).
+  void writeAt(std::uint64_t offset, const void* data, std::size_t size);
+  void commit();
+
+ private:
+  [[noreturn]] void fail(const char* what);
+
+  std::filesystem::path path_;
+  std::filesystem::path temp_;
+  std::FILE* file_ = nullptr;
+  bool committed_ = false;
+};
 
 }  // namespace parallax

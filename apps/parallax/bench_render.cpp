@@ -1,0 +1,229 @@
+// `parallax bench render [--points N] [--width W] [--height H] [--repeat R]`: GL_POINTS
+// throughput of the renderer beside a bare GL_POINTS loop measured in the same run.
+//
+// The scene: N random points filling a box that fills the view, with colours. Both sides draw the
+// same points into a framebuffer of the same size (RGBA8 colour, float depth, depth test) and are
+// timed to glFinish, median of R frames after one warm-up frame:
+//   reference  one buffer of interleaved vec3 float + rgba8, a shader that only transforms and
+//              passes the colour through, gl_PointSize 1, one draw call;
+//   renderer   Renderer::render: chunked buffers, chunk-relative positions, the full point shader
+//              (--color rgb, fixed 1-pixel points), frustum culling, and the copy into the target.
+// Both are measured with the points in file (random) order and in Morton order, since llvmpipe's
+// tile cache makes the order matter more than anything the shader does.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <glm/gtc/type_ptr.hpp>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "commands.h"
+#include "core/point_cloud.h"
+#include "render/gl_context.h"
+#include "render/point_buffers.h"
+#include "render/renderer.h"
+#include "render/shader_program.h"
+
+namespace parallax::cli {
+namespace {
+
+struct RenderBenchOptions {
+  std::uint64_t points = 4'000'000;
+  int width = 1920, height = 1080;
+  int repeat = 5;
+};
+
+using Clock = std::chrono::steady_clock;
+
+PointCloud randomCloud(std::uint64_t count) {
+  PointCloud cloud;
+  cloud.count = count;
+  cloud.quantization.scale = {0.001, 0.001, 0.001};
+  cloud.positions = Column<Int3>(count);
+  cloud.colors = Column<Rgba8>(count);
+  std::mt19937 random(1234);
+  std::uniform_int_distribution<std::int32_t> coordinate(-50'000, 50'000);  // a 100 m box
+  for (std::uint64_t i = 0; i < count; ++i) {
+    cloud.positions[i] = {coordinate(random), coordinate(random), coordinate(random) / 4};
+    const std::uint32_t bits = random();
+    cloud.colors[i] = {std::uint8_t(bits), std::uint8_t(bits >> 8), std::uint8_t(bits >> 16), 255};
+  }
+  cloud.computeBounds();
+  return cloud;
+}
+
+const char* const kBareVertex = R"glsl(#version 450 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec4 a_color;
+uniform mat4 u_mvp;
+out vec4 v_color;
+void main() {
+  gl_Position = u_mvp * vec4(a_position, 1.0);
+  gl_PointSize = 1.0;
+  v_color = a_color;
+}
+)glsl";
+
+const char* const kBareFragment = R"glsl(#version 450 core
+in vec4 v_color;
+out vec4 out_color;
+void main() { out_color = v_color; }
+)glsl";
+
+// The reference: what any GL_POINTS viewer must at least do.
+class BarePoints {
+ public:
+  BarePoints(const PointCloud& cloud, const std::vector<std::uint32_t>& order, int width,
+             int height)
+      : program_({{GL_VERTEX_SHADER, "bench_bare.vert", kBareVertex},
+                  {GL_FRAGMENT_SHADER, "bench_bare.frag", kBareFragment}}),
+        count_(GLsizei(cloud.count)),
+        width_(width),
+        height_(height) {
+    struct Vertex {
+      float x, y, z;
+      Rgba8 color;
+    };
+    std::vector<Vertex> vertices(cloud.count);
+    for (std::size_t i = 0; i < cloud.count; ++i) {
+      const std::size_t src = order[i];
+      vertices[i] = {float(cloud.worldX(src)), float(cloud.worldY(src)), float(cloud.worldZ(src)),
+                     cloud.colors[src]};
+    }
+    glCreateBuffers(1, &buffer_);
+    glNamedBufferStorage(buffer_, GLsizeiptr(vertices.size() * sizeof(Vertex)), vertices.data(), 0);
+    glCreateVertexArrays(1, &vao_);
+    glVertexArrayVertexBuffer(vao_, 0, buffer_, 0, sizeof(Vertex));
+    glVertexArrayAttribFormat(vao_, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribFormat(vao_, 1, 4, GL_UNSIGNED_BYTE, GL_TRUE, 12);
+    glVertexArrayAttribBinding(vao_, 0, 0);
+    glVertexArrayAttribBinding(vao_, 1, 0);
+    glEnableVertexArrayAttrib(vao_, 0);
+    glEnableVertexArrayAttrib(vao_, 1);
+    glCreateTextures(GL_TEXTURE_2D, 1, &color_);
+    glTextureStorage2D(color_, 1, GL_RGBA8, width, height);
+    glCreateTextures(GL_TEXTURE_2D, 1, &depth_);
+    glTextureStorage2D(depth_, 1, GL_DEPTH_COMPONENT32F, width, height);
+    glCreateFramebuffers(1, &framebuffer_);
+    glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, color_, 0);
+    glNamedFramebufferTexture(framebuffer_, GL_DEPTH_ATTACHMENT, depth_, 0);
+  }
+  ~BarePoints() {
+    glDeleteFramebuffers(1, &framebuffer_);
+    glDeleteTextures(1, &color_);
+    glDeleteTextures(1, &depth_);
+    glDeleteVertexArrays(1, &vao_);
+    glDeleteBuffers(1, &buffer_);
+  }
+
+  void draw(const glm::dmat4& world_to_clip) {
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+    glViewport(0, 0, width_, height_);
+    const float black[] = {0, 0, 0, 1};
+    const float far_depth = 0.0f;
+    glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, black);
+    glClearNamedFramebufferfv(framebuffer_, GL_DEPTH, 0, &far_depth);
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glDisable(GL_PROGRAM_POINT_SIZE);
+    glPointSize(1.0f);
+    glUseProgram(program_.id());
+    glUniformMatrix4fv(program_.uniform("u_mvp"), 1, GL_FALSE,
+                       glm::value_ptr(glm::mat4(world_to_clip)));
+    glBindVertexArray(vao_);
+    glDrawArrays(GL_POINTS, 0, count_);
+    glBindVertexArray(0);
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+  }
+
+ private:
+  ShaderProgram program_;
+  GLsizei count_;
+  int width_, height_;
+  GLuint buffer_ = 0, vao_ = 0, color_ = 0, depth_ = 0, framebuffer_ = 0;
+};
+
+template <class Draw>
+double medianSeconds(int repeat, Draw draw) {
+  draw();
+  glFinish();  // warm-up: shader compilation, first touch of the framebuffer
+  std::vector<double> times;
+  for (int i = 0; i < repeat; ++i) {
+    const auto start = Clock::now();
+    draw();
+    glFinish();
+    times.push_back(std::chrono::duration<double>(Clock::now() - start).count());
+  }
+  std::sort(times.begin(), times.end());
+  return times[times.size() / 2];
+}
+
+int runBenchRender(const RenderBenchOptions& o) {
+  auto context = GlContext::createHeadless();
+  std::printf("bench render: %llu random points, %dx%d, median of %d frames, on %s\n",
+              static_cast<unsigned long long>(o.points), o.width, o.height, o.repeat,
+              context->renderer().c_str());
+  const PointCloud cloud = randomCloud(o.points);
+  const std::vector<std::uint32_t> morton = mortonOrder(cloud);
+  std::vector<std::uint32_t> file_order(cloud.count);
+  for (std::size_t i = 0; i < file_order.size(); ++i) file_order[i] = std::uint32_t(i);
+
+  Camera camera;
+  camera.lookAt({0.0, -80.0, 60.0}, {0.0, 0.0, 0.0}, {0, 0, 1});
+  camera.fitToBounds(cloud.bounds, double(o.width) / o.height);
+  const View view{camera, {0, 0, o.width, o.height}};
+  RenderSettings settings;
+  settings.color = ColorMode::Rgb;
+
+  RenderTarget target(o.width, o.height);
+  Renderer renderer;
+  const double mpoints = double(o.points) / 1e6;
+  for (const bool sorted : {false, true}) {
+    const auto& order = sorted ? morton : file_order;
+    BarePoints bare(cloud, order, o.width, o.height);
+    const glm::dmat4 world_to_clip =
+        camera.projectionMatrix(view.viewport.aspect(), camera.clipRange(cloud.bounds)) *
+        camera.viewMatrix();
+    const double bare_s = medianSeconds(o.repeat, [&] { bare.draw(world_to_clip); });
+
+    PointUploadOptions upload;
+    upload.morton_order = sorted;
+    GpuPointCloud gpu(cloud, upload);
+    const double ours_s = medianSeconds(o.repeat, [&] {
+      renderer.render(gpu, std::span(&view, 1), settings, target.framebuffer(), o.width,
+                      o.height);
+    });
+    std::printf("%-13s reference %7.2f M points/s (%6.1f ms)  renderer %7.2f M points/s "
+                "(%6.1f ms)  renderer / reference %.2f\n",
+                sorted ? "morton order" : "random order", mpoints / bare_s, bare_s * 1e3,
+                mpoints / ours_s, ours_s * 1e3, bare_s / ours_s);
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command addBenchRenderCommand(CLI::App& bench) {
+  auto options = std::make_shared<RenderBenchOptions>();
+  Command command;
+  command.subcommand = bench.add_subcommand(
+      "render", "GL_POINTS throughput of the renderer against a bare GL_POINTS loop");
+  command.subcommand->add_option("--points", options->points, "Random points to draw")
+      ->check(CLI::Range(std::uint64_t(1), std::uint64_t(200'000'000)))
+      ->capture_default_str();
+  command.subcommand->add_option("--width", options->width, "Framebuffer width")
+      ->check(CLI::Range(1, 16384))
+      ->capture_default_str();
+  command.subcommand->add_option("--height", options->height, "Framebuffer height")
+      ->check(CLI::Range(1, 16384))
+      ->capture_default_str();
+  command.subcommand->add_option("--repeat,-n", options->repeat, "Timed frames (median shown)")
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
+  command.run = [options] { return runBenchRender(*options); };
+  return command;
+}
+
+}  // namespace parallax::cli

@@ -1,0 +1,148 @@
+// `parallax render INPUT -o OUT.png`: one picture of a point file, headless (EGL), or with
+// `--path FILE.json --frames N -o DIR/frame_%04d.png` a frame sequence along a camera path.
+//
+// Prints the time from start to PNG broken down into load, context, upload, draw and write, on
+// stderr (stdout stays free for scripts).
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "commands.h"
+#include "core/point_cloud.h"
+#include "io/point_file.h"
+#include "render/camera_path.h"
+#include "render/gl_context.h"
+#include "render/image_file.h"
+#include "render/point_buffers.h"
+#include "render/renderer.h"
+#include "render_options.h"
+
+namespace parallax::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Expands the one printf-style integer field (%d or %0Nd) of a frame pattern. Done by hand so
+// that a user's pattern is never a printf format string.
+std::string framePath(const std::string& pattern, int frame) {
+  const auto percent = pattern.find('%');
+  if (percent == std::string::npos) {
+    throw std::invalid_argument("-o " + pattern + ": a frame sequence needs a %d or %04d field");
+  }
+  std::size_t end = percent + 1;
+  int width = 0;
+  while (end < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[end]))) {
+    width = width * 10 + (pattern[end++] - '0');
+  }
+  if (end >= pattern.size() || pattern[end] != 'd' ||
+      pattern.find('%', end) != std::string::npos || width > 12) {
+    throw std::invalid_argument("-o " + pattern + ": use exactly one %d or %0Nd field");
+  }
+  std::string number = std::to_string(frame);
+  if (int(number.size()) < width) number.insert(0, std::size_t(width) - number.size(), '0');
+  return pattern.substr(0, percent) + number + pattern.substr(end + 1);
+}
+
+struct RenderCommandOptions {
+  std::string input;
+  std::string output;
+  int width = 1280, height = 720;
+  std::string path_file;
+  int frames = 0;
+  RenderOptions render;
+};
+
+int runRender(const RenderCommandOptions& o) {
+  const auto start = Clock::now();
+  PointCloud cloud = readPointFile(o.input);
+  const double load_s = secondsSince(start);
+
+  auto phase = Clock::now();
+  auto context = GlContext::createHeadless();
+  const double context_s = secondsSince(phase);
+
+  phase = Clock::now();
+  GpuPointCloud gpu(cloud);
+  glFinish();
+  const double upload_s = secondsSince(phase);
+  const std::uint64_t points = cloud.count;
+  cloud = PointCloud();  // the GPU holds the points now
+
+  const RenderSettings settings = renderSettingsFrom(o.render, gpu.typicalSpacing());
+  const double aspect = double(o.width) / o.height;
+  std::vector<Camera> cameras;
+  std::vector<std::string> outputs;
+  if (!o.path_file.empty()) {
+    if (o.frames < 1) throw std::invalid_argument("--path needs --frames N (at least 1)");
+    const CameraPath path = loadCameraPath(o.path_file);
+    for (int f = 0; f < o.frames; ++f) {
+      cameras.push_back(path.frame(f, o.frames));
+      outputs.push_back(framePath(o.output, f));
+    }
+    std::filesystem::create_directories(std::filesystem::path(outputs.front()).parent_path());
+  } else {
+    cameras.push_back(cameraFrom(o.render, gpu.bounds(), aspect));
+    outputs.push_back(o.output);
+  }
+
+  Renderer renderer;
+  RenderTarget target(o.width, o.height);
+  double draw_s = 0, write_s = 0;
+  std::uint64_t drawn = 0;
+  for (std::size_t i = 0; i < cameras.size(); ++i) {
+    phase = Clock::now();
+    const View view{cameras[i], {0, 0, o.width, o.height}};
+    drawn = renderer.render(gpu, std::span(&view, 1), settings, target.framebuffer(), o.width,
+                            o.height)
+                .points_drawn;
+    glFinish();
+    draw_s += secondsSince(phase);
+    phase = Clock::now();
+    writePng(outputs[i], {o.width, o.height, target.readRgba()});
+    write_s += secondsSince(phase);
+  }
+  const double total_s = secondsSince(start);
+  std::fprintf(stderr,
+               "parallax render: %llu points (%llu drawn), %zu frame(s) %dx%d on %s (%s)\n"
+               "  load %.3f s, context %.3f s, upload %.3f s, draw %.3f s, write %.3f s, "
+               "total %.3f s\n  wrote %s%s\n",
+               static_cast<unsigned long long>(points), static_cast<unsigned long long>(drawn),
+               cameras.size(), o.width, o.height,
+               context->renderer().c_str(), context->platform().c_str(), load_s, context_s,
+               upload_s, draw_s, write_s, total_s, outputs.front().c_str(),
+               outputs.size() > 1 ? " ..." : "");
+  return 0;
+}
+
+}  // namespace
+
+Command addRenderCommand(CLI::App& app) {
+  auto options = std::make_shared<RenderCommandOptions>();
+  Command command;
+  CLI::App* sub = app.add_subcommand("render", "Render a point file to a PNG, headless");
+  sub->add_option("input", options->input, "Point file (PLY)")->required();
+  sub->add_option("-o,--output", options->output,
+                  "Output PNG (with --path: a pattern such as DIR/frame_%04d.png)")
+      ->required();
+  sub->add_option("--width", options->width, "Image width in pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 16384));
+  sub->add_option("--height", options->height, "Image height in pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 16384));
+  sub->add_option("--path", options->path_file, "Camera path JSON: render a frame sequence");
+  sub->add_option("--frames", options->frames, "Frames along --path")->check(CLI::Range(1, 100000));
+  addRenderOptions(*sub, options->render);
+  command.subcommand = sub;
+  command.run = [options] { return runRender(*options); };
+  return command;
+}
+
+}  // namespace parallax::cli

@@ -1,0 +1,124 @@
+#include "render_options.h"
+
+#include <stdexcept>
+
+namespace parallax::cli {
+
+namespace {
+
+std::array<float, 3> colorFrom(const std::vector<int>& rgb, const char* option) {
+  if (rgb.size() != 3) {
+    throw std::invalid_argument(std::string(option) + " takes R,G,B (three numbers 0-255)");
+  }
+  std::array<float, 3> result{};
+  for (int i = 0; i < 3; ++i) {
+    if (rgb[i] < 0 || rgb[i] > 255) {
+      throw std::invalid_argument(std::string(option) + ": " + std::to_string(rgb[i]) +
+                                  " is outside 0-255");
+    }
+    result[i] = float(rgb[i]) / 255.0f;
+  }
+  return result;
+}
+
+glm::dvec3 vectorFrom(const std::vector<double>& v, const char* option) {
+  if (v.size() != 3) throw std::invalid_argument(std::string(option) + " takes X,Y,Z");
+  return {v[0], v[1], v[2]};
+}
+
+}  // namespace
+
+void addRenderOptions(CLI::App& command, RenderOptions& o) {
+  command.add_option("--color", o.color, "Colour mode: " + colorModeNames())->capture_default_str();
+  command.add_option("--point-size", o.point_size, "Point size in pixels (fixed size mode)")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0f, 255.0f));
+  command.add_option("--size-mode", o.size_mode, "Point size: fixed|attenuated|adaptive")
+      ->capture_default_str();
+  command.add_option("--shape", o.shape, "Point shape: square|round")->capture_default_str();
+  command.add_option("--world-size", o.world_size,
+                     "Point size in world units (attenuated mode; default: twice the spacing)");
+  command.add_option("--adaptive-scale", o.adaptive_scale,
+                     "Point size as a multiple of the local spacing (adaptive mode)")
+      ->capture_default_str();
+  command.add_option("--uniform-color", o.uniform_color, "R,G,B (0-255) of --color uniform")
+      ->delimiter(',')
+      ->expected(3);
+  command.add_option("--background", o.background, "R,G,B (0-255)")->delimiter(',')->expected(3);
+  command.add_flag("--lighting", o.lighting, "Head-light shading from normals");
+  command.add_flag("--edl", o.edl, "Eye-dome lighting");
+  command.add_option("--edl-strength", o.edl_strength, "Eye-dome lighting strength")
+      ->capture_default_str();
+  command.add_option("--edl-radius", o.edl_radius, "Eye-dome lighting radius in pixels")
+      ->capture_default_str();
+  command.add_option("--eye", o.eye, "Camera position X,Y,Z (file coordinates)")
+      ->delimiter(',')
+      ->expected(3);
+  command.add_option("--target", o.target, "Point looked at X,Y,Z (default: the cloud's centre)")
+      ->delimiter(',')
+      ->expected(3);
+  command.add_option("--up", o.up, "Up direction X,Y,Z")->delimiter(',')->expected(3);
+  command.add_option("--fov", o.fov, "Vertical field of view in degrees")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 179.0));
+  command.add_flag("--ortho", o.orthographic, "Orthographic projection");
+  command.add_option("--camera", o.camera_file, "Camera JSON file (as the viewer saves it)");
+}
+
+RenderSettings renderSettingsFrom(const RenderOptions& o, double typical_spacing) {
+  RenderSettings settings;
+  const auto color = parseColorMode(o.color);
+  if (!color) {
+    throw std::invalid_argument("--color: unknown mode '" + o.color + "' (use " +
+                                colorModeNames() + ")");
+  }
+  const auto size_mode = parsePointSizeMode(o.size_mode);
+  if (!size_mode) {
+    throw std::invalid_argument("--size-mode: unknown mode '" + o.size_mode +
+                                "' (use fixed|attenuated|adaptive)");
+  }
+  const auto shape = parsePointShape(o.shape);
+  if (!shape) throw std::invalid_argument("--shape: '" + o.shape + "' (use square|round)");
+  settings.color = *color;
+  settings.size_mode = *size_mode;
+  settings.shape = *shape;
+  settings.point_size_px = o.point_size;
+  settings.world_size = o.world_size > 0 ? o.world_size : float(2.0 * typical_spacing);
+  settings.adaptive_scale = o.adaptive_scale;
+  settings.uniform_color = colorFrom(o.uniform_color, "--uniform-color");
+  settings.background = colorFrom(o.background, "--background");
+  settings.lighting = o.lighting;
+  settings.edl = o.edl;
+  settings.edl_strength = o.edl_strength;
+  settings.edl_radius_px = o.edl_radius;
+  return settings;
+}
+
+Camera cameraFrom(const RenderOptions& o, const Bounds3& bounds, double aspect) {
+  if (!o.camera_file.empty()) return loadCamera(o.camera_file);
+  Camera camera;
+  camera.fov_y_deg = o.fov;
+  camera.projection = o.orthographic ? Projection::Orthographic : Projection::Perspective;
+  if (o.eye.empty()) {
+    camera.orientation = defaultCameraFor(bounds, aspect).orientation;
+    camera.world_up = vectorFrom(o.up, "--up");
+    camera.fitToBounds(bounds, aspect);
+    if (!o.target.empty()) {
+      // The default direction and distance, centred on the given target.
+      const glm::dvec3 shift = vectorFrom(o.target, "--target") - camera.pivot;
+      camera.position += shift;
+      camera.pivot += shift;
+    }
+    return camera;
+  }
+  const auto center = bounds.center();
+  const glm::dvec3 target = o.target.empty() ? glm::dvec3(center[0], center[1], center[2])
+                                             : vectorFrom(o.target, "--target");
+  camera.lookAt(vectorFrom(o.eye, "--eye"), target, vectorFrom(o.up, "--up"));
+  // Orthographic from an eye: show the whole cloud's width at the target.
+  const auto size = bounds.size();
+  camera.ortho_height = std::max({size[0], size[1], size[2], 1e-3});
+  return camera;
+}
+
+}  // namespace parallax::cli

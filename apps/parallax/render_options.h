@@ -1,0 +1,45 @@
+// The render settings and camera options shared by `parallax render` and `parallax view`.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "render/camera.h"
+#include "render/render_settings.h"
+
+namespace parallax::cli {
+
+struct RenderOptions {
+  std::string color = "rgb";
+  std::string size_mode = "fixed";
+  std::string shape = "square";
+  float point_size = 1.0f;
+  float world_size = 0.0f;  // 0: twice the cloud's typical spacing
+  float adaptive_scale = 1.5f;
+  std::vector<int> uniform_color{255, 255, 255};
+  std::vector<int> background{0, 0, 0};
+  bool lighting = false;
+  bool edl = false;
+  float edl_strength = 1.0f;
+  float edl_radius = 1.4f;
+  std::vector<double> eye, target, up{0.0, 0.0, 1.0};
+  double fov = 60.0;
+  bool orthographic = false;
+  std::string camera_file;
+};
+
+// Registers --color, --point-size, --size-mode, --shape, --world-size, --adaptive-scale,
+// --uniform-color, --background, --lighting, --edl, --edl-strength, --edl-radius, --eye,
+// --target, --up, --fov, --ortho, --camera.
+void addRenderOptions(CLI::App& command, RenderOptions& options);
+
+// Validated settings; throws std::invalid_argument naming the option and its allowed values.
+RenderSettings renderSettingsFrom(const RenderOptions& options, double typical_spacing);
+
+// The camera: --camera FILE, else --eye/--target/--up/--fov, else one that fits `bounds`.
+Camera cameraFrom(const RenderOptions& options, const Bounds3& bounds, double aspect);
+
+}  // namespace parallax::cli

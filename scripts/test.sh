@@ -1,0 +1,167 @@
+#!/usr/bin/env bash
+# Builds and tests everything CI checks, in three trees:
+#   1. build/       Release: every test (ctest), benchmarks built
+#   2. build-asan/  RelWithDebInfo with AddressSanitizer + UndefinedBehaviorSanitizer: every test
+#                   (LeakSanitizer too; system GL/X11 libraries' leaks: scripts/lsan.supp)
+#   3. build-fuzz/  clang + libFuzzer: each fuzz target runs for a fixed time from a copy of its
+#                   seed corpus fuzz/corpus/<format>/ (with fuzz/<format>.dict when present)
+# Every stage runs even when an earlier one failed (so one run shows all problems); the script
+# exits non-zero when any stage failed and ends with a summary and a "N passed, N failed" line.
+#
+#   scripts/test.sh            everything (about 15-25 minutes on 2 cores from scratch)
+#   scripts/test.sh --quick    stage 1 only
+# Environment: PARALLAX_JOBS (build and test parallelism, default: nproc),
+#              PARALLAX_FUZZ_SECONDS (per fuzz target, default 30),
+#              PARALLAX_BUILD_DIR (default build; the other trees are its name + -asan, -fuzz).
+set -uo pipefail
+
+cd "$(dirname "$0")/.."
+root=$(pwd)
+quick=0
+for arg in "$@"; do
+  case "$arg" in
+    --quick) quick=1 ;;
+    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+    *) echo "test.sh: unknown argument '$arg' (try --help)" >&2; exit 2 ;;
+  esac
+done
+
+jobs=${PARALLAX_JOBS:-$(nproc)}
+fuzz_seconds=${PARALLAX_FUZZ_SECONDS:-30}
+release_dir=${PARALLAX_BUILD_DIR:-build}
+asan_dir=$release_dir-asan
+fuzz_dir=$release_dir-fuzz
+export DEBIAN_FRONTEND=noninteractive
+# Sanitizers: stop at the first report, with a stack; leaks are errors.
+export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:strict_string_checks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/scripts/lsan.supp:print_suppressions=0}
+
+logs=$(mktemp -d "${TMPDIR:-/tmp}/parallax-test.XXXXXX")
+summary=()
+failed_stages=0
+tests_passed=0
+tests_failed=0
+
+now() { date +%s; }
+banner() { printf '\n==== %s ====\n' "$*"; }
+
+# record NAME STATUS SECONDS
+record() {
+  summary+=("$(printf '%-34s %-6s %5ss' "$1" "$2" "$3")")
+  [[ "$2" == ok ]] || failed_stages=$((failed_stages + 1))
+}
+
+# configure_and_build NAME DIR TARGET -- CMAKE_ARGS...
+configure_and_build() {
+  local name=$1 dir=$2 target=$3
+  shift 4
+  banner "$name: configure and build ($dir)"
+  local start rc
+  start=$(now)
+  cmake -S "$root" -B "$dir" "$@" && cmake --build "$dir" -j "$jobs" --target "$target"
+  rc=$?
+  record "$name build" "$([[ $rc -eq 0 ]] && echo ok || echo FAILED)" $(($(now) - start))
+  return $rc
+}
+
+# run_ctest NAME DIR: runs every test, adds the counts to the totals.
+run_ctest() {
+  local name=$1 dir=$2 start rc log="$logs/ctest-$1.log"
+  banner "$name: ctest ($dir)"
+  start=$(now)
+  ctest --test-dir "$dir" --output-on-failure --no-tests=error -j "$jobs" --timeout 600 2>&1 |
+    tee "$log"
+  rc=$?
+  # "100% tests passed, 0 tests failed out of 42"
+  local line total failed
+  line=$(grep -E '^[0-9]+% tests passed, [0-9]+ tests? failed out of [0-9]+' "$log" | tail -n 1)
+  if [[ -n "$line" ]]; then
+    failed=$(sed -E 's/.* ([0-9]+) tests? failed.*/\1/' <<<"$line")
+    total=$(sed -E 's/.* out of ([0-9]+).*/\1/' <<<"$line")
+    tests_passed=$((tests_passed + total - failed))
+    tests_failed=$((tests_failed + failed))
+  elif [[ $rc -ne 0 ]]; then
+    tests_failed=$((tests_failed + 1))
+  fi
+  record "$name ctest${line:+ ($line)}" "$([[ $rc -eq 0 ]] && echo ok || echo FAILED)" \
+    $(($(now) - start))
+}
+
+# run_fuzzer EXECUTABLE: a fixed time from a copy of its seed corpus (the seeds stay unchanged).
+run_fuzzer() {
+  local executable=$1 name kind corpus start rc log
+  name=$(basename "$executable")
+  kind=${name#fuzz_}
+  kind=${kind%_reader}
+  corpus=$(mktemp -d "$logs/corpus-$kind.XXXXXX")
+  [[ -d "$root/fuzz/corpus/$kind" ]] && cp -r "$root/fuzz/corpus/$kind/." "$corpus/"
+  local extra=()
+  [[ -f "$root/fuzz/$kind.dict" ]] && extra+=("-dict=$root/fuzz/$kind.dict")
+  mkdir -p "$root/$fuzz_dir/artifacts"
+  log="$logs/$name.log"
+  banner "fuzz: $name for ${fuzz_seconds}s (log: $log)"
+  start=$(now)
+  "$executable" -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 -timeout=10 \
+    -print_final_stats=1 -artifact_prefix="$root/$fuzz_dir/artifacts/$name-" "${extra[@]}" \
+    "$corpus" >"$log" 2>&1 </dev/null
+  rc=$?
+  grep -E '^stat::(number_of_executed_units|new_units_added|peak_rss_mb)' "$log" || true
+  if [[ $rc -eq 0 ]]; then
+    tests_passed=$((tests_passed + 1))
+  else
+    tests_failed=$((tests_failed + 1))
+    echo "---- $name failed (exit $rc); the end of its log:"
+    tail -n 60 "$log"
+    echo "---- the input that failed is in $fuzz_dir/artifacts/"
+  fi
+  record "fuzz $name" "$([[ $rc -eq 0 ]] && echo ok || echo FAILED)" $(($(now) - start))
+}
+
+total_start=$(now)
+
+banner "dependencies"
+start=$(now)
+if scripts/install-deps.sh </dev/null; then
+  record "install-deps" ok $(($(now) - start))
+else
+  record "install-deps" FAILED $(($(now) - start))
+fi
+
+# 1. Release: all tests; benchmarks are built (so they keep compiling) but not run.
+if configure_and_build release "$release_dir" all -- -DCMAKE_BUILD_TYPE=Release; then
+  run_ctest release "$release_dir"
+fi
+
+if [[ $quick -eq 0 ]]; then
+  # 2. Sanitizers: every test under ASan + UBSan; no benchmarks (they would only slow the build).
+  if configure_and_build asan "$asan_dir" all -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+       -DPARALLAX_SANITIZE=ON -DPARALLAX_BUILD_BENCH=OFF; then
+    run_ctest asan "$asan_dir"
+  fi
+
+  # 3. Fuzzing: clang, only the fuzz targets and the libraries they link.
+  # A tree configured with another compiler cannot be switched in place.
+  if [[ -f "$fuzz_dir/CMakeCache.txt" ]] &&
+     ! grep -q '^CMAKE_CXX_COMPILER:[A-Z]*=.*clang++' "$fuzz_dir/CMakeCache.txt"; then
+    rm -rf "$fuzz_dir"
+  fi
+  if configure_and_build fuzz "$fuzz_dir" parallax_fuzzers -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+       -DCMAKE_CXX_COMPILER=clang++ -DPARALLAX_BUILD_FUZZ=ON -DPARALLAX_BUILD_TESTS=OFF \
+       -DPARALLAX_BUILD_BENCH=OFF; then
+    while read -r target; do
+      [[ -n "$target" ]] && run_fuzzer "$fuzz_dir/fuzz/$target"
+    done <"$fuzz_dir/fuzz/fuzz_targets.txt"
+  fi
+fi
+
+banner "summary ($(($(now) - total_start))s in all; logs in $logs)"
+printf '%s\n' "${summary[@]}"
+if [[ $failed_stages -eq 0 ]]; then
+  echo "all stages passed"
+else
+  echo "$failed_stages stage(s) FAILED"
+fi
+# Tests counted: every ctest test of every tree, and each fuzz target as one.
+echo "$tests_passed passed, $tests_failed failed"
+[[ $failed_stages -eq 0 && $tests_failed -eq 0 ]]

@@ -1,0 +1,144 @@
+// LAS 1.0-1.4: the public header block, variable length records (VLRs and 1.4's EVLRs), the
+// point data record formats 0-10, the extra bytes descriptions and the coordinate reference system.
+// Reference: ASPRS LAS Specification 1.4 R15 (2019), sections 2.4-2.6 (header, VLRs, point
+// records) and 2.8-2.9 (extra bytes, EVLRs); LAS 1.0-1.3 for the shorter headers.
+//
+// All multi-byte values in a LAS file are little endian; this code assumes a little-endian host.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/bounds.h"
+#include "core/quantization.h"
+#include "core/scalar_type.h"
+
+namespace parallax {
+
+// Header sizes by version: 1.0-1.2, 1.3 (adds the waveform offset), 1.4 (EVLRs, 64-bit counts).
+constexpr std::size_t kLasHeaderSize12 = 227;
+constexpr std::size_t kLasHeaderSize13 = 235;
+constexpr std::size_t kLasHeaderSize14 = 375;
+constexpr std::size_t kLasVlrHeaderSize = 54;
+constexpr std::size_t kLasEvlrHeaderSize = 60;
+constexpr std::size_t kLasExtraBytesDescriptorSize = 192;
+constexpr int kLasMaxPointFormat = 10;
+
+// Bytes of the fixed part of a point record of `format` (0-10); 0 for an unknown format.
+std::size_t lasPointFormatSize(int format);
+bool lasFormatHasGpsTime(int format);
+bool lasFormatHasColor(int format);
+bool lasFormatHasNir(int format);
+bool lasFormatHasWavePacket(int format);
+// Formats 6-10 (LAS 1.4) have 4-bit returns, an 8-bit class and a 16-bit scan angle.
+constexpr bool lasFormatIsExtended(int format) {
+  return format >= 6;
+}
+
+struct LasVlr {
+  std::string user_id;  // e.g. "LASF_Projection", "LASF_Spec"
+  std::uint16_t record_id = 0;
+  std::string description;
+  bool extended = false;          // an EVLR (after the points, 1.4)
+  std::uint64_t data_offset = 0;  // of the payload, in the file
+  std::uint64_t data_size = 0;
+  // The payload for the records this code understands or copies (projection, spec); empty for
+  // the others (waveform data can be gigabytes).
+  std::vector<std::byte> data;
+};
+
+// One extra-bytes column described by the LASF_Spec record 4 (LAS 1.4 R15 section 2.8.3).
+struct LasExtraBytes {
+  std::string name;
+  std::string description;
+  std::uint8_t data_type = 0;  // 0 undocumented bytes, 1-10 scalars, 11-30 deprecated arrays
+  ScalarType type = ScalarType::UInt8;  // of one stored value (before scale/offset)
+  bool is_64bit_int = false;            // data types 7 and 8: read into doubles
+  std::size_t record_offset = 0;        // from the start of the point record
+  std::size_t size = 0;                 // bytes of this column in each record
+  bool scaled = false;                  // options bit 3 or 4: value = raw * scale + offset
+  double scale = 1.0;
+  double offset = 0.0;
+};
+
+// What the file says about its coordinate reference system. LAS 1.4 with the WKT bit (global
+// encoding bit 4) uses OGC WKT (LASF_Projection 2112); older files use GeoTIFF keys (34735, with
+// doubles in 34736 and text in 34737).
+struct LasGeoKey {
+  std::uint16_t id = 0, location = 0, count = 0, value = 0;
+};
+struct LasCrs {
+  std::string wkt;                               // empty when absent
+  std::optional<std::uint16_t> projected_epsg;   // GeoTIFF key 3072 (ProjectedCSTypeGeoKey)
+  std::optional<std::uint16_t> geographic_epsg;  // key 2048 (GeographicTypeGeoKey)
+  std::optional<std::uint16_t> vertical_epsg;    // key 4096 (VerticalCSTypeGeoKey)
+  std::string geotiff_citation;                  // GeoAsciiParams text, '|' separators as written
+  std::vector<LasGeoKey> geo_keys;
+
+  bool empty() const { return wkt.empty() && geo_keys.empty(); }
+  // One line: "EPSG:26915 + EPSG:5703 (GeoTIFF keys)", the WKT's name ("PROJCS[\"NAD83 / UTM
+  // zone 15N\"" ...), or "none".
+  std::string summary() const;
+};
+
+struct LasHeader {
+  std::uint8_t version_major = 1;
+  std::uint8_t version_minor = 2;
+  std::uint16_t file_source_id = 0;
+  std::uint16_t global_encoding = 0;  // bit 0: standard GPS time, bit 4: CRS is WKT
+  std::string system_identifier;
+  std::string generating_software;
+  std::uint16_t creation_day = 0;
+  std::uint16_t creation_year = 0;
+  std::uint16_t header_size = 0;
+  std::uint32_t point_data_offset = 0;
+  std::uint32_t vlr_count = 0;
+  int point_format = 0;             // 0-10
+  std::uint16_t record_length = 0;  // >= lasPointFormatSize(point_format)
+  std::uint64_t point_count = 0;    // 1.4's 64-bit count, else the legacy 32-bit one
+  std::array<std::uint64_t, 15> points_by_return{};
+  Quantization quantization;          // exactly the header's scale and offset
+  Bounds3 bounds;                     // as the header states it (not checked against the points)
+  std::uint64_t waveform_offset = 0;  // 1.3+
+  std::uint64_t evlr_offset = 0;      // 1.4
+  std::uint32_t evlr_count = 0;       // 1.4
+  std::vector<LasVlr> vlrs;           // VLRs, then EVLRs
+  std::vector<LasExtraBytes> extra_bytes;
+  LasCrs crs;
+
+  std::string versionString() const;  // "1.4"
+  bool gpsTimeIsStandard() const { return (global_encoding & 1) != 0; }
+};
+
+// True when `bytes` start with the LAS signature "LASF".
+bool hasLasSignature(std::span<const std::byte> bytes);
+// True for a LASzip-compressed file: the point format's compression bits (7 or 6) are set, or a
+// "laszip encoded" VLR is present. Needs the header bytes; false for anything that is not LAS.
+bool looksLikeLaz(std::span<const std::byte> bytes);
+
+// The InputError thrown for LAZ input: says that LAZ is compressed and how to decompress it.
+[[noreturn]] void throwLazNotSupported(const std::string& file_name);
+
+// Parses and checks the header, VLRs, EVLRs, extra bytes and CRS of a whole LAS file in `bytes`.
+// Throws InputError (file, byte offset, field, expected, found, hint) for: a short file, a wrong
+// signature, an unknown version or point format, a LAZ file, a header size or point data offset
+// outside the file or below the version's minimum, VLRs or EVLRs running past their region, a
+// record length below the format's size, extra bytes not fitting the record, a zero or
+// non-finite scale, and a point count the file cannot hold. Never allocates more than the file's
+// size justifies.
+LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& file_name);
+
+// The header of a LAS file on disk (memory-mapped; reads only the header, VLRs and EVLRs).
+LasHeader readLasHeader(const std::filesystem::path& path);
+
+// A few lines for `parallax info`: version, point format and record length, point count,
+// scale/offset, header bounds, CRS, extra bytes, generating software.
+std::string describeLasHeader(const LasHeader& header);
+
+}  // namespace parallax

@@ -1,0 +1,570 @@
+#include "io/las_writer.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <ctime>
+#include <mutex>
+
+#include "io/las_reader.h"
+#include "io/point_file.h"
+
+namespace parallax {
+namespace {
+
+enum class Field {
+  None,
+  ReturnNumber,
+  NumberOfReturns,
+  ScanDirection,
+  Edge,
+  ClassFlags,
+  Synthetic,
+  KeyPoint,
+  Withheld,
+  Overlap,
+  Channel,
+  ScanAngleRank,
+  ScanAngle,
+  UserData,
+  PointSourceId,
+  GpsTime,
+  Nir
+};
+
+// Lower case without '_', ' ', '-' and a leading "scalar_" (CloudCompare's prefix).
+std::string normalise(std::string_view name) {
+  std::string text;
+  for (char c : name) text += char(std::tolower(static_cast<unsigned char>(c)));
+  if (text.starts_with("scalar_")) text.erase(0, 7);
+  std::erase_if(text, [](char c) { return c == '_' || c == ' ' || c == '-'; });
+  return text;
+}
+
+Field fieldFor(std::string_view name) {
+  static const std::pair<const char*, Field> kNames[] = {
+      {"returnnumber", Field::ReturnNumber},
+      {"numberofreturns", Field::NumberOfReturns},
+      {"scandirectionflag", Field::ScanDirection},
+      {"scandirection", Field::ScanDirection},
+      {"edgeofflightline", Field::Edge},
+      {"classificationflags", Field::ClassFlags},
+      {"synthetic", Field::Synthetic},
+      {"keypoint", Field::KeyPoint},
+      {"withheld", Field::Withheld},
+      {"overlap", Field::Overlap},
+      {"scannerchannel", Field::Channel},
+      {"scananglerank", Field::ScanAngleRank},
+      {"scanangle", Field::ScanAngle},
+      {"userdata", Field::UserData},
+      {"pointsourceid", Field::PointSourceId},
+      {"gpstime", Field::GpsTime},
+      {"nir", Field::Nir},
+      {"nearinfrared", Field::Nir},
+  };
+  std::string key = normalise(name);
+  for (const auto& [text, field] : kNames) {
+    if (key == text) return field;
+  }
+  return Field::None;
+}
+
+struct Source {
+  const std::byte* data = nullptr;
+  ScalarType type = ScalarType::UInt8;
+};
+
+Source sourceOf(const ScalarColumn& column) {
+  return {column.data.data(), column.type};
+}
+
+template <class F>
+void withType(ScalarType type, F f) {
+  switch (type) {
+    case ScalarType::Int8:
+      f(std::int8_t{});
+      break;
+    case ScalarType::UInt8:
+      f(std::uint8_t{});
+      break;
+    case ScalarType::Int16:
+      f(std::int16_t{});
+      break;
+    case ScalarType::UInt16:
+      f(std::uint16_t{});
+      break;
+    case ScalarType::Int32:
+      f(std::int32_t{});
+      break;
+    case ScalarType::UInt32:
+      f(std::uint32_t{});
+      break;
+    case ScalarType::Float32:
+      f(float{});
+      break;
+    case ScalarType::Float64:
+      f(double{});
+      break;
+  }
+}
+
+void gather(const Source& source, std::size_t first, std::size_t n, double* out) {
+  withType(source.type, [&](auto zero) {
+    using T = decltype(zero);
+    const T* values = reinterpret_cast<const T*>(source.data) + first;
+    for (std::size_t i = 0; i < n; ++i) out[i] = double(values[i]);
+  });
+}
+
+double maximum(const Source& source, std::size_t count) {
+  double best = 0.0;
+  withType(source.type, [&](auto zero) {
+    using T = decltype(zero);
+    const T* values = reinterpret_cast<const T*>(source.data);
+    T m = T(0);
+    for (std::size_t i = 0; i < count; ++i) m = std::max(m, values[i]);
+    best = double(m);
+  });
+  return best;
+}
+
+// A bit field packed into one byte of the record: value clamped to 0..max, shifted.
+struct BitTarget {
+  Source source;
+  std::size_t offset;
+  int shift;
+  unsigned max;
+};
+// A whole value converted (times `factor`, rounded for integers, clamped) into `type`.
+struct ValueTarget {
+  Source source;
+  std::size_t offset;
+  ScalarType type;
+  double factor;
+};
+// An extra-bytes column copied in its own type.
+struct RawTarget {
+  Source source;
+  std::size_t offset;
+  std::size_t size;
+};
+
+struct Layout {
+  LasWritePlan plan;
+  std::vector<BitTarget> bits;
+  std::vector<ValueTarget> values;
+  std::vector<RawTarget> raws;
+  std::vector<std::pair<std::string, ScalarType>> extra_types;
+  std::optional<std::size_t> color_offset;
+  Source return_number;  // data null when absent
+};
+
+std::uint8_t extraDataType(ScalarType type) {
+  switch (type) {
+    case ScalarType::UInt8:
+      return 1;
+    case ScalarType::Int8:
+      return 2;
+    case ScalarType::UInt16:
+      return 3;
+    case ScalarType::Int16:
+      return 4;
+    case ScalarType::UInt32:
+      return 5;
+    case ScalarType::Int32:
+      return 6;
+    case ScalarType::Float32:
+      return 9;
+    case ScalarType::Float64:
+      return 10;
+  }
+  return 0;
+}
+
+Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options) {
+  Layout layout;
+  LasWritePlan& plan = layout.plan;
+  const std::size_t count = cloud.count;
+  std::vector<std::pair<Field, const ScalarColumn*>> mapped;
+  std::vector<const ScalarColumn*> extras;
+  auto find = [&](Field field) -> const ScalarColumn* {
+    for (const auto& [f, column] : mapped) {
+      if (f == field) return column;
+    }
+    return nullptr;
+  };
+  for (const ScalarColumn& column : cloud.scalars) {
+    Field field = fieldFor(column.name);
+    if (field == Field::None || find(field) != nullptr) {
+      extras.push_back(&column);
+    } else {
+      mapped.emplace_back(field, &column);
+    }
+  }
+  auto maxOf = [&](Field field) {
+    const ScalarColumn* column = find(field);
+    return column ? maximum(sourceOf(*column), count) : 0.0;
+  };
+  double max_class = cloud.hasClassification()
+                         ? maximum({reinterpret_cast<const std::byte*>(cloud.classification.data()),
+                                    ScalarType::UInt8},
+                                   count)
+                         : 0.0;
+
+  plan.minor_version = options.minor_version;
+  if (plan.minor_version == 0) {
+    bool needs14 = find(Field::Channel) || find(Field::Nir) ||
+                   (find(Field::ScanAngle) && !find(Field::ScanAngleRank)) || count > UINT32_MAX ||
+                   max_class > 31 || maxOf(Field::ReturnNumber) > 7 ||
+                   maxOf(Field::NumberOfReturns) > 7 || maxOf(Field::ClassFlags) >= 8 ||
+                   maxOf(Field::Overlap) > 0;
+    plan.minor_version = needs14 ? 4 : 2;
+  }
+  assert((plan.minor_version == 2 || plan.minor_version == 4) &&
+         "LAS minor version must be 2 or 4");
+  const bool v14 = plan.minor_version == 4;
+  if (v14) {
+    plan.point_format = find(Field::Nir) ? 8 : cloud.hasColors() ? 7 : 6;
+  } else {
+    plan.point_format = (find(Field::GpsTime) ? 1 : 0) + (cloud.hasColors() ? 2 : 0);
+  }
+  const int format = plan.point_format;
+  std::size_t record = lasPointFormatSize(format);
+
+  auto bit = [&](Field field, std::size_t offset, int shift, unsigned max) {
+    if (const ScalarColumn* column = find(field)) {
+      layout.bits.push_back({sourceOf(*column), offset, shift, max});
+      if (maxOf(field) > max) {
+        plan.losses.push_back(column->name + " clamped to " + std::to_string(max) + " (LAS 1." +
+                              std::to_string(plan.minor_version) + " field width)");
+      }
+    }
+  };
+  auto value = [&](Field field, std::size_t offset, ScalarType type, double factor = 1.0) {
+    if (const ScalarColumn* column = find(field)) {
+      layout.values.push_back({sourceOf(*column), offset, type, factor});
+    }
+  };
+  if (cloud.hasClassification()) {
+    Source cls{reinterpret_cast<const std::byte*>(cloud.classification.data()), ScalarType::UInt8};
+    if (v14) {
+      layout.values.push_back({cls, 16, ScalarType::UInt8, 1.0});
+    } else {
+      layout.bits.push_back({cls, 15, 0, 31});
+      if (max_class > 31) plan.losses.push_back("classification above 31 clamped (LAS 1.2)");
+    }
+  }
+  if (v14) {
+    bit(Field::ReturnNumber, 14, 0, 15);
+    bit(Field::NumberOfReturns, 14, 4, 15);
+    bit(Field::ClassFlags, 15, 0, 15);
+    bit(Field::Synthetic, 15, 0, 1);
+    bit(Field::KeyPoint, 15, 1, 1);
+    bit(Field::Withheld, 15, 2, 1);
+    bit(Field::Overlap, 15, 3, 1);
+    bit(Field::Channel, 15, 4, 3);
+    bit(Field::ScanDirection, 15, 6, 1);
+    bit(Field::Edge, 15, 7, 1);
+    value(Field::UserData, 17, ScalarType::UInt8);
+    if (find(Field::ScanAngle)) {
+      value(Field::ScanAngle, 18, ScalarType::Int16);
+    } else {
+      value(Field::ScanAngleRank, 18, ScalarType::Int16, 1.0 / 0.006);  // degrees to 0.006°
+    }
+    value(Field::PointSourceId, 20, ScalarType::UInt16);
+    value(Field::GpsTime, 22, ScalarType::Float64);
+    if (format >= 7) layout.color_offset = 30;
+    value(Field::Nir, 36, ScalarType::UInt16);
+  } else {
+    bit(Field::ReturnNumber, 14, 0, 7);
+    bit(Field::NumberOfReturns, 14, 3, 7);
+    bit(Field::ScanDirection, 14, 6, 1);
+    bit(Field::Edge, 14, 7, 1);
+    bit(Field::ClassFlags, 15, 5, 7);
+    bit(Field::Synthetic, 15, 5, 1);
+    bit(Field::KeyPoint, 15, 6, 1);
+    bit(Field::Withheld, 15, 7, 1);
+    if (find(Field::ScanAngleRank)) {
+      value(Field::ScanAngleRank, 16, ScalarType::Int8);
+    } else {
+      value(Field::ScanAngle, 16, ScalarType::Int8, 0.006);
+    }
+    value(Field::UserData, 17, ScalarType::UInt8);
+    value(Field::PointSourceId, 18, ScalarType::UInt16);
+    value(Field::GpsTime, 20, ScalarType::Float64);
+    if (format >= 2) layout.color_offset = format == 3 ? 28 : 20;
+    // Fields LAS 1.2 has no place for become extra bytes.
+    for (Field field : {Field::Channel, Field::Nir, Field::Overlap}) {
+      if (const ScalarColumn* column = find(field)) extras.push_back(column);
+    }
+    if (find(Field::ScanAngleRank) && find(Field::ScanAngle))
+      extras.push_back(find(Field::ScanAngle));
+  }
+  if (v14 && find(Field::ScanAngleRank) && find(Field::ScanAngle)) {
+    extras.push_back(find(Field::ScanAngleRank));
+  }
+  if (const ScalarColumn* column = find(Field::ReturnNumber))
+    layout.return_number = sourceOf(*column);
+
+  // Extra bytes: normals, then the unmapped scalars, each in its own type.
+  auto addExtra = [&](const std::string& name, Source source) {
+    std::size_t size = scalarSize(source.type);
+    layout.raws.push_back({source, record, size});
+    layout.extra_types.emplace_back(name.substr(0, 32), source.type);
+    plan.extra_bytes.push_back(name.substr(0, 32));
+    if (name.size() > 32) plan.losses.push_back("name '" + name + "' cut to 32 characters");
+    record += size;
+  };
+  if (cloud.hasNormals()) {
+    const auto* n = reinterpret_cast<const std::byte*>(cloud.normals.data());
+    // Normals are interleaved Float3: gathered per component below through a stride-aware copy.
+    for (int axis = 0; axis < 3; ++axis) {
+      layout.raws.push_back({{n + 4 * axis, ScalarType::Float32}, record, 0});  // size 0: normal
+      std::string name = std::string("n") + "xyz"[axis];
+      layout.extra_types.emplace_back(name, ScalarType::Float32);
+      plan.extra_bytes.push_back(name);
+      record += 4;
+    }
+  }
+  for (const ScalarColumn* column : extras) addExtra(column->name, sourceOf(*column));
+  plan.record_length = record;
+  if (record > 65535) {
+    throw std::runtime_error("LAS writer: a point record of " + std::to_string(record) +
+                             " bytes is over LAS's 65 535 (too many scalar columns)");
+  }
+
+  if (cloud.source.has_alpha) plan.losses.push_back("alpha (LAS has no alpha)");
+  if (cloud.hasIntensity()) {
+    // Only worth a word when some value is not already a 16-bit integer.
+    bool exact = std::all_of(cloud.intensity.begin(), cloud.intensity.end(), [](float v) {
+      return v >= 0.0f && v <= 65535.0f && v == std::nearbyint(v);
+    });
+    if (!exact) plan.losses.push_back("intensity rounded and clamped to 16-bit integers");
+  }
+  return layout;
+}
+
+template <class T>
+void store(std::byte* p, T value) {
+  std::memcpy(p, &value, sizeof value);
+}
+
+template <class T>
+T clampRound(double v) {
+  if constexpr (std::is_floating_point_v<T>) {
+    return T(v);
+  } else {
+    v = std::nearbyint(v);
+    if (!(v >= double(std::numeric_limits<T>::min()))) return std::numeric_limits<T>::min();
+    if (v > double(std::numeric_limits<T>::max())) return std::numeric_limits<T>::max();
+    return T(v);
+  }
+}
+
+struct BlockStats {
+  Int3 lo{INT32_MAX, INT32_MAX, INT32_MAX};
+  Int3 hi{INT32_MIN, INT32_MIN, INT32_MIN};
+  std::array<std::uint64_t, 16> by_return{};
+};
+
+void encodeBlock(const PointCloud& cloud, const Layout& layout, std::size_t first, std::size_t n,
+                 std::byte* out, BlockStats& stats) {
+  const std::size_t stride = layout.plan.record_length;
+  std::memset(out, 0, n * stride);
+  std::vector<double> values(n);
+  const Int3* positions = cloud.positions.data() + first;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Int3& p = positions[i];
+    std::memcpy(out + i * stride, &p, 12);
+    stats.lo = {std::min(stats.lo.x, p.x), std::min(stats.lo.y, p.y), std::min(stats.lo.z, p.z)};
+    stats.hi = {std::max(stats.hi.x, p.x), std::max(stats.hi.y, p.y), std::max(stats.hi.z, p.z)};
+  }
+  if (cloud.hasIntensity()) {
+    const float* intensity = cloud.intensity.data() + first;
+    for (std::size_t i = 0; i < n; ++i) {
+      store(out + i * stride + 12, clampRound<std::uint16_t>(intensity[i]));
+    }
+  }
+  for (const BitTarget& target : layout.bits) {
+    gather(target.source, first, n, values.data());
+    for (std::size_t i = 0; i < n; ++i) {
+      double v = std::clamp(std::nearbyint(values[i]), 0.0, double(target.max));
+      auto& byte = out[i * stride + target.offset];
+      byte |= std::byte(unsigned(v) << target.shift);
+    }
+  }
+  for (const ValueTarget& target : layout.values) {
+    gather(target.source, first, n, values.data());
+    withType(target.type, [&](auto zero) {
+      using T = decltype(zero);
+      for (std::size_t i = 0; i < n; ++i) {
+        store(out + i * stride + target.offset, clampRound<T>(values[i] * target.factor));
+      }
+    });
+  }
+  if (layout.color_offset) {
+    const Rgba8* colors = cloud.colors.data() + first;
+    for (std::size_t i = 0; i < n; ++i) {
+      // LAS 1.4 R15: colours are normalised to 16 bits; c * 257 maps 255 to 65535 exactly.
+      std::uint16_t rgb[3] = {std::uint16_t(colors[i].r * 257), std::uint16_t(colors[i].g * 257),
+                              std::uint16_t(colors[i].b * 257)};
+      std::memcpy(out + i * stride + *layout.color_offset, rgb, 6);
+    }
+  }
+  for (const RawTarget& target : layout.raws) {
+    if (target.size == 0) {  // a normal component, stride 12
+      for (std::size_t i = 0; i < n; ++i) {
+        std::memcpy(out + i * stride + target.offset, target.source.data + (first + i) * 12, 4);
+      }
+      continue;
+    }
+    const std::byte* src = target.source.data + first * target.size;
+    for (std::size_t i = 0; i < n; ++i) {
+      std::memcpy(out + i * stride + target.offset, src + i * target.size, target.size);
+    }
+  }
+  if (layout.return_number.data) {
+    gather(layout.return_number, first, n, values.data());
+    for (std::size_t i = 0; i < n; ++i) {
+      int r = int(std::clamp(values[i], 0.0, 15.0));
+      ++stats.by_return[std::size_t(r)];
+    }
+  }
+}
+
+std::vector<std::byte> vlrBytes(const LasVlr& vlr) {
+  std::vector<std::byte> bytes(kLasVlrHeaderSize + vlr.data.size());
+  std::memcpy(bytes.data() + 2, vlr.user_id.data(), std::min<std::size_t>(16, vlr.user_id.size()));
+  store(bytes.data() + 18, vlr.record_id);
+  store(bytes.data() + 20, std::uint16_t(vlr.data.size()));
+  std::memcpy(bytes.data() + 22, vlr.description.data(),
+              std::min<std::size_t>(32, vlr.description.size()));
+  if (!vlr.data.empty()) std::memcpy(bytes.data() + 54, vlr.data.data(), vlr.data.size());
+  return bytes;
+}
+
+LasVlr extraBytesVlr(const Layout& layout) {
+  LasVlr vlr{.user_id = "LASF_Spec", .record_id = 4, .description = "Extra Bytes Record"};
+  vlr.data.resize(layout.extra_types.size() * kLasExtraBytesDescriptorSize);
+  for (std::size_t i = 0; i < layout.extra_types.size(); ++i) {
+    std::byte* d = vlr.data.data() + i * kLasExtraBytesDescriptorSize;
+    const auto& [name, type] = layout.extra_types[i];
+    d[2] = std::byte(extraDataType(type));
+    std::memcpy(d + 4, name.data(), std::min<std::size_t>(32, name.size()));
+  }
+  return vlr;
+}
+
+}  // namespace
+
+LasWritePlan planLasWrite(const PointCloud& cloud, const LasWriteOptions& options) {
+  return makeLayout(cloud, options).plan;
+}
+
+void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
+              const LasWriteOptions& options) {
+  const Layout layout = makeLayout(cloud, options);
+  const LasWritePlan& plan = layout.plan;
+  const bool v14 = plan.minor_version == 4;
+  const std::size_t header_size = v14 ? kLasHeaderSize14 : kLasHeaderSize12;
+
+  std::vector<std::vector<std::byte>> vlrs;
+  bool has_wkt = false;
+  for (const LasVlr& vlr : options.vlrs) {
+    if (vlr.data.size() > 65535 || (vlr.user_id == "LASF_Spec" && vlr.record_id == 4)) continue;
+    has_wkt |= vlr.user_id == "LASF_Projection" && vlr.record_id == 2112;
+    vlrs.push_back(vlrBytes(vlr));
+  }
+  if (!layout.extra_types.empty()) vlrs.push_back(vlrBytes(extraBytesVlr(layout)));
+  std::size_t point_data_offset = header_size;
+  for (const auto& vlr : vlrs) point_data_offset += vlr.size();
+
+  OutputFile out(path);
+  std::vector<std::byte> header(header_size);
+  out.write(header.data(), header.size());  // rewritten at the end with counts and bounds
+  for (const auto& vlr : vlrs) out.write(vlr.data(), vlr.size());
+
+  // Blocks encoded in parallel, a batch at a time, written in order.
+  constexpr std::size_t kBlock = 1 << 16;
+  constexpr std::size_t kBatch = 8;
+  const std::size_t count = cloud.count;
+  const std::size_t stride = plan.record_length;
+  std::vector<std::vector<std::byte>> buffers(kBatch);
+  std::vector<BlockStats> stats(kBatch);
+  BlockStats total;
+  for (std::size_t batch = 0; batch < count; batch += kBlock * kBatch) {
+    std::size_t blocks = std::min(kBatch, (count - batch + kBlock - 1) / kBlock);
+    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
+      std::size_t first = batch + b * kBlock;
+      std::size_t n = std::min(kBlock, count - first);
+      buffers[b].resize(n * stride);
+      stats[b] = BlockStats{};
+      encodeBlock(cloud, layout, first, n, buffers[b].data(), stats[b]);
+    });
+    for (std::size_t b = 0; b < blocks; ++b) {
+      out.write(buffers[b].data(), buffers[b].size());
+      const BlockStats& s = stats[b];
+      total.lo = {std::min(total.lo.x, s.lo.x), std::min(total.lo.y, s.lo.y),
+                  std::min(total.lo.z, s.lo.z)};
+      total.hi = {std::max(total.hi.x, s.hi.x), std::max(total.hi.y, s.hi.y),
+                  std::max(total.hi.z, s.hi.z)};
+      for (std::size_t r = 0; r < 16; ++r) total.by_return[r] += s.by_return[r];
+      if (options.progress) options.progress->advance(buffers[b].size() / stride);
+    }
+  }
+
+  // The public header block (LAS 1.4 R15 Table 3; 1.2 is its first 227 bytes).
+  std::byte* h = header.data();
+  std::memcpy(h, "LASF", 4);
+  store(h + 4, options.file_source_id);
+  std::uint16_t encoding = options.gps_time_standard.value_or(false) ? 1 : 0;
+  // Formats 6-10 require the WKT bit (R15 2.4); a copied GeoTIFF-keys CRS is a doubt left as is.
+  if (v14 && (plan.point_format >= 6 || has_wkt)) encoding |= 16;
+  store(h + 6, encoding);
+  h[24] = std::byte(1);
+  h[25] = std::byte(plan.minor_version);
+  std::memcpy(h + 26, "Parallax", 8);
+  std::memcpy(h + 58, "parallax convert", 16);
+  std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  store(h + 90, std::uint16_t(utc.tm_yday + 1));
+  store(h + 92, std::uint16_t(utc.tm_year + 1900));
+  store(h + 94, std::uint16_t(header_size));
+  store(h + 96, std::uint32_t(point_data_offset));
+  store(h + 100, std::uint32_t(vlrs.size()));
+  h[104] = std::byte(plan.point_format);
+  store(h + 105, std::uint16_t(stride));
+  // Legacy counts are zero for formats 6-10 (R15 2.4) and when they would overflow.
+  bool legacy = plan.point_format < 6 && count <= UINT32_MAX;
+  store(h + 107, std::uint32_t(legacy ? count : 0));
+  for (int r = 0; r < 5; ++r) {
+    store(h + 111 + 4 * r, std::uint32_t(legacy ? total.by_return[std::size_t(r + 1)] : 0));
+  }
+  const Quantization& q = cloud.quantization;
+  for (int axis = 0; axis < 3; ++axis) {
+    store(h + 131 + 8 * axis, q.scale[std::size_t(axis)]);
+    store(h + 155 + 8 * axis, q.offset[std::size_t(axis)]);
+  }
+  if (count > 0) {
+    store(h + 179, q.toWorld(0, total.hi.x));
+    store(h + 187, q.toWorld(0, total.lo.x));
+    store(h + 195, q.toWorld(1, total.hi.y));
+    store(h + 203, q.toWorld(1, total.lo.y));
+    store(h + 211, q.toWorld(2, total.hi.z));
+    store(h + 219, q.toWorld(2, total.lo.z));
+  }
+  if (v14) {
+    store(h + 247, std::uint64_t(count));
+    for (int r = 0; r < 15; ++r) store(h + 255 + 8 * r, total.by_return[std::size_t(r + 1)]);
+  }
+  out.writeAt(0, header.data(), header.size());
+  out.commit();
+}
+
+}  // namespace parallax

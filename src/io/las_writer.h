@@ -1,0 +1,60 @@
+// Writing PointClouds as uncompressed LAS 1.2 or 1.4.
+//
+// Positions are written as the cloud's own int32 values with its quantization as the header's
+// scale and offset: nothing is re-rounded. The point format is chosen from the attributes:
+//   LAS 1.2: 0, +gps_time 1, +colors 2, both 3
+//   LAS 1.4: 6, +colors 7, +nir 8 (GPS time is always present in 6-10)
+// Version 1.4 is chosen (when not forced) if the cloud needs it: a scan_angle (int16),
+// scanner_channel or nir column, classes above 31, return numbers or counts above 7, the overlap
+// flag, or more than 2^32 - 1 points.
+//
+// Scalar columns with the names the LAS reader gives (las_reader.h), case-insensitively and
+// ignoring '_' and a "scalar_" prefix (so PDAL's ReturnNumber and CloudCompare's
+// scalar_Return_Number match too), fill the LAS fields; synthetic, key_point, withheld and overlap
+// columns fill the classification flags. Everything else, normals (nx ny nz, float) included, is
+// written as extra bytes with a LASF_Spec record 4 description, in its own type; names are cut to
+// 32 characters. Colours go back to 16 bits as c * 257 when the source had 16-bit colour, else as
+// they are. Alpha has no place in LAS and is dropped.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/point_cloud.h"
+#include "core/progress.h"
+#include "io/las_header.h"
+
+namespace parallax {
+
+struct LasWriteOptions {
+  int minor_version = 0;  // 2 or 4; 0 chooses (above)
+  // Records copied as VLRs, e.g. the source's LASF_Projection records to keep the CRS. Records
+  // with a payload over 65 535 bytes, and LASF_Spec record 4 (written here), are skipped.
+  std::vector<LasVlr> vlrs;
+  // Global encoding bit 0 (GPS time is adjusted standard time rather than GPS week seconds);
+  // default false. `parallax convert` copies it from a LAS source.
+  std::optional<bool> gps_time_standard;
+  std::uint16_t file_source_id = 0;
+  Progress* progress = nullptr;  // advanced by points written
+};
+
+struct LasWritePlan {
+  int minor_version = 2;
+  int point_format = 0;
+  std::size_t record_length = 0;
+  std::vector<std::string> extra_bytes;  // names written as extra bytes, in record order
+  std::vector<std::string> losses;       // what is dropped or changed, one phrase each
+};
+
+// The layout writeLas would use for `cloud`, and what it would drop or change.
+LasWritePlan planLasWrite(const PointCloud& cloud, const LasWriteOptions& options = {});
+
+// Writes to a temporary file beside `path`, renamed at the end. Throws std::runtime_error on I/O
+// failure; asserts nothing about the cloud beyond its own invariants.
+void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
+              const LasWriteOptions& options = {});
+
+}  // namespace parallax

@@ -1,0 +1,58 @@
+// Reading plain-text point files: .xyz, .txt, .csv, .asc, .pts.
+//
+// Layout, decided from the start of the file:
+//   - lines starting (after blanks) with '#' or "//" are comments; blank lines are skipped;
+//   - values are separated by commas, else semicolons, else blanks (spaces, tabs), as found on
+//     the first data line; CRLF line ends are accepted;
+//   - PTS: a first line holding one integer is the point count, and later one-integer lines are
+//     the counts of further scans (Leica PTS concatenates scans); they are skipped;
+//   - the column names are, in order of precedence: TextReadOptions::columns, a header line (the
+//     first non-comment line when it is not all numbers), the last comment line before the data
+//     when it holds one name per column (CloudCompare writes "//X,Y,Z,R,G,B"), else the common
+//     layouts by column count: 3 xyz, 4 xyz intensity, 6 xyz rgb, 7 xyz intensity rgb (PTS),
+//     9 xyz rgb nx ny nz.
+// Names (case-insensitive): x y z; r g b [a] or red green blue [alpha]; nx ny nz or normal_x ...;
+// intensity or i; classification or class; "_" skips a column; any other name is a scalar column
+// (the LAS names of las_reader.h in their LAS types, anything else as double).
+//
+// Positions: when every x, y, z is written in plain decimal notation with at most 9 decimals
+// (the usual case), the scale is 10^-d per axis (d = most decimals seen) and the offset a whole
+// number near the centre, so each written value is held exactly and a LAS written from it gets
+// the file's own resolution; otherwise chooseQuantization (core/quantization.h). Colours are
+// rounded and clamped to 0..255.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/point_cloud.h"
+#include "core/progress.h"
+
+namespace parallax {
+
+struct TextReadOptions {
+  std::vector<std::string> columns;  // empty: from the file (above)
+  Progress* progress = nullptr;      // advanced by bytes read
+  bool parallel = true;
+  // Treat the first line as a PTS count when it is one integer, even without a .pts extension.
+  bool pts = false;
+};
+
+// Reads every point. Throws InputError naming the file, line (1-based), column name, expected and
+// found for: a line with the wrong number of values, a value that is not a number (or a
+// non-finite position), no x, y or z column, an empty file.
+PointCloud readText(const std::filesystem::path& path, const TextReadOptions& options = {});
+
+// The same from bytes in memory; `name` stands for the file in messages (and its extension ".pts"
+// turns on `pts`).
+PointCloud readTextFromMemory(std::span<const std::byte> bytes, const std::string& name,
+                              const TextReadOptions& options = {});
+
+// True when `bytes` (the start of a file) look like a text point file: no control bytes other
+// than blanks and line ends in the first 64 KiB, and a line of at least three numbers.
+bool looksLikeTextPoints(std::span<const std::byte> bytes);
+
+}  // namespace parallax

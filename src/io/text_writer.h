@@ -1,0 +1,43 @@
+// Writing PointClouds as plain text: one point a line, values separated by a space (.xyz .txt
+// .asc), a comma (.csv) or in the PTS layout (.pts).
+//
+// Columns: x y z, red green blue [alpha], nx ny nz, intensity, classification, then every scalar
+// column under its name, after a header line naming them (read back by text_reader.h). PTS has
+// no header: its first line is the point count, then x y z [intensity] [r g b] (the other
+// attributes are dropped; see describeTextLosses).
+//
+// Positions are printed as world coordinates: with exactly d decimals when the scale is 10^-d
+// (what the text reader and most LAS files use), so the written text is the exact decimal value;
+// otherwise with the fewest digits that read back to the same double. Floats print with the
+// fewest digits that read back to the same float; integer types as integers.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/point_cloud.h"
+#include "core/progress.h"
+
+namespace parallax {
+
+struct TextWriteOptions {
+  char delimiter = ' ';
+  bool header = true;            // a first line naming the columns
+  bool pts = false;              // PTS layout (overrides delimiter and header)
+  Progress* progress = nullptr;  // advanced by points written
+};
+
+// The options a path's extension implies: .csv comma-separated, .pts PTS, others blanks.
+TextWriteOptions textOptionsForPath(const std::filesystem::path& path);
+
+// What writing `cloud` with `options` would drop (PTS only keeps xyz, intensity and colour).
+std::vector<std::string> describeTextLosses(const PointCloud& cloud,
+                                            const TextWriteOptions& options);
+
+// Writes to a temporary file beside `path`, renamed at the end (parallel formatting, in order).
+// Throws std::runtime_error on I/O failure.
+void writeText(const PointCloud& cloud, const std::filesystem::path& path,
+               const TextWriteOptions& options = {});
+
+}  // namespace parallax

@@ -1,0 +1,79 @@
+#include "render/edl_pass.h"
+
+namespace parallax {
+
+namespace {
+
+const char* const kVertex = R"glsl(#version 450 core
+void main() {
+  // One triangle that covers the viewport: (-1,-1), (3,-1), (-1,3).
+  vec2 p = vec2(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0);
+  gl_Position = vec4(p, 0.0, 1.0);
+}
+)glsl";
+
+const char* const kFragment = R"glsl(#version 450 core
+layout(binding = 0) uniform sampler2D u_color;
+layout(binding = 1) uniform sampler2D u_eye_depth;
+uniform float u_strength;
+uniform float u_radius;
+uniform vec3 u_background;
+out vec4 out_color;
+
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy);
+  float depth = texelFetch(u_eye_depth, p, 0).r;
+  if (depth <= 0.0) {
+    out_color = vec4(u_background, 1.0);
+    return;
+  }
+  float log_depth = log2(depth);
+  ivec2 size = textureSize(u_eye_depth, 0);
+  const vec2 directions[8] = vec2[8](vec2(1, 0), vec2(0.7071, 0.7071), vec2(0, 1),
+                                     vec2(-0.7071, 0.7071), vec2(-1, 0), vec2(-0.7071, -0.7071),
+                                     vec2(0, -1), vec2(0.7071, -0.7071));
+  float response = 0.0;
+  for (int i = 0; i < 8; ++i) {
+    ivec2 q = clamp(p + ivec2(round(directions[i] * u_radius)), ivec2(0), size - 1);
+    float neighbour = texelFetch(u_eye_depth, q, 0).r;
+    // Empty neighbours say nothing: in a sparse scan most points have some, and counting them as
+    // steps would blacken whole surfaces (Potree ignores them too).
+    if (neighbour > 0.0) response += max(0.0, log_depth - log2(neighbour));
+  }
+  // Boucheny's exponential falloff; the 300 matches the look of Potree and CloudCompare at
+  // strength 1.
+  float shade = exp(-response / 8.0 * 300.0 * u_strength);
+  out_color = vec4(texelFetch(u_color, p, 0).rgb * shade, 1.0);
+}
+)glsl";
+
+}  // namespace
+
+EdlPass::EdlPass()
+    : program_({{GL_VERTEX_SHADER, "edl_pass.vert", kVertex},
+                {GL_FRAGMENT_SHADER, "edl_pass.frag", kFragment}}) {
+  glCreateVertexArrays(1, &vao_);
+}
+
+EdlPass::~EdlPass() {
+  if (vao_) glDeleteVertexArrays(1, &vao_);
+}
+
+void EdlPass::draw(GLuint color, GLuint eye_depth, const Viewport& viewport,
+                   const RenderSettings& settings) {
+  glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glUseProgram(program_.id());
+  glBindTextureUnit(0, color);
+  glBindTextureUnit(1, eye_depth);
+  glUniform1f(program_.uniform("u_strength"), settings.edl_strength);
+  glUniform1f(program_.uniform("u_radius"), settings.edl_radius_px);
+  glUniform3fv(program_.uniform("u_background"), 1, settings.background.data());
+  glBindVertexArray(vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glUseProgram(0);
+}
+
+}  // namespace parallax

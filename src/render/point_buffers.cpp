@@ -1,0 +1,210 @@
+#include "render/point_buffers.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <utility>
+
+namespace parallax {
+
+namespace {
+
+// Spreads the low 21 bits of v so that there are two zero bits between each.
+std::uint64_t spreadBits(std::uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffull;
+  v = (v | v << 16) & 0x1f0000ff0000ffull;
+  v = (v | v << 8) & 0x100f00f00f00f00full;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ull;
+  v = (v | v << 2) & 0x1249249249249249ull;
+  return v;
+}
+
+std::uint32_t packNormal(const Float3& n) {
+  auto component = [](float v) {
+    const float clamped = std::isfinite(v) ? std::clamp(v, -1.0f, 1.0f) : 0.0f;
+    return std::uint32_t(std::int32_t(std::lround(clamped * 511.0f))) & 0x3ffu;
+  };
+  return component(n.x) | component(n.y) << 10 | component(n.z) << 20;
+}
+
+constexpr std::size_t kExtraBytes = 8;
+constexpr std::size_t kSpacingBlock = 32;
+
+std::size_t alignUp(std::size_t v) { return (v + 255) & ~std::size_t(255); }
+
+}  // namespace
+
+std::vector<std::uint32_t> mortonOrder(const PointCloud& cloud) {
+  const std::size_t n = cloud.positions.size();
+  std::int64_t lo[3] = {INT64_MAX, INT64_MAX, INT64_MAX}, hi[3] = {INT64_MIN, INT64_MIN, INT64_MIN};
+  for (std::size_t i = 0; i < n; ++i) {
+    const Int3 p = cloud.positions[i];
+    lo[0] = std::min<std::int64_t>(lo[0], p.x), hi[0] = std::max<std::int64_t>(hi[0], p.x);
+    lo[1] = std::min<std::int64_t>(lo[1], p.y), hi[1] = std::max<std::int64_t>(hi[1], p.y);
+    lo[2] = std::min<std::int64_t>(lo[2], p.z), hi[2] = std::max<std::int64_t>(hi[2], p.z);
+  }
+  // One shift for all axes keeps the cells cubic in quantized units.
+  std::uint64_t extent = 0;
+  for (int a = 0; a < 3; ++a) extent = std::max<std::uint64_t>(extent, n ? hi[a] - lo[a] : 0);
+  const int shift = std::max(0, int(std::bit_width(extent)) - 21);
+
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      const Int3 p = cloud.positions[i];
+      const std::uint64_t x = std::uint64_t(p.x - lo[0]) >> shift;
+      const std::uint64_t y = std::uint64_t(p.y - lo[1]) >> shift;
+      const std::uint64_t z = std::uint64_t(p.z - lo[2]) >> shift;
+      keyed[i] = {spreadBits(x) | spreadBits(y) << 1 | spreadBits(z) << 2, std::uint32_t(i)};
+    }
+  });
+  tbb::parallel_sort(keyed.begin(), keyed.end());
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = keyed[i].second;
+  return order;
+}
+
+std::vector<float> localSpacing(const std::vector<glm::dvec3>& p) {
+  std::vector<float> spacing(p.size(), 0.0f);
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, p.size(), kSpacingBlock * 16), [&](const auto& range) {
+        std::vector<double> gaps;
+        for (std::size_t start = range.begin(); start < range.end(); start += kSpacingBlock) {
+          const std::size_t end = std::min({start + kSpacingBlock, p.size()});
+          gaps.clear();
+          for (std::size_t i = start + 1; i < end; ++i) {
+            const double gap = glm::length(p[i] - p[i - 1]);
+            if (gap > 0) gaps.push_back(gap);  // duplicates say nothing about spacing
+          }
+          // A median ignores the jumps of the Morton curve between distant cells.
+          double value = 0.0;
+          if (!gaps.empty()) {
+            std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+            value = gaps[gaps.size() / 2];
+          }
+          for (std::size_t i = start; i < end; ++i) spacing[i] = float(value);
+        }
+      });
+  return spacing;
+}
+
+GpuPointCloud::GpuPointCloud(const PointCloud& cloud, const PointUploadOptions& options) {
+  const std::size_t n = cloud.positions.size();
+  point_count_ = n;
+  has_colors_ = cloud.hasColors();
+  has_normals_ = cloud.hasNormals();
+  has_intensity_ = cloud.hasIntensity();
+  has_classification_ = cloud.hasClassification();
+
+  std::vector<std::uint32_t> order;
+  if (options.morton_order) {
+    order = mortonOrder(cloud);
+  } else {
+    order.resize(n);
+    for (std::size_t i = 0; i < n; ++i) order[i] = std::uint32_t(i);
+  }
+
+  float intensity_min = 0, intensity_max = 1;
+  if (has_intensity_ && n > 0) {
+    const auto [lo, hi] = std::minmax_element(cloud.intensity.begin(), cloud.intensity.end());
+    intensity_min = *lo, intensity_max = *hi > *lo ? *hi : *lo + 1.0f;
+  }
+
+  std::vector<double> spacing_samples;
+  const std::size_t chunk_size = std::max<std::uint32_t>(options.max_chunk_points, 1);
+  for (std::size_t first = 0; first < n; first += chunk_size) {
+    const std::size_t count = std::min(chunk_size, n - first);
+    PointChunk chunk;
+    chunk.count = std::uint32_t(count);
+
+    std::vector<glm::dvec3> world(count);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+        const std::size_t src = order[first + i];
+        world[i] = {cloud.worldX(src), cloud.worldY(src), cloud.worldZ(src)};
+      }
+    });
+    for (const glm::dvec3& p : world) chunk.bounds.extend(p.x, p.y, p.z);
+    const auto center = chunk.bounds.center();
+    chunk.origin = {center[0], center[1], center[2]};
+    bounds_.extend(chunk.bounds);
+    const std::vector<float> spacing = localSpacing(world);
+    for (std::size_t i = 0; i < count; i += 997) spacing_samples.push_back(spacing[i]);
+
+    std::size_t size = 0;
+    chunk.positions_offset = size, size = alignUp(size + count * 12);
+    if (has_colors_) chunk.colors_offset = size, size = alignUp(size + count * 4);
+    if (has_normals_) chunk.normals_offset = size, size = alignUp(size + count * 4);
+    chunk.extras_offset = size, size = alignUp(size + count * kExtraBytes);
+
+    std::vector<std::byte> staging(size);
+    auto* positions = reinterpret_cast<float*>(staging.data() + chunk.positions_offset);
+    auto* colors = reinterpret_cast<Rgba8*>(staging.data() + chunk.colors_offset);
+    auto* normals = reinterpret_cast<std::uint32_t*>(staging.data() + chunk.normals_offset);
+    std::byte* extras = staging.data() + chunk.extras_offset;
+    const float intensity_scale = 65535.0f / (intensity_max - intensity_min);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+        const std::size_t src = order[first + i];
+        // The subtraction is done in double: only the small remainder becomes a float.
+        positions[3 * i + 0] = float(world[i].x - chunk.origin.x);
+        positions[3 * i + 1] = float(world[i].y - chunk.origin.y);
+        positions[3 * i + 2] = float(world[i].z - chunk.origin.z);
+        if (has_colors_) colors[i] = cloud.colors[src];
+        if (has_normals_) normals[i] = packNormal(cloud.normals[src]);
+        std::uint16_t intensity = 0;
+        if (has_intensity_) {
+          const float t = (cloud.intensity[src] - intensity_min) * intensity_scale;
+          intensity = std::uint16_t(std::clamp(t, 0.0f, 65535.0f) + 0.5f);
+        }
+        const std::uint8_t classification =
+            has_classification_ ? cloud.classification[src] : std::uint8_t(1);
+        std::byte* extra = extras + i * kExtraBytes;
+        std::memcpy(extra, &intensity, 2);
+        std::memcpy(extra + 2, &classification, 1);
+        extra[3] = std::byte{0};
+        std::memcpy(extra + 4, &spacing[i], 4);
+      }
+    });
+
+    glCreateBuffers(1, &chunk.buffer);
+    glNamedBufferStorage(chunk.buffer, GLsizeiptr(size), staging.data(), 0);
+    gpu_bytes_ += size;
+    chunks_.push_back(chunk);
+  }
+  if (!spacing_samples.empty()) {
+    std::nth_element(spacing_samples.begin(), spacing_samples.begin() + spacing_samples.size() / 2,
+                     spacing_samples.end());
+    typical_spacing_ = spacing_samples[spacing_samples.size() / 2];
+  }
+}
+
+void GpuPointCloud::release() {
+  for (PointChunk& chunk : chunks_) glDeleteBuffers(1, &chunk.buffer);
+  chunks_.clear();
+}
+
+GpuPointCloud::~GpuPointCloud() { release(); }
+
+GpuPointCloud::GpuPointCloud(GpuPointCloud&& other) noexcept { *this = std::move(other); }
+
+GpuPointCloud& GpuPointCloud::operator=(GpuPointCloud&& other) noexcept {
+  if (this == &other) return *this;
+  release();
+  chunks_ = std::exchange(other.chunks_, {});
+  point_count_ = std::exchange(other.point_count_, 0);
+  gpu_bytes_ = std::exchange(other.gpu_bytes_, 0);
+  bounds_ = other.bounds_;
+  has_colors_ = other.has_colors_, has_normals_ = other.has_normals_;
+  has_intensity_ = other.has_intensity_, has_classification_ = other.has_classification_;
+  typical_spacing_ = other.typical_spacing_;
+  return *this;
+}
+
+}  // namespace parallax

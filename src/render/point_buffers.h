@@ -1,0 +1,87 @@
+// A point cloud in GPU buffers: chunks of at most `max_chunk_points` points, each one immutable
+// buffer holding its attributes as consecutive sections (structure of arrays), positions as floats
+// relative to the chunk's own origin.
+//
+// Why chunks: one buffer per point is absurd and one buffer for a billion points is past every
+// driver's limits (llvmpipe binds at most 128 MiB to a shader); a chunk of 1 M points is 12 MB of
+// positions. Why chunk-relative floats: a float holds 24 bits, 6 cm at a UTM easting of 500 km,
+// but a chunk is small, and the world-to-chunk offset is applied in double on the CPU
+// (see PointPass), so the GPU never sees a large coordinate.
+//
+// Points are sorted in Morton (Z) order before they are cut into chunks, so each chunk is a
+// compact box (tight culling, good origins) and points that follow each other in a draw call are
+// neighbours on screen, which is what makes llvmpipe's rasterizer fast (tiles stay in cache).
+#pragma once
+
+#include <epoxy/gl.h>
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <vector>
+
+#include "core/point_cloud.h"
+
+namespace parallax {
+
+struct PointUploadOptions {
+  std::uint32_t max_chunk_points = 1u << 20;
+  bool morton_order = true;  // false keeps file order (benchmarks compare both)
+};
+
+// The per-point attribute sections of a chunk's buffer; absent attributes have no section.
+struct PointChunk {
+  GLuint buffer = 0;
+  std::uint32_t count = 0;
+  glm::dvec3 origin{0.0};  // world coordinates that chunk-relative position (0, 0, 0) stands for
+  Bounds3 bounds;          // world coordinates
+  // Byte offsets in `buffer` of: vec3 float positions, rgba8 colours, int 2_10_10_10 normals,
+  // and 8-byte extras (uint16 unorm intensity, uint8 classification, pad, float spacing).
+  std::size_t positions_offset = 0;
+  std::size_t colors_offset = 0;
+  std::size_t normals_offset = 0;
+  std::size_t extras_offset = 0;
+};
+
+// Owns the GL buffers of one cloud; needs a current context for its whole life.
+class GpuPointCloud {
+ public:
+  GpuPointCloud() = default;
+  GpuPointCloud(const PointCloud& cloud, const PointUploadOptions& options = {});
+  ~GpuPointCloud();
+  GpuPointCloud(GpuPointCloud&& other) noexcept;
+  GpuPointCloud& operator=(GpuPointCloud&& other) noexcept;
+  GpuPointCloud(const GpuPointCloud&) = delete;
+  GpuPointCloud& operator=(const GpuPointCloud&) = delete;
+
+  const std::vector<PointChunk>& chunks() const { return chunks_; }
+  std::uint64_t pointCount() const { return point_count_; }
+  std::uint64_t gpuBytes() const { return gpu_bytes_; }
+  const Bounds3& bounds() const { return bounds_; }
+  bool hasColors() const { return has_colors_; }
+  bool hasNormals() const { return has_normals_; }
+  bool hasIntensity() const { return has_intensity_; }
+  bool hasClassification() const { return has_classification_; }
+  // Median over the cloud of the local point spacing (world units), 0 for fewer than 2 points.
+  double typicalSpacing() const { return typical_spacing_; }
+
+ private:
+  void release();
+
+  std::vector<PointChunk> chunks_;
+  std::uint64_t point_count_ = 0;
+  std::uint64_t gpu_bytes_ = 0;
+  Bounds3 bounds_;
+  bool has_colors_ = false, has_normals_ = false, has_intensity_ = false;
+  bool has_classification_ = false;
+  double typical_spacing_ = 0.0;
+};
+
+// The permutation that sorts the cloud's points in Morton order of their quantized positions
+// (21 bits per axis, the coarsest bits of the cloud's extent). Exposed for tests and benchmarks.
+std::vector<std::uint32_t> mortonOrder(const PointCloud& cloud);
+
+// Local spacing of points already in a spatially coherent order: for each block of 32
+// consecutive points, the median distance between neighbours in that order (world units).
+std::vector<float> localSpacing(const std::vector<glm::dvec3>& ordered_positions);
+
+}  // namespace parallax

@@ -1,0 +1,131 @@
+// GLSL of the point pass, kept beside the pass (point_pass.cpp) that binds its inputs.
+#include "render/point_pass_glsl.h"
+
+namespace parallax::glsl {
+
+const char* const kPointVertex = R"glsl(#version 450 core
+layout(location = 0) in vec3 a_position;   // relative to the chunk origin
+layout(location = 1) in vec4 a_color;
+layout(location = 2) in vec4 a_normal;
+layout(location = 3) in float a_intensity;  // 0..1 over the cloud's range
+layout(location = 4) in uint a_classification;
+layout(location = 5) in float a_spacing;    // local point spacing, world units
+
+uniform mat4 u_model_view;      // chunk to eye: world-to-eye with the chunk origin folded in
+uniform mat4 u_projection;
+// Variants are compiled per mode (PointPass prepends the #defines): llvmpipe runs every side of a
+// branch on a uniform under a mask, so run-time switches would cost every mode's work per point.
+//   COLOR_MODE  0 rgb, 1 elevation, 2 intensity, 3 normal, 4 classification, 5 uniform
+//   SIZE_MODE   0 fixed, 1 attenuated, 2 adaptive
+//   LIGHTING, ORTHOGRAPHIC  0 or 1
+uniform vec3 u_uniform_color;
+uniform vec2 u_elevation;       // t = (z + x) * y: chunk z to 0..1 over the cloud
+uniform float u_size_px;
+uniform float u_world_size;
+uniform float u_adaptive_scale;
+uniform vec2 u_size_clamp;
+uniform float u_pixels_per_unit; // perspective: at eye depth 1; orthographic: everywhere
+
+out vec4 v_color;
+out float v_depth;
+
+// A perceptually ordered ramp (dark blue, cyan, green, yellow, red, white-ish) for elevation.
+vec3 ramp(float t) {
+  const vec3 stops[6] = vec3[6](vec3(0.19, 0.07, 0.46), vec3(0.12, 0.56, 0.86),
+                                vec3(0.20, 0.78, 0.39), vec3(0.95, 0.85, 0.20),
+                                vec3(0.90, 0.30, 0.12), vec3(0.98, 0.92, 0.88));
+  float x = clamp(t, 0.0, 1.0) * 5.0;
+  int i = min(int(x), 4);
+  return mix(stops[i], stops[i + 1], x - float(i));
+}
+
+// ASPRS LAS 1.4 standard classes 0-18; anything else is magenta so that it stands out.
+vec3 classColor(uint c) {
+  const vec3 table[19] = vec3[19](
+      vec3(0.50, 0.50, 0.50), vec3(0.75, 0.75, 0.75), vec3(0.63, 0.45, 0.27),
+      vec3(0.55, 0.85, 0.45), vec3(0.25, 0.70, 0.25), vec3(0.05, 0.45, 0.10),
+      vec3(0.90, 0.40, 0.20), vec3(1.00, 0.40, 0.70), vec3(1.00, 0.90, 0.20),
+      vec3(0.15, 0.45, 0.95), vec3(0.60, 0.35, 0.25), vec3(0.35, 0.35, 0.38),
+      vec3(0.95, 0.95, 0.60), vec3(0.85, 0.85, 0.10), vec3(0.95, 0.75, 0.10),
+      vec3(0.55, 0.25, 0.75), vec3(0.10, 0.80, 0.80), vec3(0.70, 0.70, 0.95),
+      vec3(1.00, 0.10, 0.10));
+  return c < 19u ? table[c] : vec3(1.0, 0.0, 1.0);
+}
+
+void main() {
+  vec4 eye = u_model_view * vec4(a_position, 1.0);
+  gl_Position = u_projection * eye;
+#if ORTHOGRAPHIC
+  v_depth = -eye.z;
+#else
+  v_depth = max(-eye.z, 0.0);
+#endif
+
+#if COLOR_MODE == 0
+  vec3 color = a_color.rgb;
+#elif COLOR_MODE == 1
+  vec3 color = ramp((a_position.z + u_elevation.x) * u_elevation.y);
+#elif COLOR_MODE == 2
+  vec3 color = vec3(a_intensity);
+#elif COLOR_MODE == 3
+  vec3 color = normalize(a_normal.xyz) * 0.5 + 0.5;
+#elif COLOR_MODE == 4
+  vec3 color = classColor(a_classification);
+#else
+  vec3 color = u_uniform_color;
+#endif
+
+#if LIGHTING
+  // Head-light Lambert: the light sits in the eye. Two-sided, because scanners' normals point
+  // either way.
+  vec3 n = normalize(mat3(u_model_view) * a_normal.xyz);
+#if ORTHOGRAPHIC
+  vec3 to_eye = vec3(0.0, 0.0, 1.0);
+#else
+  vec3 to_eye = normalize(-eye.xyz);
+#endif
+  color *= 0.2 + 0.8 * abs(dot(n, to_eye));
+#endif
+  v_color = vec4(color, 1.0);
+
+#if SIZE_MODE == 0
+  gl_PointSize = u_size_px;
+#else
+#if SIZE_MODE == 1
+  float world = u_world_size;
+#else
+  float world = a_spacing * u_adaptive_scale;
+#endif
+#if ORTHOGRAPHIC
+  float per_unit = u_pixels_per_unit;
+#else
+  float per_unit = u_pixels_per_unit / max(-eye.z, 1e-9);
+#endif
+  gl_PointSize = world > 0.0 ? clamp(world * per_unit, u_size_clamp.x, u_size_clamp.y) : u_size_px;
+#endif
+}
+)glsl";
+
+const char* const kPointFragment = R"glsl(#version 450 core
+// Variants: ROUND (discard outside the disc), EYE_DEPTH (write linear depth for eye-dome
+// lighting into the second attachment).
+in vec4 v_color;
+in float v_depth;
+layout(location = 0) out vec4 out_color;
+#if EYE_DEPTH
+layout(location = 1) out float out_depth;
+#endif
+
+void main() {
+#if ROUND
+  vec2 d = gl_PointCoord - vec2(0.5);
+  if (dot(d, d) > 0.25) discard;
+#endif
+  out_color = v_color;
+#if EYE_DEPTH
+  out_depth = v_depth;
+#endif
+}
+)glsl";
+
+}  // namespace parallax::glsl

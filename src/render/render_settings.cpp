@@ -1,0 +1,59 @@
+#include "render/render_settings.h"
+
+namespace parallax {
+
+namespace {
+
+constexpr std::array<std::pair<ColorMode, std::string_view>, 6> kColorModes{{
+    {ColorMode::Rgb, "rgb"},
+    {ColorMode::Elevation, "elevation"},
+    {ColorMode::Intensity, "intensity"},
+    {ColorMode::Normal, "normal"},
+    {ColorMode::Classification, "classification"},
+    {ColorMode::Uniform, "uniform"},
+}};
+constexpr std::array<std::pair<PointSizeMode, std::string_view>, 3> kSizeModes{{
+    {PointSizeMode::Fixed, "fixed"},
+    {PointSizeMode::Attenuated, "attenuated"},
+    {PointSizeMode::Adaptive, "adaptive"},
+}};
+constexpr std::array<std::pair<PointShape, std::string_view>, 2> kShapes{{
+    {PointShape::Square, "square"},
+    {PointShape::Round, "round"},
+}};
+
+template <class T, std::size_t N>
+std::optional<T> parse(const std::array<std::pair<T, std::string_view>, N>& table,
+                       std::string_view name) {
+  for (const auto& [value, text] : table) {
+    if (text == name) return value;
+  }
+  return std::nullopt;
+}
+
+template <class T, std::size_t N>
+std::string_view nameOf(const std::array<std::pair<T, std::string_view>, N>& table, T value) {
+  for (const auto& [v, text] : table) {
+    if (v == value) return text;
+  }
+  return "?";
+}
+
+}  // namespace
+
+std::optional<ColorMode> parseColorMode(std::string_view name) { return parse(kColorModes, name); }
+std::optional<PointSizeMode> parsePointSizeMode(std::string_view name) {
+  return parse(kSizeModes, name);
+}
+std::optional<PointShape> parsePointShape(std::string_view name) { return parse(kShapes, name); }
+std::string_view colorModeName(ColorMode mode) { return nameOf(kColorModes, mode); }
+std::string_view pointSizeModeName(PointSizeMode mode) { return nameOf(kSizeModes, mode); }
+std::string_view pointShapeName(PointShape shape) { return nameOf(kShapes, shape); }
+
+std::string colorModeNames() {
+  std::string names;
+  for (const auto& [mode, text] : kColorModes) names += (names.empty() ? "" : "|") + std::string(text);
+  return names;
+}
+
+}  // namespace parallax

@@ -1,0 +1,46 @@
+// Everything a user can change about how points are drawn; one struct shared by `parallax render`,
+// the viewer's panel and the tests.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace parallax {
+
+enum class PointSizeMode {
+  Fixed,       // `point_size_px` pixels
+  Attenuated,  // `world_size` world units, smaller with distance
+  Adaptive,    // `adaptive_scale` times the local point spacing, in world units
+};
+enum class PointShape { Square, Round };
+enum class ColorMode { Rgb, Elevation, Intensity, Normal, Classification, Uniform };
+
+struct RenderSettings {
+  PointSizeMode size_mode = PointSizeMode::Fixed;
+  float point_size_px = 1.0f;
+  float world_size = 0.05f;
+  float adaptive_scale = 1.5f;
+  float min_size_px = 1.0f, max_size_px = 64.0f;  // clamp of the distance-dependent sizes
+  PointShape shape = PointShape::Square;
+  ColorMode color = ColorMode::Rgb;
+  std::array<float, 3> uniform_color{1.0f, 1.0f, 1.0f};  // 0..1
+  std::array<float, 3> background{0.0f, 0.0f, 0.0f};     // 0..1
+  bool lighting = false;        // head-light Lambert from normals (ignored without normals)
+  bool edl = false;             // eye-dome lighting post pass
+  float edl_strength = 1.0f;    // 0 = none
+  float edl_radius_px = 1.4f;   // neighbour distance in pixels
+};
+
+// "rgb", "elevation", ... ; std::nullopt for an unknown name.
+std::optional<ColorMode> parseColorMode(std::string_view name);
+std::optional<PointSizeMode> parsePointSizeMode(std::string_view name);
+std::optional<PointShape> parsePointShape(std::string_view name);
+std::string_view colorModeName(ColorMode mode);
+std::string_view pointSizeModeName(PointSizeMode mode);
+std::string_view pointShapeName(PointShape shape);
+// "rgb|elevation|intensity|normal|classification|uniform", for help texts and errors.
+std::string colorModeNames();
+
+}  // namespace parallax

@@ -1,0 +1,165 @@
+// The command line end to end: runs the built `parallax` (PARALLAX_EXECUTABLE) on small files
+// written here, and checks exit codes and output.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "support/temp_dir.h"
+
+namespace parallax::test {
+namespace {
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string quoted(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+std::string readText(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Runs `parallax ARGS` with stdout and stderr captured in files of `dir`.
+RunResult runParallax(const TempDir& dir, const std::string& args) {
+  const auto out = dir / "stdout.txt";
+  const auto err = dir / "stderr.txt";
+  const std::string command = quoted(PARALLAX_EXECUTABLE) + " " + args + " >" +
+                              quoted(out.string()) + " 2>" + quoted(err.string()) + " </dev/null";
+  const int status = std::system(command.c_str());
+  RunResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  result.out = readText(out);
+  result.err = readText(err);
+  return result;
+}
+
+// Three points whose coordinates are exact in float and in any power-of-two quantization, so the
+// expected bounds are exact.
+constexpr const char* kTinyPly =
+    "ply\n"
+    "format ascii 1.0\n"
+    "comment three points for the CLI tests\n"
+    "element vertex 3\n"
+    "property float x\n"
+    "property float y\n"
+    "property float z\n"
+    "property uchar red\n"
+    "property uchar green\n"
+    "property uchar blue\n"
+    "property float quality\n"
+    "end_header\n"
+    "1 2 3 255 0 7 10\n"
+    "-4.5 0.25 10 0 128 64 20\n"
+    "2 -8 0.5 7 64 0 30\n";
+
+TEST(Cli, InfoJsonHasExactPointsBoundsAndAttributes) {
+  TempDir dir;
+  const auto file = dir.write("tiny.ply", kTinyPly);
+  const RunResult run = runParallax(dir, "info --json " + quoted(file.string()));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+
+  const auto json = nlohmann::json::parse(run.out);  // throws (fails the test) unless one object
+  ASSERT_TRUE(json.is_object());
+  EXPECT_TRUE(json["points"].is_number_integer());
+  EXPECT_EQ(json["points"].get<std::int64_t>(), 3);
+  EXPECT_EQ(json["bounds"]["min"], nlohmann::json({-4.5, -8.0, 0.5}));
+  EXPECT_EQ(json["bounds"]["max"], nlohmann::json({2.0, 2.0, 10.0}));
+  EXPECT_EQ(json["attributes"], nlohmann::json({"x", "y", "z", "red", "green", "blue", "quality"}));
+  EXPECT_EQ(json["format"], "ply");
+  EXPECT_EQ(json["file_bytes"].get<std::uint64_t>(), std::string(kTinyPly).size());
+  EXPECT_EQ(json["attribute_ranges"]["red"], nlohmann::json({{"min", 0.0}, {"max", 255.0}}));
+  EXPECT_EQ(json["attribute_ranges"]["quality"], nlohmann::json({{"min", 10.0}, {"max", 30.0}}));
+  EXPECT_EQ(json["attribute_ranges"]["z"], nlohmann::json({{"min", 0.5}, {"max", 10.0}}));
+  ASSERT_EQ(json["elements"].size(), 1u);
+  EXPECT_EQ(json["elements"][0]["name"], "vertex");
+  EXPECT_EQ(json["elements"][0]["count"], 3);
+  EXPECT_EQ(json["elements"][0]["properties"].size(), 7u);
+  EXPECT_EQ(json["format_details"]["comments"][0], "three points for the CLI tests");
+  EXPECT_TRUE(json["load_seconds"].is_number());
+}
+
+TEST(Cli, InfoPrintsHeaderAndRanges) {
+  TempDir dir;
+  const auto file = dir.write("tiny.ply", kTinyPly);
+  const RunResult run = runParallax(dir, "info " + quoted(file.string()));
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("ascii 1.0"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("element vertex 3"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("property uchar red"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("points        3"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("quality"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("M points/s"), std::string::npos) << run.out;
+}
+
+TEST(Cli, InfoOnMalformedFileFailsNamingTheFile) {
+  TempDir dir;
+  const auto file = dir.write("broken_values.ply",
+                              "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n"
+                              "property float y\nproperty float z\nend_header\n1 2 3\n4 abc 6\n");
+  const RunResult run = runParallax(dir, "info --json " + quoted(file.string()));
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.err.find("broken_values.ply"), std::string::npos) << run.err;
+  EXPECT_EQ(run.out, "");  // nothing half-printed on stdout
+}
+
+TEST(Cli, InfoOnMissingFileFailsNamingTheFile) {
+  TempDir dir;
+  const RunResult run = runParallax(dir, "info " + quoted((dir / "no_such_file.ply").string()));
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.err.find("no_such_file.ply"), std::string::npos) << run.err;
+}
+
+TEST(Cli, InfoOnNonPointFileFails) {
+  TempDir dir;
+  const auto file = dir.write("notes.bin", std::string("\x01\x02\x03\x04 not points", 16));
+  const RunResult run = runParallax(dir, "info " + quoted(file.string()));
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.err.find("notes.bin"), std::string::npos) << run.err;
+}
+
+TEST(Cli, GenerateWritesTheRequestedPointCount) {
+  TempDir dir;
+  const auto file = dir / "generated.ply";
+  const RunResult generate =
+      runParallax(dir, "generate -o " + quoted(file.string()) + " --points 10000");
+  ASSERT_EQ(generate.exit_code, 0) << generate.err;
+
+  const RunResult info = runParallax(dir, "info --json " + quoted(file.string()));
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  const auto json = nlohmann::json::parse(info.out);
+  EXPECT_EQ(json["points"].get<std::int64_t>(), 10000);
+}
+
+TEST(Cli, BenchLoadPrintsTheRatioToTheReference) {
+  TempDir dir;
+  const auto file = dir.write("tiny.ply", kTinyPly);
+  const RunResult run = runParallax(dir, "bench load " + quoted(file.string()) + " --repeat 2");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("ratio      load / reference = "), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("3 points"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("peak RSS"), std::string::npos) << run.out;
+}
+
+TEST(Cli, BenchWithoutModeIsAUsageError) {
+  TempDir dir;
+  const RunResult run = runParallax(dir, "bench");
+  EXPECT_NE(run.exit_code, 0);
+}
+
+}  // namespace
+}  // namespace parallax::test

@@ -1,0 +1,180 @@
+#include "io/text_reader.h"
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "io/point_file.h"
+#include "io/text_writer.h"
+#include "support/temp_dir.h"
+
+namespace parallax {
+namespace {
+
+PointCloud readString(const std::string& text, const std::string& name = "t.xyz",
+                      const TextReadOptions& options = {}) {
+  return readTextFromMemory({reinterpret_cast<const std::byte*>(text.data()), text.size()}, name,
+                            options);
+}
+
+InputErrorInfo errorOf(const std::string& text, const TextReadOptions& options = {}) {
+  try {
+    readString(text, "t.xyz", options);
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.info().file, "t.xyz");
+    return e.info();
+  }
+  ADD_FAILURE() << "no error for " << text;
+  return {};
+}
+
+TEST(TextReader, CommonLayoutByColumnCount) {
+  PointCloud xyz = readString("1 2 3\n4 5 6\n");
+  ASSERT_EQ(xyz.count, 2u);
+  EXPECT_FALSE(xyz.hasColors());
+  EXPECT_EQ(xyz.worldX(1), 4.0);
+
+  PointCloud rgb = readString("1.5 2.25 3 255 128 0\r\n-1 -2 -3 1 2 3\r\n");
+  ASSERT_TRUE(rgb.hasColors());
+  EXPECT_EQ(rgb.colors[0], (Rgba8{255, 128, 0, 255}));
+  EXPECT_EQ(rgb.worldY(0), 2.25);
+  EXPECT_EQ(rgb.quantization.scale, (std::array<double, 3>{0.1, 0.01, 1.0}));
+
+  PointCloud xyzi = readString("1 2 3 0.5\n");
+  EXPECT_EQ(xyzi.intensity[0], 0.5f);
+
+  PointCloud nine = readString("0 0 0 1 2 3 0 0 1\n");
+  EXPECT_EQ(nine.normals[0], (Float3{0, 0, 1}));
+}
+
+TEST(TextReader, PtsCountLineAndIntensityRgb) {
+  PointCloud pts = readString("2\n1 2 3 -1024 10 20 30\n4 5 6 2047 40 50 60\n", "scan.pts");
+  ASSERT_EQ(pts.count, 2u);
+  EXPECT_EQ(pts.intensity[0], -1024.0f);
+  EXPECT_EQ(pts.colors[1], (Rgba8{40, 50, 60, 255}));
+  // Concatenated scans: further count lines are skipped.
+  PointCloud two = readString("1\n1 2 3 5 1 1 1\n1\n4 5 6 5 1 1 1\n", "scan.pts");
+  EXPECT_EQ(two.count, 2u);
+}
+
+TEST(TextReader, HeaderLineNamesTheColumns) {
+  PointCloud cloud = readString(
+      "# exported\n// another comment\nX,Y,Z,intensity,gps_time,return_number,confidence\n"
+      "1,2,3,100,1000.125,2,0.75\n\n4,5,6,200,1001.5,1,0.5\n");
+  ASSERT_EQ(cloud.count, 2u);
+  EXPECT_EQ(cloud.intensity[1], 200.0f);
+  ASSERT_NE(cloud.findScalar("gps_time"), nullptr);
+  EXPECT_EQ(cloud.findScalar("gps_time")->type, ScalarType::Float64);
+  EXPECT_EQ(cloud.findScalar("gps_time")->as<double>()[0], 1000.125);
+  EXPECT_EQ(cloud.findScalar("return_number")->type, ScalarType::UInt8);
+  EXPECT_EQ(cloud.findScalar("confidence")->as<double>()[1], 0.5);
+}
+
+TEST(TextReader, SemicolonsAndCloudCompareCommentHeader) {
+  PointCloud cloud = readString("//X;Y;Z;R;G;B\n1;2;3;4;5;6\n");
+  EXPECT_EQ(cloud.colors[0], (Rgba8{4, 5, 6, 255}));
+  PointCloud comma = readString("//X,Y,Z,Classification\n1.0, 2.0, 3.0, 7\n");
+  EXPECT_EQ(comma.classification[0], 7);
+}
+
+TEST(TextReader, ColumnsOptionOverridesAndSkips) {
+  PointCloud cloud = readString("x y z junk r g b\n9 1 2 3 4 5 6\n", "t.txt",
+                                {.columns = {"_", "x", "y", "z", "r", "g", "b"}});
+  EXPECT_EQ(cloud.worldX(0), 1.0);
+  EXPECT_EQ(cloud.colors[0], (Rgba8{4, 5, 6, 255}));
+}
+
+TEST(TextReader, LargeCoordinatesAreExactToTheirDecimals) {
+  std::string text;
+  for (int i = 0; i < 20000; ++i) {
+    text += std::to_string(512000 + i) + ".123 " + std::to_string(5400000 - i) + ".9 " +
+            std::to_string(i % 100) + ".01\n";
+  }
+  PointCloud cloud = readString(text);
+  ASSERT_EQ(cloud.count, 20000u);
+  EXPECT_EQ(cloud.quantization.scale, (std::array<double, 3>{0.001, 0.1, 0.01}));
+  EXPECT_DOUBLE_EQ(cloud.worldX(19999), 531999.123);
+  EXPECT_DOUBLE_EQ(cloud.worldY(5), 5399995.9);
+  EXPECT_DOUBLE_EQ(cloud.worldZ(123), 23.01);
+}
+
+TEST(TextReader, BadLinesAreNamedByLineAndColumn) {
+  auto info = errorOf("1 2 3\n4 5 6\n7 8\n");
+  EXPECT_EQ(info.line, 3u);
+  EXPECT_EQ(info.expected, "3 values");
+  EXPECT_EQ(info.found, "2 values");
+
+  info = errorOf("x y z\n1 2 3\n4 abc 6\n");
+  EXPECT_EQ(info.line, 3u);
+  EXPECT_EQ(info.property, "y");
+  EXPECT_EQ(info.found, "'abc'");
+
+  info = errorOf("1 2 3 4 5\n");
+  EXPECT_EQ(info.line, 1u);
+  EXPECT_NE(info.hint.find("--columns"), std::string::npos);
+
+  info = errorOf("a b c\n1 2 3\n");
+  EXPECT_NE(info.found.find("no x, y or z"), std::string::npos);
+
+  info = errorOf("1 2 inf\n");
+  EXPECT_EQ(info.property, "z");
+
+  info = errorOf("");
+  EXPECT_EQ(info.line, 1u);
+
+  // An error deep in a large file names its line exactly (the parallel blocks).
+  std::string big;
+  for (int i = 0; i < 200000; ++i) big += "1.25 2.5 3.75\n";
+  big += "1 2 x\n";
+  info = errorOf(big);
+  EXPECT_EQ(info.line, 200001u);
+}
+
+TEST(TextReader, DetectedByContent) {
+  test::TempDir dir;
+  auto path = dir.write("points.dat", "# scan\n1 2 3\n");
+  EXPECT_EQ(detectPointFormat(path), PointFormat::Text);
+  EXPECT_EQ(readPointFile(path).count, 1u);
+  auto binary = dir.write("points.bin", std::string("\x01\x02\x03\x00zz", 6));
+  EXPECT_EQ(detectPointFormat(binary), PointFormat::Unknown);
+  try {
+    readPointFile(binary);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(e.info().hint.find("LAS 1.0-1.4"), std::string::npos);
+    EXPECT_NE(e.info().hint.find("PLY"), std::string::npos);
+  }
+}
+
+TEST(TextWriter, RoundTripKeepsEveryColumn) {
+  test::TempDir dir;
+  auto in = dir.write("in.csv",
+                      "x,y,z,red,green,blue,nx,ny,nz,intensity,classification,gps_time\n"
+                      "512345.678,5401234.567,123.45,10,20,30,0.5,-0.25,1,700,2,1e9\n"
+                      "512346.001,5401235.999,-0.05,255,0,128,0,0,-1,0.125,6,0.5\n");
+  PointCloud source = readPointFile(in);
+  for (const char* name : {"out.xyz", "out.csv", "out.txt"}) {
+    auto out = dir / name;
+    writePointFile(source, out);
+    PointCloud back = readPointFile(out);
+    ASSERT_EQ(back.count, 2u);
+    EXPECT_EQ(back.quantization, source.quantization) << name;
+    for (std::size_t i = 0; i < 2; ++i) {
+      EXPECT_EQ(back.positions[i], source.positions[i]);
+      EXPECT_EQ(back.colors[i], source.colors[i]);
+      EXPECT_EQ(back.normals[i], source.normals[i]);
+      EXPECT_EQ(back.intensity[i], source.intensity[i]);
+      EXPECT_EQ(back.classification[i], source.classification[i]);
+      EXPECT_EQ(back.findScalar("gps_time")->as<double>()[i],
+                source.findScalar("gps_time")->as<double>()[i]);
+    }
+  }
+  auto pts = dir / "out.pts";
+  EXPECT_FALSE(describeWriteLosses(source, pts).empty());
+  writePointFile(source, pts);
+  PointCloud back = readPointFile(pts);
+  EXPECT_EQ(back.colors[1], (Rgba8{255, 0, 128, 255}));
+  EXPECT_EQ(back.intensity[1], 0.125f);
+}
+
+}  // namespace
+}  // namespace parallax

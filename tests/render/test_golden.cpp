@@ -1,0 +1,163 @@
+// Golden images: a small scene rendered headless on llvmpipe in every point-size mode, colour
+// mode, with lighting and with eye-dome lighting, compared with PNGs in tests/render/golden/.
+//
+// A pixel differs when a channel is off by more than kChannelTolerance; an image passes with at
+// most kDifferingFraction of its pixels differing (room for another Mesa version's rounding,
+// none for a changed picture). The golden files are only rewritten by an explicit command:
+//   scripts/regenerate-golden.sh   (runs this test with PARALLAX_REGENERATE_GOLDEN=1)
+// A failing test writes what it rendered beside the test's temporary folder and names it.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "render_test_support.h"
+
+namespace parallax::test {
+namespace {
+
+constexpr int kSize = 96;
+constexpr int kChannelTolerance = 16;
+constexpr double kDifferingFraction = 0.01;
+
+bool regenerating() {
+  const char* env = std::getenv("PARALLAX_REGENERATE_GOLDEN");
+  return env && std::string(env) == "1";
+}
+
+Camera sceneCamera() {
+  Camera camera;
+  camera.lookAt({1.8, -2.6, 2.2}, {0.0, 0.0, 0.0}, {0, 0, 1});
+  camera.fov_y_deg = 45.0;
+  return camera;
+}
+
+void checkGolden(const std::string& name, const RenderSettings& settings,
+                 const Camera& camera = sceneCamera()) {
+  headlessContext();
+  const PointCloud cloud = makeWavySheet(32, {0.0, 0.0, 0.0});
+  const RgbaImage image = renderImage(cloud, camera, kSize, kSize, settings);
+  const std::filesystem::path golden = std::filesystem::path(PARALLAX_GOLDEN_DIR) / (name + ".png");
+  if (regenerating()) {
+    writePng(golden, image);
+    std::printf("regenerated %s\n", golden.c_str());
+    return;
+  }
+  ASSERT_TRUE(std::filesystem::exists(golden))
+      << golden << " is missing: run scripts/regenerate-golden.sh and review the images";
+  const RgbaImage expected = readPng(golden);
+  ASSERT_EQ(expected.width, image.width);
+  ASSERT_EQ(expected.height, image.height);
+  std::size_t differing = 0;
+  int largest = 0;
+  for (std::size_t p = 0; p < image.pixels.size(); p += 4) {
+    int worst = 0;
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(image.pixels[p + c] - expected.pixels[p + c]));
+    largest = std::max(largest, worst);
+    if (worst > kChannelTolerance) ++differing;
+  }
+  const std::size_t allowed = std::size_t(kDifferingFraction * kSize * kSize);
+  if (differing > allowed) {
+    const std::filesystem::path actual = std::filesystem::path(PARALLAX_TEST_TMP) / (name + ".actual.png");
+    std::filesystem::create_directories(actual.parent_path());
+    writePng(actual, image);
+    ADD_FAILURE() << name << ": " << differing << " pixels differ (allowed " << allowed
+                  << ", largest channel difference " << largest << "); rendered image: " << actual
+                  << "; golden: " << golden;
+  }
+  // The picture must show something: a blank image would match a blank golden.
+  std::size_t lit = 0;
+  for (std::size_t p = 0; p < image.pixels.size(); p += 4) {
+    if (image.pixels[p] | image.pixels[p + 1] | image.pixels[p + 2]) ++lit;
+  }
+  EXPECT_GT(lit, std::size_t(kSize * kSize / 10)) << name << " is nearly empty";
+}
+
+RenderSettings base() {
+  RenderSettings settings;
+  settings.point_size_px = 2.0f;
+  return settings;
+}
+
+TEST(RenderGolden, SizeFixedSquare) { checkGolden("size_fixed_square", base()); }
+
+TEST(RenderGolden, SizeFixedRound) {
+  RenderSettings settings = base();
+  settings.point_size_px = 4.0f;
+  settings.shape = PointShape::Round;
+  checkGolden("size_fixed_round", settings);
+}
+
+TEST(RenderGolden, SizeAttenuated) {
+  RenderSettings settings = base();
+  settings.size_mode = PointSizeMode::Attenuated;
+  settings.world_size = 0.035f;
+  checkGolden("size_attenuated", settings);
+}
+
+TEST(RenderGolden, SizeAdaptive) {
+  RenderSettings settings = base();
+  settings.size_mode = PointSizeMode::Adaptive;
+  settings.adaptive_scale = 1.2f;
+  checkGolden("size_adaptive", settings);
+}
+
+TEST(RenderGolden, ColorRgb) { checkGolden("color_rgb", base()); }
+
+TEST(RenderGolden, ColorElevation) {
+  RenderSettings settings = base();
+  settings.color = ColorMode::Elevation;
+  checkGolden("color_elevation", settings);
+}
+
+TEST(RenderGolden, ColorIntensity) {
+  RenderSettings settings = base();
+  settings.color = ColorMode::Intensity;
+  checkGolden("color_intensity", settings);
+}
+
+TEST(RenderGolden, ColorNormal) {
+  RenderSettings settings = base();
+  settings.color = ColorMode::Normal;
+  checkGolden("color_normal", settings);
+}
+
+TEST(RenderGolden, ColorClassification) {
+  RenderSettings settings = base();
+  settings.color = ColorMode::Classification;
+  checkGolden("color_classification", settings);
+}
+
+TEST(RenderGolden, ColorUniformOnBackground) {
+  RenderSettings settings = base();
+  settings.color = ColorMode::Uniform;
+  settings.uniform_color = {1.0f, 0.5f, 0.0f};
+  settings.background = {0.1f, 0.2f, 0.4f};
+  checkGolden("color_uniform", settings);
+}
+
+TEST(RenderGolden, Lighting) {
+  RenderSettings settings = base();
+  settings.color = ColorMode::Uniform;
+  settings.lighting = true;
+  checkGolden("lighting", settings);
+}
+
+TEST(RenderGolden, EyeDomeLighting) {
+  RenderSettings settings = base();
+  settings.color = ColorMode::Uniform;
+  settings.edl = true;
+  settings.edl_strength = 1.0f;
+  settings.edl_radius_px = 1.4f;
+  checkGolden("edl", settings);
+}
+
+TEST(RenderGolden, Orthographic) {
+  Camera camera = sceneCamera();
+  camera.projection = Projection::Orthographic;
+  camera.fitToBounds(makeWavySheet(4, {0, 0, 0}).bounds, 1.0);
+  checkGolden("orthographic", base(), camera);
+}
+
+}  // namespace
+}  // namespace parallax::test
