@@ -34,7 +34,6 @@ echo "== parallax info $sample"
 if "$parallax" render --help >/dev/null 2>&1; then
   echo "== parallax render $sample -> out/sample.png"
   "$parallax" render "$sample" -o out/sample.png
-  echo "wrote out/sample.png"
 fi
 if [[ -n "${DISPLAY:-}" ]] && "$parallax" view --help >/dev/null 2>&1; then
   echo "== parallax view $sample (close the window to finish)"

@@ -192,13 +192,13 @@ int runBenchRender(const RenderBenchOptions& o) {
     upload.morton_order = sorted;
     GpuPointCloud gpu(cloud, upload);
     const double ours_s = medianSeconds(o.repeat, [&] {
-      renderer.render(gpu, std::span(&view, 1), settings, target.framebuffer(), o.width,
-                      o.height);
+      renderer.render(gpu, std::span(&view, 1), settings, target.framebuffer(), o.width, o.height);
     });
-    std::printf("%-13s reference %7.2f M points/s (%6.1f ms)  renderer %7.2f M points/s "
-                "(%6.1f ms)  renderer / reference %.2f\n",
-                sorted ? "morton order" : "random order", mpoints / bare_s, bare_s * 1e3,
-                mpoints / ours_s, ours_s * 1e3, bare_s / ours_s);
+    std::printf(
+        "%-13s reference %7.2f M points/s (%6.1f ms)  renderer %7.2f M points/s "
+        "(%6.1f ms)  renderer / reference %.2f\n",
+        sorted ? "morton order" : "random order", mpoints / bare_s, bare_s * 1e3, mpoints / ours_s,
+        ours_s * 1e3, bare_s / ours_s);
   }
   return 0;
 }

@@ -3,6 +3,7 @@
 //
 // Prints the time from start to PNG broken down into load, context, upload, draw and write, on
 // stderr (stdout stays free for scripts).
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -41,8 +42,8 @@ std::string framePath(const std::string& pattern, int frame) {
   while (end < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[end]))) {
     width = width * 10 + (pattern[end++] - '0');
   }
-  if (end >= pattern.size() || pattern[end] != 'd' ||
-      pattern.find('%', end) != std::string::npos || width > 12) {
+  if (end >= pattern.size() || pattern[end] != 'd' || pattern.find('%', end) != std::string::npos ||
+      width > 12) {
     throw std::invalid_argument("-o " + pattern + ": use exactly one %d or %0Nd field");
   }
   std::string number = std::to_string(frame);
@@ -99,9 +100,9 @@ int runRender(const RenderCommandOptions& o) {
   for (std::size_t i = 0; i < cameras.size(); ++i) {
     phase = Clock::now();
     const View view{cameras[i], {0, 0, o.width, o.height}};
-    drawn = renderer.render(gpu, std::span(&view, 1), settings, target.framebuffer(), o.width,
-                            o.height)
-                .points_drawn;
+    drawn =
+        renderer.render(gpu, std::span(&view, 1), settings, target.framebuffer(), o.width, o.height)
+            .points_drawn;
     glFinish();
     draw_s += secondsSince(phase);
     phase = Clock::now();
@@ -114,10 +115,9 @@ int runRender(const RenderCommandOptions& o) {
                "  load %.3f s, context %.3f s, upload %.3f s, draw %.3f s, write %.3f s, "
                "total %.3f s\n  wrote %s%s\n",
                static_cast<unsigned long long>(points), static_cast<unsigned long long>(drawn),
-               cameras.size(), o.width, o.height,
-               context->renderer().c_str(), context->platform().c_str(), load_s, context_s,
-               upload_s, draw_s, write_s, total_s, outputs.front().c_str(),
-               outputs.size() > 1 ? " ..." : "");
+               cameras.size(), o.width, o.height, context->renderer().c_str(),
+               context->platform().c_str(), load_s, context_s, upload_s, draw_s, write_s, total_s,
+               outputs.front().c_str(), outputs.size() > 1 ? " ..." : "");
   return 0;
 }
 

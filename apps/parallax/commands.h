@@ -20,6 +20,7 @@ Command addGenerateCommand(CLI::App& app);
 Command addBenchCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
 Command addRenderCommand(CLI::App& app);
+Command addViewCommand(CLI::App& app);
 // `bench render` (bench_render.cpp), registered by addBenchCommand.
 Command addBenchRenderCommand(CLI::App& bench);
 

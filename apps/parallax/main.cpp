@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
       parallax::cli::addBenchCommand(app),
       parallax::cli::addConvertCommand(app),
       parallax::cli::addRenderCommand(app),
+      parallax::cli::addViewCommand(app),
   };
 
   try {

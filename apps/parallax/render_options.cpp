@@ -1,5 +1,6 @@
 #include "render_options.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace parallax::cli {
@@ -38,8 +39,9 @@ void addRenderOptions(CLI::App& command, RenderOptions& o) {
   command.add_option("--shape", o.shape, "Point shape: square|round")->capture_default_str();
   command.add_option("--world-size", o.world_size,
                      "Point size in world units (attenuated mode; default: twice the spacing)");
-  command.add_option("--adaptive-scale", o.adaptive_scale,
-                     "Point size as a multiple of the local spacing (adaptive mode)")
+  command
+      .add_option("--adaptive-scale", o.adaptive_scale,
+                  "Point size as a multiple of the local spacing (adaptive mode)")
       ->capture_default_str();
   command.add_option("--uniform-color", o.uniform_color, "R,G,B (0-255) of --color uniform")
       ->delimiter(',')
@@ -51,6 +53,12 @@ void addRenderOptions(CLI::App& command, RenderOptions& o) {
       ->capture_default_str();
   command.add_option("--edl-radius", o.edl_radius, "Eye-dome lighting radius in pixels")
       ->capture_default_str();
+  command
+      .add_option("--msaa", o.msaa,
+                  "Multisampling: samples per pixel, 0 (off: exact pixels), 2, 4 or 8 (at most "
+                  "what the GPU offers)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({0, 1, 2, 4, 8}));
   command.add_option("--eye", o.eye, "Camera position X,Y,Z (file coordinates)")
       ->delimiter(',')
       ->expected(3);
@@ -69,8 +77,8 @@ RenderSettings renderSettingsFrom(const RenderOptions& o, double typical_spacing
   RenderSettings settings;
   const auto color = parseColorMode(o.color);
   if (!color) {
-    throw std::invalid_argument("--color: unknown mode '" + o.color + "' (use " +
-                                colorModeNames() + ")");
+    throw std::invalid_argument("--color: unknown mode '" + o.color + "' (use " + colorModeNames() +
+                                ")");
   }
   const auto size_mode = parsePointSizeMode(o.size_mode);
   if (!size_mode) {
@@ -91,6 +99,7 @@ RenderSettings renderSettingsFrom(const RenderOptions& o, double typical_spacing
   settings.edl = o.edl;
   settings.edl_strength = o.edl_strength;
   settings.edl_radius_px = o.edl_radius;
+  settings.samples = o.msaa;
   return settings;
 }
 

@@ -25,6 +25,7 @@ struct RenderOptions {
   bool edl = false;
   float edl_strength = 1.0f;
   float edl_radius = 1.4f;
+  int msaa = 0;
   std::vector<double> eye, target, up{0.0, 0.0, 1.0};
   double fov = 60.0;
   bool orthographic = false;
@@ -32,7 +33,7 @@ struct RenderOptions {
 };
 
 // Registers --color, --point-size, --size-mode, --shape, --world-size, --adaptive-scale,
-// --uniform-color, --background, --lighting, --edl, --edl-strength, --edl-radius, --eye,
+// --uniform-color, --background, --lighting, --edl, --edl-strength, --edl-radius, --msaa, --eye,
 // --target, --up, --fov, --ortho, --camera.
 void addRenderOptions(CLI::App& command, RenderOptions& options);
 

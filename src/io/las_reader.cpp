@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <mutex>
 
 #include "core/error.h"
 #include "io/mapped_file.h"
@@ -185,6 +186,24 @@ void withExtraType(int data_type, F f) {
   }
 }
 
+// Integer bounds of the positions, gathered while decoding (saves a pass over them).
+struct IntBox {
+  Int3 lo{INT32_MAX, INT32_MAX, INT32_MAX};
+  Int3 hi{INT32_MIN, INT32_MIN, INT32_MIN};
+
+  void merge(const IntBox& b) {
+    lo = {std::min(lo.x, b.lo.x), std::min(lo.y, b.lo.y), std::min(lo.z, b.lo.z)};
+    hi = {std::max(hi.x, b.hi.x), std::max(hi.y, b.hi.y), std::max(hi.z, b.hi.z)};
+  }
+  Bounds3 world(const Quantization& q) const {
+    Bounds3 bounds;
+    if (lo.x > hi.x) return bounds;
+    bounds.extend(q.toWorld(0, lo.x), q.toWorld(1, lo.y), q.toWorld(2, lo.z));
+    bounds.extend(q.toWorld(0, hi.x), q.toWorld(1, hi.y), q.toWorld(2, hi.z));
+    return bounds;
+  }
+};
+
 template <std::size_t kSize>
 void copyField(const std::byte* src, std::size_t stride, std::size_t n, std::byte* dst) {
   for (std::size_t i = 0; i < n; ++i) std::memcpy(dst + i * kSize, src + i * stride, kSize);
@@ -193,14 +212,25 @@ void copyField(const std::byte* src, std::size_t stride, std::size_t n, std::byt
 // Decodes records [0, n) at `records` into `out` from index `at`. Column by column over blocks
 // that stay in cache: each loop is a plain strided gather the compiler keeps tight.
 void decodeRange(const std::byte* records, std::size_t n, const DecodePlan& plan, PointCloud& out,
-                 std::size_t at) {
-  constexpr std::size_t kBlock = 4096;
+                 std::size_t at, IntBox& box) {
+  // Small enough that a block of records (up to 67 bytes each) stays in L1 while every column
+  // gathers from it.
+  constexpr std::size_t kBlock = 512;
   const std::size_t stride = plan.record_length;
   for (std::size_t b = 0; b < n; b += kBlock) {
     const std::size_t m = std::min(kBlock, n - b);
     const std::byte* r = records + b * stride;
     const std::size_t o = at + b;
     copyField<12>(r, stride, m, reinterpret_cast<std::byte*>(out.positions.data() + o));
+    {
+      const Int3* p = out.positions.data() + o;
+      Int3 lo = box.lo, hi = box.hi;
+      for (std::size_t i = 0; i < m; ++i) {
+        lo = {std::min(lo.x, p[i].x), std::min(lo.y, p[i].y), std::min(lo.z, p[i].z)};
+        hi = {std::max(hi.x, p[i].x), std::max(hi.y, p[i].y), std::max(hi.z, p[i].z)};
+      }
+      box.lo = lo, box.hi = hi;
+    }
     float* intensity = out.intensity.data() + o;
     for (std::size_t i = 0; i < m; ++i)
       intensity[i] = float(load<std::uint16_t>(r + i * stride + 12));
@@ -234,10 +264,12 @@ void decodeRange(const std::byte* records, std::size_t n, const DecodePlan& plan
       const std::byte* src = r + field.offset;
       switch (field.kind) {
         case FieldDecoder::Kind::Bits: {
+          // Locals, so that the stores through `dst` (a uint8_t*, which may alias anything) do
+          // not force a reload of the shift and mask each point.
+          const unsigned shift = unsigned(field.shift), mask = unsigned(field.mask);
           std::uint8_t* dst = column.as<std::uint8_t>() + o;
           for (std::size_t i = 0; i < m; ++i) {
-            dst[i] =
-                std::uint8_t((unsigned(src[i * stride]) >> field.shift) & unsigned(field.mask));
+            dst[i] = std::uint8_t((unsigned(src[i * stride]) >> shift) & mask);
           }
           break;
         }
@@ -272,10 +304,11 @@ void decodeRange(const std::byte* records, std::size_t n, const DecodePlan& plan
         }
         case FieldDecoder::Kind::Scaled: {
           double* dst = column.as<double>() + o;
+          const double scale = field.scale, add = field.add;
           withExtraType(field.data_type, [&](auto zero) {
             using T = decltype(zero);
             for (std::size_t i = 0; i < m; ++i) {
-              dst[i] = double(load<T>(src + i * stride)) * field.scale + field.add;
+              dst[i] = double(load<T>(src + i * stride)) * scale + add;
             }
           });
           break;
@@ -320,10 +353,15 @@ PointCloud readAll(std::span<const std::byte> bytes, const std::string& name,
   const std::size_t count = header.point_count;
   PointCloud cloud = allocateCloud(header, plan, count);
   const std::byte* records = bytes.data() + header.point_data_offset;
+  IntBox box;
+  std::mutex box_mutex;
   auto body = [&](const tbb::blocked_range<std::size_t>& range) {
+    IntBox local;
     decodeRange(records + range.begin() * plan.record_length, range.size(), plan, cloud,
-                range.begin());
+                range.begin(), local);
     if (options.progress) options.progress->advance(range.size());
+    std::lock_guard lock(box_mutex);
+    box.merge(local);
   };
   tbb::blocked_range<std::size_t> all(0, count, 1 << 16);
   if (options.parallel) {
@@ -331,7 +369,7 @@ PointCloud readAll(std::span<const std::byte> bytes, const std::string& name,
   } else {
     body(all);
   }
-  cloud.computeBounds();
+  cloud.bounds = box.world(cloud.quantization);
   return cloud;
 }
 
@@ -382,13 +420,18 @@ bool LasChunkReader::next(PointCloud& chunk, std::size_t max_points) {
   const std::byte* records =
       s.file.bytes().data() + s.header.point_data_offset + s.next * s.plan.record_length;
   s.file.adviseSequential(std::size_t(records - s.file.bytes().data()), n * s.plan.record_length);
+  IntBox box;
+  std::mutex box_mutex;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1 << 16),
                     [&](const tbb::blocked_range<std::size_t>& range) {
+                      IntBox local;
                       decodeRange(records + range.begin() * s.plan.record_length, range.size(),
-                                  s.plan, chunk, range.begin());
+                                  s.plan, chunk, range.begin(), local);
+                      std::lock_guard lock(box_mutex);
+                      box.merge(local);
                     });
   s.next += n;
-  chunk.computeBounds();
+  chunk.bounds = box.world(chunk.quantization);
   return true;
 }
 

@@ -528,8 +528,8 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
   store(h + 6, encoding);
   h[24] = std::byte(1);
   h[25] = std::byte(plan.minor_version);
-  std::memcpy(h + 26, "Parallax", 8);
-  std::memcpy(h + 58, "parallax convert", 16);
+  std::memcpy(h + 26, "OTHER", 5);  // R15 Table 4: the system identifier of generated data
+  std::memcpy(h + 58, "Parallax", 8);
   std::time_t now = std::time(nullptr);
   std::tm utc{};
   gmtime_r(&now, &utc);

@@ -13,8 +13,11 @@
 // scalar_Return_Number match too), fill the LAS fields; synthetic, key_point, withheld and overlap
 // columns fill the classification flags. Everything else, normals (nx ny nz, float) included, is
 // written as extra bytes with a LASF_Spec record 4 description, in its own type; names are cut to
-// 32 characters. Colours go back to 16 bits as c * 257 when the source had 16-bit colour, else as
-// they are. Alpha has no place in LAS and is dropped.
+// 32 characters. Colours are written as 16-bit values c * 257 (255 -> 65535), as LAS 1.4 R15 asks
+// ("normalized to 16 bits"), whatever the source held: a file with 8-bit values in its 16-bit
+// fields comes back with the same colours, normalised. Alpha has no place in LAS and is dropped.
+// Extra bytes are a LAS 1.4 feature; they are written in 1.2 files too (record length above the
+// format's size), which common readers accept.
 #pragma once
 
 #include <cstdint>

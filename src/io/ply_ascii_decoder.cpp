@@ -228,7 +228,8 @@ class LineParser {
     while (p != end_ && isBlank(*p)) ++p;
   }
 
-  double parseNumber(const char*& p, const PropertyPlan& plan, ScalarType type, std::size_t index,
+  [[gnu::always_inline]] double parseNumber(const char*& p, const PropertyPlan& plan, ScalarType type,
+                                            std::size_t index,
                      const char* what) {
     skipBlanks(p);
     if (p == end_ || *p == '\n') failMissingValue(plan, index, what);
@@ -345,36 +346,47 @@ class LineParser {
   std::uint64_t line_ = 0;
 };
 
+[[noreturn]] void failShortElement(const DecodeContext& context, const PlyElement& element,
+                                   std::uint64_t records, std::uint64_t line) {
+  throw InputError({.file = context.file,
+                    .line = line,
+                    .element = element.name,
+                    .expected = std::to_string(element.count) + " lines",
+                    .found = "the end of the file after " + std::to_string(records),
+                    .hint = "the file is truncated, or its header's count is wrong"});
+}
+
+// Byte offset of element `index` in an ascii body, past the elements before it, whose records
+// (one a line) are each checked against their properties; `line` is set to its first line.
+std::size_t locateAsciiElement(const DecodeContext& context, int index, std::uint64_t& line) {
+  const char* text = reinterpret_cast<const char*>(context.bytes.data());
+  const char* end = text + context.bytes.size();
+  const char* p = text + context.header.body_offset;
+  line = context.header.body_line;
+  for (int e = 0; e < index; ++e) {
+    const PlyElement& element = context.header.elements[std::size_t(e)];
+    PointLayout skipping = skippingLayout(element);
+    LineParser parser(context, skipping, end);
+    PointCloud nothing;
+    for (std::uint64_t r = 0; r < element.count; ++r, ++line) {
+      if (p == end) failShortElement(context, element, r, line);
+      double unused[3];
+      p = parser.parse(p, line, nothing, 0, unused);
+    }
+  }
+  return std::size_t(p - text);
+}
+
 }  // namespace
 
 std::vector<RecordRange> planAsciiRanges(const DecodeContext& context, std::size_t target_bytes,
                                          bool parallel) {
   const char* text = reinterpret_cast<const char*>(context.bytes.data());
   const char* end = text + context.bytes.size();
-  const char* p = text + context.header.body_offset;
-  std::uint64_t line = context.header.body_line;
   const int point_element = context.header.pointElement();
 
-  // Elements before the point element: one line per record, each checked against its properties.
-  for (int e = 0; e < point_element; ++e) {
-    const PlyElement& element = context.header.elements[std::size_t(e)];
-    PointLayout skipping = skippingLayout(element);
-    LineParser parser(context, skipping, end);
-    PointCloud nothing;
-    for (std::uint64_t r = 0; r < element.count; ++r, ++line) {
-      if (p == end) {
-        throw InputError({.file = context.file,
-                          .line = line,
-                          .element = element.name,
-                          .expected = std::to_string(element.count) + " lines",
-                          .found = "the end of the file after " + std::to_string(r),
-                          .hint = "the file is truncated, or its header's count is wrong"});
-      }
-      double unused[3];
-      p = parser.parse(p, line, nothing, 0, unused);
-    }
-  }
-
+  std::uint64_t line = 0;
+  const char* p = text + locateAsciiElement(context, point_element, line);
   const PlyElement& element = context.header.elements[std::size_t(point_element)];
   // Each record has at least one character per value plus a separator: a count the rest of the
   // file cannot hold is refused before anything is counted or allocated.
@@ -396,6 +408,9 @@ std::vector<RecordRange> planAsciiRanges(const DecodeContext& context, std::size
     starts.push_back(s);
     const char* next = s + std::min<std::size_t>(target_bytes, std::size_t(end - s));
     s = next == end ? end : nextLineStart(next, end);
+    // One touch per block can map a whole large page-cache folio (up to 2 MiB), not just 64 KiB:
+    // give back what the search mapped before moving on.
+    context.releaseRead(std::size_t(starts.back() - text), std::size_t(s - text));
   }
   std::vector<std::uint64_t> lines(starts.size());
   auto count_block = [&](std::size_t b) {
@@ -429,6 +444,45 @@ std::vector<RecordRange> planAsciiRanges(const DecodeContext& context, std::size
                       .hint = "the file is truncated, or its header's count is wrong"});
   }
   return ranges;
+}
+
+void checkAsciiTail(const DecodeContext& context, std::size_t end, std::uint64_t line) {
+  const char* text = reinterpret_cast<const char*>(context.bytes.data());
+  const char* stop = text + context.bytes.size();
+  const int point_element = context.header.pointElement();
+  const PlyElement& points = context.header.elements[std::size_t(point_element)];
+  if (points.count == 0) {
+    // Nothing was decoded: the point element starts where the elements before it ended.
+    end = locateAsciiElement(context, point_element, line);
+  }
+  const char* p = text + std::max(end, context.header.body_offset);
+  for (std::size_t e = std::size_t(point_element) + 1; e < context.header.elements.size(); ++e) {
+    const PlyElement& element = context.header.elements[e];
+    PointLayout skipping = skippingLayout(element);
+    LineParser parser(context, skipping, stop);
+    PointCloud nothing;
+    for (std::uint64_t r = 0; r < element.count; ++r, ++line) {
+      if (p == stop) failShortElement(context, element, r, line);
+      double unused[3];
+      p = parser.parse(p, line, nothing, 0, unused);
+    }
+  }
+  const PlyElement& last = context.header.elements.back();
+  for (; p < stop; ++p) {
+    if (*p == '\n') {
+      ++line;
+    } else if (!isBlank(*p)) {
+      const char* data_end = p;
+      while (data_end < stop && *data_end != '\n' && *data_end != '\r') ++data_end;
+      throw InputError({.file = context.file,
+                        .line = line,
+                        .element = last.name,
+                        .expected = "the end of the file after " + std::to_string(last.count) +
+                                    " records",
+                        .found = "more data: " + quoteInput(std::string_view(p, std::size_t(data_end - p))),
+                        .hint = "the header's element count is smaller than the data"});
+    }
+  }
 }
 
 RangeStats decodeAsciiRange(const DecodeContext& context, const RecordRange& range,

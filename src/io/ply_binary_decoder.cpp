@@ -222,9 +222,11 @@ void decodeFixedPositions(const DecodeContext& context, const RecordRange& range
   }
 }
 
-// The elements after the point element are not read, but a file too short to hold them is
-// truncated, and its points are suspect too.
-void checkFollowingElements(const DecodeContext& context, int point_element, std::size_t pos) {
+// The elements after the point element are not kept, but a file too short to hold them is
+// truncated, and its points are suspect too: fixed-size records are checked by size, records with
+// lists are walked (a walk bounded by the file's size, as every count is checked first).
+void checkFollowingElements(const DecodeContext& context, int point_element, bool swap,
+                            std::size_t pos) {
   const auto& elements = context.header.elements;
   for (std::size_t e = std::size_t(point_element) + 1; e < elements.size(); ++e) {
     const PlyElement& element = elements[e];
@@ -233,7 +235,11 @@ void checkFollowingElements(const DecodeContext& context, int point_element, std
     if (min_size > 0 && element.count > left / min_size) {
       failTruncated(context, element, left / min_size, pos + (left / min_size + 1) * min_size);
     }
-    pos += element.count * min_size;
+    if (!element.hasLists()) {
+      pos += element.count * min_size;
+      continue;
+    }
+    for (std::uint64_t r = 0; r < element.count; ++r) pos += walkRecord(context, element, swap, pos, r);
   }
 }
 
@@ -275,7 +281,7 @@ std::vector<RecordRange> planBinaryRanges(const DecodeContext& context, std::siz
     }
     if (current.count > 0) ranges.push_back(current);
   }
-  checkFollowingElements(context, point_element, pos);
+  checkFollowingElements(context, point_element, swap, pos);
   return ranges;
 }
 

@@ -62,6 +62,12 @@ RangeStats decodeRange(const DecodeContext& context, const RecordRange& range, s
 Bounds3 sampleBounds(const DecodeContext& context, const std::vector<RecordRange>& ranges,
                      std::size_t max_samples);
 
+// Checks what follows the point element of an ascii body, from byte `end` (just after its last
+// record) and line `line`: every record of the elements after it, then nothing but blanks.
+// Throws InputError for a malformed or missing record, or data past the last element (a count
+// smaller than the data).
+void checkAsciiTail(const DecodeContext& context, std::size_t end, std::uint64_t line);
+
 // The format-specific halves behind the three functions above.
 std::vector<RecordRange> planBinaryRanges(const DecodeContext& context, std::size_t target_bytes);
 std::vector<RecordRange> planAsciiRanges(const DecodeContext& context, std::size_t target_bytes,

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cstdint>
 #include <cstring>
 
 #include "core/error.h"
@@ -55,18 +56,33 @@ Bounds3 sampleRecords(const DecodeContext& context, const std::vector<RecordRang
   Bounds3 bounds;
   if (ranges.empty()) return bounds;
   PointCloud scratch = allocatePointCloud(context.layout, 1, Quantization{});
+  // A fault maps neighbouring pages too (the kernel's fault-around, 64 KiB, or a whole large
+  // page-cache folio, up to 2 MiB): without releasing them, a few thousand samples would keep
+  // much of the file resident. They are released in batches, as each release is a system call
+  // and a TLB flush on every core.
+  constexpr std::size_t kFaultAround = 2 << 20;
+  constexpr int kBatch = 32;
+  std::size_t batch_lo = SIZE_MAX, batch_hi = 0;
+  int batched = 0;
+  auto release = [&] {
+    if (batched == 0) return;
+    std::size_t from = batch_lo > kFaultAround ? batch_lo - kFaultAround : 0;
+    context.releaseRead(from & ~(kFaultAround - 1), batch_hi + 2 * kFaultAround);
+    batch_lo = SIZE_MAX, batch_hi = 0, batched = 0;
+  };
   auto sample = [&](const RecordRange& one) {
     try {
       bounds.extend(decodeRange(context, one, 1, scratch, 0).raw_bounds);
     } catch (const InputError&) {
       // Reported with its line or offset by the full decode.
     }
-    // A fault maps the neighbouring pages too (the kernel's fault-around, 64 KiB): without this,
-    // a few thousand samples would keep a large part of the file resident.
-    constexpr std::size_t kFaultAround = 128 << 10;
-    std::size_t from = one.begin > kFaultAround ? one.begin - kFaultAround : 0;
-    context.releaseRead(from & ~(kFaultAround - 1), one.begin + 2 * kFaultAround);
+    batch_lo = std::min(batch_lo, one.begin), batch_hi = std::max(batch_hi, one.begin);
+    if (++batched == kBatch) release();
   };
+  struct ReleaseAtEnd {
+    decltype(release)& fn;
+    ~ReleaseAtEnd() { fn(); }
+  } release_at_end{release};
   const std::uint64_t total = ranges.back().first_record + ranges.back().count;
   if (context.header.format != PlyFormat::Ascii && context.layout.fixed_size) {
     std::uint64_t samples = std::min<std::uint64_t>(max_samples, total);
@@ -152,7 +168,13 @@ DecodeResult decodeAll(const DecodeContext& context, const std::vector<RecordRan
   std::vector<ply::RangeStats> stats(ranges.size());
   auto decode = [&](std::size_t i) {
     stats[i] = ply::decodeRange(context, ranges[i], ranges[i].count, cloud, ranges[i].first_record);
-    context.releaseRead(ranges[i].begin, stats[i].end);
+    // Input pages are released 16 ranges at a time (8 MiB): each release is a system call and a
+    // TLB flush on every core. A range of the batch still being decoded just faults its pages in
+    // again.
+    constexpr std::size_t kBatch = 16;
+    if (i % kBatch == kBatch - 1 || i + 1 == ranges.size()) {
+      context.releaseRead(ranges[i - i % kBatch].begin, stats[i].end);
+    }
     if (options.progress) options.progress->advance(ranges[i].count);
   };
   if (options.parallel) {
@@ -164,37 +186,6 @@ DecodeResult decodeAll(const DecodeContext& context, const std::vector<RecordRan
   for (const auto& s : stats) result.raw_bounds.extend(s.raw_bounds);
   if (!stats.empty()) result.end = stats.back().end;
   return result;
-}
-
-// An ascii file whose point element is the last one must end after its records: more data means
-// the header's count is wrong, and reading on silently would drop points.
-void checkAsciiTail(const DecodeContext& context, int point_element, std::size_t end,
-                    std::uint64_t next_line) {
-  if (context.header.format != PlyFormat::Ascii ||
-      point_element + 1 != int(context.header.elements.size())) {
-    return;
-  }
-  const char* text = reinterpret_cast<const char*>(context.bytes.data());
-  std::size_t size = context.bytes.size();
-  std::size_t p = std::max(end, context.header.body_offset);
-  std::uint64_t line = next_line;
-  for (; p < size; ++p) {
-    char c = text[p];
-    if (c == '\n') {
-      ++line;
-    } else if (c != ' ' && c != '\t' && c != '\r') {
-      const PlyElement& element = context.header.elements[std::size_t(point_element)];
-      std::size_t stop = p;
-      while (stop < size && text[stop] != '\n' && text[stop] != '\r') ++stop;
-      throw InputError({.file = context.file,
-                        .line = line,
-                        .element = element.name,
-                        .expected = "the end of the file after " + std::to_string(element.count) +
-                                    " records",
-                        .found = "more data: " + quoteInput(std::string_view(text + p, stop - p)),
-                        .hint = "the header's element count is smaller than the data"});
-    }
-  }
 }
 
 PointCloud readPlyBytes(std::span<const std::byte> bytes, const std::string& name,
@@ -210,10 +201,11 @@ PointCloud readPlyBytes(std::span<const std::byte> bytes, const std::string& nam
       chooseQuantization(ply::sampleBounds(context, ranges, kSamples), kSampleMargin);
   PointCloud cloud = ply::allocatePointCloud(layout, element.count, quantization);
   DecodeResult result = decodeAll(context, ranges, cloud, options);
-  checkAsciiTail(context, point_element, result.end,
-                 header.body_line + (ranges.empty() ? 0 : ranges.back().first_line -
-                                                              header.body_line +
-                                                              ranges.back().count));
+  if (header.format == PlyFormat::Ascii) {
+    std::size_t end = ranges.empty() ? 0 : result.end;
+    std::uint64_t next_line = ranges.empty() ? 0 : ranges.back().first_line + ranges.back().count;
+    ply::checkAsciiTail(context, end, next_line);
+  }
   if (!fitsQuantization(quantization, result.raw_bounds)) {
     cloud.quantization = chooseQuantization(result.raw_bounds, 1.0);
     PlyReadOptions again = options;

@@ -335,10 +335,10 @@ T clampRound(double v) {
   if constexpr (std::is_floating_point_v<T>) {
     return T(v);
   } else {
-    v = std::nearbyint(v);
+    // Half away from zero by truncation: no libm call in the hot loop.
     if (!(v >= double(std::numeric_limits<T>::min()))) return std::numeric_limits<T>::min();
-    if (v > double(std::numeric_limits<T>::max())) return std::numeric_limits<T>::max();
-    return T(v);
+    if (v >= double(std::numeric_limits<T>::max())) return std::numeric_limits<T>::max();
+    return T(v + (v >= 0 ? 0.5 : -0.5));
   }
 }
 
@@ -371,89 +371,189 @@ void storeScalar(ScalarColumn& column, std::size_t i, double v) {
   }
 }
 
+bool endsNumber(const char* p, const char* end, char delimiter) {
+  return p == end || *p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == delimiter;
+}
+
+// Clinger's fast path (W. D. Clinger, "How to read floating point numbers accurately", PLDI
+// 1990): a decimal of at most 15 digits has an exact double mantissa, and 10^d (d <= 22) is an
+// exact double, so one IEEE division gives the correctly rounded value, the same bits fast_float
+// returns. Plain decimals (most point files) take this path; anything else (exponents, more
+// digits, inf, nan) returns nullptr and goes to fast_float. `decimals` is the count after the
+// point (-1 without one).
+const char* parseSimpleDecimal(const char* p, const char* end, double& value, int& decimals) {
+  static constexpr double kPowers[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                       1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+  bool negative = false;
+  if (p < end && (*p == '-' || *p == '+')) {
+    negative = *p == '-';
+    ++p;
+  }
+  std::uint64_t mantissa = 0;
+  int digits = 0;
+  decimals = -1;
+  for (; p < end; ++p) {
+    unsigned d = unsigned(*p) - '0';
+    if (d <= 9) {
+      mantissa = mantissa * 10 + d;
+      ++digits;
+      if (decimals >= 0) ++decimals;
+    } else if (*p == '.' && decimals < 0) {
+      decimals = 0;
+    } else {
+      break;
+    }
+  }
+  if (digits == 0 || digits > 15) return nullptr;
+  if (p < end && (*p == 'e' || *p == 'E')) return nullptr;
+  double v = double(mantissa);
+  if (decimals > 0) v /= kPowers[decimals];
+  value = negative ? -v : v;
+  return p;
+}
+
+// The token starting at `p`, for messages: up to the next blank, delimiter or line end.
+std::string_view tokenAt(const char* p, const char* end, char delimiter) {
+  const char* e = p;
+  while (!endsNumber(e, end, delimiter)) ++e;
+  return {p, std::size_t(e - p)};
+}
+
+// One pass over the block's bytes: no line is searched twice and no token is copied. fast_float
+// reads each number where it stands (it stops at the first character that cannot continue a
+// number), and the character after it must end the value.
 void parseBlock(std::string_view text, const Layout& layout, const std::string& file, Block& block,
                 double* world, PointCloud& cloud) {
   const char* p = text.data() + block.begin;
-  const char* end = text.data() + block.end;
+  const char* const end = text.data() + block.end;
+  const char delimiter = layout.delimiter;
+  const std::size_t n = layout.columns.size();
+  Rgba8* colors = cloud.colors.data();
+  Float3* normals = cloud.normals.data();
+  float* intensity = cloud.intensity.data();
+  std::uint8_t* classification = cloud.classification.data();
   std::uint64_t line_number = block.first_line;
   std::size_t point = block.first_point;
-  const std::size_t n = layout.columns.size();
+  auto skipBlanks = [&] {
+    while (p < end && (*p == ' ' || *p == '\t')) ++p;
+  };
+  auto skipLine = [&] {
+    const void* nl = std::memchr(p, '\n', std::size_t(end - p));
+    p = nl ? static_cast<const char*>(nl) + 1 : end;
+  };
   for (; p < end; ++line_number) {
-    Line line = lineAt(p, end);
-    p = line.next;
-    if (skippedLine(line, layout)) continue;
-    std::size_t column = 0;
-    double* xyz = world + 3 * point;
-    forEachToken(line.begin, line.end, layout.delimiter, [&](std::string_view token) {
-      if (column == n) {
-        ++column;
-        return false;
-      }
-      const ColumnSpec& spec = layout.columns[column++];
-      if (spec.target == Target::Skip) return true;
-      double v;
-      if (!parseNumber(token, v)) {
-        failAt(file, line_number, spec.name, "a number", quoteInput(token));
-      }
-      switch (spec.target) {
-        case Target::X:
-        case Target::Y:
-        case Target::Z: {
-          int axis = int(spec.target) - int(Target::X);
-          if (!std::isfinite(v))
-            failAt(file, line_number, spec.name, "a finite number", quoteInput(token));
-          xyz[axis] = v;
-          auto dot = token.find('.');
-          if (token.find_first_of("eE") != std::string_view::npos) block.exponent = true;
-          if (dot != std::string_view::npos) {
-            block.decimals[axis] = std::max(block.decimals[axis], int(token.size() - dot - 1));
-          }
-          break;
-        }
-        case Target::R:
-          cloud.colors[point].r = clampRound<std::uint8_t>(v);
-          break;
-        case Target::G:
-          cloud.colors[point].g = clampRound<std::uint8_t>(v);
-          break;
-        case Target::B:
-          cloud.colors[point].b = clampRound<std::uint8_t>(v);
-          break;
-        case Target::A:
-          cloud.colors[point].a = clampRound<std::uint8_t>(v);
-          break;
-        case Target::Nx:
-          cloud.normals[point].x = float(v);
-          break;
-        case Target::Ny:
-          cloud.normals[point].y = float(v);
-          break;
-        case Target::Nz:
-          cloud.normals[point].z = float(v);
-          break;
-        case Target::Intensity:
-          cloud.intensity[point] = float(v);
-          break;
-        case Target::Classification:
-          cloud.classification[point] = clampRound<std::uint8_t>(v);
-          break;
-        case Target::Scalar:
-          storeScalar(cloud.scalars[spec.scalar], point, v);
-          break;
-        case Target::Skip:
-          break;
-      }
-      return true;
-    });
-    if (column != n) {
-      std::size_t found = 0;
-      forEachToken(line.begin, line.end, layout.delimiter, [&](std::string_view) {
-        ++found;
-        return true;
-      });
-      failAt(file, line_number, "", std::to_string(n) + " values",
-             std::to_string(found) + " values", "every data line needs one value per column");
+    skipBlanks();
+    if (p == end || *p == '\n' || *p == '\r' || *p == '#' ||
+        (*p == '/' && p + 1 < end && p[1] == '/')) {
+      skipLine();
+      continue;
     }
+    if (layout.pts) {
+      // A further scan's count in a concatenated PTS file: one integer alone (as in pass 1).
+      const char* c = p;
+      while (c < end && *c >= '0' && *c <= '9') ++c;
+      const char* d = c;
+      while (d < end && (*d == ' ' || *d == '\t' || *d == '\r')) ++d;
+      if (c > p && (d == end || *d == '\n')) {
+        skipLine();
+        continue;
+      }
+    }
+    // Held here until the line is known to be a point (a PTS count line is not).
+    double xyz[3] = {0.0, 0.0, 0.0};
+    std::size_t column = 0;
+    while (true) {
+      if (column < n) {
+        const ColumnSpec& spec = layout.columns[column];
+        const char* q = p;
+        if (spec.target == Target::Skip) {
+          while (!endsNumber(p, end, delimiter)) ++p;
+        } else {
+          double v;
+          int decimals = -1;
+          const char* stop = parseSimpleDecimal(q, end, v, decimals);
+          if (stop == nullptr) {
+            if (q < end && *q == '+') ++q;
+            auto result = fast_float::from_chars(q, end, v);
+            stop = result.ec == std::errc() && result.ptr != q ? result.ptr : nullptr;
+            decimals = 10;  // unknown: no decimal quantization
+            if (stop != nullptr) {
+              for (const char* c = q; c < stop; ++c) {
+                if (*c == 'e' || *c == 'E') block.exponent = true;
+              }
+            }
+          }
+          if (stop == nullptr || !endsNumber(stop, end, delimiter)) {
+            failAt(file, line_number, spec.name, "a number",
+                   quoteInput(tokenAt(p, end, delimiter)));
+          }
+          p = stop;
+          switch (spec.target) {
+            case Target::X:
+            case Target::Y:
+            case Target::Z: {
+              int axis = int(spec.target) - int(Target::X);
+              if (!std::isfinite(v)) {
+                failAt(file, line_number, spec.name, "a finite number",
+                       quoteInput(std::string_view(q, std::size_t(p - q))));
+              }
+              xyz[axis] = v;
+              block.decimals[axis] = std::max(block.decimals[axis], decimals);
+              break;
+            }
+            case Target::R:
+              colors[point].r = clampRound<std::uint8_t>(v);
+              break;
+            case Target::G:
+              colors[point].g = clampRound<std::uint8_t>(v);
+              break;
+            case Target::B:
+              colors[point].b = clampRound<std::uint8_t>(v);
+              break;
+            case Target::A:
+              colors[point].a = clampRound<std::uint8_t>(v);
+              break;
+            case Target::Nx:
+              normals[point].x = float(v);
+              break;
+            case Target::Ny:
+              normals[point].y = float(v);
+              break;
+            case Target::Nz:
+              normals[point].z = float(v);
+              break;
+            case Target::Intensity:
+              intensity[point] = float(v);
+              break;
+            case Target::Classification:
+              classification[point] = clampRound<std::uint8_t>(v);
+              break;
+            case Target::Scalar:
+              storeScalar(cloud.scalars[spec.scalar], point, v);
+              break;
+            case Target::Skip:
+              break;
+          }
+        }
+      } else {
+        while (!endsNumber(p, end, delimiter)) ++p;  // an extra value: counted for the message
+      }
+      ++column;
+      skipBlanks();
+      if (p == end || *p == '\n' || *p == '\r') break;
+      if (delimiter != ' ') {
+        if (*p != delimiter) break;  // cannot happen: every value ends at one of these
+        ++p;
+        skipBlanks();
+        if (p == end || *p == '\n' || *p == '\r') break;  // a trailing delimiter
+      }
+    }
+    skipLine();
+    if (column != n) {
+      failAt(file, line_number, "", std::to_string(n) + " values",
+             std::to_string(column) + " values", "every data line needs one value per column");
+    }
+    std::copy_n(xyz, 3, world + 3 * point);
     block.bounds.extend(xyz[0], xyz[1], xyz[2]);
     ++point;
   }
@@ -529,7 +629,7 @@ PointCloud readAll(std::string_view text, const std::string& file, const TextRea
   Column<double> world(3 * count);
   bool has[int(Target::Scalar) + 1] = {};
   for (const ColumnSpec& spec : layout.columns) has[int(spec.target)] = true;
-  if (has[int(Target::R)] || has[int(Target::G)] || has[int(Target::B)]) {
+  if (has[int(Target::R)] || has[int(Target::G)] || has[int(Target::B)] || has[int(Target::A)]) {
     cloud.colors = Column<Rgba8>(count);
     cloud.source.has_alpha = has[int(Target::A)];
   }

@@ -196,14 +196,14 @@ Camera defaultCameraFor(const Bounds3& bounds, double aspect) {
 nlohmann::json cameraToJson(const Camera& camera) {
   auto vec = [](const glm::dvec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
   const glm::dquat& q = camera.orientation;
-  return {{"position", vec(camera.position)},
-          {"orientation_wxyz", nlohmann::json::array({q.w, q.x, q.y, q.z})},
-          {"pivot", vec(camera.pivot)},
-          {"world_up", vec(camera.world_up)},
-          {"projection",
-           camera.projection == Projection::Perspective ? "perspective" : "orthographic"},
-          {"fov_y_deg", camera.fov_y_deg},
-          {"ortho_height", camera.ortho_height}};
+  return {
+      {"position", vec(camera.position)},
+      {"orientation_wxyz", nlohmann::json::array({q.w, q.x, q.y, q.z})},
+      {"pivot", vec(camera.pivot)},
+      {"world_up", vec(camera.world_up)},
+      {"projection", camera.projection == Projection::Perspective ? "perspective" : "orthographic"},
+      {"fov_y_deg", camera.fov_y_deg},
+      {"ortho_height", camera.ortho_height}};
 }
 
 namespace {

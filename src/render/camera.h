@@ -34,6 +34,8 @@ struct Camera {
   double ortho_height = 2.0;                   // orthographic: world height of the view
   Projection projection = Projection::Perspective;
 
+  friend bool operator==(const Camera&, const Camera&) = default;
+
   glm::dvec3 forward() const { return orientation * glm::dvec3(0, 0, -1); }
   glm::dvec3 right() const { return orientation * glm::dvec3(1, 0, 0); }
   glm::dvec3 up() const { return orientation * glm::dvec3(0, 1, 0); }
@@ -55,7 +57,8 @@ struct Camera {
   void pan(double dx_px, double dy_px, int viewport_height);
 
   // Moves towards (factor < 1) or away from (factor > 1) the point at the pivot's depth under the
-  // cursor, given in normalised device coordinates (-1..1, y up). That point stays under the cursor.
+  // cursor, given in normalised device coordinates (-1..1, y up). That point stays under the
+  // cursor.
   void dolly(double factor, const glm::dvec2& cursor_ndc, double aspect);
 
   // Fly mode: moves by (right, up along world_up, forward) world units; the pivot follows.

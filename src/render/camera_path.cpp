@@ -79,8 +79,8 @@ nlohmann::json cameraPathToJson(const CameraPath& path) {
 CameraPath loadCameraPath(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in) {
-    throw InputError({.file = path.string(), .expected = "a camera path JSON file",
-                      .found = "no file"});
+    throw InputError(
+        {.file = path.string(), .expected = "a camera path JSON file", .found = "no file"});
   }
   std::vector<CameraKeyframe> keys;
   std::size_t index = 0;
@@ -105,8 +105,7 @@ CameraPath loadCameraPath(const std::filesystem::path& path) {
                       .found = e.what()});
   }
   if (keys.empty()) {
-    throw InputError({.file = path.string(), .expected = "at least one keyframe",
-                      .found = "none"});
+    throw InputError({.file = path.string(), .expected = "at least one keyframe", .found = "none"});
   }
   return CameraPath(std::move(keys));
 }

@@ -20,9 +20,17 @@ uniform float u_radius;
 uniform vec3 u_background;
 out vec4 out_color;
 
+// Eye depth is stored with the pixel's coverage (see the point pass): dividing undoes the
+// multisample resolve, whose average would otherwise pull edge pixels towards 0 (empty) and make
+// their neighbours look like steps.
+float eyeDepth(ivec2 q) {
+  vec2 stored = texelFetch(u_eye_depth, q, 0).rg;
+  return stored.g > 0.0 ? stored.r / stored.g : 0.0;
+}
+
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy);
-  float depth = texelFetch(u_eye_depth, p, 0).r;
+  float depth = eyeDepth(p);
   if (depth <= 0.0) {
     out_color = vec4(u_background, 1.0);
     return;
@@ -35,7 +43,7 @@ void main() {
   float response = 0.0;
   for (int i = 0; i < 8; ++i) {
     ivec2 q = clamp(p + ivec2(round(directions[i] * u_radius)), ivec2(0), size - 1);
-    float neighbour = texelFetch(u_eye_depth, q, 0).r;
+    float neighbour = eyeDepth(q);
     // Empty neighbours say nothing: in a sparse scan most points have some, and counting them as
     // steps would blacken whole surfaces (Potree ignores them too).
     if (neighbour > 0.0) response += max(0.0, log_depth - log2(neighbour));

@@ -18,7 +18,8 @@ class EdlPass {
   EdlPass(const EdlPass&) = delete;
   EdlPass& operator=(const EdlPass&) = delete;
 
-  // Reads `color` (RGBA8) and `eye_depth` (R32F linear eye depth, 0 where no point was drawn) and
+  // Reads `color` (RGBA8) and `eye_depth` (RG32F: linear eye depth times coverage, coverage; 0
+  // where no point was drawn) and
   // writes the shaded picture into the bound framebuffer inside `viewport` (same pixel grid as the
   // textures). Depth test and blending are off while it runs.
   void draw(GLuint color, GLuint eye_depth, const Viewport& viewport,

@@ -14,7 +14,8 @@ bool Frustum::intersects(const Bounds3& box) const {
   if (box.empty()) return false;
   for (const glm::dvec4& plane : planes_) {
     // The box corner farthest along the plane's normal.
-    const glm::dvec3 p(plane.x >= 0 ? box.max[0] : box.min[0], plane.y >= 0 ? box.max[1] : box.min[1],
+    const glm::dvec3 p(plane.x >= 0 ? box.max[0] : box.min[0],
+                       plane.y >= 0 ? box.max[1] : box.min[1],
                        plane.z >= 0 ? box.max[2] : box.min[2]);
     if (plane.x * p.x + plane.y * p.y + plane.z * p.z + plane.w < 0) return false;
   }

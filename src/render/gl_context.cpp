@@ -25,15 +25,24 @@ bool hasExtension(const char* list, const char* name) {
 
 std::string eglErrorName(EGLint error) {
   switch (error) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
+    case EGL_SUCCESS:
+      return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED:
+      return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ALLOC:
+      return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+      return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG:
+      return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT:
+      return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY:
+      return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH:
+      return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER:
+      return "EGL_BAD_PARAMETER";
     default: {
       char buffer[32];
       std::snprintf(buffer, sizeof buffer, "0x%04x", unsigned(error));
@@ -44,11 +53,16 @@ std::string eglErrorName(EGLint error) {
 
 const char* debugSourceName(GLenum source) {
   switch (source) {
-    case GL_DEBUG_SOURCE_API: return "api";
-    case GL_DEBUG_SOURCE_SHADER_COMPILER: return "shader compiler";
-    case GL_DEBUG_SOURCE_WINDOW_SYSTEM: return "window system";
-    case GL_DEBUG_SOURCE_APPLICATION: return "application";
-    default: return "other";
+    case GL_DEBUG_SOURCE_API:
+      return "api";
+    case GL_DEBUG_SOURCE_SHADER_COMPILER:
+      return "shader compiler";
+    case GL_DEBUG_SOURCE_WINDOW_SYSTEM:
+      return "window system";
+    case GL_DEBUG_SOURCE_APPLICATION:
+      return "application";
+    default:
+      return "other";
   }
 }
 
@@ -157,7 +171,8 @@ EGLContext createEglContext(EGLDisplay display, bool debug, bool any_version) {
   }
   std::vector<EGLint> attributes;
   if (!any_version) {
-    attributes = {EGL_CONTEXT_MAJOR_VERSION, kNeedMajor, EGL_CONTEXT_MINOR_VERSION, kNeedMinor,
+    attributes = {EGL_CONTEXT_MAJOR_VERSION,       kNeedMajor,
+                  EGL_CONTEXT_MINOR_VERSION,       kNeedMinor,
                   EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT};
     if (debug) attributes.insert(attributes.end(), {EGL_CONTEXT_OPENGL_DEBUG, EGL_TRUE});
   }
@@ -189,6 +204,7 @@ std::unique_ptr<GlContext> GlContext::createHeadless(const GlContextOptions& opt
     }
     egl->context = createEglContext(candidate.display, debug, false);
     if (egl->context == EGL_NO_CONTEXT) {
+      const EGLint error = eglGetError();  // before the probe below resets it
       // Say what the driver does offer: the best message for an old Mesa or a GLES-only GPU.
       EGLContext fallback = createEglContext(candidate.display, false, true);
       std::string offered = "none";
@@ -198,7 +214,7 @@ std::unique_ptr<GlContext> GlContext::createHeadless(const GlContextOptions& opt
         eglMakeCurrent(candidate.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
       }
       if (fallback != EGL_NO_CONTEXT) eglDestroyContext(candidate.display, fallback);
-      notes += candidate.name + ": no 4.5 core context (" + eglErrorName(eglGetError()) +
+      notes += candidate.name + ": no 4.5 core context (" + eglErrorName(error) +
                "; the driver offers OpenGL " + offered + "); ";
       continue;
     }

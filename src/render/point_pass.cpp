@@ -1,9 +1,9 @@
 #include "render/point_pass.h"
 
 #include <cmath>
-#include <string>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <string>
 
 #include "render/frustum.h"
 #include "render/point_pass_glsl.h"
@@ -24,12 +24,18 @@ enum Binding : GLuint { kPositions = 0, kColors = 1, kNormals = 2, kExtras = 3 }
 
 int colorModeIndex(ColorMode mode) {
   switch (mode) {
-    case ColorMode::Rgb: return 0;
-    case ColorMode::Elevation: return 1;
-    case ColorMode::Intensity: return 2;
-    case ColorMode::Normal: return 3;
-    case ColorMode::Classification: return 4;
-    case ColorMode::Uniform: return 5;
+    case ColorMode::Rgb:
+      return 0;
+    case ColorMode::Elevation:
+      return 1;
+    case ColorMode::Intensity:
+      return 2;
+    case ColorMode::Normal:
+      return 3;
+    case ColorMode::Classification:
+      return 4;
+    case ColorMode::Uniform:
+      return 5;
   }
   return 5;
 }
@@ -56,11 +62,10 @@ const ShaderProgram& PointPass::program(int color, int size, bool lighting, bool
                   int(round) << 10 | int(eye_depth) << 11;
   auto found = programs_.find(key);
   if (found != programs_.end()) return found->second;
-  const std::string vertex_defines = "#define COLOR_MODE " + std::to_string(color) +
-                                     "\n#define SIZE_MODE " + std::to_string(size) +
-                                     "\n#define LIGHTING " + std::to_string(int(lighting)) +
-                                     "\n#define ORTHOGRAPHIC " + std::to_string(int(orthographic)) +
-                                     "\n";
+  const std::string vertex_defines =
+      "#define COLOR_MODE " + std::to_string(color) + "\n#define SIZE_MODE " +
+      std::to_string(size) + "\n#define LIGHTING " + std::to_string(int(lighting)) +
+      "\n#define ORTHOGRAPHIC " + std::to_string(int(orthographic)) + "\n";
   const std::string fragment_defines = "#define ROUND " + std::to_string(int(round)) +
                                        "\n#define EYE_DEPTH " + std::to_string(int(eye_depth)) +
                                        "\n";
@@ -92,9 +97,8 @@ PointPass::~PointPass() {
   if (vao_) glDeleteVertexArrays(1, &vao_);
 }
 
-PointPassStats PointPass::draw(const GpuPointCloud& cloud, const View& view,
-                               const ClipRange& range, const RenderSettings& settings,
-                               bool eye_depth) {
+PointPassStats PointPass::draw(const GpuPointCloud& cloud, const View& view, const ClipRange& range,
+                               const RenderSettings& settings, bool eye_depth) {
   PointPassStats stats;
   if (cloud.chunks().empty()) return stats;
   const Camera& camera = view.camera;
@@ -137,7 +141,13 @@ PointPassStats PointPass::draw(const GpuPointCloud& cloud, const View& view,
   glDepthMask(GL_TRUE);
   glEnable(GL_PROGRAM_POINT_SIZE);
   glDisable(GL_BLEND);
-  glDisable(GL_MULTISAMPLE);
+  // Coverage is computed per sample only when asked for: with it off, a point lights exactly
+  // the pixels whose centres it covers, also in a multisampled framebuffer.
+  if (settings.samples > 1) {
+    glEnable(GL_MULTISAMPLE);
+  } else {
+    glDisable(GL_MULTISAMPLE);
+  }
 
   glUniformMatrix4fv(shader.uniform("u_projection"), 1, GL_FALSE,
                      glm::value_ptr(glm::mat4(projection)));

@@ -108,12 +108,13 @@ void main() {
 
 const char* const kPointFragment = R"glsl(#version 450 core
 // Variants: ROUND (discard outside the disc), EYE_DEPTH (write linear depth for eye-dome
-// lighting into the second attachment).
+// lighting into the second attachment, with a coverage of 1 beside it: a multisample resolve
+// averages both, and their ratio is the mean depth of the samples a point covered).
 in vec4 v_color;
 in float v_depth;
 layout(location = 0) out vec4 out_color;
 #if EYE_DEPTH
-layout(location = 1) out float out_depth;
+layout(location = 1) out vec2 out_depth;
 #endif
 
 void main() {
@@ -123,7 +124,7 @@ void main() {
 #endif
   out_color = v_color;
 #if EYE_DEPTH
-  out_depth = v_depth;
+  out_depth = vec2(v_depth, 1.0);
 #endif
 }
 )glsl";

@@ -41,18 +41,29 @@ std::string_view nameOf(const std::array<std::pair<T, std::string_view>, N>& tab
 
 }  // namespace
 
-std::optional<ColorMode> parseColorMode(std::string_view name) { return parse(kColorModes, name); }
+std::optional<ColorMode> parseColorMode(std::string_view name) {
+  return parse(kColorModes, name);
+}
 std::optional<PointSizeMode> parsePointSizeMode(std::string_view name) {
   return parse(kSizeModes, name);
 }
-std::optional<PointShape> parsePointShape(std::string_view name) { return parse(kShapes, name); }
-std::string_view colorModeName(ColorMode mode) { return nameOf(kColorModes, mode); }
-std::string_view pointSizeModeName(PointSizeMode mode) { return nameOf(kSizeModes, mode); }
-std::string_view pointShapeName(PointShape shape) { return nameOf(kShapes, shape); }
+std::optional<PointShape> parsePointShape(std::string_view name) {
+  return parse(kShapes, name);
+}
+std::string_view colorModeName(ColorMode mode) {
+  return nameOf(kColorModes, mode);
+}
+std::string_view pointSizeModeName(PointSizeMode mode) {
+  return nameOf(kSizeModes, mode);
+}
+std::string_view pointShapeName(PointShape shape) {
+  return nameOf(kShapes, shape);
+}
 
 std::string colorModeNames() {
   std::string names;
-  for (const auto& [mode, text] : kColorModes) names += (names.empty() ? "" : "|") + std::string(text);
+  for (const auto& [mode, text] : kColorModes)
+    names += (names.empty() ? "" : "|") + std::string(text);
   return names;
 }
 

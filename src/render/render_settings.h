@@ -27,10 +27,15 @@ struct RenderSettings {
   ColorMode color = ColorMode::Rgb;
   std::array<float, 3> uniform_color{1.0f, 1.0f, 1.0f};  // 0..1
   std::array<float, 3> background{0.0f, 0.0f, 0.0f};     // 0..1
-  bool lighting = false;        // head-light Lambert from normals (ignored without normals)
-  bool edl = false;             // eye-dome lighting post pass
-  float edl_strength = 1.0f;    // 0 = none
-  float edl_radius_px = 1.4f;   // neighbour distance in pixels
+  bool lighting = false;       // head-light Lambert from normals (ignored without normals)
+  bool edl = false;            // eye-dome lighting post pass
+  float edl_strength = 1.0f;   // 0 = none
+  float edl_radius_px = 1.4f;  // neighbour distance in pixels
+  // Multisampling: 0 or 1 is off (every pixel is a point's colour or the background, which the
+  // exact 1-pixel mode needs); 2, 4 or 8 samples per pixel, clamped to what the GPU offers.
+  int samples = 0;
+
+  friend bool operator==(const RenderSettings&, const RenderSettings&) = default;
 };
 
 // "rgb", "elevation", ... ; std::nullopt for an unknown name.

@@ -1,5 +1,6 @@
 #include "render/renderer.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cstring>
 #include <stdexcept>
@@ -29,50 +30,92 @@ void checkComplete(GLuint framebuffer, const char* what) {
 
 Renderer::Renderer() = default;
 
-Renderer::~Renderer() { resize(0, 0); }
+Renderer::~Renderer() {
+  resize(0, 0, 0);
+}
 
-void Renderer::resize(int width, int height) {
-  if (width == width_ && height == height_) return;
+int Renderer::samplesFor(const RenderSettings& settings) {
+  if (settings.samples <= 1) return 0;
+  if (max_samples_ < 0) glGetIntegerv(GL_MAX_SAMPLES, &max_samples_);
+  const int samples = std::min(settings.samples, max_samples_);
+  return samples > 1 ? samples : 0;
+}
+
+void Renderer::resize(int width, int height, int samples) {
+  if (width == width_ && height == height_ && samples == samples_) return;
   if (framebuffer_) {
     glDeleteFramebuffers(1, &framebuffer_);
     const GLuint textures[] = {color_, eye_depth_, depth_};
     glDeleteTextures(3, textures);
     framebuffer_ = color_ = eye_depth_ = depth_ = 0;
   }
-  width_ = width, height_ = height;
+  if (ms_framebuffer_) {
+    glDeleteFramebuffers(1, &ms_framebuffer_);
+    const GLuint renderbuffers[] = {ms_color_, ms_eye_depth_, ms_depth_};
+    glDeleteRenderbuffers(3, renderbuffers);
+    ms_framebuffer_ = ms_color_ = ms_eye_depth_ = ms_depth_ = 0;
+  }
+  width_ = width, height_ = height, samples_ = samples;
   if (width <= 0 || height <= 0) return;
+  // Eye depth is RG32F: depth times coverage, and coverage (see EdlPass).
   color_ = makeTexture(GL_RGBA8, width, height);
-  eye_depth_ = makeTexture(GL_R32F, width, height);
+  eye_depth_ = makeTexture(GL_RG32F, width, height);
   depth_ = makeTexture(GL_DEPTH_COMPONENT32F, width, height);
   glCreateFramebuffers(1, &framebuffer_);
   glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, color_, 0);
   glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT1, eye_depth_, 0);
   glNamedFramebufferTexture(framebuffer_, GL_DEPTH_ATTACHMENT, depth_, 0);
   checkComplete(framebuffer_, "the renderer's");
+  if (samples <= 1) return;
+  // Renderbuffers: the multisampled images are only drawn into and resolved by blits.
+  const auto make_renderbuffer = [&](GLenum format) {
+    GLuint renderbuffer = 0;
+    glCreateRenderbuffers(1, &renderbuffer);
+    glNamedRenderbufferStorageMultisample(renderbuffer, samples, format, width, height);
+    return renderbuffer;
+  };
+  ms_color_ = make_renderbuffer(GL_RGBA8);
+  ms_eye_depth_ = make_renderbuffer(GL_RG32F);
+  ms_depth_ = make_renderbuffer(GL_DEPTH_COMPONENT32F);
+  glCreateFramebuffers(1, &ms_framebuffer_);
+  glNamedFramebufferRenderbuffer(ms_framebuffer_, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, ms_color_);
+  glNamedFramebufferRenderbuffer(ms_framebuffer_, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER,
+                                 ms_eye_depth_);
+  glNamedFramebufferRenderbuffer(ms_framebuffer_, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, ms_depth_);
+  checkComplete(ms_framebuffer_, ("the renderer's " + std::to_string(samples) + "-sample").c_str());
 }
 
 FrameStats Renderer::render(const GpuPointCloud& cloud, std::span<const View> views,
                             const RenderSettings& settings, GLuint target, int width, int height) {
-  resize(width, height);
+  const int samples = samplesFor(settings);
+  resize(width, height, samples);
   FrameStats stats;
   if (width <= 0 || height <= 0) return stats;
 
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
+  const GLuint draw_framebuffer = samples > 1 ? ms_framebuffer_ : framebuffer_;
+  glBindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer);
   glDisable(GL_SCISSOR_TEST);
   glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   const GLenum both[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glNamedFramebufferDrawBuffers(framebuffer_, 2, both);
+  glNamedFramebufferDrawBuffers(draw_framebuffer, 2, both);
   const float background[] = {settings.background[0], settings.background[1],
                               settings.background[2], 1.0f};
   const float zero[] = {0.0f, 0.0f, 0.0f, 0.0f};
   const float far_depth = 0.0f;  // reversed depth: 0 is infinitely far
-  glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 0, background);
-  glClearNamedFramebufferfv(framebuffer_, GL_COLOR, 1, zero);
-  glClearNamedFramebufferfv(framebuffer_, GL_DEPTH, 0, &far_depth);
-  // Writing eye depth costs a store per fragment: only when a pass or a pick will read it.
-  // Picking then falls back to the depth buffer.
-  glNamedFramebufferDrawBuffers(framebuffer_, settings.edl ? 2 : 1, both);
+  glClearNamedFramebufferfv(draw_framebuffer, GL_COLOR, 0, background);
+  glClearNamedFramebufferfv(draw_framebuffer, GL_COLOR, 1, zero);
+  glClearNamedFramebufferfv(draw_framebuffer, GL_DEPTH, 0, &far_depth);
+  // Writing eye depth costs a store per fragment: only when eye-dome lighting reads it. Picking
+  // reads the depth buffer, which is always written.
+  glNamedFramebufferDrawBuffers(draw_framebuffer, settings.edl ? 2 : 1, both);
+  // A round point's disc is cut by a per-fragment discard: only shading every sample smooths its
+  // edge (a square's edge is smoothed by the coverage alone, at no extra cost).
+  const bool sample_shading = samples > 1 && settings.shape == PointShape::Round;
+  if (sample_shading) {
+    glEnable(GL_SAMPLE_SHADING);
+    glMinSampleShading(1.0f);
+  }
 
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
   last_views_.clear();
@@ -85,8 +128,37 @@ FrameStats Renderer::render(const GpuPointCloud& cloud, std::span<const View> vi
     last_views_.push_back({view, range});
   }
   glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+  if (sample_shading) glDisable(GL_SAMPLE_SHADING);
+  if (samples > 1) resolve(settings.edl);
+  last_edl_ = settings.edl;
+  composite(views, settings, target, width, height);
+  return stats;
+}
 
-  if (settings.edl) {
+void Renderer::resolve(bool eye_depth) {
+  // A blit writes the read buffer into every draw buffer: one attachment at a time. Depth is
+  // copied from one sample per pixel (blits of depth are always NEAREST), enough for picking.
+  const GLenum first[] = {GL_COLOR_ATTACHMENT0};
+  glNamedFramebufferReadBuffer(ms_framebuffer_, GL_COLOR_ATTACHMENT0);
+  glNamedFramebufferDrawBuffers(framebuffer_, 1, first);
+  glBlitNamedFramebuffer(ms_framebuffer_, framebuffer_, 0, 0, width_, height_, 0, 0, width_,
+                         height_, GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+  if (eye_depth) {
+    const GLenum second[] = {GL_NONE, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferReadBuffer(ms_framebuffer_, GL_COLOR_ATTACHMENT1);
+    glNamedFramebufferDrawBuffers(framebuffer_, 2, second);
+    glBlitNamedFramebuffer(ms_framebuffer_, framebuffer_, 0, 0, width_, height_, 0, 0, width_,
+                           height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glNamedFramebufferReadBuffer(ms_framebuffer_, GL_COLOR_ATTACHMENT0);
+    glNamedFramebufferDrawBuffers(framebuffer_, 1, first);
+  }
+}
+
+bool Renderer::composite(std::span<const View> views, const RenderSettings& settings, GLuint target,
+                         int width, int height) {
+  if (!framebuffer_ || width != width_ || height != height_) return false;
+  // Eye depth exists only when the points were drawn for eye-dome lighting.
+  if (settings.edl && last_edl_) {
     glBindFramebuffer(GL_FRAMEBUFFER, target);
     for (const View& view : views) edl_pass_.draw(color_, eye_depth_, view.viewport, settings);
   } else {
@@ -94,7 +166,7 @@ FrameStats Renderer::render(const GpuPointCloud& cloud, std::span<const View> vi
                            GL_COLOR_BUFFER_BIT, GL_NEAREST);
     glBindFramebuffer(GL_FRAMEBUFFER, target);
   }
-  return stats;
+  return true;
 }
 
 std::optional<glm::dvec3> Renderer::pick(int x, int y) const {
@@ -107,8 +179,7 @@ std::optional<glm::dvec3> Renderer::pick(int x, int y) const {
                          &depth);
     if (depth <= 0.0f) return std::nullopt;  // the cleared (infinitely far) value
     const Camera& camera = drawn.view.camera;
-    const glm::dmat4 inverse =
-        glm::inverse(camera.projectionMatrix(vp.aspect(), drawn.range));
+    const glm::dmat4 inverse = glm::inverse(camera.projectionMatrix(vp.aspect(), drawn.range));
     const glm::dvec4 ndc(2.0 * (x + 0.5 - vp.x) / vp.width - 1.0,
                          2.0 * (y + 0.5 - vp.y) / vp.height - 1.0, double(depth), 1.0);
     glm::dvec4 eye = inverse * ndc;

@@ -1,5 +1,6 @@
-// The frame: clears, runs the point pass for every view, then eye-dome lighting or a copy into
-// the caller's framebuffer. Owns the intermediate framebuffer the passes share.
+// The frame: clears, runs the point pass for every view (into a multisampled framebuffer that is
+// then resolved, when settings.samples asks for one), then eye-dome lighting or a copy into the
+// caller's framebuffer. Owns the intermediate framebuffers the passes share.
 #pragma once
 
 #include <epoxy/gl.h>
@@ -34,18 +35,36 @@ class Renderer {
   FrameStats render(const GpuPointCloud& cloud, std::span<const View> views,
                     const RenderSettings& settings, GLuint target, int width, int height);
 
+  // Writes the last frame's picture into `target` again (eye-dome lighting or a copy) without
+  // drawing a point: what a window shows while nothing changed. False (and nothing written) when
+  // the last frame had another size or there was none.
+  bool composite(std::span<const View> views, const RenderSettings& settings, GLuint target,
+                 int width, int height);
+
   // The world position of the point drawn at pixel (x, y) (bottom-left origin) in the last
   // frame, std::nullopt where no point was drawn or (x, y) is outside every view.
   std::optional<glm::dvec3> pick(int x, int y) const;
 
  private:
-  void resize(int width, int height);
+  // (Re)creates the framebuffers for a size and a sample count (0: no multisampled one).
+  void resize(int width, int height, int samples);
+  // settings.samples made valid: 0 (off) or 2..GL_MAX_SAMPLES.
+  int samplesFor(const RenderSettings& settings);
+  // Copies the multisampled colour and depth (and eye depth) into `framebuffer_`, averaging
+  // colour over each pixel's samples.
+  void resolve(bool eye_depth);
 
   PointPass point_pass_;
   EdlPass edl_pass_;
+  // The single-sample picture that eye-dome lighting, the copy to the target and picking read.
   GLuint framebuffer_ = 0;
   GLuint color_ = 0, eye_depth_ = 0, depth_ = 0;
-  int width_ = 0, height_ = 0;
+  // With multisampling, points are drawn here and resolved into `framebuffer_`.
+  GLuint ms_framebuffer_ = 0;
+  GLuint ms_color_ = 0, ms_eye_depth_ = 0, ms_depth_ = 0;
+  int width_ = 0, height_ = 0, samples_ = 0;
+  int max_samples_ = -1;  // GL_MAX_SAMPLES, queried on first use
+  bool last_edl_ = false;
   struct DrawnView {
     View view;
     ClipRange range;

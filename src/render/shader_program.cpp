@@ -8,11 +8,16 @@ namespace {
 
 const char* stageName(GLenum stage) {
   switch (stage) {
-    case GL_VERTEX_SHADER: return "vertex";
-    case GL_FRAGMENT_SHADER: return "fragment";
-    case GL_COMPUTE_SHADER: return "compute";
-    case GL_GEOMETRY_SHADER: return "geometry";
-    default: return "unknown";
+    case GL_VERTEX_SHADER:
+      return "vertex";
+    case GL_FRAGMENT_SHADER:
+      return "fragment";
+    case GL_COMPUTE_SHADER:
+      return "compute";
+    case GL_GEOMETRY_SHADER:
+      return "geometry";
+    default:
+      return "unknown";
   }
 }
 
@@ -63,8 +68,7 @@ ShaderProgram::ShaderProgram(const std::vector<ShaderSource>& sources) {
     if (!ok) {
       std::string message = std::string("the ") + stageName(source.stage) + " shader '" +
                             source.name + "' (" + versionLine(source.text) +
-                            ") did not compile on " + driverName() + ":\n" +
-                            infoLog(shader, false);
+                            ") did not compile on " + driverName() + ":\n" + infoLog(shader, false);
       cleanup();
       throw ShaderError(message);
     }
@@ -78,8 +82,8 @@ ShaderProgram::ShaderProgram(const std::vector<ShaderSource>& sources) {
   if (!ok) {
     std::string names;
     for (const ShaderSource& source : sources) names += (names.empty() ? "" : ", ") + source.name;
-    std::string message = "the program (" + names + ") did not link on " + driverName() + ":\n" +
-                          infoLog(id_, true);
+    std::string message =
+        "the program (" + names + ") did not link on " + driverName() + ":\n" + infoLog(id_, true);
     glDeleteProgram(id_);
     id_ = 0;
     throw ShaderError(message);

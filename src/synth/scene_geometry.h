@@ -47,17 +47,20 @@ inline void fastSinCos(double x, double& s, double& c) {
   double r = x - quadrant * 1.5707963267948966;
   r -= quadrant * 6.123233995736766e-17;  // the rest of pi / 2
   double r2 = r * r;
-  double sr = r * (1 + r2 * (-1.0 / 6 + r2 * (1.0 / 120 + r2 * (-1.0 / 5040 + r2 / 362880))));
+  // Reciprocals spelled as products: a division by a constant stays a division without
+  // -ffast-math, and two of them in the chain cost more than the rest of the polynomial.
+  double sr =
+      r * (1 + r2 * (-1.0 / 6 + r2 * (1.0 / 120 + r2 * (-1.0 / 5040 + r2 * (1.0 / 362880)))));
   double cr =
-      1 + r2 * (-0.5 + r2 * (1.0 / 24 + r2 * (-1.0 / 720 + r2 * (1.0 / 40320 - r2 / 3628800))));
-  // Quadrant fix-up without branches: the quadrant is random per beam, and mispredicted jumps
-  // cost more than the polynomials.
+      1 +
+      r2 * (-0.5 + r2 * (1.0 / 24 + r2 * (-1.0 / 720 + r2 * (1.0 / 40320 - r2 * (1.0 / 3628800)))));
+  // Quadrant fix-up as selects, not a switch: the quadrant is random per beam, and mispredicted
+  // jumps would cost more than the polynomials.
   long long q = static_cast<long long>(quadrant);
-  const double values[2] = {sr, cr};
-  double sign = double(1 - (q & 2));           // quadrants 2 and 3 negate both
-  double swap_sign = double(1 - 2 * (q & 1));  // quadrant 1: c = -sin(r)
-  s = values[q & 1] * sign;
-  c = values[(q & 1) ^ 1] * swap_sign * sign;
+  bool swap = (q & 1) != 0;
+  double sign = (q & 2) != 0 ? -1.0 : 1.0;
+  s = (swap ? cr : sr) * sign;
+  c = (swap ? -sr : cr) * sign;
 }
 inline double fastSin(double x) {
   double s, c;

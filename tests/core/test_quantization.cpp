@@ -82,3 +82,20 @@ TEST(Quantization, FlatAxisGetsAUsableScale) {
 
 }  // namespace
 }  // namespace parallax
+
+namespace parallax {
+namespace {
+
+TEST(Quantization, CoordinatesNearTheLargestDoubleStayFinite) {
+  Bounds3 b;
+  b.extend(-1.7e308, -1.0, 0.0);
+  b.extend(1.7e308, 1.0, 0.0);
+  Quantization q = chooseQuantization(b, 16.0);
+  EXPECT_TRUE(std::isfinite(q.scale[0]));
+  EXPECT_TRUE(std::isfinite(q.offset[0]));
+  EXPECT_TRUE(q.fits(0, 1.7e308));
+  EXPECT_TRUE(q.fits(0, -1.7e308));
+}
+
+}  // namespace
+}  // namespace parallax

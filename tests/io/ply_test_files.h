@@ -1,11 +1,14 @@
-// Building PLY files inside tests: header text and body values, packed as the format wants them.
+// Building PLY files inside tests (header text and body values, packed as the format wants them)
+// and reading them back into plain vectors for exact comparisons.
 //
-// Written independently of the reader under test (no call into src/io), so that a bug in the
-// reader cannot hide in the helper that builds its input.
+// The builders never call the reader under test (parseScalarType from core is their only
+// library call), so that a bug in the reader cannot hide in the helper that builds its input;
+// the read-back helpers use only the reader's public API.
 #pragma once
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <bit>
 #include <charconv>
 #include <chrono>
@@ -17,11 +20,14 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
+#include "core/point_cloud.h"
 #include "core/scalar_type.h"
 #include "io/ply_header.h"
+#include "io/ply_reader.h"
 
 namespace parallax::test {
 
@@ -181,6 +187,115 @@ inline void expectExpectedAndFound(const CaughtInputError& caught) {
 
 inline double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading back: world coordinates and columns as plain vectors, for exact comparisons.
+
+using World = std::array<double, 3>;
+
+inline PointCloud readPlyText(const std::string& bytes, bool parallel = true) {
+  PlyReadOptions options;
+  options.parallel = parallel;
+  return readPlyFromMemory(asBytes(bytes), "test.ply", options);
+}
+
+inline std::vector<World> worldPositions(const PointCloud& cloud) {
+  std::vector<World> out;
+  for (std::size_t i = 0; i < cloud.positions.size(); ++i) {
+    out.push_back({cloud.worldX(i), cloud.worldY(i), cloud.worldZ(i)});
+  }
+  return out;
+}
+
+inline std::vector<Rgba8> colors(const PointCloud& cloud) {
+  return {cloud.colors.begin(), cloud.colors.end()};
+}
+
+inline std::vector<Float3> normals(const PointCloud& cloud) {
+  return {cloud.normals.begin(), cloud.normals.end()};
+}
+
+// The values of a scalar column, after checking its type and size.
+template <class T>
+std::vector<T> scalarValues(const PointCloud& cloud, const std::string& name, ScalarType type) {
+  const ScalarColumn* column = cloud.findScalar(name);
+  if (column == nullptr) {
+    ADD_FAILURE() << "no scalar column '" << name << "'";
+    return {};
+  }
+  EXPECT_EQ(column->type, type) << name;
+  if (column->type != type || column->data.size() != cloud.count * sizeof(T)) {
+    ADD_FAILURE() << name << ": " << column->data.size() << " bytes for " << cloud.count
+                  << " points";
+    return {};
+  }
+  return {column->as<T>(), column->as<T>() + cloud.count};
+}
+
+inline std::vector<std::string> scalarNames(const PointCloud& cloud) {
+  std::vector<std::string> names;
+  for (const ScalarColumn& column : cloud.scalars) names.push_back(column.name);
+  return names;
+}
+
+// Every column of `a` equals that of `b`, positions compared in world coordinates.
+inline void expectSamePoints(const PointCloud& a, const PointCloud& b) {
+  ASSERT_EQ(a.count, b.count);
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  for (std::size_t i = 0; i < a.count; ++i) {
+    ASSERT_EQ(a.worldX(i), b.worldX(i)) << "point " << i;
+    ASSERT_EQ(a.worldY(i), b.worldY(i)) << "point " << i;
+    ASSERT_EQ(a.worldZ(i), b.worldZ(i)) << "point " << i;
+  }
+  EXPECT_EQ(colors(a), colors(b));
+  EXPECT_EQ(normals(a), normals(b));
+  EXPECT_EQ(std::vector<float>(a.intensity.begin(), a.intensity.end()),
+            std::vector<float>(b.intensity.begin(), b.intensity.end()));
+  EXPECT_EQ(std::vector<std::uint8_t>(a.classification.begin(), a.classification.end()),
+            std::vector<std::uint8_t>(b.classification.begin(), b.classification.end()));
+  ASSERT_EQ(scalarNames(a), scalarNames(b));
+  for (std::size_t s = 0; s < a.scalars.size(); ++s) {
+    EXPECT_EQ(a.scalars[s].type, b.scalars[s].type);
+    ASSERT_EQ(a.scalars[s].data.size(), b.scalars[s].data.size());
+    EXPECT_EQ(0, std::memcmp(a.scalars[s].data.data(), b.scalars[s].data.data(),
+                             a.scalars[s].data.size()))
+        << a.scalars[s].name;
+  }
+}
+
+// A vertex element of x, y, z of one type (a PLY type name) holding `points`.
+inline std::string positionFile(PlyFormat format, const std::string& type,
+                                const std::vector<World>& points) {
+  std::string header = plyHeader(format, {});
+  std::string lines = "element vertex " + std::to_string(points.size()) + "\nproperty " + type +
+                      " x\nproperty " + type + " y\nproperty " + type + " z\n";
+  header.insert(header.find("end_header"), lines);
+  PlyBody body(format);
+  ScalarType scalar = *parseScalarType(type);
+  for (const World& p : points) body.put(scalar, p[0]).put(scalar, p[1]).put(scalar, p[2]).end();
+  return header + body.bytes();
+}
+
+// Compares element by element and reports only the first difference (large inputs).
+template <class T>
+void expectFirstMismatch(const std::vector<T>& actual, const std::vector<T>& expected,
+                         const std::string& what) {
+  ASSERT_EQ(actual.size(), expected.size()) << what;
+  for (std::size_t i = 0; i < actual.size(); ++i) {
+    if (!(actual[i] == expected[i])) {
+      ADD_FAILURE() << what << ": first difference at index " << i << ": got "
+                    << ::testing::PrintToString(actual[i]) << ", expected "
+                    << ::testing::PrintToString(expected[i]);
+      return;
+    }
+  }
+}
+
+template <class T>
+void expectScalarValues(const PointCloud& cloud, const std::string& name, ScalarType type,
+                        const std::vector<T>& expected) {
+  expectFirstMismatch(scalarValues<T>(cloud, name, type), expected, name);
 }
 
 }  // namespace parallax::test

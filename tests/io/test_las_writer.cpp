@@ -145,6 +145,15 @@ TEST(LasWriter, ChoosesLas14WhenTheValuesNeedIt) {
   EXPECT_FALSE(forced.losses.empty());
 }
 
+TEST(LasWriter, EmptyCloudWritesAValidFile) {
+  test::TempDir dir;
+  PointCloud empty;
+  auto path = dir / "empty.las";
+  writeLas(empty, path);
+  EXPECT_EQ(readLas(path).count, 0u);
+  EXPECT_EQ(readLasHeader(path).point_format, 0);
+}
+
 TEST(LasWriter, CrsRecordsAreCopied) {
   test::TempDir dir;
   LasTestFile file = manyPoints(2, 1);

@@ -1,5 +1,6 @@
-// readPly, readPlyFromMemory and PlyChunkReader on well-formed files: every format, type and
-// property name the reader maps, read back to the exact values written.
+// readPly and readPlyFromMemory on small well-formed files: every format, type and property name
+// the reader maps, read back to the exact values written (large files and PlyChunkReader:
+// test_ply_reader_large.cpp; malformed input: test_ply_reader_errors.cpp).
 #include "io/ply_reader.h"
 
 #include <gtest/gtest.h>
@@ -19,93 +20,20 @@ namespace parallax {
 namespace {
 
 using test::asBytes;
+using test::colors;
+using test::expectFirstMismatch;
+using test::expectSamePoints;
+using test::expectScalarValues;
 using test::kAllPlyFormats;
+using test::normals;
 using test::PlyBody;
 using test::plyHeader;
-using World = std::array<double, 3>;
-
-PointCloud read(const std::string& bytes, bool parallel = true) {
-  PlyReadOptions options;
-  options.parallel = parallel;
-  return readPlyFromMemory(asBytes(bytes), "test.ply", options);
-}
-
-std::vector<World> worldPositions(const PointCloud& cloud) {
-  std::vector<World> out;
-  for (std::size_t i = 0; i < cloud.positions.size(); ++i) {
-    out.push_back({cloud.worldX(i), cloud.worldY(i), cloud.worldZ(i)});
-  }
-  return out;
-}
-
-std::vector<Rgba8> colors(const PointCloud& cloud) {
-  return {cloud.colors.begin(), cloud.colors.end()};
-}
-
-std::vector<Float3> normals(const PointCloud& cloud) {
-  return {cloud.normals.begin(), cloud.normals.end()};
-}
-
-// The values of a scalar column, after checking its type and size.
-template <class T>
-std::vector<T> scalarValues(const PointCloud& cloud, const std::string& name, ScalarType type) {
-  const ScalarColumn* column = cloud.findScalar(name);
-  if (column == nullptr) {
-    ADD_FAILURE() << "no scalar column '" << name << "'";
-    return {};
-  }
-  EXPECT_EQ(column->type, type) << name;
-  if (column->type != type || column->data.size() != cloud.count * sizeof(T)) {
-    ADD_FAILURE() << name << ": " << column->data.size() << " bytes for " << cloud.count
-                  << " points";
-    return {};
-  }
-  return {column->as<T>(), column->as<T>() + cloud.count};
-}
-
-std::vector<std::string> scalarNames(const PointCloud& cloud) {
-  std::vector<std::string> names;
-  for (const ScalarColumn& column : cloud.scalars) names.push_back(column.name);
-  return names;
-}
-
-// Every column of `a` equals that of `b`, positions compared in world coordinates.
-void expectSamePoints(const PointCloud& a, const PointCloud& b) {
-  ASSERT_EQ(a.count, b.count);
-  ASSERT_EQ(a.positions.size(), b.positions.size());
-  for (std::size_t i = 0; i < a.count; ++i) {
-    ASSERT_EQ(a.worldX(i), b.worldX(i)) << "point " << i;
-    ASSERT_EQ(a.worldY(i), b.worldY(i)) << "point " << i;
-    ASSERT_EQ(a.worldZ(i), b.worldZ(i)) << "point " << i;
-  }
-  EXPECT_EQ(colors(a), colors(b));
-  EXPECT_EQ(normals(a), normals(b));
-  EXPECT_EQ(std::vector<float>(a.intensity.begin(), a.intensity.end()),
-            std::vector<float>(b.intensity.begin(), b.intensity.end()));
-  EXPECT_EQ(std::vector<std::uint8_t>(a.classification.begin(), a.classification.end()),
-            std::vector<std::uint8_t>(b.classification.begin(), b.classification.end()));
-  ASSERT_EQ(scalarNames(a), scalarNames(b));
-  for (std::size_t s = 0; s < a.scalars.size(); ++s) {
-    EXPECT_EQ(a.scalars[s].type, b.scalars[s].type);
-    ASSERT_EQ(a.scalars[s].data.size(), b.scalars[s].data.size());
-    EXPECT_EQ(0, std::memcmp(a.scalars[s].data.data(), b.scalars[s].data.data(),
-                             a.scalars[s].data.size()))
-        << a.scalars[s].name;
-  }
-}
-
-// Appends "property <type> <name>" lines for x, y, z.
-std::string positionFile(PlyFormat format, const std::string& type,
-                         const std::vector<World>& points) {
-  std::string header = plyHeader(format, {});
-  std::string lines = "element vertex " + std::to_string(points.size()) + "\nproperty " + type +
-                      " x\nproperty " + type + " y\nproperty " + type + " z\n";
-  header.insert(header.find("end_header"), lines);
-  PlyBody body(format);
-  ScalarType scalar = *parseScalarType(type);
-  for (const World& p : points) body.put(scalar, p[0]).put(scalar, p[1]).put(scalar, p[2]).end();
-  return header + body.bytes();
-}
+using test::positionFile;
+using test::readPlyText;
+using test::scalarNames;
+using test::scalarValues;
+using test::World;
+using test::worldPositions;
 
 // ---------------------------------------------------------------------------------------------
 // Formats
@@ -157,8 +85,8 @@ void expectMixedValues(const PointCloud& cloud) {
 TEST(PlyReader, ReadsTheSameValuesFromEveryFormat) {
   for (PlyFormat format : kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    expectMixedValues(read(mixedFile(format)));
-    expectMixedValues(read(mixedFile(format), /*parallel=*/false));
+    expectMixedValues(readPlyText(mixedFile(format)));
+    expectMixedValues(readPlyText(mixedFile(format), /*parallel=*/false));
   }
 }
 
@@ -173,13 +101,13 @@ TEST(PlyReader, ReadsFromAFileAsFromMemory) {
 }
 
 TEST(PlyReader, BoundsAreThoseOfThePointsRead) {
-  PointCloud cloud = read(mixedFile(PlyFormat::BinaryLittleEndian));
+  PointCloud cloud = readPlyText(mixedFile(PlyFormat::BinaryLittleEndian));
   EXPECT_EQ(cloud.bounds.min, (World{0.0, -2.25, -300.75}));
   EXPECT_EQ(cloud.bounds.max, (World{100.0, 200.5, 0.125}));
 }
 
 TEST(PlyReader, AttributeNamesFollowTheModel) {
-  PointCloud cloud = read(mixedFile(PlyFormat::Ascii));
+  PointCloud cloud = readPlyText(mixedFile(PlyFormat::Ascii));
   EXPECT_EQ(cloud.attributeNames(),
             (std::vector<std::string>{"x", "y", "z", "red", "green", "blue", "nx", "ny", "nz",
                                       "intensity", "classification", "quality"}));
@@ -208,7 +136,7 @@ TEST(PlyReader, FloatPositionsAreExact) {
   std::vector<World> points = {{1.5, -2.25, 1024.125}, {0.0, 3.0e4, -0.0078125}, {-7.75, 1, 2}};
   for (PlyFormat format : kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    PointCloud cloud = read(positionFile(format, "float", points));
+    PointCloud cloud = readPlyText(positionFile(format, "float", points));
     EXPECT_EQ(worldPositions(cloud), points);
     EXPECT_EQ(cloud.source.position, ScalarType::Float32);
   }
@@ -220,7 +148,7 @@ TEST(PlyReader, DoublePositionsAreExact) {
                                {596750.0, 4200050.25, 100.0}};
   for (PlyFormat format : kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    PointCloud cloud = read(positionFile(format, "double", points));
+    PointCloud cloud = readPlyText(positionFile(format, "double", points));
     EXPECT_EQ(worldPositions(cloud), points);
     EXPECT_EQ(cloud.source.position, ScalarType::Float64);
   }
@@ -230,7 +158,7 @@ TEST(PlyReader, UtmDoubleCoordinatesKeepExactValuesAsFloat64Alias) {
   std::vector<World> points = {{596732.4375, 4200000.125, 0.5}};
   for (PlyFormat format : kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    PointCloud cloud = read(positionFile(format, "float64", points));
+    PointCloud cloud = readPlyText(positionFile(format, "float64", points));
     ASSERT_EQ(cloud.count, 1u);
     EXPECT_EQ(cloud.worldX(0), 596732.4375);
     EXPECT_EQ(cloud.worldY(0), 4200000.125);
@@ -258,7 +186,7 @@ TEST(PlyReader, IntegerPositionsAreExact) {
   for (const Case& c : cases) {
     for (PlyFormat format : kAllPlyFormats) {
       SCOPED_TRACE(c.type + " " + test::formatKeyword(format));
-      PointCloud cloud = read(positionFile(format, c.type, c.points));
+      PointCloud cloud = readPlyText(positionFile(format, c.type, c.points));
       EXPECT_EQ(worldPositions(cloud), c.points);
       EXPECT_EQ(cloud.source.position, c.scalar);
     }
@@ -309,27 +237,6 @@ std::vector<T> repeated(std::vector<T> values, std::size_t times) {
   return out;
 }
 
-// Compares element by element and reports only the first difference (large inputs).
-template <class T>
-void expectFirstMismatch(const std::vector<T>& actual, const std::vector<T>& expected,
-                         const std::string& what) {
-  ASSERT_EQ(actual.size(), expected.size()) << what;
-  for (std::size_t i = 0; i < actual.size(); ++i) {
-    if (!(actual[i] == expected[i])) {
-      ADD_FAILURE() << what << ": first difference at index " << i << ": got "
-                    << ::testing::PrintToString(actual[i]) << ", expected "
-                    << ::testing::PrintToString(expected[i]);
-      return;
-    }
-  }
-}
-
-template <class T>
-void expectScalarValues(const PointCloud& cloud, const std::string& name, ScalarType type,
-                        const std::vector<T>& expected) {
-  expectFirstMismatch(scalarValues<T>(cloud, name, type), expected, name);
-}
-
 void expectEveryTypeValues(const PointCloud& cloud, std::size_t repeat = 1) {
   ASSERT_EQ(cloud.count, 3u * repeat);
   EXPECT_EQ(scalarNames(cloud),
@@ -362,7 +269,7 @@ void expectEveryTypeValues(const PointCloud& cloud, std::size_t repeat = 1) {
 TEST(PlyReader, EveryScalarTypeIsKeptExactlyAsAScalarColumn) {
   for (PlyFormat format : kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    expectEveryTypeValues(read(everyTypeFile(
+    expectEveryTypeValues(readPlyText(everyTypeFile(
         format, {"char", "uchar", "short", "ushort", "int", "uint", "float", "double"})));
   }
 }
@@ -370,7 +277,7 @@ TEST(PlyReader, EveryScalarTypeIsKeptExactlyAsAScalarColumn) {
 TEST(PlyReader, SizedTypeAliasesGiveTheSameColumns) {
   for (PlyFormat format : kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    expectEveryTypeValues(read(everyTypeFile(
+    expectEveryTypeValues(readPlyText(everyTypeFile(
         format, {"int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"})));
   }
 }
@@ -380,16 +287,16 @@ TEST(PlyReaderLarge, EveryScalarTypeParallelEqualsSerial) {
     SCOPED_TRACE(test::formatKeyword(format));
     std::string file = everyTypeFile(
         format, {"char", "uchar", "short", "ushort", "int", "uint", "float", "double"}, 40'000);
-    PointCloud parallel = read(file, true);
+    PointCloud parallel = readPlyText(file, true);
     expectEveryTypeValues(parallel, 40'000);
-    expectSamePoints(parallel, read(file, false));
+    expectSamePoints(parallel, readPlyText(file, false));
   }
 }
 
 TEST(PlyReader, ScalarValueAsDoubleReadsEveryType) {
   PointCloud cloud =
-      read(everyTypeFile(PlyFormat::BinaryBigEndian,
-                         {"char", "uchar", "short", "ushort", "int", "uint", "float", "double"}));
+      readPlyText(everyTypeFile(PlyFormat::BinaryBigEndian, {"char", "uchar", "short", "ushort",
+                                                             "int", "uint", "float", "double"}));
   ASSERT_EQ(cloud.scalars.size(), 8u);
   EXPECT_EQ(cloud.findScalar("p_char")->valueAsDouble(0), -128.0);
   EXPECT_EQ(cloud.findScalar("p_uint")->valueAsDouble(1), 4294967295.0);
@@ -423,8 +330,8 @@ std::string colorFile(PlyFormat format, const std::string& type,
 TEST(PlyReaderColors, UcharRedGreenBlueWithoutAlphaGetOpaqueAlpha) {
   for (PlyFormat format : kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    PointCloud cloud =
-        read(colorFile(format, "uchar", {"red", "green", "blue"}, {{255, 128, 0}, {1, 2, 3}}));
+    PointCloud cloud = readPlyText(
+        colorFile(format, "uchar", {"red", "green", "blue"}, {{255, 128, 0}, {1, 2, 3}}));
     EXPECT_EQ(colors(cloud), (std::vector<Rgba8>{{255, 128, 0, 255}, {1, 2, 3, 255}}));
     EXPECT_FALSE(cloud.source.has_alpha);
     EXPECT_EQ(cloud.source.color, ScalarType::UInt8);
@@ -435,8 +342,8 @@ TEST(PlyReaderColors, UcharRedGreenBlueWithoutAlphaGetOpaqueAlpha) {
 TEST(PlyReaderColors, AlphaIsRead) {
   for (PlyFormat format : kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    PointCloud cloud = read(colorFile(format, "uint8", {"red", "green", "blue", "alpha"},
-                                      {{10, 20, 30, 0}, {40, 50, 60, 77}}));
+    PointCloud cloud = readPlyText(colorFile(format, "uint8", {"red", "green", "blue", "alpha"},
+                                             {{10, 20, 30, 0}, {40, 50, 60, 77}}));
     EXPECT_EQ(colors(cloud), (std::vector<Rgba8>{{10, 20, 30, 0}, {40, 50, 60, 77}}));
     EXPECT_TRUE(cloud.source.has_alpha);
     EXPECT_TRUE(cloud.scalars.empty());
@@ -444,11 +351,11 @@ TEST(PlyReaderColors, AlphaIsRead) {
 }
 
 TEST(PlyReaderColors, ShortNamesRGBA) {
-  PointCloud rgb = read(
+  PointCloud rgb = readPlyText(
       colorFile(PlyFormat::BinaryLittleEndian, "uchar", {"r", "g", "b"}, {{9, 8, 7}, {6, 5, 4}}));
   EXPECT_EQ(colors(rgb), (std::vector<Rgba8>{{9, 8, 7, 255}, {6, 5, 4, 255}}));
   EXPECT_TRUE(rgb.scalars.empty());
-  PointCloud rgba = read(
+  PointCloud rgba = readPlyText(
       colorFile(PlyFormat::Ascii, "uchar", {"r", "g", "b", "a"}, {{9, 8, 7, 6}, {6, 5, 4, 3}}));
   EXPECT_EQ(colors(rgba), (std::vector<Rgba8>{{9, 8, 7, 6}, {6, 5, 4, 3}}));
   EXPECT_TRUE(rgba.source.has_alpha);
@@ -458,8 +365,8 @@ TEST(PlyReaderColors, DiffuseNames) {
   for (PlyFormat format : kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
     PointCloud cloud =
-        read(colorFile(format, "uchar", {"diffuse_red", "diffuse_green", "diffuse_blue"},
-                       {{200, 100, 50}, {0, 255, 1}}));
+        readPlyText(colorFile(format, "uchar", {"diffuse_red", "diffuse_green", "diffuse_blue"},
+                              {{200, 100, 50}, {0, 255, 1}}));
     EXPECT_EQ(colors(cloud), (std::vector<Rgba8>{{200, 100, 50, 255}, {0, 255, 1, 255}}));
     EXPECT_TRUE(cloud.scalars.empty());
   }
@@ -468,8 +375,9 @@ TEST(PlyReaderColors, DiffuseNames) {
 TEST(PlyReaderColors, UshortColorsAreScaledTo8Bits) {
   for (PlyFormat format : kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    PointCloud cloud = read(colorFile(format, "ushort", {"red", "green", "blue", "alpha"},
-                                      {{65535, 0, 257, 257 * 128}, {257 * 200, 65535, 0, 65535}}));
+    PointCloud cloud =
+        readPlyText(colorFile(format, "ushort", {"red", "green", "blue", "alpha"},
+                              {{65535, 0, 257, 257 * 128}, {257 * 200, 65535, 0, 65535}}));
     EXPECT_EQ(colors(cloud), (std::vector<Rgba8>{{255, 0, 1, 128}, {200, 255, 0, 255}}));
     EXPECT_EQ(cloud.source.color, ScalarType::UInt16);
     EXPECT_TRUE(cloud.source.has_alpha);
@@ -481,7 +389,7 @@ TEST(PlyReaderColors, FloatColorsAreScaledFromZeroToOne) {
     SCOPED_TRACE(test::formatKeyword(format));
     // 0.25 * 255 = 63.75 rounds to 64 (a truncating reader would give 63); 0.5 * 255 = 127.5
     // rounds to 128 both half-away and half-to-even.
-    PointCloud cloud = read(
+    PointCloud cloud = readPlyText(
         colorFile(format, "float", {"red", "green", "blue"}, {{1.0, 0.0, 0.5}, {0.25, 0.2, 0.75}}));
     EXPECT_EQ(colors(cloud), (std::vector<Rgba8>{{255, 0, 128, 255}, {64, 51, 191, 255}}));
     EXPECT_EQ(cloud.source.color, ScalarType::Float32);
@@ -490,21 +398,22 @@ TEST(PlyReaderColors, FloatColorsAreScaledFromZeroToOne) {
 }
 
 TEST(PlyReaderColors, DoubleColorsWithAlphaAreScaled) {
-  PointCloud cloud = read(colorFile(PlyFormat::BinaryBigEndian, "double",
-                                    {"red", "green", "blue", "alpha"}, {{1.0, 0.0, 0.5, 0.25}}));
+  PointCloud cloud =
+      readPlyText(colorFile(PlyFormat::BinaryBigEndian, "double", {"red", "green", "blue", "alpha"},
+                            {{1.0, 0.0, 0.5, 0.25}}));
   EXPECT_EQ(colors(cloud), (std::vector<Rgba8>{{255, 0, 128, 64}}));
   EXPECT_EQ(cloud.source.color, ScalarType::Float64);
 }
 
 // Assumption (not in the header): float colours outside 0..1 are clamped, never wrapped.
 TEST(PlyReaderColors, FloatColorsOutsideZeroToOneAreClamped) {
-  PointCloud cloud = read(colorFile(PlyFormat::BinaryLittleEndian, "float",
-                                    {"red", "green", "blue"}, {{1.5, -0.5, 2.0}}));
+  PointCloud cloud = readPlyText(colorFile(PlyFormat::BinaryLittleEndian, "float",
+                                           {"red", "green", "blue"}, {{1.5, -0.5, 2.0}}));
   EXPECT_EQ(colors(cloud), (std::vector<Rgba8>{{255, 0, 255, 255}}));
 }
 
 TEST(PlyReaderColors, NoColorPropertiesNoColorColumn) {
-  PointCloud cloud = read(positionFile(PlyFormat::Ascii, "float", {{1, 2, 3}}));
+  PointCloud cloud = readPlyText(positionFile(PlyFormat::Ascii, "float", {{1, 2, 3}}));
   EXPECT_FALSE(cloud.hasColors());
   EXPECT_FALSE(cloud.hasNormals());
   EXPECT_FALSE(cloud.hasIntensity());
@@ -518,14 +427,15 @@ TEST(PlyReaderColors, NoColorPropertiesNoColorColumn) {
 TEST(PlyReader, NormalsUnderBothNames) {
   for (PlyFormat format : kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    PointCloud short_names =
-        read(colorFile(format, "float", {"nx", "ny", "nz"}, {{0.0, 0.6, 0.8}, {-1.0, 0.0, 0.0}}));
+    PointCloud short_names = readPlyText(
+        colorFile(format, "float", {"nx", "ny", "nz"}, {{0.0, 0.6, 0.8}, {-1.0, 0.0, 0.0}}));
     EXPECT_EQ(normals(short_names), (std::vector<Float3>{{0.0f, 0.6f, 0.8f}, {-1.0f, 0.0f, 0.0f}}));
     EXPECT_FALSE(short_names.hasColors());
     EXPECT_TRUE(short_names.scalars.empty());
 
-    PointCloud long_names = read(colorFile(format, "double", {"normal_x", "normal_y", "normal_z"},
-                                           {{0.0, 0.6, 0.8}, {0.5, -0.5, 0.25}}));
+    PointCloud long_names =
+        readPlyText(colorFile(format, "double", {"normal_x", "normal_y", "normal_z"},
+                              {{0.0, 0.6, 0.8}, {0.5, -0.5, 0.25}}));
     EXPECT_EQ(normals(long_names), (std::vector<Float3>{{0.0f, 0.6f, 0.8f}, {0.5f, -0.5f, 0.25f}}));
     EXPECT_EQ(long_names.source.normal, ScalarType::Float64);
     EXPECT_TRUE(long_names.scalars.empty());
@@ -535,11 +445,12 @@ TEST(PlyReader, NormalsUnderBothNames) {
 TEST(PlyReader, IntensityUnderBothNames) {
   for (PlyFormat format : kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    PointCloud plain = read(colorFile(format, "float", {"intensity"}, {{0.25}, {1500.5}}));
+    PointCloud plain = readPlyText(colorFile(format, "float", {"intensity"}, {{0.25}, {1500.5}}));
     EXPECT_EQ(std::vector<float>(plain.intensity.begin(), plain.intensity.end()),
               (std::vector<float>{0.25f, 1500.5f}));
     EXPECT_EQ(plain.source.intensity, ScalarType::Float32);
-    PointCloud scalar = read(colorFile(format, "ushort", {"scalar_intensity"}, {{65535}, {0}}));
+    PointCloud scalar =
+        readPlyText(colorFile(format, "ushort", {"scalar_intensity"}, {{65535}, {0}}));
     EXPECT_EQ(std::vector<float>(scalar.intensity.begin(), scalar.intensity.end()),
               (std::vector<float>{65535.0f, 0.0f}));
     EXPECT_EQ(scalar.source.intensity, ScalarType::UInt16);
@@ -550,10 +461,11 @@ TEST(PlyReader, IntensityUnderBothNames) {
 TEST(PlyReader, ClassificationUnderBothNames) {
   for (PlyFormat format : kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    PointCloud plain = read(colorFile(format, "uchar", {"classification"}, {{2}, {255}}));
+    PointCloud plain = readPlyText(colorFile(format, "uchar", {"classification"}, {{2}, {255}}));
     EXPECT_EQ(std::vector<std::uint8_t>(plain.classification.begin(), plain.classification.end()),
               (std::vector<std::uint8_t>{2, 255}));
-    PointCloud scalar = read(colorFile(format, "uchar", {"scalar_classification"}, {{6}, {0}}));
+    PointCloud scalar =
+        readPlyText(colorFile(format, "uchar", {"scalar_classification"}, {{6}, {0}}));
     EXPECT_EQ(std::vector<std::uint8_t>(scalar.classification.begin(), scalar.classification.end()),
               (std::vector<std::uint8_t>{6, 0}));
     EXPECT_TRUE(scalar.scalars.empty());
@@ -578,7 +490,7 @@ TEST(PlyReader, PropertiesInAnyOrder) {
     body.put(-6.0).put<std::uint16_t>(1).put(-4.0f).put<std::uint8_t>(3);
     body.put<std::uint8_t>(1).put<std::uint8_t>(2).put(-5.0f).put(0.0f);
     body.put<std::int16_t>(7).put(0.0f).put(-1.0f).end();
-    PointCloud cloud = read(header + body.bytes());
+    PointCloud cloud = readPlyText(header + body.bytes());
     EXPECT_EQ(worldPositions(cloud), (std::vector<World>{{1.5, 2.5, 3.5}, {-4, -5, -6}}));
     EXPECT_EQ(colors(cloud), (std::vector<Rgba8>{{10, 20, 30, 255}, {1, 2, 3, 255}}));
     EXPECT_EQ(normals(cloud), (std::vector<Float3>{{0, 0, 1}, {0, -1, 0}}));
@@ -624,8 +536,8 @@ void expectVertexListValues(const PointCloud& cloud) {
 TEST(PlyReader, ListPropertiesOfTheVertexElementAreSkipped) {
   for (PlyFormat format : kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    expectVertexListValues(read(vertexListFile(format)));
-    expectVertexListValues(read(vertexListFile(format), /*parallel=*/false));
+    expectVertexListValues(readPlyText(vertexListFile(format)));
+    expectVertexListValues(readPlyText(vertexListFile(format), /*parallel=*/false));
   }
 }
 
@@ -660,7 +572,7 @@ TEST(PlyReader, MeshWithFacesAfterVertices) {
     PlyBody body(format);
     putVertices(body);
     putFaces(body);
-    PointCloud cloud = read(header + body.bytes());
+    PointCloud cloud = readPlyText(header + body.bytes());
     EXPECT_EQ(worldPositions(cloud), kMeshVertices);
     EXPECT_TRUE(cloud.scalars.empty());
   }
@@ -682,7 +594,7 @@ TEST(PlyReader, FacesAndCameraBeforeVertices) {
     putVertices(body);
     body.put<std::int32_t>(0).put<std::int32_t>(3).end();
     for (bool parallel : {true, false}) {
-      PointCloud cloud = read(header + body.bytes(), parallel);
+      PointCloud cloud = readPlyText(header + body.bytes(), parallel);
       EXPECT_EQ(worldPositions(cloud), kMeshVertices);
       EXPECT_TRUE(cloud.scalars.empty()) << "properties of other elements are not points'";
     }
@@ -702,7 +614,7 @@ TEST(PlyReader, CommentsAndObjInfoAnywhereInTheHeader) {
                            "comment last"});
     PlyBody body(format);
     body.put(1.0f).put(2.0f).put(3.0f).end().put(4.0f).put(5.0f).put(6.0f).end();
-    PointCloud cloud = read(header + body.bytes());
+    PointCloud cloud = readPlyText(header + body.bytes());
     EXPECT_EQ(worldPositions(cloud), (std::vector<World>{{1, 2, 3}, {4, 5, 6}}));
   }
 }
@@ -719,7 +631,7 @@ TEST(PlyReader, CrlfLineEndsInHeaderAndAsciiBody) {
   body.put(4.0f).put(5.0f).put(6.0f).put<std::uint8_t>(4).put<std::uint8_t>(5);
   body.put<std::uint8_t>(255).end("\r\n");
   for (bool parallel : {true, false}) {
-    PointCloud cloud = read(header + body.bytes(), parallel);
+    PointCloud cloud = readPlyText(header + body.bytes(), parallel);
     EXPECT_EQ(worldPositions(cloud), (std::vector<World>{{1.5, 2.5, 3.5}, {4, 5, 6}}));
     EXPECT_EQ(colors(cloud), (std::vector<Rgba8>{{1, 2, 3, 255}, {4, 5, 255, 255}}));
   }
@@ -731,7 +643,7 @@ TEST(PlyReader, CrlfHeaderBeforeABinaryBody) {
       {"element vertex 1", "property float x", "property float y", "property float z"}, "\r\n");
   PlyBody body(PlyFormat::BinaryLittleEndian);
   body.put(1.0f).put(2.0f).put(3.0f);
-  PointCloud cloud = read(header + body.bytes());
+  PointCloud cloud = readPlyText(header + body.bytes());
   EXPECT_EQ(worldPositions(cloud), (std::vector<World>{{1, 2, 3}}));
 }
 
@@ -744,7 +656,7 @@ TEST(PlyReader, ExtraSpacesAndTabsInAsciiBody) {
       "\t4 5 6 0 \t\n"
       "7   8\t\t9 1   -3   \n";
   for (bool parallel : {true, false}) {
-    PointCloud cloud = read(header + body, parallel);
+    PointCloud cloud = readPlyText(header + body, parallel);
     EXPECT_EQ(worldPositions(cloud), (std::vector<World>{{1.5, -2, 3}, {4, 5, 6}, {7, 8, 9}}));
   }
 }
@@ -752,11 +664,11 @@ TEST(PlyReader, ExtraSpacesAndTabsInAsciiBody) {
 TEST(PlyReader, AsciiTrailingBlankLineAndMissingLastLineEnd) {
   std::string header = plyHeader(PlyFormat::Ascii, {"element vertex 2", "property float x",
                                                     "property float y", "property float z"});
-  PointCloud trailing_blank = read(header + "1 2 3\n4 5 6\n\n");
-  PointCloud trailing_whitespace = read(header + "1 2 3\n4 5 6\n \t\r\n\n");
+  PointCloud trailing_blank = readPlyText(header + "1 2 3\n4 5 6\n\n");
+  PointCloud trailing_whitespace = readPlyText(header + "1 2 3\n4 5 6\n \t\r\n\n");
   EXPECT_EQ(worldPositions(trailing_whitespace), (std::vector<World>{{1, 2, 3}, {4, 5, 6}}));
   EXPECT_EQ(worldPositions(trailing_blank), (std::vector<World>{{1, 2, 3}, {4, 5, 6}}));
-  PointCloud no_last_eol = read(header + "1 2 3\n4 5 6");
+  PointCloud no_last_eol = readPlyText(header + "1 2 3\n4 5 6");
   EXPECT_EQ(worldPositions(no_last_eol), (std::vector<World>{{1, 2, 3}, {4, 5, 6}}));
 }
 
@@ -766,11 +678,11 @@ TEST(PlyReader, AsciiNumberSpellings) {
   std::string header =
       plyHeader(PlyFormat::Ascii, {"element vertex 4", "property float x", "property double y",
                                    "property double z", "property int count"});
-  PointCloud cloud = read(header +
-                          "1.5e2 -2.5E-1 3 12\n"
-                          "7 596732.4375 0.125 -0\n"
-                          ".5 5. -.25 007\n"
-                          "1E1 596732.437500000000000001 4200000.1250000000000000001 1\n");
+  PointCloud cloud = readPlyText(header +
+                                 "1.5e2 -2.5E-1 3 12\n"
+                                 "7 596732.4375 0.125 -0\n"
+                                 ".5 5. -.25 007\n"
+                                 "1E1 596732.437500000000000001 4200000.1250000000000000001 1\n");
   EXPECT_EQ(worldPositions(cloud), (std::vector<World>{{150, -0.25, 3},
                                                        {7, 596732.4375, 0.125},
                                                        {0.5, 5, -0.25},
@@ -784,7 +696,7 @@ TEST(PlyReader, AsciiLeadingPlusSign) {
   std::string header =
       plyHeader(PlyFormat::Ascii, {"element vertex 1", "property float x", "property double y",
                                    "property float z", "property int count"});
-  PointCloud cloud = read(header + "+1.5 +2 +0.25e1 +12\n");
+  PointCloud cloud = readPlyText(header + "+1.5 +2 +0.25e1 +12\n");
   EXPECT_EQ(worldPositions(cloud), (std::vector<World>{{1.5, 2, 2.5}}));
   EXPECT_EQ(scalarValues<std::int32_t>(cloud, "count", ScalarType::Int32),
             (std::vector<std::int32_t>{12}));
@@ -799,7 +711,7 @@ TEST(PlyReader, AsciiFloatExtremesReadBackExactly) {
                                    "property float z", "property float value"});
   PlyBody body(PlyFormat::Ascii);
   for (float value : values) body.put(0.0f).put(0.0f).put(0.0f).put(value).end();
-  PointCloud cloud = read(header + body.bytes());
+  PointCloud cloud = readPlyText(header + body.bytes());
   EXPECT_EQ(scalarValues<float>(cloud, "value", ScalarType::Float32),
             (std::vector<float>(std::begin(values), std::end(values))));
 }
@@ -811,7 +723,7 @@ TEST(PlyReader, AsciiWholeNumbersWrittenAsFloatsForIntegerProperties) {
       plyHeader(PlyFormat::Ascii, {"element vertex 1", "property float x", "property float y",
                                    "property float z", "property uchar red", "property uchar green",
                                    "property uchar blue", "property uint id"});
-  PointCloud cloud = read(header + "1 2 3 255.000000 0.0 1.28e2 4294967295.0\n");
+  PointCloud cloud = readPlyText(header + "1 2 3 255.000000 0.0 1.28e2 4294967295.0\n");
   EXPECT_EQ(colors(cloud), (std::vector<Rgba8>{{255, 0, 128, 255}}));
   EXPECT_EQ(scalarValues<std::uint32_t>(cloud, "id", ScalarType::UInt32),
             (std::vector<std::uint32_t>{4294967295u}));
@@ -824,7 +736,7 @@ TEST(PlyReader, EmptyVertexElement) {
         plyHeader(format, {"element vertex 0", "property float x", "property float y",
                            "property float z", "property uchar red", "property uchar green",
                            "property uchar blue", "property ushort quality"});
-    PointCloud cloud = read(header);
+    PointCloud cloud = readPlyText(header);
     EXPECT_EQ(cloud.count, 0u);
     EXPECT_EQ(cloud.positions.size(), 0u);
     EXPECT_EQ(cloud.colors.size(), 0u);
@@ -839,443 +751,9 @@ TEST(PlyReader, VertexElementUnderItsAliases) {
     std::string element = "element " + name + " 1";
     std::string header = plyHeader(
         PlyFormat::Ascii, {element, "property float x", "property float y", "property float z"});
-    PointCloud cloud = read(header + "1 2 3\n");
+    PointCloud cloud = readPlyText(header + "1 2 3\n");
     EXPECT_EQ(worldPositions(cloud), (std::vector<World>{{1, 2, 3}}));
   }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Large files: parallel decoding splits the body into chunks; every point must land in its
-// place with its exact value.
-
-constexpr std::size_t kLargeCount = 300'000;
-
-World largePoint(std::size_t i) {
-  return {596000.0 + double(i) * 0.25, 4200000.125 + double(i % 1000) * 0.5,
-          -double(i % 37) * 0.125};
-}
-
-// kLargeCount points; `faces_before` face records (lists of 3 or 4) precede the vertices and
-// `faces_after` follow them.
-std::string largeFile(PlyFormat format, bool with_lists, std::string_view eol = "\n",
-                      std::size_t faces_before = 0, std::size_t faces_after = 0) {
-  std::string header = plyHeader(format, {});
-  std::string lines;
-  if (faces_before > 0) {
-    lines += "element face " + std::to_string(faces_before) +
-             "\nproperty list uchar uint vertex_indices\n";
-  }
-  lines += "element vertex " + std::to_string(kLargeCount) +
-           "\nproperty double x\nproperty double y\nproperty double z\n"
-           "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-           "property float quality\n";
-  if (with_lists) lines += "property list uchar int ids\n";
-  if (faces_after > 0) {
-    lines += "element face " + std::to_string(faces_after) +
-             "\nproperty list uchar uint vertex_indices\n";
-  }
-  header.insert(header.find("end_header"), lines);
-  PlyBody body(format);
-  auto put_faces = [&](std::size_t count) {
-    for (std::size_t f = 0; f < count; ++f) {
-      std::uint8_t corners = 3 + f % 2;
-      body.put(corners);
-      for (std::uint32_t k = 0; k < corners; ++k) body.put(std::uint32_t(f + k));
-      body.end(eol);
-    }
-  };
-  put_faces(faces_before);
-  for (std::size_t i = 0; i < kLargeCount; ++i) {
-    World p = largePoint(i);
-    body.put(p[0]).put(p[1]).put(p[2]).put(std::uint8_t(i)).put(std::uint8_t(i >> 8));
-    body.put(std::uint8_t(i >> 16)).put(float(i) * 0.5f);
-    if (with_lists) {
-      body.put(std::uint8_t(i % 5));
-      for (std::size_t k = 0; k < i % 5; ++k) body.put(std::int32_t(i + k));
-    }
-    body.end(eol);
-  }
-  put_faces(faces_after);
-  return header + body.bytes();
-}
-
-void expectLargeValues(const PointCloud& cloud) {
-  ASSERT_EQ(cloud.count, kLargeCount);
-  ASSERT_EQ(cloud.colors.size(), kLargeCount);
-  const ScalarColumn* quality = cloud.findScalar("quality");
-  ASSERT_NE(quality, nullptr);
-  ASSERT_EQ(quality->type, ScalarType::Float32);
-  for (std::size_t i = 0; i < kLargeCount; ++i) {
-    World p = largePoint(i);
-    ASSERT_EQ(cloud.worldX(i), p[0]) << "point " << i;
-    ASSERT_EQ(cloud.worldY(i), p[1]) << "point " << i;
-    ASSERT_EQ(cloud.worldZ(i), p[2]) << "point " << i;
-    ASSERT_EQ(cloud.colors[i],
-              (Rgba8{std::uint8_t(i), std::uint8_t(i >> 8), std::uint8_t(i >> 16), 255}))
-        << "point " << i;
-    ASSERT_EQ(quality->as<float>()[i], float(i) * 0.5f) << "point " << i;
-  }
-}
-
-TEST(PlyReaderLarge, BinaryParallelEqualsSerialInFileOrder) {
-  for (PlyFormat format : {PlyFormat::BinaryLittleEndian, PlyFormat::BinaryBigEndian}) {
-    SCOPED_TRACE(test::formatKeyword(format));
-    std::string file = largeFile(format, /*with_lists=*/false);
-    PointCloud parallel = read(file, true);
-    PointCloud serial = read(file, false);
-    expectLargeValues(parallel);
-    expectLargeValues(serial);
-    expectSamePoints(parallel, serial);
-  }
-}
-
-TEST(PlyReaderLarge, AsciiParallelEqualsSerialInFileOrder) {
-  std::string file = largeFile(PlyFormat::Ascii, /*with_lists=*/false);
-  PointCloud parallel = read(file, true);
-  PointCloud serial = read(file, false);
-  expectLargeValues(parallel);
-  expectLargeValues(serial);
-  expectSamePoints(parallel, serial);
-}
-
-TEST(PlyReaderLarge, VariableLengthListsParallelEqualsSerial) {
-  for (PlyFormat format : kAllPlyFormats) {
-    SCOPED_TRACE(test::formatKeyword(format));
-    std::string file = largeFile(format, /*with_lists=*/true);
-    PointCloud parallel = read(file, true);
-    PointCloud serial = read(file, false);
-    expectLargeValues(parallel);
-    expectSamePoints(parallel, serial);
-  }
-}
-
-TEST(PlyReaderLarge, AsciiCrlfParallelEqualsSerial) {
-  std::string file = largeFile(PlyFormat::Ascii, /*with_lists=*/false, "\r\n");
-  PointCloud parallel = read(file, true);
-  PointCloud serial = read(file, false);
-  expectLargeValues(parallel);
-  expectSamePoints(parallel, serial);
-}
-
-TEST(PlyReaderLarge, ManyFacesBeforeTheVertices) {
-  for (PlyFormat format : kAllPlyFormats) {
-    SCOPED_TRACE(test::formatKeyword(format));
-    std::string file = largeFile(format, /*with_lists=*/false, "\n", /*faces_before=*/100'001);
-    PointCloud parallel = read(file, true);
-    PointCloud serial = read(file, false);
-    expectLargeValues(parallel);
-    expectSamePoints(parallel, serial);
-  }
-}
-
-TEST(PlyReaderLarge, ManyFacesAfterTheVertices) {
-  for (PlyFormat format : kAllPlyFormats) {
-    SCOPED_TRACE(test::formatKeyword(format));
-    std::string file =
-        largeFile(format, /*with_lists=*/true, "\n", /*faces_before=*/0, /*faces_after=*/200'003);
-    PointCloud parallel = read(file, true);
-    expectLargeValues(parallel);
-    expectSamePoints(parallel, read(file, false));
-  }
-}
-
-// One far outlier among 300k points, at an index a strided sample skips: readPly must still
-// hold every point exactly (it has no streaming limitation), and report progress once.
-TEST(PlyReaderLarge, OutlierTheSampleMissesIsStillExact) {
-  struct Counter : Progress {
-    std::atomic<std::uint64_t> total{0};
-    void advance(std::uint64_t amount) override { total += amount; }
-  };
-  for (PlyFormat format : kAllPlyFormats) {
-    SCOPED_TRACE(test::formatKeyword(format));
-    auto expected = [](std::size_t i) -> World {
-      if (i == 1) return {1.0e6, -2.0e6, 3.0e6};
-      return {double(i % 1024) / 1024.0, double(i % 512) / 512.0, double(i % 7)};
-    };
-    std::string header = plyHeader(format, {});
-    header.insert(header.find("end_header"),
-                  "element vertex " + std::to_string(kLargeCount) +
-                      "\nproperty double x\nproperty double y\nproperty double z\n");
-    PlyBody body(format);
-    for (std::size_t i = 0; i < kLargeCount; ++i) {
-      World p = expected(i);
-      body.put(p[0]).put(p[1]).put(p[2]).end();
-    }
-    std::string file = header + body.bytes();
-    for (bool parallel : {true, false}) {
-      Counter counter;
-      PlyReadOptions options;
-      options.parallel = parallel;
-      options.progress = &counter;
-      PointCloud cloud = readPlyFromMemory(asBytes(file), "outlier.ply", options);
-      ASSERT_EQ(cloud.count, kLargeCount);
-      for (std::size_t i = 0; i < kLargeCount; ++i) {
-        World p = expected(i);
-        ASSERT_EQ(cloud.worldX(i), p[0]) << i;
-        ASSERT_EQ(cloud.worldY(i), p[1]) << i;
-        ASSERT_EQ(cloud.worldZ(i), p[2]) << i;
-      }
-      EXPECT_EQ(cloud.bounds.min, (World{0.0, -2.0e6, 0.0}));
-      EXPECT_EQ(cloud.bounds.max, (World{1.0e6, 511.0 / 512.0, 3.0e6}));
-      EXPECT_EQ(counter.total.load(), kLargeCount);
-    }
-  }
-}
-
-// ---------------------------------------------------------------------------------------------
-// PlyChunkReader
-
-PointCloud readAllChunks(PlyChunkReader& reader, std::size_t max_points,
-                         std::vector<std::size_t>* sizes = nullptr) {
-  PointCloud all;
-  std::vector<World> world;
-  std::vector<Rgba8> rgba;
-  PointCloud chunk;
-  std::size_t guard = 0;
-  while (reader.next(chunk, max_points)) {
-    EXPECT_GT(chunk.count, 0u);
-    EXPECT_LE(chunk.count, max_points);
-    EXPECT_EQ(chunk.positions.size(), chunk.count);
-    EXPECT_EQ(chunk.quantization, reader.quantization());
-    if (sizes) sizes->push_back(chunk.count);
-    for (std::size_t i = 0; i < chunk.count; ++i) {
-      world.push_back({chunk.worldX(i), chunk.worldY(i), chunk.worldZ(i)});
-    }
-    rgba.insert(rgba.end(), chunk.colors.begin(), chunk.colors.end());
-    if (++guard > reader.pointCount() + 2) {
-      ADD_FAILURE() << "next() never returns false";
-      break;
-    }
-  }
-  EXPECT_EQ(chunk.count, 0u) << "the chunk is empty at the end";
-  // Rebuild one cloud in identity quantization from the exact world values (all tests use
-  // integral world values for this).
-  all.count = world.size();
-  all.positions = Column<Int3>(world.size());
-  for (std::size_t i = 0; i < world.size(); ++i) {
-    all.positions[i] = {std::int32_t(world[i][0]), std::int32_t(world[i][1]),
-                        std::int32_t(world[i][2])};
-    EXPECT_EQ(double(all.positions[i].x), world[i][0]);
-  }
-  all.colors = Column<Rgba8>(rgba.size());
-  for (std::size_t i = 0; i < rgba.size(); ++i) all.colors[i] = rgba[i];
-  return all;
-}
-
-// Integer positions (x rising, y periodic, z rising), colours, an optional list in the vertex
-// element, then a face element.
-std::string chunkTestFile(PlyFormat format, std::size_t count, bool with_lists) {
-  std::string header = plyHeader(format, {});
-  std::string lines = "element vertex " + std::to_string(count) +
-                      "\nproperty int x\nproperty int y\nproperty int z\n";
-  if (with_lists) lines += "property list uchar int ids\n";
-  lines +=
-      "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-      "element face 1\nproperty list uchar int vertex_indices\n";
-  header.insert(header.find("end_header"), lines);
-  PlyBody body(format);
-  for (std::size_t i = 0; i < count; ++i) {
-    body.put(std::int32_t(i) - 5000).put(std::int32_t(i % 100)).put(std::int32_t(i * 3));
-    if (with_lists) {
-      body.put(std::uint8_t(i % 3));
-      for (std::size_t k = 0; k < i % 3; ++k) body.put(std::int32_t(k));
-    }
-    body.put(std::uint8_t(i)).put(std::uint8_t(i * 7)).put(std::uint8_t(250)).end();
-  }
-  body.put<std::uint8_t>(3).put<std::int32_t>(0).put<std::int32_t>(1).put<std::int32_t>(2).end();
-  return header + body.bytes();
-}
-
-void expectChunksEqualReadPly(bool with_lists) {
-  test::TempDir dir;
-  for (PlyFormat format : kAllPlyFormats) {
-    SCOPED_TRACE(test::formatKeyword(format));
-    auto path = dir.write("chunks_" + test::formatKeyword(format) + ".ply",
-                          chunkTestFile(format, 10'007, with_lists));
-    try {
-      PointCloud whole = readPly(path);
-      ASSERT_EQ(whole.count, 10'007u);
-      PlyChunkReader reader(path);
-      EXPECT_EQ(reader.pointCount(), 10'007u);
-      PointCloud joined = readAllChunks(reader, 1000);
-      ASSERT_EQ(joined.count, whole.count);
-      for (std::size_t i = 0; i < whole.count; ++i) {
-        ASSERT_EQ(joined.worldX(i), whole.worldX(i)) << i;
-        ASSERT_EQ(joined.worldY(i), whole.worldY(i)) << i;
-        ASSERT_EQ(joined.worldZ(i), whole.worldZ(i)) << i;
-        ASSERT_EQ(joined.worldX(i), double(std::int32_t(i) - 5000)) << i;
-      }
-      EXPECT_EQ(colors(joined), colors(whole));
-    } catch (const std::exception& error) {
-      ADD_FAILURE() << "threw: " << error.what();
-    }
-  }
-}
-
-TEST(PlyChunkReader, ChunksConcatenatedEqualReadPly) {
-  expectChunksEqualReadPly(/*with_lists=*/false);
-}
-
-TEST(PlyChunkReader, ChunksConcatenatedEqualReadPlyWithListsInTheVertexElement) {
-  expectChunksEqualReadPly(/*with_lists=*/true);
-}
-
-TEST(PlyChunkReader, ChunkSizesAreHonoured) {
-  test::TempDir dir;
-  for (bool with_lists : {false, true}) {
-    auto path =
-        dir.write("sizes.ply", chunkTestFile(PlyFormat::BinaryLittleEndian, 2500, with_lists));
-    for (std::size_t max_points : {1, 7, 1000, 2500, 100000}) {
-      SCOPED_TRACE(std::to_string(max_points) + (with_lists ? " with lists" : ""));
-      try {
-        PlyChunkReader reader(path);
-        std::vector<std::size_t> sizes;
-        PointCloud joined = readAllChunks(reader, max_points, &sizes);
-        EXPECT_EQ(joined.count, 2500u);
-        std::size_t total = 0;
-        for (std::size_t size : sizes) total += size;
-        EXPECT_EQ(total, 2500u);
-        EXPECT_GE(sizes.size(), (2500 + max_points - 1) / max_points);
-      } catch (const std::exception& error) {
-        ADD_FAILURE() << "threw: " << error.what();
-      }
-    }
-  }
-}
-
-TEST(PlyChunkReader, HeaderIsAvailableBeforeTheFirstChunk) {
-  test::TempDir dir;
-  auto path = dir.write("header.ply", chunkTestFile(PlyFormat::BinaryBigEndian, 10, true));
-  PlyChunkReader reader(path);
-  EXPECT_EQ(reader.header().format, PlyFormat::BinaryBigEndian);
-  ASSERT_EQ(reader.header().elements.size(), 2u);
-  EXPECT_EQ(reader.header().elements[0].name, "vertex");
-  EXPECT_EQ(reader.header().elements[1].name, "face");
-  EXPECT_EQ(reader.pointCount(), 10u);
-}
-
-TEST(PlyChunkReader, GivenQuantizationIsUsed) {
-  test::TempDir dir;
-  std::vector<World> points = {{100.5, 200.25, 300.0}, {101.0, 199.75, 299.5}, {99.0, 200, 301}};
-  auto path =
-      dir.write("quantized.ply", positionFile(PlyFormat::BinaryLittleEndian, "double", points));
-  PlyChunkReader reader(path);
-  Quantization given;
-  given.scale = {0.5, 0.25, 0.5};
-  given.offset = {100.0, 200.0, 300.0};
-  reader.setQuantization(given);
-  EXPECT_EQ(reader.quantization(), given);
-  PointCloud chunk;
-  ASSERT_TRUE(reader.next(chunk, 10));
-  EXPECT_EQ(chunk.quantization, given);
-  ASSERT_EQ(chunk.count, 3u);
-  EXPECT_EQ(chunk.positions[0], (Int3{1, 1, 0}));
-  EXPECT_EQ(chunk.positions[1], (Int3{2, -1, -1}));
-  EXPECT_EQ(chunk.positions[2], (Int3{-2, 0, 2}));
-  EXPECT_EQ(worldPositions(chunk), points);
-  EXPECT_FALSE(reader.next(chunk, 10));
-  EXPECT_EQ(chunk.count, 0u);
-}
-
-TEST(PlyChunkReader, ChosenQuantizationHoldsEveryPointExactly) {
-  test::TempDir dir;
-  std::string file = largeFile(PlyFormat::BinaryLittleEndian, /*with_lists=*/false);
-  auto path = dir.write("large.ply", file);
-  PlyChunkReader reader(path);
-  PointCloud chunk;
-  std::size_t index = 0;
-  while (reader.next(chunk, 65536)) {
-    for (std::size_t i = 0; i < chunk.count; ++i, ++index) {
-      World p = largePoint(index);
-      ASSERT_EQ(chunk.worldX(i), p[0]) << index;
-      ASSERT_EQ(chunk.worldY(i), p[1]) << index;
-      ASSERT_EQ(chunk.worldZ(i), p[2]) << index;
-    }
-  }
-  EXPECT_EQ(index, kLargeCount);
-}
-
-// Chunks that straddle the reader's internal ranges, in every format, with lists in the vertex
-// element, faces on both sides and CRLF line ends in ascii.
-TEST(PlyChunkReader, LargeFilesInOddChunksEqualReadPly) {
-  test::TempDir dir;
-  for (PlyFormat format : kAllPlyFormats) {
-    SCOPED_TRACE(test::formatKeyword(format));
-    auto path = dir.write("large.ply", largeFile(format, /*with_lists=*/true, "\r\n",
-                                                 /*faces_before=*/1001, /*faces_after=*/999));
-    try {
-      PointCloud whole = readPly(path);
-      expectLargeValues(whole);
-      PlyChunkReader reader(path);
-      PointCloud chunk;
-      std::size_t index = 0;
-      while (reader.next(chunk, 7777)) {
-        ASSERT_LE(chunk.count, 7777u);
-        for (std::size_t i = 0; i < chunk.count; ++i, ++index) {
-          ASSERT_EQ(chunk.worldX(i), whole.worldX(index)) << index;
-          ASSERT_EQ(chunk.worldY(i), whole.worldY(index)) << index;
-          ASSERT_EQ(chunk.worldZ(i), whole.worldZ(index)) << index;
-          ASSERT_EQ(chunk.colors[i], whole.colors[index]) << index;
-        }
-      }
-      EXPECT_EQ(index, kLargeCount);
-    } catch (const std::exception& error) {
-      ADD_FAILURE() << "threw: " << error.what();
-    }
-  }
-}
-
-// A file of a few hundred bytes: the sampled quantization must still cover every point.
-TEST(PlyChunkReader, SmallFilesStreamInEveryFormat) {
-  test::TempDir dir;
-  for (PlyFormat format : kAllPlyFormats) {
-    for (bool with_lists : {false, true}) {
-      SCOPED_TRACE(test::formatKeyword(format) + (with_lists ? " with lists" : ""));
-      auto path = dir.write("small.ply", chunkTestFile(format, 25, with_lists));
-      try {
-        PlyChunkReader reader(path);
-        std::vector<std::size_t> sizes;
-        PointCloud joined = readAllChunks(reader, 10, &sizes);
-        ASSERT_EQ(joined.count, 25u);
-        for (std::size_t i = 0; i < 25; ++i) {
-          ASSERT_EQ(joined.worldX(i), double(std::int32_t(i) - 5000)) << i;
-          ASSERT_EQ(joined.worldY(i), double(i % 100)) << i;
-          ASSERT_EQ(joined.worldZ(i), double(i * 3)) << i;
-        }
-      } catch (const std::exception& error) {
-        ADD_FAILURE() << "threw: " << error.what();
-      }
-    }
-  }
-}
-
-TEST(PlyChunkReader, MovedReaderContinuesWhereItWas) {
-  test::TempDir dir;
-  auto path =
-      dir.write("move.ply", chunkTestFile(PlyFormat::BinaryLittleEndian, 25, /*with_lists=*/false));
-  PlyChunkReader first(path);
-  PointCloud chunk;
-  ASSERT_TRUE(first.next(chunk, 10));
-  EXPECT_EQ(chunk.worldX(0), -5000.0);
-  PlyChunkReader second(std::move(first));
-  std::size_t seen = chunk.count;
-  while (second.next(chunk, 10)) {
-    EXPECT_EQ(chunk.worldX(0), double(std::int32_t(seen) - 5000));
-    seen += chunk.count;
-  }
-  EXPECT_EQ(seen, 25u);
-}
-
-TEST(PlyChunkReader, EmptyVertexElementHasNoChunk) {
-  test::TempDir dir;
-  auto path = dir.write("empty.ply", plyHeader(PlyFormat::BinaryLittleEndian,
-                                               {"element vertex 0", "property float x",
-                                                "property float y", "property float z"}));
-  PlyChunkReader reader(path);
-  EXPECT_EQ(reader.pointCount(), 0u);
-  PointCloud chunk;
-  EXPECT_FALSE(reader.next(chunk, 100));
-  EXPECT_EQ(chunk.count, 0u);
 }
 
 }  // namespace

@@ -5,8 +5,10 @@
 
 #include <chrono>
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 #include <string>
+#include <string_view>
 
 #include "io/ply_reader.h"
 #include "io/ply_test_files.h"
@@ -46,7 +48,8 @@ void expectPrintable(const CaughtInputError& caught) {
 const std::initializer_list<std::string_view> kXyz = {"element vertex 2", "property float x",
                                                       "property float y", "property float z"};
 
-std::string asciiXyzForNonFinite(const std::string& body) {
+// An ascii file of two x y z points: its 7-line header puts the body's first line at line 8.
+std::string asciiXyz(const std::string& body) {
   return plyHeader(PlyFormat::Ascii, kXyz) + body;
 }
 
@@ -211,7 +214,7 @@ TEST(PlyReaderErrors, PositionDeclaredAsAList) {
 
 // Assumption (not in the headers): positions must be finite, since they are quantized to int32.
 TEST(PlyReaderErrors, NonFinitePosition) {
-  CaughtInputError ascii = readError(asciiXyzForNonFinite("1 2 3\n4 nan 6\n"));
+  CaughtInputError ascii = readError(asciiXyz("1 2 3\n4 nan 6\n"));
   expectMessageHas(ascii, {kName, "line 9", "element 'vertex'", "property 'y'"});
   std::string header = plyHeader(PlyFormat::BinaryLittleEndian, kXyz);
   PlyBody body(PlyFormat::BinaryLittleEndian);
@@ -395,11 +398,7 @@ TEST(PlyReaderErrors, FloatingPointListCountType) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Ascii body (the body's first line is line 8 after the 7-line header of kXyz)
-
-std::string asciiXyz(const std::string& body) {
-  return plyHeader(PlyFormat::Ascii, kXyz) + body;
-}
+// Ascii body
 
 TEST(PlyReaderErrors, AsciiNonNumber) {
   for (bool parallel : {true, false}) {
@@ -645,6 +644,32 @@ TEST(PlyReaderErrors, EveryDamagedByteReadsOrIsAnInputError) {
         std::string damaged = file;
         damaged[at] = replacement;
         readsOrInputError(damaged, at % 2 == 0);
+      }
+    }
+  }
+}
+
+TEST(PlyReaderErrors, EveryDamagedByteStreamsOrIsAnInputError) {
+  test::TempDir dir;
+  // Every third byte, with a rotating replacement: each case writes a file, which is slow.
+  const char replacements[] = {'\0', '\xff', '\n'};
+  for (PlyFormat format : test::kAllPlyFormats) {
+    SCOPED_TRACE(test::formatKeyword(format));
+    std::string file = smallValidFile(format).bytes;
+    for (std::size_t at = 0; at < file.size(); at += 3) {
+      std::string damaged = file;
+      damaged[at] = replacements[(at / 3) % 3];
+      auto path = dir.write("damaged.ply", damaged);
+      try {
+        PlyChunkReader reader(path);
+        PointCloud chunk;
+        std::uint64_t total = 0;
+        while (reader.next(chunk, 2)) total += chunk.count;
+        EXPECT_EQ(total, reader.pointCount());
+      } catch (const InputError& error) {
+        EXPECT_NE(std::string(error.what()).find("damaged.ply"), std::string::npos) << error.what();
+      } catch (const std::exception& error) {
+        ADD_FAILURE() << "byte " << at << ": not an InputError: " << error.what();
       }
     }
   }

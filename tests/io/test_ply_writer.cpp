@@ -170,10 +170,18 @@ void expectSameColumns(const PointCloud& a, const PointCloud& b) {
     ASSERT_EQ(a.worldX(i), b.worldX(i)) << "point " << i;
     ASSERT_EQ(a.worldY(i), b.worldY(i)) << "point " << i;
     ASSERT_EQ(a.worldZ(i), b.worldZ(i)) << "point " << i;
-    if (a.hasColors()) ASSERT_EQ(a.colors[i], b.colors[i]) << "point " << i;
-    if (a.hasNormals()) ASSERT_EQ(a.normals[i], b.normals[i]) << "point " << i;
-    if (a.hasIntensity()) ASSERT_EQ(a.intensity[i], b.intensity[i]) << "point " << i;
-    if (a.hasClassification()) ASSERT_EQ(a.classification[i], b.classification[i]);
+    if (a.hasColors()) {
+      ASSERT_EQ(a.colors[i], b.colors[i]) << "point " << i;
+    }
+    if (a.hasNormals()) {
+      ASSERT_EQ(a.normals[i], b.normals[i]) << "point " << i;
+    }
+    if (a.hasIntensity()) {
+      ASSERT_EQ(a.intensity[i], b.intensity[i]) << "point " << i;
+    }
+    if (a.hasClassification()) {
+      ASSERT_EQ(a.classification[i], b.classification[i]) << "point " << i;
+    }
   }
   ASSERT_EQ(a.scalars.size(), b.scalars.size());
   for (std::size_t s = 0; s < a.scalars.size(); ++s) {

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+
 #include "core/error.h"
 #include "io/point_file.h"
 #include "io/text_writer.h"
@@ -54,6 +58,10 @@ TEST(TextReader, PtsCountLineAndIntensityRgb) {
   // Concatenated scans: further count lines are skipped.
   PointCloud two = readString("1\n1 2 3 5 1 1 1\n1\n4 5 6 5 1 1 1\n", "scan.pts");
   EXPECT_EQ(two.count, 2u);
+  // A count line last, with nothing after it (found by the fuzzer: it must not be stored).
+  EXPECT_EQ(readString("2\n1 2 0 \n5 ", "scan.pts", {.columns = {"x", "y", "z"}}).count, 1u);
+  EXPECT_EQ(
+      readString("1\n9 1 2 3\n7", "scan.pts", {.columns = {"intensity", "x", "y", "z"}}).count, 1u);
 }
 
 TEST(TextReader, HeaderLineNamesTheColumns) {
@@ -76,6 +84,12 @@ TEST(TextReader, SemicolonsAndCloudCompareCommentHeader) {
   EXPECT_EQ(comma.classification[0], 7);
 }
 
+TEST(TextReader, AlphaAloneStillMakesAColourColumn) {
+  PointCloud cloud = readString("x y z a\n1 2 3 128\n");  // found by the fuzzer
+  ASSERT_TRUE(cloud.hasColors());
+  EXPECT_EQ(cloud.colors[0], (Rgba8{0, 0, 0, 128}));
+}
+
 TEST(TextReader, ColumnsOptionOverridesAndSkips) {
   PointCloud cloud = readString("x y z junk r g b\n9 1 2 3 4 5 6\n", "t.txt",
                                 {.columns = {"_", "x", "y", "z", "r", "g", "b"}});
@@ -95,6 +109,38 @@ TEST(TextReader, LargeCoordinatesAreExactToTheirDecimals) {
   EXPECT_DOUBLE_EQ(cloud.worldX(19999), 531999.123);
   EXPECT_DOUBLE_EQ(cloud.worldY(5), 5399995.9);
   EXPECT_DOUBLE_EQ(cloud.worldZ(123), 23.01);
+}
+
+TEST(TextReader, NumbersReadToTheSameBitsAsStrtod) {
+  // The reader's own decimal fast path and fast_float must both give correctly rounded doubles.
+  std::mt19937_64 rng(7);
+  std::string text = "x y z v\n";
+  std::vector<double> expected;
+  for (int i = 0; i < 20000; ++i) {
+    char buffer[64];
+    int digits = int(rng() % 18) + 1;
+    std::uint64_t mantissa = rng() % 1000000000000000000ull;
+    std::string m = std::to_string(mantissa).substr(0, std::size_t(digits));
+    std::size_t dot = rng() % (m.size() + 1);
+    // Appended piece by piece: GCC 12 warns (-Wrestrict, a false positive) on a + chain here.
+    std::string token = rng() % 2 ? "-" : "";
+    token += m.substr(0, dot);
+    token += '.';
+    token += m.substr(dot);
+    if (i % 7 == 0) {
+      token += 'e';
+      token += std::to_string(int(rng() % 40) - 20);
+    }
+    std::snprintf(buffer, sizeof buffer, "1 2 3 %s\n", token.c_str());
+    text += buffer;
+    expected.push_back(std::strtod(token.c_str(), nullptr));
+  }
+  PointCloud cloud = readString(text);
+  const ScalarColumn* v = cloud.findScalar("v");
+  ASSERT_NE(v, nullptr);
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    ASSERT_EQ(v->as<double>()[i], expected[i]) << i;
+  }
 }
 
 TEST(TextReader, BadLinesAreNamedByLineAndColumn) {

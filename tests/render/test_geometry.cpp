@@ -121,8 +121,8 @@ TEST(RenderGeometry, EveryPointLightsExactlyItsPixelInOrthographicProjection) {
   headlessContext();
   const std::array<double, 3> origin{698000.25, 4999000.75, 45.0};
   Camera camera;
-  camera.lookAt({origin[0] - 2.0, origin[1] - 2.0, origin[2] + 3.0}, {origin[0], origin[1], origin[2]},
-                {0, 0, 1});
+  camera.lookAt({origin[0] - 2.0, origin[1] - 2.0, origin[2] + 3.0},
+                {origin[0], origin[1], origin[2]}, {0, 0, 1});
   camera.projection = Projection::Orthographic;
   camera.ortho_height = 2.5;
   checkExactPixels(origin, 1.0, camera, 700);
@@ -141,6 +141,144 @@ TEST(RenderGeometry, PngFirstRowIsTheTopOfTheImage) {
   ASSERT_EQ(lit.size(), 1u);
   EXPECT_LT(lit.begin()->row, 32);
   EXPECT_EQ(lit.begin()->column, 32);
+}
+
+TEST(RenderGeometry, PickReturnsTheWorldPositionOfThePointUnderThePixel) {
+  headlessContext();
+  const std::array<double, 3> origin{512345.5, 5412345.25, 300.0};
+  const PointCloud cloud = makeCloud(
+      {{origin[0], origin[1], origin[2]}, {origin[0] + 0.5, origin[1] + 0.8, origin[2] - 0.3}},
+      origin, 0.001);
+  Camera camera;
+  camera.lookAt({origin[0] - 1.0, origin[1] - 3.0, origin[2] + 1.0},
+                {origin[0], origin[1], origin[2]}, {0, 0, 1});
+  RenderSettings settings;
+  settings.point_size_px = 3.0f;
+  GpuPointCloud gpu(cloud);
+  Renderer renderer;
+  RenderTarget target(64, 64);
+  const View view{camera, {0, 0, 64, 64}};
+  renderer.render(gpu, std::span(&view, 1), settings, target.framebuffer(), 64, 64);
+  // The target is the view's centre: pixel (32, 32) from the bottom left holds it (a 3-pixel
+  // point covers 31..33).
+  const auto picked = renderer.pick(32, 32);
+  ASSERT_TRUE(picked.has_value());
+  // Across the view the pick is the pixel's centre, up to half a pixel (3 cm here) from the
+  // point; along the view it is the point's depth, to the float depth buffer's precision.
+  const glm::dvec3 point(origin[0], origin[1], origin[2]);
+  EXPECT_LT(glm::length(*picked - point), 0.05);
+  EXPECT_NEAR(glm::dot(*picked - camera.position, camera.forward()),
+              glm::dot(point - camera.position, camera.forward()), 1e-3);
+  EXPECT_FALSE(renderer.pick(2, 60).has_value()) << "nothing is drawn in that corner";
+}
+
+// One white 8-pixel point on black whose centre is a quarter pixel off the pixel grid, so that
+// its edges cut pixels; a second point far outside the view only widens the bounds.
+RgbaImage renderOffGridPoint(int samples, bool edl, PointShape shape = PointShape::Square) {
+  const PointCloud cloud =
+      makeCloud({{0.25 / 16, 0.25 / 16, 0.0}, {50.0, 50.0, -1.0}}, {0, 0, 0}, 0.001);
+  Camera camera;
+  camera.lookAt({0.0, 0.0, 10.0}, {0.0, 0.0, 0.0}, {0, 1, 0});
+  camera.projection = Projection::Orthographic;
+  camera.ortho_height = 2.0;  // 16 pixels per unit at 32 x 32
+  RenderSettings settings;
+  settings.color = ColorMode::Uniform;
+  settings.point_size_px = 8.0f;
+  settings.samples = samples;
+  settings.edl = edl;
+  settings.shape = shape;
+  return renderImage(cloud, camera, 32, 32, settings);
+}
+
+struct Coverage {
+  int full = 0, partial = 0;
+  double area = 0;  // in pixels: the sum of the pixels' grey levels
+};
+
+Coverage coverageOf(const RgbaImage& image) {
+  Coverage coverage;
+  for (std::size_t p = 0; p < image.pixels.size(); p += 4) {
+    const int grey = image.pixels[p];
+    EXPECT_EQ(grey, image.pixels[p + 1]);
+    EXPECT_EQ(grey, image.pixels[p + 2]);
+    if (grey == 255) ++coverage.full;
+    if (grey > 0 && grey < 255) ++coverage.partial;
+    coverage.area += grey / 255.0;
+  }
+  return coverage;
+}
+
+TEST(RenderGeometry, WithoutMultisamplingAPixelIsThePointOrTheBackground) {
+  headlessContext();
+  const Coverage coverage = coverageOf(renderOffGridPoint(0, false));
+  EXPECT_EQ(coverage.partial, 0);
+  EXPECT_EQ(coverage.full, 64);
+}
+
+TEST(RenderGeometry, MultisamplingBlendsTheEdgesOfAPoint) {
+  headlessContext();
+  const Coverage coverage = coverageOf(renderOffGridPoint(4, false));
+  // The edges cut a row and a column on each side: between 8 + 8 + 1 pixels (grid-aligned
+  // coverage on one axis) and 2 x (8 + 8) + 4.
+  EXPECT_GE(coverage.partial, 17);
+  EXPECT_LE(coverage.partial, 36);
+  EXPECT_GE(coverage.full, 49);  // the 7 x 7 inside at least
+  // The blend keeps the point's area: 64 pixels, up to the 4-sample quantization of the edges.
+  EXPECT_NEAR(coverage.area, 64.0, 4.0);
+}
+
+TEST(RenderGeometry, MultisamplingBlendsTheEdgeOfARoundPoint) {
+  headlessContext();
+  // The disc is cut per fragment: without a shading per sample only the pixels where the disc
+  // meets the square's edge would be partial; with it, the whole circle (about 2 pi 4 pixels).
+  const Coverage coverage = coverageOf(renderOffGridPoint(4, false, PointShape::Round));
+  EXPECT_GE(coverage.partial, 16);
+  EXPECT_NEAR(coverage.area, 3.14159 * 16.0, 4.0);
+}
+
+TEST(RenderGeometry, EyeDomeLightingOfAMultisampledFlatPointDoesNotDarkenItsInside) {
+  headlessContext();
+  // One depth everywhere: no pixel has a nearer neighbour, so nothing may be shaded. An edge
+  // pixel's resolved eye depth is an average with the empty samples; read as a depth, it would
+  // look nearer than the inside and blacken the pixels next to it.
+  const Coverage with_edl = coverageOf(renderOffGridPoint(4, true));
+  const Coverage without = coverageOf(renderOffGridPoint(4, false));
+  EXPECT_EQ(with_edl.full, without.full);
+  EXPECT_NEAR(with_edl.area, without.area, 0.5);
+}
+
+TEST(PointBuffers, MortonOrderInterleavesXThenYThenZ) {
+  const PointCloud cloud =
+      makeCloud({{0, 0, 1}, {1, 1, 0}, {0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 1}}, {0, 0, 0}, 1.0);
+  EXPECT_EQ(mortonOrder(cloud), (std::vector<std::uint32_t>{2, 4, 3, 1, 0, 5}));
+}
+
+TEST(PointBuffers, ChunksHoldAtMostTheirLimitAndEveryPoint) {
+  headlessContext();
+  std::vector<std::array<double, 3>> world;
+  for (int i = 0; i < 2500; ++i) world.push_back({i * 0.01, (i % 50) * 0.02, 0.0});
+  const PointCloud cloud = makeCloud(world, {0, 0, 0}, 0.001);
+  PointUploadOptions options;
+  options.max_chunk_points = 1000;
+  const GpuPointCloud gpu(cloud, options);
+  ASSERT_EQ(gpu.chunks().size(), 3u);
+  EXPECT_EQ(gpu.chunks()[0].count, 1000u);
+  EXPECT_EQ(gpu.chunks()[2].count, 500u);
+  EXPECT_EQ(gpu.pointCount(), 2500u);
+  EXPECT_GE(gpu.gpuBytes(), 2500u * (12 + 4 + 4 + 8));
+  Bounds3 all;
+  for (const PointChunk& chunk : gpu.chunks()) {
+    all.extend(chunk.bounds);
+    // The origin is inside the chunk: chunk-relative floats stay small.
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_GE(chunk.origin[a], chunk.bounds.min[a]);
+      EXPECT_LE(chunk.origin[a], chunk.bounds.max[a]);
+    }
+  }
+  EXPECT_EQ(all, cloud.bounds);
+  // A regular grid 1 cm apart along x and 2 cm along y: the typical spacing is about 1 cm.
+  EXPECT_GT(gpu.typicalSpacing(), 0.005);
+  EXPECT_LT(gpu.typicalSpacing(), 0.05);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // Golden images: a small scene rendered headless on llvmpipe in every point-size mode, colour
-// mode, with lighting and with eye-dome lighting, compared with PNGs in tests/render/golden/.
+// mode, with lighting, with eye-dome lighting and with multisampling, compared with PNGs in
+// tests/render/golden/.
 //
 // A pixel differs when a channel is off by more than kChannelTolerance; an image passes with at
 // most kDifferingFraction of its pixels differing (room for another Mesa version's rounding,
@@ -52,13 +53,15 @@ void checkGolden(const std::string& name, const RenderSettings& settings,
   int largest = 0;
   for (std::size_t p = 0; p < image.pixels.size(); p += 4) {
     int worst = 0;
-    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(image.pixels[p + c] - expected.pixels[p + c]));
+    for (int c = 0; c < 3; ++c)
+      worst = std::max(worst, std::abs(image.pixels[p + c] - expected.pixels[p + c]));
     largest = std::max(largest, worst);
     if (worst > kChannelTolerance) ++differing;
   }
   const std::size_t allowed = std::size_t(kDifferingFraction * kSize * kSize);
   if (differing > allowed) {
-    const std::filesystem::path actual = std::filesystem::path(PARALLAX_TEST_TMP) / (name + ".actual.png");
+    const std::filesystem::path actual =
+        std::filesystem::path(PARALLAX_TEST_TMP) / (name + ".actual.png");
     std::filesystem::create_directories(actual.parent_path());
     writePng(actual, image);
     ADD_FAILURE() << name << ": " << differing << " pixels differ (allowed " << allowed
@@ -79,7 +82,9 @@ RenderSettings base() {
   return settings;
 }
 
-TEST(RenderGolden, SizeFixedSquare) { checkGolden("size_fixed_square", base()); }
+TEST(RenderGolden, SizeFixedSquare) {
+  checkGolden("size_fixed_square", base());
+}
 
 TEST(RenderGolden, SizeFixedRound) {
   RenderSettings settings = base();
@@ -102,7 +107,9 @@ TEST(RenderGolden, SizeAdaptive) {
   checkGolden("size_adaptive", settings);
 }
 
-TEST(RenderGolden, ColorRgb) { checkGolden("color_rgb", base()); }
+TEST(RenderGolden, ColorRgb) {
+  checkGolden("color_rgb", base());
+}
 
 TEST(RenderGolden, ColorElevation) {
   RenderSettings settings = base();
@@ -150,6 +157,14 @@ TEST(RenderGolden, EyeDomeLighting) {
   settings.edl_strength = 1.0f;
   settings.edl_radius_px = 1.4f;
   checkGolden("edl", settings);
+}
+
+TEST(RenderGolden, Multisampling) {
+  RenderSettings settings = base();
+  settings.point_size_px = 4.0f;
+  settings.shape = PointShape::Round;
+  settings.samples = 4;
+  checkGolden("msaa", settings);
 }
 
 TEST(RenderGolden, Orthographic) {

@@ -1,0 +1,57 @@
+// `parallax view [INPUT]`: the interactive viewer (src/viewer) with the same render options as
+// `parallax render`.
+#include <memory>
+#include <string>
+
+#include "commands.h"
+#include "render_options.h"
+#include "viewer/viewer.h"
+
+namespace parallax::cli {
+namespace {
+
+struct ViewCommandOptions {
+  std::string input;
+  int width = 1280, height = 720;
+  bool no_vsync = false;
+  std::string screenshot_dir = ".";
+  RenderOptions render;
+};
+
+int runView(const ViewCommandOptions& o) {
+  ViewerOptions viewer;
+  viewer.input = o.input;
+  viewer.width = o.width;
+  viewer.height = o.height;
+  viewer.vsync = !o.no_vsync;
+  viewer.screenshot_dir = o.screenshot_dir;
+  // World size and spacing are only known once the cloud is loaded: 0 asks the viewer to choose.
+  viewer.settings = renderSettingsFrom(o.render, 0.0);
+  if (o.render.world_size <= 0) viewer.settings.world_size = 0.0f;
+  const RenderOptions render = o.render;
+  viewer.initial_camera = [render](const Bounds3& bounds, double aspect) {
+    return cameraFrom(render, bounds, aspect);
+  };
+  return runViewer(viewer);
+}
+
+}  // namespace
+
+Command addViewCommand(CLI::App& app) {
+  auto options = std::make_shared<ViewCommandOptions>();
+  Command command;
+  CLI::App* sub = app.add_subcommand("view", "Open a point file in a window (H in it: keys)");
+  sub->add_option("input", options->input, "Point file (PLY); or drop one on the window");
+  sub->add_option("--width", options->width, "Window width")->capture_default_str();
+  sub->add_option("--height", options->height, "Window height")->capture_default_str();
+  sub->add_flag("--no-vsync", options->no_vsync, "Start with vsync off (V toggles it)");
+  sub->add_option("--screenshot-dir", options->screenshot_dir,
+                  "Folder for screenshots (P) and saved cameras")
+      ->capture_default_str();
+  addRenderOptions(*sub, options->render);
+  command.subcommand = sub;
+  command.run = [options] { return runView(*options); };
+  return command;
+}
+
+}  // namespace parallax::cli

@@ -1,0 +1,30 @@
+// `parallax view`: a window (GLFW, OpenGL 4.5 core) showing one point cloud, with mouse and
+// keyboard camera control and an on-screen panel (Dear ImGui) for every render setting.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "render/camera.h"
+#include "render/render_settings.h"
+
+namespace parallax {
+
+struct ViewerOptions {
+  std::filesystem::path input;  // may be empty: an empty window that accepts a dropped file
+  RenderSettings settings;
+  // The first camera for a cloud with these bounds, at this aspect ratio; empty: a fitted default.
+  std::function<Camera(const Bounds3&, double aspect)> initial_camera;
+  int width = 1280, height = 720;
+  bool vsync = true;
+  std::filesystem::path screenshot_dir = ".";  // where the screenshot key (P) writes PNGs
+  std::string title = "Parallax";
+};
+
+// Opens the window and runs until it is closed or Escape is pressed; returns the exit status.
+// A file that cannot be read is reported in the panel and on stderr, never a crash. Throws
+// std::runtime_error when no window or no 4.5 context can be created (no display, old driver).
+int runViewer(const ViewerOptions& options);
+
+}  // namespace parallax

@@ -1,0 +1,209 @@
+// The viewer in a real window under Xvfb, driven with xdotool: it opens a file, draws the panel,
+// turns the view on a mouse drag, writes screenshots on P and quits on Escape.
+//
+// Needs the Debian packages xvfb and xdotool; skipped (with the reason) where they are missing.
+// Xvfb picks a free display itself (-displayfd), so parallel runs do not collide.
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "render/image_file.h"
+#include "support/temp_dir.h"
+
+extern char** environ;
+
+namespace parallax::test {
+namespace {
+
+using namespace std::chrono_literals;
+
+bool onPath(const std::string& program) {
+  return std::system(("command -v " + program + " > /dev/null 2>&1").c_str()) == 0;
+}
+
+// A child process; killed (SIGTERM, then SIGKILL) if still running when destroyed.
+class Child {
+ public:
+  Child(const std::vector<std::string>& args, const std::vector<std::string>& extra_env,
+        const std::string& output_file) {
+    std::vector<char*> argv;
+    for (const auto& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
+    argv.push_back(nullptr);
+    env_strings_ = extra_env;
+    std::vector<char*> envp;
+    for (auto& entry : env_strings_) envp.push_back(entry.data());
+    for (char** e = environ; *e; ++e) envp.push_back(*e);
+    envp.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, output_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                     0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+    if (posix_spawnp(&pid_, args[0].c_str(), &actions, nullptr, argv.data(), envp.data()) != 0) {
+      pid_ = -1;
+    }
+    posix_spawn_file_actions_destroy(&actions);
+  }
+  ~Child() {
+    if (pid_ <= 0) return;
+    kill(pid_, SIGTERM);
+    for (int i = 0; i < 50 && !exited(); ++i) std::this_thread::sleep_for(20ms);
+    if (!exited()) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+  }
+  bool started() const { return pid_ > 0; }
+  // Waits up to `timeout` for the process to end; its exit status, or -1.
+  int wait(std::chrono::milliseconds timeout) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < end) {
+      if (exited()) return WIFEXITED(status_) ? WEXITSTATUS(status_) : -1;
+      std::this_thread::sleep_for(20ms);
+    }
+    return -1;
+  }
+
+ private:
+  bool exited() {
+    if (done_) return true;
+    if (waitpid(pid_, &status_, WNOHANG) == pid_) done_ = true;
+    return done_;
+  }
+  pid_t pid_ = -1;
+  int status_ = 0;
+  bool done_ = false;
+  std::vector<std::string> env_strings_;
+};
+
+std::string readFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+bool waitFor(const std::function<bool()>& condition, std::chrono::milliseconds timeout) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < end) {
+    if (condition()) return true;
+    std::this_thread::sleep_for(50ms);
+  }
+  return condition();
+}
+
+int run(const std::string& command) {
+  return std::system(command.c_str());
+}
+
+// A coloured 60 x 60 grid on a gentle dome, as an ASCII PLY.
+std::string gridPly() {
+  std::ostringstream ply;
+  ply << "ply\nformat ascii 1.0\nelement vertex 3600\nproperty float x\nproperty float y\n"
+         "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+         "end_header\n";
+  for (int j = 0; j < 60; ++j) {
+    for (int i = 0; i < 60; ++i) {
+      const double x = i / 59.0 - 0.5, y = j / 59.0 - 0.5;
+      ply << x << ' ' << y << ' ' << 0.3 * (0.5 - x * x - y * y) << ' ' << 40 + 3 * i << ' '
+          << 40 + 3 * j << " 60\n";
+    }
+  }
+  return ply.str();
+}
+
+TEST(ViewerWindow, OpensDrawsThePanelTurnsOnDragAndTakesScreenshots) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto cloud = dir.write("grid.ply", gridPly());
+  const auto shots = dir.path() / "shots";
+  std::filesystem::create_directories(shots);
+
+  // Xvfb writes the display number it chose to the file given to -displayfd once it is ready.
+  const auto display_file = dir / "display";
+  const std::string xvfb_command =
+      "exec Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp 3>" + display_file.string();
+  Child xvfb({"sh", "-c", xvfb_command}, {}, (dir / "xvfb.log").string());
+  ASSERT_TRUE(xvfb.started());
+  ASSERT_TRUE(waitFor([&] { return !readFile(display_file).empty(); }, 20s))
+      << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  const std::string display = ":" + std::to_string(std::stoi(readFile(display_file)));
+  const std::string env = "DISPLAY=" + display + " ";
+
+  Child viewer({PARALLAX_EXECUTABLE, "view", cloud.string(), "--width", "800", "--height", "480",
+                "--screenshot-dir", shots.string(), "--background", "255,255,255", "--point-size",
+                "4", "--no-vsync"},
+               {"DISPLAY=" + display, "ASAN_OPTIONS=detect_leaks=0"},
+               (dir / "viewer.log").string());
+  ASSERT_TRUE(viewer.started());
+  ASSERT_EQ(
+      run(env + "timeout 60 xdotool search --sync --name Parallax > " + (dir / "window").string()),
+      0)
+      << "no viewer window: " << readFile(dir / "viewer.log");
+  const std::string window = std::to_string(std::stol(readFile(dir / "window")));
+  auto xdo = [&](const std::string& args) {
+    return run(env + "xdotool " + args + " > /dev/null 2>&1");
+  };
+  auto screenshot = [&](int n) {
+    const auto path = shots / ("parallax-screenshot-" + std::to_string(n) + ".png");
+    EXPECT_EQ(xdo("key --window " + window + " p"), 0);
+    EXPECT_TRUE(waitFor([&] { return std::filesystem::exists(path); }, 30s))
+        << "no screenshot " << path << ": " << readFile(dir / "viewer.log");
+    return readPng(path);
+  };
+  // Let a few frames go by so that the panel has its size.
+  std::this_thread::sleep_for(1s);
+  const RgbaImage before = screenshot(1);
+
+  // Drag to the right across the part of the window that the panel does not cover.
+  ASSERT_EQ(
+      xdo("mousemove --window " + window + " 500 240 mousedown 1 mousemove --window " + window +
+          " 560 260 sleep 0.3 mousemove --window " + window + " 640 280 sleep 0.3 mouseup 1"),
+      0);
+  std::this_thread::sleep_for(500ms);
+  const RgbaImage after = screenshot(2);
+
+  ASSERT_EQ(before.width, 800);
+  ASSERT_EQ(before.height, 480);
+  ASSERT_EQ(after.width, before.width);
+  auto pixel = [](const RgbaImage& image, int x, int y) {
+    const std::uint8_t* p = &image.pixels[(std::size_t(y) * image.width + x) * 4];
+    return std::array<int, 3>{p[0], p[1], p[2]};
+  };
+  // The panel (ImGui's dark window) is drawn at the top left over the white background.
+  const auto panel = pixel(before, 60, 60);
+  EXPECT_LT(panel[0] + panel[1] + panel[2], 3 * 80) << "no panel at the top left";
+  // The cloud is drawn, and the drag turned it: the part right of the panel changed.
+  std::size_t cloud_pixels = 0, changed = 0;
+  for (int y = 0; y < before.height; ++y) {
+    for (int x = 400; x < before.width; ++x) {
+      const auto a = pixel(before, x, y), b = pixel(after, x, y);
+      if (a != std::array<int, 3>{255, 255, 255}) ++cloud_pixels;
+      if (a != b) ++changed;
+    }
+  }
+  EXPECT_GT(cloud_pixels, 500u) << "the cloud is not drawn";
+  EXPECT_GT(changed, 500u) << "the view did not change on a mouse drag";
+
+  EXPECT_EQ(xdo("key --window " + window + " Escape"), 0);
+  EXPECT_EQ(viewer.wait(20s), 0) << "the viewer did not quit on Escape: "
+                                 << readFile(dir / "viewer.log");
+}
+
+}  // namespace
+}  // namespace parallax::test
