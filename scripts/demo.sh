@@ -30,12 +30,9 @@ mkdir -p out
 echo "== parallax info $sample"
 "$parallax" info "$sample"
 
-# Commands that are still being written are used once they exist.
-if "$parallax" render --help >/dev/null 2>&1; then
-  echo "== parallax render $sample -> out/sample.png"
-  "$parallax" render "$sample" -o out/sample.png
-fi
-if [[ -n "${DISPLAY:-}" ]] && "$parallax" view --help >/dev/null 2>&1; then
+echo "== parallax render $sample -> out/sample.png"
+"$parallax" render "$sample" -o out/sample.png --edl
+if [[ -n "${DISPLAY:-}" ]]; then
   echo "== parallax view $sample (close the window to finish)"
   exec "$parallax" view "$sample"
 fi

@@ -11,12 +11,9 @@ int main(int argc, char** argv) {
   CLI::App app{"Parallax: a viewer and toolkit for massive 3D point clouds"};
   app.require_subcommand(1);
   const std::vector<parallax::cli::Command> commands = {
-      parallax::cli::addInfoCommand(app),
-      parallax::cli::addGenerateCommand(app),
-      parallax::cli::addBenchCommand(app),
-      parallax::cli::addConvertCommand(app),
-      parallax::cli::addRenderCommand(app),
-      parallax::cli::addViewCommand(app),
+      parallax::cli::addInfoCommand(app),   parallax::cli::addGenerateCommand(app),
+      parallax::cli::addBenchCommand(app),  parallax::cli::addConvertCommand(app),
+      parallax::cli::addRenderCommand(app), parallax::cli::addViewCommand(app),
   };
 
   try {

@@ -33,9 +33,7 @@ struct Bounds3 {
   std::array<double, 3> center() const {
     return {(min[0] + max[0]) * 0.5, (min[1] + max[1]) * 0.5, (min[2] + max[2]) * 0.5};
   }
-  std::array<double, 3> size() const {
-    return {max[0] - min[0], max[1] - min[1], max[2] - min[2]};
-  }
+  std::array<double, 3> size() const { return {max[0] - min[0], max[1] - min[1], max[2] - min[2]}; }
 
   friend bool operator==(const Bounds3&, const Bounds3&) = default;
 };

@@ -29,7 +29,9 @@ ByteBuffer::ByteBuffer(std::size_t size) : size_(size) {
   }
 }
 
-ByteBuffer::~ByteBuffer() { release(); }
+ByteBuffer::~ByteBuffer() {
+  release();
+}
 
 ByteBuffer::ByteBuffer(ByteBuffer&& other) noexcept
     : data_(std::exchange(other.data_, nullptr)),

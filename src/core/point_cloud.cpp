@@ -9,14 +9,22 @@ namespace parallax {
 
 double ScalarColumn::valueAsDouble(std::size_t i) const {
   switch (type) {
-    case ScalarType::Int8: return as<std::int8_t>()[i];
-    case ScalarType::UInt8: return as<std::uint8_t>()[i];
-    case ScalarType::Int16: return as<std::int16_t>()[i];
-    case ScalarType::UInt16: return as<std::uint16_t>()[i];
-    case ScalarType::Int32: return as<std::int32_t>()[i];
-    case ScalarType::UInt32: return as<std::uint32_t>()[i];
-    case ScalarType::Float32: return as<float>()[i];
-    case ScalarType::Float64: return as<double>()[i];
+    case ScalarType::Int8:
+      return as<std::int8_t>()[i];
+    case ScalarType::UInt8:
+      return as<std::uint8_t>()[i];
+    case ScalarType::Int16:
+      return as<std::int16_t>()[i];
+    case ScalarType::UInt16:
+      return as<std::uint16_t>()[i];
+    case ScalarType::Int32:
+      return as<std::int32_t>()[i];
+    case ScalarType::UInt32:
+      return as<std::uint32_t>()[i];
+    case ScalarType::Float32:
+      return as<float>()[i];
+    case ScalarType::Float64:
+      return as<double>()[i];
   }
   return 0.0;
 }

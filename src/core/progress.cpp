@@ -30,9 +30,13 @@ TerminalProgress::TerminalProgress(std::string label, std::uint64_t total, std::
       enabled_(stderrIsTerminal()),
       start_(std::chrono::steady_clock::now()) {}
 
-TerminalProgress::~TerminalProgress() { finish(); }
+TerminalProgress::~TerminalProgress() {
+  finish();
+}
 
-bool TerminalProgress::stderrIsTerminal() { return isatty(STDERR_FILENO) == 1; }
+bool TerminalProgress::stderrIsTerminal() {
+  return isatty(STDERR_FILENO) == 1;
+}
 
 void TerminalProgress::advance(std::uint64_t amount) {
   done_.fetch_add(amount, std::memory_order_relaxed);
@@ -76,8 +80,7 @@ void TerminalProgress::draw() {
                  bar.c_str(), fraction * 100.0, rate / 1e6, unit_.c_str(), eta.c_str());
   } else {
     std::fprintf(stderr, "\r\033[K%s %llu %s  %.2f M %s/s", label_.c_str(),
-                 static_cast<unsigned long long>(done), unit_.c_str(), rate / 1e6,
-                 unit_.c_str());
+                 static_cast<unsigned long long>(done), unit_.c_str(), rate / 1e6, unit_.c_str());
   }
   std::fflush(stderr);
 }

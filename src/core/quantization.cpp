@@ -14,8 +14,8 @@ Quantization chooseQuantization(const Bounds3& bounds, double margin) {
     if (!std::isfinite(lo) || !std::isfinite(hi)) continue;
     // Halved before subtracting: near the largest doubles, hi - lo itself overflows.
     double center = 0.5 * lo + 0.5 * hi;
-    double half = std::min((0.5 * hi - 0.5 * lo) * std::max(margin, 1.0),
-                           std::numeric_limits<double>::max());
+    double half =
+        std::min((0.5 * hi - 0.5 * lo) * std::max(margin, 1.0), std::numeric_limits<double>::max());
     // Never finer than a float64's resolution at the centre (below that the offset itself is
     // not exact) and never so fine that a flat axis gets a degenerate scale.
     double magnitude = std::max({std::abs(lo), std::abs(hi), 1e-30});

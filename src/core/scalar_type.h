@@ -8,7 +8,16 @@
 
 namespace parallax {
 
-enum class ScalarType : std::uint8_t { Int8, UInt8, Int16, UInt16, Int32, UInt32, Float32, Float64 };
+enum class ScalarType : std::uint8_t {
+  Int8,
+  UInt8,
+  Int16,
+  UInt16,
+  Int32,
+  UInt32,
+  Float32,
+  Float64
+};
 
 // Size of one value in bytes: 1, 2, 4 or 8.
 std::size_t scalarSize(ScalarType type);

@@ -33,8 +33,12 @@ struct CharClasses {
 };
 constexpr CharClasses kClasses;
 
-inline bool isBlank(char c) { return kClasses.blank[static_cast<unsigned char>(c)]; }
-inline bool isDelimiter(char c) { return kClasses.delimiter[static_cast<unsigned char>(c)]; }
+inline bool isBlank(char c) {
+  return kClasses.blank[static_cast<unsigned char>(c)];
+}
+inline bool isDelimiter(char c) {
+  return kClasses.delimiter[static_cast<unsigned char>(c)];
+}
 
 std::uint64_t countLineEnds(const char* begin, const char* end) {
   std::uint64_t lines = 0;
@@ -98,13 +102,26 @@ const char* nextLineStart(const char* p, const char* end) {
 // Inclusive value limits of each integer type, for range checks.
 void integerLimits(ScalarType type, double& lo, double& hi) {
   switch (type) {
-    case ScalarType::Int8: lo = -128, hi = 127; return;
-    case ScalarType::UInt8: lo = 0, hi = 255; return;
-    case ScalarType::Int16: lo = -32768, hi = 32767; return;
-    case ScalarType::UInt16: lo = 0, hi = 65535; return;
-    case ScalarType::Int32: lo = -2147483648.0, hi = 2147483647.0; return;
-    case ScalarType::UInt32: lo = 0, hi = 4294967295.0; return;
-    default: lo = -std::numeric_limits<double>::max(), hi = std::numeric_limits<double>::max();
+    case ScalarType::Int8:
+      lo = -128, hi = 127;
+      return;
+    case ScalarType::UInt8:
+      lo = 0, hi = 255;
+      return;
+    case ScalarType::Int16:
+      lo = -32768, hi = 32767;
+      return;
+    case ScalarType::UInt16:
+      lo = 0, hi = 65535;
+      return;
+    case ScalarType::Int32:
+      lo = -2147483648.0, hi = 2147483647.0;
+      return;
+    case ScalarType::UInt32:
+      lo = 0, hi = 4294967295.0;
+      return;
+    default:
+      lo = -std::numeric_limits<double>::max(), hi = std::numeric_limits<double>::max();
   }
 }
 
@@ -228,9 +245,8 @@ class LineParser {
     while (p != end_ && isBlank(*p)) ++p;
   }
 
-  [[gnu::always_inline]] double parseNumber(const char*& p, const PropertyPlan& plan, ScalarType type,
-                                            std::size_t index,
-                     const char* what) {
+  [[gnu::always_inline]] double parseNumber(const char*& p, const PropertyPlan& plan,
+                                            ScalarType type, std::size_t index, const char* what) {
     skipBlanks(p);
     if (p == end_ || *p == '\n') failMissingValue(plan, index, what);
     double value = 0.0;
@@ -261,8 +277,7 @@ class LineParser {
     return value;
   }
 
-  [[noreturn, gnu::noinline, gnu::cold]] void failTooManyValues(std::size_t values,
-                                                                const char* p) {
+  [[noreturn, gnu::noinline, gnu::cold]] void failTooManyValues(std::size_t values, const char* p) {
     const char* token_end = p;
     while (token_end != end_ && *token_end != '\n' && !isBlank(*token_end)) ++token_end;
     failLine("", "", std::to_string(values) + " values, one per property",
@@ -323,13 +338,14 @@ class LineParser {
          "remove invalid points first (e.g. PDAL filters.range)");
   }
 
-  [[noreturn, gnu::noinline, gnu::cold]] void fail(const PropertyPlan& plan, std::string expected, std::string found,
-                         std::string hint = "") {
+  [[noreturn, gnu::noinline, gnu::cold]] void fail(const PropertyPlan& plan, std::string expected,
+                                                   std::string found, std::string hint = "") {
     failLine(plan.name, std::move(hint), std::move(expected), std::move(found));
   }
 
-  [[noreturn, gnu::noinline, gnu::cold]] void failLine(const std::string& property, std::string hint, std::string expected,
-                             std::string found) {
+  [[noreturn, gnu::noinline, gnu::cold]] void failLine(const std::string& property,
+                                                       std::string hint, std::string expected,
+                                                       std::string found) {
     InputErrorInfo info{.file = context_.file,
                         .element = layout_.element_name,
                         .property = property,
@@ -356,23 +372,30 @@ class LineParser {
                     .hint = "the file is truncated, or its header's count is wrong"});
 }
 
+// Past the records of `element` (one a line) from `p`, each checked against its properties and
+// none kept; `line` advances with them.
+const char* skipAsciiElement(const DecodeContext& context, const PlyElement& element, const char* p,
+                             std::uint64_t& line) {
+  const char* end = reinterpret_cast<const char*>(context.bytes.data()) + context.bytes.size();
+  PointLayout skipping = skippingLayout(element);
+  LineParser parser(context, skipping, end);
+  PointCloud nothing;
+  for (std::uint64_t r = 0; r < element.count; ++r, ++line) {
+    if (p == end) failShortElement(context, element, r, line);
+    double unused[3];
+    p = parser.parse(p, line, nothing, 0, unused);
+  }
+  return p;
+}
+
 // Byte offset of element `index` in an ascii body, past the elements before it, whose records
 // (one a line) are each checked against their properties; `line` is set to its first line.
 std::size_t locateAsciiElement(const DecodeContext& context, int index, std::uint64_t& line) {
   const char* text = reinterpret_cast<const char*>(context.bytes.data());
-  const char* end = text + context.bytes.size();
   const char* p = text + context.header.body_offset;
   line = context.header.body_line;
   for (int e = 0; e < index; ++e) {
-    const PlyElement& element = context.header.elements[std::size_t(e)];
-    PointLayout skipping = skippingLayout(element);
-    LineParser parser(context, skipping, end);
-    PointCloud nothing;
-    for (std::uint64_t r = 0; r < element.count; ++r, ++line) {
-      if (p == end) failShortElement(context, element, r, line);
-      double unused[3];
-      p = parser.parse(p, line, nothing, 0, unused);
-    }
+    p = skipAsciiElement(context, context.header.elements[std::size_t(e)], p, line);
   }
   return std::size_t(p - text);
 }
@@ -457,15 +480,7 @@ void checkAsciiTail(const DecodeContext& context, std::size_t end, std::uint64_t
   }
   const char* p = text + std::max(end, context.header.body_offset);
   for (std::size_t e = std::size_t(point_element) + 1; e < context.header.elements.size(); ++e) {
-    const PlyElement& element = context.header.elements[e];
-    PointLayout skipping = skippingLayout(element);
-    LineParser parser(context, skipping, stop);
-    PointCloud nothing;
-    for (std::uint64_t r = 0; r < element.count; ++r, ++line) {
-      if (p == stop) failShortElement(context, element, r, line);
-      double unused[3];
-      p = parser.parse(p, line, nothing, 0, unused);
-    }
+    p = skipAsciiElement(context, context.header.elements[e], p, line);
   }
   const PlyElement& last = context.header.elements.back();
   for (; p < stop; ++p) {
@@ -474,13 +489,13 @@ void checkAsciiTail(const DecodeContext& context, std::size_t end, std::uint64_t
     } else if (!isBlank(*p)) {
       const char* data_end = p;
       while (data_end < stop && *data_end != '\n' && *data_end != '\r') ++data_end;
-      throw InputError({.file = context.file,
-                        .line = line,
-                        .element = last.name,
-                        .expected = "the end of the file after " + std::to_string(last.count) +
-                                    " records",
-                        .found = "more data: " + quoteInput(std::string_view(p, std::size_t(data_end - p))),
-                        .hint = "the header's element count is smaller than the data"});
+      throw InputError(
+          {.file = context.file,
+           .line = line,
+           .element = last.name,
+           .expected = "the end of the file after " + std::to_string(last.count) + " records",
+           .found = "more data: " + quoteInput(std::string_view(p, std::size_t(data_end - p))),
+           .hint = "the header's element count is smaller than the data"});
     }
   }
 }

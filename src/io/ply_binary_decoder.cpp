@@ -21,9 +21,9 @@ inline T load(const std::byte* p) {
     std::memcpy(&value, p, sizeof(T));
     return value;
   } else {
-    using Bits = std::conditional_t<sizeof(T) == 2, std::uint16_t,
-                                    std::conditional_t<sizeof(T) == 4, std::uint32_t,
-                                                       std::uint64_t>>;
+    using Bits =
+        std::conditional_t<sizeof(T) == 2, std::uint16_t,
+                           std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>>;
     Bits bits;
     std::memcpy(&bits, p, sizeof(T));
     if constexpr (sizeof(T) == 2) bits = __builtin_bswap16(bits);
@@ -44,14 +44,30 @@ void dispatch(ScalarType type, bool swap, Fn&& fn) {
     }
   };
   switch (type) {
-    case ScalarType::Int8: go.template operator()<std::int8_t>(); break;
-    case ScalarType::UInt8: go.template operator()<std::uint8_t>(); break;
-    case ScalarType::Int16: go.template operator()<std::int16_t>(); break;
-    case ScalarType::UInt16: go.template operator()<std::uint16_t>(); break;
-    case ScalarType::Int32: go.template operator()<std::int32_t>(); break;
-    case ScalarType::UInt32: go.template operator()<std::uint32_t>(); break;
-    case ScalarType::Float32: go.template operator()<float>(); break;
-    case ScalarType::Float64: go.template operator()<double>(); break;
+    case ScalarType::Int8:
+      go.template operator()<std::int8_t>();
+      break;
+    case ScalarType::UInt8:
+      go.template operator()<std::uint8_t>();
+      break;
+    case ScalarType::Int16:
+      go.template operator()<std::int16_t>();
+      break;
+    case ScalarType::UInt16:
+      go.template operator()<std::uint16_t>();
+      break;
+    case ScalarType::Int32:
+      go.template operator()<std::int32_t>();
+      break;
+    case ScalarType::UInt32:
+      go.template operator()<std::uint32_t>();
+      break;
+    case ScalarType::Float32:
+      go.template operator()<float>();
+      break;
+    case ScalarType::Float64:
+      go.template operator()<double>();
+      break;
   }
 }
 
@@ -132,21 +148,27 @@ std::size_t walkRecord(const DecodeContext& context, const PlyElement& element, 
   return pos - start;
 }
 
-// Byte offset of the point element, past the elements before it (each checked against the file).
+// The byte after element `element` that starts at `pos`, which is not kept but checked: its count
+// against the bytes left (lists counted empty) before anything is walked, then fixed-size records
+// by size and records with lists one by one (a walk bounded by the file's size).
+std::size_t skipElement(const DecodeContext& context, const PlyElement& element, bool swap,
+                        std::size_t pos) {
+  std::size_t left = context.bytes.size() - std::min(pos, context.bytes.size());
+  std::size_t min_size = element.minimumRecordSize();
+  if (min_size > 0 && element.count > left / min_size) {
+    failTruncated(context, element, left / min_size, pos + (left / min_size + 1) * min_size);
+  }
+  if (!element.hasLists()) return pos + element.count * min_size;
+  for (std::uint64_t r = 0; r < element.count; ++r)
+    pos += walkRecord(context, element, swap, pos, r);
+  return pos;
+}
+
+// Byte offset of the point element, past the elements before it.
 std::size_t locatePointElement(const DecodeContext& context, int point_element, bool swap) {
   std::size_t pos = context.header.body_offset;
   for (int e = 0; e < point_element; ++e) {
-    const PlyElement& element = context.header.elements[std::size_t(e)];
-    std::size_t left = context.bytes.size() - std::min(pos, context.bytes.size());
-    std::size_t min_size = element.minimumRecordSize();
-    if (min_size > 0 && element.count > left / min_size) {
-      failTruncated(context, element, left / min_size, pos + (left / min_size + 1) * min_size);
-    }
-    if (!element.hasLists()) {
-      pos += element.count * min_size;
-      continue;
-    }
-    for (std::uint64_t r = 0; r < element.count; ++r) pos += walkRecord(context, element, swap, pos, r);
+    pos = skipElement(context, context.header.elements[std::size_t(e)], swap, pos);
   }
   return pos;
 }
@@ -189,7 +211,8 @@ void decodeFixedPositions(const DecodeContext& context, const RecordRange& range
   ScalarType type = plans[0]->type;
   if (plans[1]->type == type && plans[2]->type == type) {
     // The common case: one type for all three; the loop is specialised for it.
-    dispatch(type, swap, [&]<class T, bool kSwap>() { loop.template operator()<T, T, T, kSwap>(); });
+    dispatch(type, swap,
+             [&]<class T, bool kSwap>() { loop.template operator()<T, T, T, kSwap>(); });
   } else {
     // Mixed types (rare): through double, one value at a time.
     for (std::size_t i = 0; i < n; ++i) {
@@ -222,24 +245,13 @@ void decodeFixedPositions(const DecodeContext& context, const RecordRange& range
   }
 }
 
-// The elements after the point element are not kept, but a file too short to hold them is
-// truncated, and its points are suspect too: fixed-size records are checked by size, records with
-// lists are walked (a walk bounded by the file's size, as every count is checked first).
+// The elements after the point element are not kept either, but a file too short to hold them
+// is truncated, and its points are suspect too.
 void checkFollowingElements(const DecodeContext& context, int point_element, bool swap,
                             std::size_t pos) {
   const auto& elements = context.header.elements;
   for (std::size_t e = std::size_t(point_element) + 1; e < elements.size(); ++e) {
-    const PlyElement& element = elements[e];
-    std::size_t left = context.bytes.size() - std::min(pos, context.bytes.size());
-    std::size_t min_size = element.minimumRecordSize();
-    if (min_size > 0 && element.count > left / min_size) {
-      failTruncated(context, element, left / min_size, pos + (left / min_size + 1) * min_size);
-    }
-    if (!element.hasLists()) {
-      pos += element.count * min_size;
-      continue;
-    }
-    for (std::uint64_t r = 0; r < element.count; ++r) pos += walkRecord(context, element, swap, pos, r);
+    pos = skipElement(context, elements[e], swap, pos);
   }
 }
 
@@ -342,7 +354,8 @@ RangeStats decodeBinaryRange(const DecodeContext& context, const RecordRange& ra
     switch (plan.target) {
       case Target::X:
       case Target::Y:
-      case Target::Z: break;  // decoded together, below
+      case Target::Z:
+        break;  // decoded together, below
       case Target::Red:
       case Target::Green:
       case Target::Blue:
@@ -383,10 +396,12 @@ RangeStats decodeBinaryRange(const DecodeContext& context, const RecordRange& ra
       case Target::Intensity:
       case Target::Classification:
         for (std::size_t i = 0; i < n; ++i) {
-          storeAttribute(cloud, plan, first_index + i, loadAsDouble(plan.type, swap, src + i * stride));
+          storeAttribute(cloud, plan, first_index + i,
+                         loadAsDouble(plan.type, swap, src + i * stride));
         }
         break;
-      case Target::Skip: break;
+      case Target::Skip:
+        break;
     }
   }
   return stats;

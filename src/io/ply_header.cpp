@@ -9,7 +9,9 @@
 namespace parallax {
 namespace {
 
-bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+bool isBlank(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
+}
 
 std::vector<std::string_view> splitWords(std::string_view line) {
   std::vector<std::string_view> words;
@@ -83,8 +85,8 @@ class HeaderParser {
 
   void checkMagic() {
     std::string_view start = text_.substr(0, 4);
-    bool ok = start.size() >= 4 && start.substr(0, 3) == "ply" &&
-              (start[3] == '\n' || start[3] == '\r');
+    bool ok =
+        start.size() >= 4 && start.substr(0, 3) == "ply" && (start[3] == '\n' || start[3] == '\r');
     if (!ok) {
       line_number_ = 1;
       throw InputError({.file = file_,
@@ -129,8 +131,9 @@ class HeaderParser {
   }
 
   void parseFormat(const std::vector<std::string_view>& words) {
-    if (words.size() != 3) fail("'format <ascii|binary_little_endian|binary_big_endian> 1.0'",
-                                quoteInput(joined(words)));
+    if (words.size() != 3)
+      fail("'format <ascii|binary_little_endian|binary_big_endian> 1.0'",
+           quoteInput(joined(words)));
     if (words[1] == "ascii") {
       header_.format = PlyFormat::Ascii;
     } else if (words[1] == "binary_little_endian") {
@@ -143,8 +146,7 @@ class HeaderParser {
     // Every PLY writer in the wild writes 1.0; "1" is accepted too. Anything else might mean a
     // layout we do not know, so refuse rather than guess.
     if (words[2] != "1.0" && words[2] != "1") {
-      fail("format version 1.0", quoteInput(words[2]), "", "",
-           "PLY has only ever had version 1.0");
+      fail("format version 1.0", quoteInput(words[2]), "", "", "PLY has only ever had version 1.0");
     }
     header_.version = std::string(words[2]);
   }
@@ -222,9 +224,12 @@ class HeaderParser {
 
 std::string_view plyFormatName(PlyFormat format) {
   switch (format) {
-    case PlyFormat::Ascii: return "ascii";
-    case PlyFormat::BinaryLittleEndian: return "binary_little_endian";
-    case PlyFormat::BinaryBigEndian: return "binary_big_endian";
+    case PlyFormat::Ascii:
+      return "ascii";
+    case PlyFormat::BinaryLittleEndian:
+      return "binary_little_endian";
+    case PlyFormat::BinaryBigEndian:
+      return "binary_big_endian";
   }
   return "?";
 }

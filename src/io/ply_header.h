@@ -46,8 +46,8 @@ struct PlyHeader {
   std::vector<PlyElement> elements;
   std::vector<std::string> comments;
   std::vector<std::string> obj_info;
-  std::size_t body_offset = 0;     // first byte after "end_header\n"
-  std::uint64_t body_line = 0;     // 1-based line number of the body's first line (ascii)
+  std::size_t body_offset = 0;  // first byte after "end_header\n"
+  std::uint64_t body_line = 0;  // 1-based line number of the body's first line (ascii)
 
   // Index of the element holding the points: "vertex" (or "vertices", "point", "points"),
   // else -1.

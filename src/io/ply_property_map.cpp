@@ -118,15 +118,16 @@ PointLayout planPointLayout(const PlyElement& element, const std::string& file) 
   layout.has_color = seen[int(Target::Red)] || seen[int(Target::Green)] || seen[int(Target::Blue)];
   layout.has_alpha = seen[int(Target::Alpha)];
   if (layout.has_alpha) layout.has_color = true;
-  if (layout.has_color) layout.source.color = typeOf(seen[int(Target::Red)] ? Target::Red
-                                                     : seen[int(Target::Green)] ? Target::Green
-                                                     : seen[int(Target::Blue)] ? Target::Blue
-                                                                                : Target::Alpha);
+  if (layout.has_color)
+    layout.source.color = typeOf(seen[int(Target::Red)]     ? Target::Red
+                                 : seen[int(Target::Green)] ? Target::Green
+                                 : seen[int(Target::Blue)]  ? Target::Blue
+                                                            : Target::Alpha);
   layout.source.has_alpha = layout.has_alpha;
   layout.has_normals =
       seen[int(Target::NormalX)] || seen[int(Target::NormalY)] || seen[int(Target::NormalZ)];
   if (layout.has_normals) {
-    layout.source.normal = typeOf(seen[int(Target::NormalX)] ? Target::NormalX
+    layout.source.normal = typeOf(seen[int(Target::NormalX)]   ? Target::NormalX
                                   : seen[int(Target::NormalY)] ? Target::NormalY
                                                                : Target::NormalZ);
   }

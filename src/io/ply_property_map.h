@@ -2,9 +2,9 @@
 // columns, and how a record's values are stored there. Shared by the binary and ascii decoders.
 #pragma once
 
-#include <cstddef>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -15,9 +15,16 @@
 namespace parallax::ply {
 
 enum class Target : std::uint8_t {
-  X, Y, Z,
-  Red, Green, Blue, Alpha,
-  NormalX, NormalY, NormalZ,
+  X,
+  Y,
+  Z,
+  Red,
+  Green,
+  Blue,
+  Alpha,
+  NormalX,
+  NormalY,
+  NormalZ,
   Intensity,
   Classification,
   Scalar,  // an extra named column
@@ -80,10 +87,13 @@ inline std::uint8_t colorFrom8(double v) {
 inline std::uint8_t toColor(ScalarType source, double v) {
   switch (source) {
     case ScalarType::Float32:
-    case ScalarType::Float64: return colorFromUnit(v);
+    case ScalarType::Float64:
+      return colorFromUnit(v);
     case ScalarType::Int16:
-    case ScalarType::UInt16: return colorFrom16(v);
-    default: return colorFrom8(v);
+    case ScalarType::UInt16:
+      return colorFrom16(v);
+    default:
+      return colorFrom8(v);
   }
 }
 
@@ -102,36 +112,68 @@ inline float narrowToFloat(double v) {
 // binary path has typed loops). Positions are handled by the callers, which also quantize.
 // Inline: it runs once per value in the ascii parser.
 inline void storeAttribute(PointCloud& cloud, const PropertyPlan& plan, std::uint64_t index,
-                    double value) {
+                           double value) {
   switch (plan.target) {
-    case Target::Red: cloud.colors[index].r = toColor(plan.type, value); break;
-    case Target::Green: cloud.colors[index].g = toColor(plan.type, value); break;
-    case Target::Blue: cloud.colors[index].b = toColor(plan.type, value); break;
-    case Target::Alpha: cloud.colors[index].a = toColor(plan.type, value); break;
-    case Target::NormalX: cloud.normals[index].x = narrowToFloat(value); break;
-    case Target::NormalY: cloud.normals[index].y = narrowToFloat(value); break;
-    case Target::NormalZ: cloud.normals[index].z = narrowToFloat(value); break;
-    case Target::Intensity: cloud.intensity[index] = narrowToFloat(value); break;
+    case Target::Red:
+      cloud.colors[index].r = toColor(plan.type, value);
+      break;
+    case Target::Green:
+      cloud.colors[index].g = toColor(plan.type, value);
+      break;
+    case Target::Blue:
+      cloud.colors[index].b = toColor(plan.type, value);
+      break;
+    case Target::Alpha:
+      cloud.colors[index].a = toColor(plan.type, value);
+      break;
+    case Target::NormalX:
+      cloud.normals[index].x = narrowToFloat(value);
+      break;
+    case Target::NormalY:
+      cloud.normals[index].y = narrowToFloat(value);
+      break;
+    case Target::NormalZ:
+      cloud.normals[index].z = narrowToFloat(value);
+      break;
+    case Target::Intensity:
+      cloud.intensity[index] = narrowToFloat(value);
+      break;
     case Target::Classification:
       cloud.classification[index] = value > 0.0 ? std::uint8_t(std::min(value + 0.5, 255.0)) : 0;
       break;
     case Target::Scalar: {
       ScalarColumn& column = cloud.scalars[std::size_t(plan.scalar_index)];
       switch (plan.type) {
-        case ScalarType::Int8: column.as<std::int8_t>()[index] = std::int8_t(value); break;
-        case ScalarType::UInt8: column.as<std::uint8_t>()[index] = std::uint8_t(value); break;
-        case ScalarType::Int16: column.as<std::int16_t>()[index] = std::int16_t(value); break;
-        case ScalarType::UInt16: column.as<std::uint16_t>()[index] = std::uint16_t(value); break;
-        case ScalarType::Int32: column.as<std::int32_t>()[index] = std::int32_t(value); break;
-        case ScalarType::UInt32: column.as<std::uint32_t>()[index] = std::uint32_t(value); break;
-        case ScalarType::Float32: column.as<float>()[index] = narrowToFloat(value); break;
-        case ScalarType::Float64: column.as<double>()[index] = value; break;
+        case ScalarType::Int8:
+          column.as<std::int8_t>()[index] = std::int8_t(value);
+          break;
+        case ScalarType::UInt8:
+          column.as<std::uint8_t>()[index] = std::uint8_t(value);
+          break;
+        case ScalarType::Int16:
+          column.as<std::int16_t>()[index] = std::int16_t(value);
+          break;
+        case ScalarType::UInt16:
+          column.as<std::uint16_t>()[index] = std::uint16_t(value);
+          break;
+        case ScalarType::Int32:
+          column.as<std::int32_t>()[index] = std::int32_t(value);
+          break;
+        case ScalarType::UInt32:
+          column.as<std::uint32_t>()[index] = std::uint32_t(value);
+          break;
+        case ScalarType::Float32:
+          column.as<float>()[index] = narrowToFloat(value);
+          break;
+        case ScalarType::Float64:
+          column.as<double>()[index] = value;
+          break;
       }
       break;
     }
-    default: break;
+    default:
+      break;
   }
 }
-
 
 }  // namespace parallax::ply

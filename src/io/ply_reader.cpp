@@ -240,8 +240,8 @@ struct PlyChunkReader::State {
         layout(ply::planPointLayout(header.elements[std::size_t(point_element)], file.path())),
         context{file.bytes(), file.path(), header, layout, &file},
         ranges(ply::planRanges(context, kRangeBytes, true)),
-        quantization(chooseQuantization(ply::sampleBounds(context, ranges, kSamples),
-                                        kSampleMargin)) {
+        quantization(
+            chooseQuantization(ply::sampleBounds(context, ranges, kSamples), kSampleMargin)) {
     if (!ranges.empty()) cursor_byte = ranges.front().begin;
   }
 
@@ -264,11 +264,15 @@ PlyChunkReader::PlyChunkReader(const std::filesystem::path& path)
 PlyChunkReader::~PlyChunkReader() = default;
 PlyChunkReader::PlyChunkReader(PlyChunkReader&&) noexcept = default;
 
-const PlyHeader& PlyChunkReader::header() const { return state_->header; }
+const PlyHeader& PlyChunkReader::header() const {
+  return state_->header;
+}
 std::uint64_t PlyChunkReader::pointCount() const {
   return state_->header.elements[std::size_t(state_->point_element)].count;
 }
-const Quantization& PlyChunkReader::quantization() const { return state_->quantization; }
+const Quantization& PlyChunkReader::quantization() const {
+  return state_->quantization;
+}
 void PlyChunkReader::setQuantization(const Quantization& quantization) {
   state_->quantization = quantization;
 }
