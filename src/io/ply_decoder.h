@@ -23,7 +23,12 @@ struct DecodeContext {
   // When the bytes are a mapped file: pages read are released as passes go (see MappedFile).
   const MappedFile* mapping = nullptr;
 
+  // Releases [begin, end) and the 2 MiB before it: where the page cache holds a file in large
+  // folios, a fault maps the whole folio, behind the reader too, so pages released by the range
+  // before come back mapped.
   void releaseRead(std::size_t begin, std::size_t end) const {
+    constexpr std::size_t kLargeFolio = 2 << 20;
+    begin = begin > kLargeFolio ? begin - kLargeFolio : 0;
     if (mapping != nullptr && end > begin) mapping->releaseRead(begin, end - begin);
   }
 };
