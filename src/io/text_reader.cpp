@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "io/decimal_parse.h"
 #include "io/las_reader.h"
 #include "io/mapped_file.h"
 
@@ -375,43 +376,6 @@ bool endsNumber(const char* p, const char* end, char delimiter) {
   return p == end || *p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == delimiter;
 }
 
-// Clinger's fast path (W. D. Clinger, "How to read floating point numbers accurately", PLDI
-// 1990): a decimal of at most 15 digits has an exact double mantissa, and 10^d (d <= 22) is an
-// exact double, so one IEEE division gives the correctly rounded value, the same bits fast_float
-// returns. Plain decimals (most point files) take this path; anything else (exponents, more
-// digits, inf, nan) returns nullptr and goes to fast_float. `decimals` is the count after the
-// point (-1 without one).
-const char* parseSimpleDecimal(const char* p, const char* end, double& value, int& decimals) {
-  static constexpr double kPowers[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                       1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
-  bool negative = false;
-  if (p < end && (*p == '-' || *p == '+')) {
-    negative = *p == '-';
-    ++p;
-  }
-  std::uint64_t mantissa = 0;
-  int digits = 0;
-  decimals = -1;
-  for (; p < end; ++p) {
-    unsigned d = unsigned(*p) - '0';
-    if (d <= 9) {
-      mantissa = mantissa * 10 + d;
-      ++digits;
-      if (decimals >= 0) ++decimals;
-    } else if (*p == '.' && decimals < 0) {
-      decimals = 0;
-    } else {
-      break;
-    }
-  }
-  if (digits == 0 || digits > 15) return nullptr;
-  if (p < end && (*p == 'e' || *p == 'E')) return nullptr;
-  double v = double(mantissa);
-  if (decimals > 0) v /= kPowers[decimals];
-  value = negative ? -v : v;
-  return p;
-}
-
 // The token starting at `p`, for messages: up to the next blank, delimiter or line end.
 std::string_view tokenAt(const char* p, const char* end, char delimiter) {
   const char* e = p;
@@ -471,7 +435,7 @@ void parseBlock(std::string_view text, const Layout& layout, const std::string& 
         } else {
           double v;
           int decimals = -1;
-          const char* stop = parseSimpleDecimal(q, end, v, decimals);
+          const char* stop = decimal::parseSimpleDecimal(q, end, v, decimals);
           if (stop == nullptr) {
             if (q < end && *q == '+') ++q;
             auto result = fast_float::from_chars(q, end, v);
