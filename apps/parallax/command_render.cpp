@@ -127,7 +127,7 @@ Command addRenderCommand(CLI::App& app) {
   auto options = std::make_shared<RenderCommandOptions>();
   Command command;
   CLI::App* sub = app.add_subcommand("render", "Render a point file to a PNG, headless");
-  sub->add_option("input", options->input, "Point file (PLY)")->required();
+  sub->add_option("input", options->input, "Point file (PLY, LAS or text)")->required();
   sub->add_option("-o,--output", options->output,
                   "Output PNG (with --path: a pattern such as DIR/frame_%04d.png)")
       ->required();

@@ -41,7 +41,8 @@ Command addViewCommand(CLI::App& app) {
   auto options = std::make_shared<ViewCommandOptions>();
   Command command;
   CLI::App* sub = app.add_subcommand("view", "Open a point file in a window (H in it: keys)");
-  sub->add_option("input", options->input, "Point file (PLY); or drop one on the window");
+  sub->add_option("input", options->input,
+                  "Point file (PLY, LAS or text); or drop one on the window");
   sub->add_option("--width", options->width, "Window width")->capture_default_str();
   sub->add_option("--height", options->height, "Window height")->capture_default_str();
   sub->add_flag("--no-vsync", options->no_vsync, "Start with vsync off (V toggles it)");
