@@ -4,6 +4,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include <cstring>
+#include <limits>
 
 namespace parallax {
 
@@ -27,6 +28,35 @@ double ScalarColumn::valueAsDouble(std::size_t i) const {
       return as<double>()[i];
   }
   return 0.0;
+}
+
+void ScalarColumn::setFromDouble(std::size_t i, double value) {
+  switch (type) {
+    case ScalarType::Int8:
+      as<std::int8_t>()[i] = roundToInteger<std::int8_t>(value);
+      break;
+    case ScalarType::UInt8:
+      as<std::uint8_t>()[i] = roundToInteger<std::uint8_t>(value);
+      break;
+    case ScalarType::Int16:
+      as<std::int16_t>()[i] = roundToInteger<std::int16_t>(value);
+      break;
+    case ScalarType::UInt16:
+      as<std::uint16_t>()[i] = roundToInteger<std::uint16_t>(value);
+      break;
+    case ScalarType::Int32:
+      as<std::int32_t>()[i] = roundToInteger<std::int32_t>(value);
+      break;
+    case ScalarType::UInt32:
+      as<std::uint32_t>()[i] = roundToInteger<std::uint32_t>(value);
+      break;
+    case ScalarType::Float32:
+      as<float>()[i] = narrowToFloat(value);
+      break;
+    case ScalarType::Float64:
+      as<double>()[i] = value;
+      break;
+  }
 }
 
 std::vector<std::string> PointCloud::attributeNames() const {

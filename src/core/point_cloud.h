@@ -48,6 +48,9 @@ struct ScalarColumn {
   }
   // Value of point i converted to double (for statistics and display).
   double valueAsDouble(std::size_t i) const;
+  // Stores `value` as point i in the column's type: integers rounded half away from zero and
+  // clamped to the type's range (NaN gives its minimum), float narrowed as IEEE does it.
+  void setFromDouble(std::size_t i, double value);
 };
 
 // How the source stored the attributes the model normalises (positions to int32, colours to

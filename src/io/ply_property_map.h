@@ -97,17 +97,6 @@ inline std::uint8_t toColor(ScalarType source, double v) {
   }
 }
 
-// double -> float as IEEE rounding does it, without undefined behaviour: values from FLT_MAX up
-// to the midpoint towards 2^128 round to FLT_MAX, values beyond it to infinity.
-inline float narrowToFloat(double v) {
-  constexpr double kMax = 0x1.fffffep127, kOverflow = 0x1.ffffffp127;
-  if (v >= kOverflow) return __builtin_inff();
-  if (v <= -kOverflow) return -__builtin_inff();
-  if (v > kMax) return float(kMax);
-  if (v < -kMax) return -float(kMax);
-  return float(v);
-}
-
 // Stores one non-position value of point `index` (ascii path and slow binary path; the fast
 // binary path has typed loops). Positions are handled by the callers, which also quantize.
 // Inline: it runs once per value in the ascii parser.
@@ -141,36 +130,9 @@ inline void storeAttribute(PointCloud& cloud, const PropertyPlan& plan, std::uin
     case Target::Classification:
       cloud.classification[index] = value > 0.0 ? std::uint8_t(std::min(value + 0.5, 255.0)) : 0;
       break;
-    case Target::Scalar: {
-      ScalarColumn& column = cloud.scalars[std::size_t(plan.scalar_index)];
-      switch (plan.type) {
-        case ScalarType::Int8:
-          column.as<std::int8_t>()[index] = std::int8_t(value);
-          break;
-        case ScalarType::UInt8:
-          column.as<std::uint8_t>()[index] = std::uint8_t(value);
-          break;
-        case ScalarType::Int16:
-          column.as<std::int16_t>()[index] = std::int16_t(value);
-          break;
-        case ScalarType::UInt16:
-          column.as<std::uint16_t>()[index] = std::uint16_t(value);
-          break;
-        case ScalarType::Int32:
-          column.as<std::int32_t>()[index] = std::int32_t(value);
-          break;
-        case ScalarType::UInt32:
-          column.as<std::uint32_t>()[index] = std::uint32_t(value);
-          break;
-        case ScalarType::Float32:
-          column.as<float>()[index] = narrowToFloat(value);
-          break;
-        case ScalarType::Float64:
-          column.as<double>()[index] = value;
-          break;
-      }
+    case Target::Scalar:
+      cloud.scalars[std::size_t(plan.scalar_index)].setFromDouble(index, value);
       break;
-    }
     default:
       break;
   }

@@ -331,47 +331,6 @@ bool skippedLine(const Line& line, const Layout& layout) {
   return isInteger(std::string_view(b, std::size_t(e - b)));
 }
 
-template <class T>
-T clampRound(double v) {
-  if constexpr (std::is_floating_point_v<T>) {
-    return T(v);
-  } else {
-    // Half away from zero by truncation: no libm call in the hot loop.
-    if (!(v >= double(std::numeric_limits<T>::min()))) return std::numeric_limits<T>::min();
-    if (v >= double(std::numeric_limits<T>::max())) return std::numeric_limits<T>::max();
-    return T(v + (v >= 0 ? 0.5 : -0.5));
-  }
-}
-
-void storeScalar(ScalarColumn& column, std::size_t i, double v) {
-  switch (column.type) {
-    case ScalarType::Int8:
-      column.as<std::int8_t>()[i] = clampRound<std::int8_t>(v);
-      break;
-    case ScalarType::UInt8:
-      column.as<std::uint8_t>()[i] = clampRound<std::uint8_t>(v);
-      break;
-    case ScalarType::Int16:
-      column.as<std::int16_t>()[i] = clampRound<std::int16_t>(v);
-      break;
-    case ScalarType::UInt16:
-      column.as<std::uint16_t>()[i] = clampRound<std::uint16_t>(v);
-      break;
-    case ScalarType::Int32:
-      column.as<std::int32_t>()[i] = clampRound<std::int32_t>(v);
-      break;
-    case ScalarType::UInt32:
-      column.as<std::uint32_t>()[i] = clampRound<std::uint32_t>(v);
-      break;
-    case ScalarType::Float32:
-      column.as<float>()[i] = float(v);
-      break;
-    case ScalarType::Float64:
-      column.as<double>()[i] = v;
-      break;
-  }
-}
-
 bool endsNumber(const char* p, const char* end, char delimiter) {
   return p == end || *p == ' ' || *p == '\t' || *p == '\r' || *p == '\n' || *p == delimiter;
 }
@@ -466,16 +425,16 @@ void parseBlock(std::string_view text, const Layout& layout, const std::string& 
               break;
             }
             case Target::R:
-              colors[point].r = clampRound<std::uint8_t>(v);
+              colors[point].r = roundToInteger<std::uint8_t>(v);
               break;
             case Target::G:
-              colors[point].g = clampRound<std::uint8_t>(v);
+              colors[point].g = roundToInteger<std::uint8_t>(v);
               break;
             case Target::B:
-              colors[point].b = clampRound<std::uint8_t>(v);
+              colors[point].b = roundToInteger<std::uint8_t>(v);
               break;
             case Target::A:
-              colors[point].a = clampRound<std::uint8_t>(v);
+              colors[point].a = roundToInteger<std::uint8_t>(v);
               break;
             case Target::Nx:
               normals[point].x = float(v);
@@ -490,10 +449,10 @@ void parseBlock(std::string_view text, const Layout& layout, const std::string& 
               intensity[point] = float(v);
               break;
             case Target::Classification:
-              classification[point] = clampRound<std::uint8_t>(v);
+              classification[point] = roundToInteger<std::uint8_t>(v);
               break;
             case Target::Scalar:
-              storeScalar(cloud.scalars[spec.scalar], point, v);
+              cloud.scalars[spec.scalar].setFromDouble(point, v);
               break;
             case Target::Skip:
               break;
