@@ -5,6 +5,7 @@
 // endian and as ascii. The reference allocates a new buffer each iteration and copies the bytes
 // into it, so it pays the same first-touch page faults a reader pays for its columns; a reader
 // cannot beat it by much, and a ratio near 1 means the decode is as cheap as moving the bytes.
+// AsciiFloats times the float parser of the ascii fast path alone, beside std::from_chars.
 //
 //   bench_io                                  all benchmarks
 //   bench_io --benchmark_filter=Binary        one family
@@ -27,6 +28,7 @@
 
 #include "core/point_cloud.h"
 #include "io/ply_reader.h"
+#include "io/short_decimal.h"
 
 namespace {
 
@@ -161,6 +163,66 @@ void BM_Ascii27_Read(benchmark::State& state) {
 void BM_Ascii27_CopyReference(benchmark::State& state) {
   copyBytes(state, asciiInput(), pointCount(1'000'000));
 }
+
+// Number parsing alone, one thread: the ascii fast path's scanner (io/short_decimal.h) against
+// std::from_chars (the standard library's exact parser), over the float fields of the ascii
+// input, separated by single spaces as the reader sees them.
+const std::string& floatFields() {
+  static const std::string text = [] {
+    std::string fields;
+    std::mt19937 random(7);
+    char digits[32];
+    for (std::size_t i = 0; i < pointCount(1'000'000); ++i) {
+      const PhotoPoint point = makePoint(random);
+      for (float value : {point.position[0], point.position[1], point.position[2], point.normal[0],
+                          point.normal[1], point.normal[2]}) {
+        fields.append(digits, std::to_chars(digits, digits + sizeof digits, value).ptr);
+        fields.push_back(' ');
+      }
+    }
+    fields.append(std::size_t(parallax::decimal::kShortNumberReadAhead), ' ');  // read-ahead
+    return fields;
+  }();
+  return text;
+}
+
+template <class Parse>
+void parseFloatFields(benchmark::State& state, Parse parse) {
+  const std::string& text = floatFields();
+  const char* const last = text.data() + text.size() - parallax::decimal::kShortNumberReadAhead;
+  std::size_t count = 0;
+  for (auto _ : state) {
+    double sum = 0.0;
+    count = 0;
+    for (const char* p = text.data(); p < last; ++count) {
+      float value = 0.0f;
+      p = parse(p, last, value) + 1;
+      sum += value;
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  if (count != 6 * pointCount(1'000'000)) state.SkipWithError("a field was not parsed");
+  setRates(state, text.size(), count);
+}
+
+void BM_AsciiFloats_ShortDecimal(benchmark::State& state) {
+  parseFloatFields(state, [](const char* p, const char* last, float& value) {
+    parallax::decimal::ShortDecimal number;
+    const char* stop = parallax::decimal::scanShortDecimal(p, number);
+    if (stop != nullptr && *stop == ' ' && parallax::decimal::nearestFloat(number, value)) {
+      return stop;
+    }
+    return std::from_chars(p, last, value).ptr;  // declined (exponents, midpoints): exact parser
+  });
+}
+void BM_AsciiFloats_FromCharsReference(benchmark::State& state) {
+  parseFloatFields(state, [](const char* p, const char* last, float& value) {
+    return std::from_chars(p, last, value).ptr;
+  });
+}
+
+BENCHMARK(BM_AsciiFloats_FromCharsReference)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AsciiFloats_ShortDecimal)->Unit(benchmark::kMillisecond);
 
 // Arg 1: parallel (all cores, TBB); 0: the calling thread only. Real time: the work is threaded.
 BENCHMARK(BM_BinaryLe27_CopyReference)->Unit(benchmark::kMillisecond)->UseRealTime();

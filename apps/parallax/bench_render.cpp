@@ -10,12 +10,20 @@
 //              (--color rgb, fixed 1-pixel points), frustum culling, and the copy into the target.
 // Both are measured with the points in file (random) order and in Morton order, since llvmpipe's
 // tile cache makes the order matter more than anything the shader does.
+//
+// `--stereo MODE` (repeatable): the renderer on the Morton-ordered cloud in mono and in that
+// stereo mode, in the same run, at the same output size (--width x --height is the whole output,
+// as in `parallax render`), and the ratio stereo / mono: what stereo costs. Beside them, the
+// mono frame drawn twice in a row: what a second eye's rasterization alone costs, so that
+// stereo / (2 x mono) above 1 is work the stereo path adds.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <glm/gtc/type_ptr.hpp>
 #include <memory>
 #include <random>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "commands.h"
@@ -24,6 +32,7 @@
 #include "render/point_buffers.h"
 #include "render/renderer.h"
 #include "render/shader_program.h"
+#include "render/stereo.h"
 
 namespace parallax::cli {
 namespace {
@@ -32,6 +41,7 @@ struct RenderBenchOptions {
   std::uint64_t points = 4'000'000;
   int width = 1920, height = 1080;
   int repeat = 5;
+  std::vector<std::string> stereo;  // modes to compare with mono
 };
 
 using Clock = std::chrono::steady_clock;
@@ -160,7 +170,66 @@ double medianSeconds(int repeat, Draw draw) {
   return times[times.size() / 2];
 }
 
+// Mono and each stereo mode, interleaved frame by frame so that a change in the machine's load
+// (other processes on a shared machine) hits both sides alike.
+void benchStereo(const RenderBenchOptions& o, const PointCloud& cloud, const Camera& camera,
+                 const RenderSettings& settings, const std::vector<StereoMode>& modes) {
+  GpuPointCloud gpu(cloud);
+  const DrawSet draw_set = gpu.drawSet();
+  RenderTarget target(o.width, o.height);
+  // One renderer each: the composed modes' canvas is twice as wide, and one renderer alternating
+  // between the sizes would reallocate its framebuffers every frame.
+  Renderer mono_renderer, stereo_renderer;
+  for (const StereoMode mode : modes) {
+    StereoSettings stereo;
+    stereo.mode = mode;
+    const StereoFrame mono = stereoFrame(camera, {}, o.width, o.height);
+    const StereoFrame frame = stereoFrame(camera, stereo, o.width, o.height);
+    std::vector<double> mono_times, twice_times, stereo_times;
+    auto timed = [&](const StereoFrame& f, int frames) {
+      Renderer& renderer = f.views.size() == 1 ? mono_renderer : stereo_renderer;
+      const auto start = Clock::now();
+      for (int i = 0; i < frames; ++i) {
+        renderer.render(draw_set, f, settings, target.framebuffer(), o.width, o.height);
+      }
+      glFinish();
+      return std::chrono::duration<double>(Clock::now() - start).count();
+    };
+    timed(mono, 1), timed(frame, 1);  // warm-up: shaders, framebuffers of both sizes
+    for (int i = 0; i < o.repeat; ++i) {
+      mono_times.push_back(timed(mono, 1));
+      twice_times.push_back(timed(mono, 2));
+      stereo_times.push_back(timed(frame, 1));
+    }
+    const auto median = [](std::vector<double>& times) {
+      std::sort(times.begin(), times.end());
+      return times[times.size() / 2];
+    };
+    const double mono_s = median(mono_times), twice_s = median(twice_times);
+    const double stereo_s = median(stereo_times);
+    std::printf(
+        "stereo %-15s mono %6.1f ms  2 x mono %6.1f ms  stereo %6.1f ms  stereo / mono %.2f  "
+        "stereo / (2 x mono) %.2f\n",
+        std::string(stereoModeName(mode)).c_str(), mono_s * 1e3, twice_s * 1e3, stereo_s * 1e3,
+        stereo_s / mono_s, stereo_s / twice_s);
+  }
+}
+
 int runBenchRender(const RenderBenchOptions& o) {
+  std::vector<StereoMode> modes;
+  for (const std::string& name : o.stereo) {
+    const auto mode = parseStereoMode(name);
+    if (!mode || *mode == StereoMode::Mono) {
+      throw std::invalid_argument("--stereo: '" + name + "' is not a stereo mode (use " +
+                                  stereoModeNames() + ", not mono)");
+    }
+    if (*mode == StereoMode::QuadBuffer) {
+      std::printf("quad-buffer needs a stereo window, headless has none: measuring sbs instead\n");
+      modes.push_back(StereoMode::SideBySide);
+    } else {
+      modes.push_back(*mode);
+    }
+  }
   auto context = GlContext::createHeadless();
   std::printf("bench render: %llu random points, %dx%d, median of %d frames, on %s\n",
               static_cast<unsigned long long>(o.points), o.width, o.height, o.repeat,
@@ -200,6 +269,7 @@ int runBenchRender(const RenderBenchOptions& o) {
         sorted ? "morton order" : "random order", mpoints / bare_s, bare_s * 1e3, mpoints / ours_s,
         ours_s * 1e3, bare_s / ours_s);
   }
+  if (!modes.empty()) benchStereo(o, cloud, camera, settings, modes);
   return 0;
 }
 
@@ -222,6 +292,9 @@ Command addBenchRenderCommand(CLI::App& bench) {
   command.subcommand->add_option("--repeat,-n", options->repeat, "Timed frames (median shown)")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  command.subcommand->add_option(
+      "--stereo", options->stereo,
+      "Also compare mono with this stereo mode (" + stereoModeNames() + "; repeatable)");
   command.run = [options] { return runBenchRender(*options); };
   return command;
 }

@@ -173,6 +173,7 @@ Command addBenchCommand(CLI::App& app) {
   auto modes = std::make_shared<std::vector<Command>>(std::vector<Command>{
       addBenchLoadCommand(*command.subcommand),
       addBenchRenderCommand(*command.subcommand),
+      addBenchConvertCommand(*command.subcommand),
   });
   command.run = [modes] {
     for (const auto& mode : *modes) {

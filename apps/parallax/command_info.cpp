@@ -9,6 +9,12 @@
 //   quantization {scale, offset}, attributes (PointCloud::attributeNames order),
 //   attribute_ranges {name: {min, max}}, load_seconds, mb_per_second, million_points_per_second.
 // Non-finite numbers (the bounds of an empty cloud) are JSON null.
+//
+// A Potree 2.0 directory (or its metadata.json) is described without loading its points: the
+// same keys, with format "potree", format_details from metadata.json plus the node count and
+// depth of the whole hierarchy (every chunk is read, which also checks it), attribute_ranges
+// as metadata.json declares them (x y z from the position's, the others under their Potree
+// names in the file's units), and load_* for opening the directory and reading its hierarchy.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
@@ -36,6 +42,7 @@
 #include "io/las_header.h"
 #include "io/ply_header.h"
 #include "io/point_file.h"
+#include "lod/potree_reader.h"
 
 namespace parallax::cli {
 namespace {
@@ -377,6 +384,105 @@ void printText(const std::filesystem::path& path, const FormatDescription& forma
               load.megabytesPerSecond(), load.millionPointsPerSecond(cloud.count));
 }
 
+// ---------------------------------------------------------------------------------------------
+// Potree 2.0 directories.
+
+Json potreeRange(const std::vector<double>& values) {
+  if (values.empty()) return nullptr;
+  if (values.size() == 1) return finiteOrNull(values[0]);
+  Json out = Json::array();
+  for (double v : values) out.push_back(finiteOrNull(v));
+  return out;
+}
+
+int runPotreeInfo(const std::filesystem::path& path, bool json) {
+  const auto start = std::chrono::steady_clock::now();
+  std::unique_ptr<Octree> octree = openPotree(path);
+  // Every chunk, so that the node count and depth are the whole tree's (expanding appends).
+  for (std::size_t i = 0; i < octree->nodes().size(); ++i) {
+    if (octree->nodes()[i].hierarchy_pending) octree->expandHierarchy(std::int32_t(i));
+  }
+  LoadStats load;
+  load.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const PotreeMetadata& metadata = *potreeMetadata(*octree);
+  const OctreeInfo& info = octree->info();
+  const std::filesystem::path dir = std::filesystem::is_directory(path) ? path : path.parent_path();
+  for (const char* name : {"metadata.json", "hierarchy.bin", "octree.bin"}) {
+    std::error_code error;
+    const auto size = std::filesystem::file_size(dir / name, error);
+    if (!error) load.file_bytes += size;
+  }
+  int depth = 0;
+  for (const auto& node : octree->nodes()) depth = std::max(depth, node.level);
+  const std::size_t node_count = octree->nodes().size();
+
+  Json attributes = Json::array();
+  Json ranges = Json::object();
+  const char* const kAxes[3] = {"x", "y", "z"};
+  for (int axis = 0; axis < 3; ++axis) {
+    ranges[kAxes[axis]] = {{"min", finiteOrNull(info.bounds.min[axis])},
+                           {"max", finiteOrNull(info.bounds.max[axis])}};
+  }
+  for (const auto& a : metadata.attributes) {
+    attributes.push_back({{"name", a.name},
+                          {"type", std::string(potreeTypeName(a.type))},
+                          {"elements", a.num_elements}});
+    if (a.name != "position")
+      ranges[a.name] = {{"min", potreeRange(a.min)}, {"max", potreeRange(a.max)}};
+  }
+  Json details = {{"version", metadata.version},
+                  {"encoding", metadata.encoding},
+                  {"record_bytes", metadata.record_size},
+                  {"nodes", node_count},
+                  {"depth", depth},
+                  {"declared_depth", metadata.hierarchy.depth},
+                  {"spacing", metadata.spacing},
+                  {"cube", {{"min", triple(info.cube.min)}, {"max", triple(info.cube.max)}}},
+                  {"potree_attributes", attributes}};
+  if (json) {
+    Json out = {
+        {"file", path.string()},
+        {"file_bytes", load.file_bytes},
+        {"format", "potree"},
+        {"format_details", details},
+        {"elements", nullptr},
+        {"points", info.point_count},
+        {"bounds", {{"min", triple(info.bounds.min)}, {"max", triple(info.bounds.max)}}},
+        {"quantization",
+         {{"scale", triple(info.quantization.scale)},
+          {"offset", triple(info.quantization.offset)}}},
+        {"attributes", info.attributes},
+        {"attribute_ranges", ranges},
+        {"load_seconds", load.seconds},
+        {"mb_per_second", load.megabytesPerSecond()},
+        {"million_points_per_second", load.millionPointsPerSecond(info.point_count)},
+    };
+    std::puts(out.dump(2).c_str());
+    return 0;
+  }
+  std::printf("file          %s (%llu bytes, %.1f MB)\n", path.c_str(),
+              static_cast<unsigned long long>(load.file_bytes), load.file_bytes / 1e6);
+  std::printf("format        Potree %s, %s encoding, %zu-byte records\n", metadata.version.c_str(),
+              metadata.encoding.c_str(), metadata.record_size);
+  std::printf("  nodes %zu (depth %d; metadata says %d), root spacing %.10g\n", node_count, depth,
+              metadata.hierarchy.depth, metadata.spacing);
+  for (const auto& a : metadata.attributes) {
+    std::printf("  attribute %s %s x %d\n", a.name.c_str(),
+                std::string(potreeTypeName(a.type)).c_str(), a.num_elements);
+  }
+  std::printf("points        %llu\n", static_cast<unsigned long long>(info.point_count));
+  std::printf("bounds        min %s\n", formatTriple(info.bounds.min).c_str());
+  std::printf("              max %s\n", formatTriple(info.bounds.max).c_str());
+  std::printf("cube          min %s\n", formatTriple(info.cube.min).c_str());
+  std::printf("              max %s\n", formatTriple(info.cube.max).c_str());
+  std::printf("quantization  scale %s offset %s\n", formatTriple(info.quantization.scale).c_str(),
+              formatTriple(info.quantization.offset).c_str());
+  std::printf("attributes   ");
+  for (const auto& name : info.attributes) std::printf(" %s", name.c_str());
+  std::printf("\nopen          %.3f s (metadata and the whole hierarchy)\n", load.seconds);
+  return 0;
+}
+
 struct InfoOptions {
   std::string file;
   bool json = false;
@@ -384,6 +490,7 @@ struct InfoOptions {
 
 int runInfo(const InfoOptions& options) {
   const std::filesystem::path path = options.file;
+  if (isPotreeDirectory(path)) return runPotreeInfo(path, options.json);
   // Detection opens the file: a missing or unreadable file is an InputError naming it.
   const PointFormat format = detectPointFormat(path);
 
@@ -423,7 +530,8 @@ Command addInfoCommand(CLI::App& app) {
                          "Describe a point file: format, points, bounds, attribute "
                          "ranges, load speed");
   command.subcommand
-      ->add_option("file", options->file, "Point file (format detected from its content)")
+      ->add_option("file", options->file,
+                   "Point file (format detected from its content) or Potree 2.0 directory")
       ->required();
   command.subcommand->add_flag("--json", options->json,
                                "Print one JSON object (points, bounds, attributes, ...)");

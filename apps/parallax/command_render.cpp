@@ -1,6 +1,9 @@
 // `parallax render INPUT -o OUT.png`: one picture of a point file, headless (EGL), or with
 // `--path FILE.json --frames N -o DIR/frame_%04d.png` a frame sequence along a camera path.
 //
+// With --stereo MODE, each picture is a stereo frame (render/stereo.h) of the whole --width x
+// --height. quad-buffer needs a stereo window: headless, it falls back to sbs with a message.
+//
 // Prints the time from start to PNG broken down into load, context, upload, draw and write, on
 // stderr (stdout stays free for scripts).
 #include <cctype>
@@ -19,6 +22,7 @@
 #include "render/image_file.h"
 #include "render/point_buffers.h"
 #include "render/renderer.h"
+#include "render/stereo.h"
 #include "render_options.h"
 
 namespace parallax::cli {
@@ -77,6 +81,13 @@ int runRender(const RenderCommandOptions& o) {
   cloud = PointCloud();  // the GPU holds the points now
 
   const RenderSettings settings = renderSettingsFrom(o.render, gpu.typicalSpacing());
+  StereoSettings stereo = stereoSettingsFrom(o.render);
+  if (stereo.mode == StereoMode::QuadBuffer) {
+    std::fprintf(stderr,
+                 "parallax render: quad-buffer stereo needs a window with a stereo (GL_STEREO) "
+                 "visual, and a headless render has none: falling back to sbs (side by side)\n");
+    stereo.mode = StereoMode::SideBySide;
+  }
   const double aspect = double(o.width) / o.height;
   std::vector<Camera> cameras;
   std::vector<std::string> outputs;
@@ -97,12 +108,12 @@ int runRender(const RenderCommandOptions& o) {
   RenderTarget target(o.width, o.height);
   double draw_s = 0, write_s = 0;
   std::uint64_t drawn = 0;
+  const DrawSet draw_set = gpu.drawSet();
   for (std::size_t i = 0; i < cameras.size(); ++i) {
     phase = Clock::now();
-    const View view{cameras[i], {0, 0, o.width, o.height}};
-    drawn =
-        renderer.render(gpu, std::span(&view, 1), settings, target.framebuffer(), o.width, o.height)
-            .points_drawn;
+    const StereoFrame frame = stereoFrame(cameras[i], stereo, o.width, o.height);
+    drawn = renderer.render(draw_set, frame, settings, target.framebuffer(), o.width, o.height)
+                .points_drawn;
     glFinish();
     draw_s += secondsSince(phase);
     phase = Clock::now();
@@ -110,6 +121,12 @@ int runRender(const RenderCommandOptions& o) {
     write_s += secondsSince(phase);
   }
   const double total_s = secondsSince(start);
+  if (stereo.mode != StereoMode::Mono) {
+    const StereoSettings used = resolvedStereo(stereo, cameras.front());
+    std::fprintf(stderr, "parallax render: stereo %s, eye separation %g, convergence %g%s\n",
+                 std::string(stereoModeName(used.mode)).c_str(), used.eye_separation,
+                 used.convergence, used.swap_eyes ? ", eyes swapped" : "");
+  }
   std::fprintf(stderr,
                "parallax render: %llu points (%llu drawn), %zu frame(s) %dx%d on %s (%s)\n"
                "  load %.3f s, context %.3f s, upload %.3f s, draw %.3f s, write %.3f s, "

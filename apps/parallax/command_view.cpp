@@ -28,6 +28,7 @@ int runView(const ViewCommandOptions& o) {
   // World size and spacing are only known once the cloud is loaded: 0 asks the viewer to choose.
   viewer.settings = renderSettingsFrom(o.render, 0.0);
   if (o.render.world_size <= 0) viewer.settings.world_size = 0.0f;
+  viewer.stereo = stereoSettingsFrom(o.render);
   const RenderOptions render = o.render;
   viewer.initial_camera = [render](const Bounds3& bounds, double aspect) {
     return cameraFrom(render, bounds, aspect);

@@ -23,5 +23,7 @@ Command addRenderCommand(CLI::App& app);
 Command addViewCommand(CLI::App& app);
 // `bench render` (bench_render.cpp), registered by addBenchCommand.
 Command addBenchRenderCommand(CLI::App& bench);
+// `bench convert` (command_bench_convert.cpp), registered by addBenchCommand.
+Command addBenchConvertCommand(CLI::App& bench);
 
 }  // namespace parallax::cli

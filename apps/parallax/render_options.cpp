@@ -71,6 +71,32 @@ void addRenderOptions(CLI::App& command, RenderOptions& o) {
       ->check(CLI::Range(1.0, 179.0));
   command.add_flag("--ortho", o.orthographic, "Orthographic projection");
   command.add_option("--camera", o.camera_file, "Camera JSON file (as the viewer saves it)");
+  command.add_option("--stereo", o.stereo, "Stereo display mode: " + stereoModeNames())
+      ->capture_default_str();
+  command
+      .add_option("--eye-separation", o.eye_separation,
+                  "Stereo eye separation in scene units (default: convergence / 30)")
+      ->check(CLI::NonNegativeNumber);
+  command
+      .add_option("--convergence", o.convergence,
+                  "Stereo convergence (zero parallax) distance in scene units (default: the "
+                  "distance to the pivot, the cloud's centre)")
+      ->check(CLI::NonNegativeNumber);
+  command.add_flag("--swap-eyes", o.swap_eyes, "Swap the left and right eyes' pictures");
+}
+
+StereoSettings stereoSettingsFrom(const RenderOptions& o) {
+  const auto mode = parseStereoMode(o.stereo);
+  if (!mode) {
+    throw std::invalid_argument("--stereo: unknown mode '" + o.stereo + "' (use " +
+                                stereoModeNames() + ")");
+  }
+  StereoSettings stereo;
+  stereo.mode = *mode;
+  stereo.eye_separation = o.eye_separation;
+  stereo.convergence = o.convergence;
+  stereo.swap_eyes = o.swap_eyes;
+  return stereo;
 }
 
 RenderSettings renderSettingsFrom(const RenderOptions& o, double typical_spacing) {

@@ -9,6 +9,7 @@
 
 #include "render/camera.h"
 #include "render/render_settings.h"
+#include "render/stereo.h"
 
 namespace parallax::cli {
 
@@ -30,15 +31,24 @@ struct RenderOptions {
   double fov = 60.0;
   bool orthographic = false;
   std::string camera_file;
+  std::string stereo = "mono";
+  double eye_separation = 0.0;  // 0: automatic (convergence / 30)
+  double convergence = 0.0;     // 0: automatic (the pivot's depth)
+  bool swap_eyes = false;
 };
 
 // Registers --color, --point-size, --size-mode, --shape, --world-size, --adaptive-scale,
 // --uniform-color, --background, --lighting, --edl, --edl-strength, --edl-radius, --msaa, --eye,
-// --target, --up, --fov, --ortho, --camera.
+// --target, --up, --fov, --ortho, --camera, --stereo, --eye-separation, --convergence,
+// --swap-eyes.
 void addRenderOptions(CLI::App& command, RenderOptions& options);
 
 // Validated settings; throws std::invalid_argument naming the option and its allowed values.
 RenderSettings renderSettingsFrom(const RenderOptions& options, double typical_spacing);
+
+// Validated stereo settings (automatic values left at 0); throws std::invalid_argument naming the
+// option and its allowed values.
+StereoSettings stereoSettingsFrom(const RenderOptions& options);
 
 // The camera: --camera FILE, else --eye/--target/--up/--fov, else one that fits `bounds`.
 Camera cameraFrom(const RenderOptions& options, const Bounds3& bounds, double aspect);

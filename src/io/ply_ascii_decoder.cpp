@@ -1,8 +1,10 @@
 // Ascii PLY bodies: range planning at line boundaries, and a single-pass line parser.
 //
 // One record per line (what every writer does). Planning counts line ends in parallel blocks, so
-// each range knows its first record and line number and ranges parse independently. Numbers go
-// through fast_float (floating point) and std::from_chars (integers): no locale, no allocation.
+// each range knows its first record and line number and ranges parse independently. Common
+// layouts go through AsciiFastDecoder (ply_ascii_fast_decoder.h); the general LineParser here
+// takes every line it leaves, and every layout it does not support. Numbers: decimal_parse.h,
+// then fast_float for what it declines. No locale, no allocation.
 #include <fast_float/fast_float.h>
 #include <tbb/parallel_for.h>
 
@@ -15,9 +17,11 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 
 #include "core/error.h"
 #include "io/decimal_parse.h"
+#include "io/ply_ascii_fast_decoder.h"
 #include "io/ply_decoder.h"
 
 namespace parallax::ply {
@@ -322,6 +326,10 @@ std::vector<RecordRange> planAsciiRanges(const DecodeContext& context, std::size
   }
 
   // Blocks of about target_bytes, cut after a line end.
+  // Pages are given back kReleaseBlocks blocks at a time: each release is a system call and a
+  // TLB flush on every core (one a block was about 15 us each, 1 500 a 377 MB file, half of them
+  // in this serial loop), and a batch keeps at most a few MB more mapped.
+  constexpr std::size_t kReleaseBlocks = 8;
   std::vector<const char*> starts;
   for (const char* s = p; s < end;) {
     starts.push_back(s);
@@ -329,7 +337,11 @@ std::vector<RecordRange> planAsciiRanges(const DecodeContext& context, std::size
     s = next == end ? end : nextLineStart(next, end);
     // One touch per block can map a whole large page-cache folio (up to 2 MiB), not just 64 KiB:
     // give back what the search mapped before moving on.
-    context.releaseRead(std::size_t(starts.back() - text), std::size_t(s - text));
+    if (starts.size() % kReleaseBlocks == 0 || s == end) {
+      context.releaseRead(
+          std::size_t(starts[(starts.size() - 1) / kReleaseBlocks * kReleaseBlocks] - text),
+          std::size_t(s - text));
+    }
   }
   std::vector<std::uint64_t> lines(starts.size());
   auto count_block = [&](std::size_t b) {
@@ -337,7 +349,11 @@ std::vector<RecordRange> planAsciiRanges(const DecodeContext& context, std::size
     lines[b] = countLineEnds(starts[b], block_end);
     // A last line without its line end still holds a record.
     if (block_end == end && block_end > starts[b] && block_end[-1] != '\n') ++lines[b];
-    context.releaseRead(std::size_t(starts[b] - text), std::size_t(block_end - text));
+    // (A block of the batch still being counted on another core just faults its pages again.)
+    if (b % kReleaseBlocks == kReleaseBlocks - 1 || block_end == end) {
+      context.releaseRead(std::size_t(starts[b - b % kReleaseBlocks] - text),
+                          std::size_t(block_end - text));
+    }
   };
   if (parallel) {
     tbb::parallel_for(std::size_t(0), starts.size(), count_block);
@@ -406,7 +422,20 @@ RangeStats decodeAsciiRange(const DecodeContext& context, const RecordRange& ran
   const Quantization& q = cloud.quantization;
   const double inverse[3] = {1.0 / q.scale[0], 1.0 / q.scale[1], 1.0 / q.scale[2]};
   Bounds3& bounds = stats.raw_bounds;
+  // The fast path takes the lines it can take whole; each line it leaves goes to the general
+  // parser, which decodes it or reports it. Where it takes none (8 refusals in a row: a file of
+  // exponents, say), the general parser alone does the rest of the range.
+  std::optional<AsciiFastDecoder> fast;
+  if (AsciiFastDecoder::supports(context.layout)) fast.emplace(context.layout, cloud);
+  int refused_in_a_row = 0;
   for (std::uint64_t r = 0; r < count; ++r) {
+    if (fast) {
+      const std::uint64_t decoded = fast->decode(p, end, count - r, first_index + r, bounds);
+      r += decoded;
+      if (r == count) break;
+      refused_in_a_row = decoded > 0 ? 1 : refused_in_a_row + 1;
+      if (refused_in_a_row == 8) fast.reset();
+    }
     double xyz[3];
     std::uint64_t line = range.first_line == 0 ? 0 : range.first_line + r;
     p = parser.parse(p, line, cloud, first_index + r, xyz);

@@ -321,6 +321,9 @@ bool PlyChunkReader::next(PointCloud& chunk, std::size_t max_points) {
   tbb::parallel_for(std::size_t(0), pieces.size(), [&](std::size_t i) {
     stats[i] = ply::decodeRange(s.context, pieces[i].range, pieces[i].count, chunk, pieces[i].dst);
   });
+  // The chunk's input pages are read: drop them from the resident set, so that streaming a file
+  // larger than memory does not keep all of it mapped in (the page cache keeps them).
+  s.context.releaseRead(pieces.front().range.begin, stats.back().end);
   Bounds3 raw;
   for (const auto& st : stats) raw.extend(st.raw_bounds);
   if (!fitsQuantization(s.quantization, raw)) {

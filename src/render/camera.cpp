@@ -148,12 +148,23 @@ glm::dmat4 Camera::viewMatrix() const {
 
 glm::dmat4 Camera::projectionMatrix(double aspect, const ClipRange& range) const {
   // Passing far as near (and the reverse) to the [0, 1] projections reverses the depth.
+  glm::dmat4 symmetric;
   if (projection == Projection::Perspective) {
-    return glm::perspectiveRH_ZO(glm::radians(fov_y_deg), aspect, range.far_plane,
-                                 range.near_plane);
+    symmetric =
+        glm::perspectiveRH_ZO(glm::radians(fov_y_deg), aspect, range.far_plane, range.near_plane);
+  } else {
+    const double half_h = ortho_height / 2, half_w = half_h * aspect;
+    symmetric =
+        glm::orthoRH_ZO(-half_w, half_w, -half_h, half_h, range.far_plane, range.near_plane);
   }
-  const double half_h = ortho_height / 2, half_w = half_h * aspect;
-  return glm::orthoRH_ZO(-half_w, half_w, -half_h, half_h, range.far_plane, range.near_plane);
+  if (off_axis_skew == 0.0) return symmetric;
+  // x += skew * depth, depth = -z in eye space. For a perspective eye at offset e this is the
+  // asymmetric frustum of the off-axis method (it shifts NDC x by skew / tan_x for every depth,
+  // centring the convergence plane's window on the mono camera's); for an orthographic eye it is
+  // the shear that gives parallax linear in depth, zero at the convergence distance.
+  glm::dmat4 shear(1.0);
+  shear[2][0] = -off_axis_skew;
+  return symmetric * shear;
 }
 
 ClipRange Camera::clipRange(const Bounds3& bounds) const {

@@ -33,6 +33,11 @@ struct Camera {
   double fov_y_deg = 60.0;                     // perspective: vertical field of view
   double ortho_height = 2.0;                   // orthographic: world height of the view
   Projection projection = Projection::Perspective;
+  // Off-axis stereo (render/stereo.h): the eye's offset along `right` divided by the convergence
+  // distance. The projection shears eye space by x += skew * depth, which skews the frustum so
+  // that the plane at the convergence distance has zero parallax. 0 for a mono camera (the
+  // projection is then exactly the symmetric one). Not saved with the camera: eyes are derived.
+  double off_axis_skew = 0.0;
 
   friend bool operator==(const Camera&, const Camera&) = default;
 
@@ -75,6 +80,7 @@ struct Camera {
   glm::dmat4 viewMatrix() const;
   // Eye to clip with reversed depth (near maps to 1, far to 0) for a [0, 1] depth range
   // (glClipControl GL_ZERO_TO_ONE) and a float depth buffer: precision where it is needed.
+  // With an off_axis_skew, the symmetric projection times the eye-space shear.
   glm::dmat4 projectionMatrix(double aspect, const ClipRange& range) const;
   // Near and far planes that keep every point of `bounds` in front of the camera unclipped.
   ClipRange clipRange(const Bounds3& bounds) const;

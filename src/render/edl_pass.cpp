@@ -18,6 +18,7 @@ layout(binding = 1) uniform sampler2D u_eye_depth;
 uniform float u_strength;
 uniform float u_radius;
 uniform vec3 u_background;
+uniform ivec4 u_viewport;  // x, y, width, height: neighbours are read inside the view only
 out vec4 out_color;
 
 // Eye depth is stored with the pixel's coverage (see the point pass): dividing undoes the
@@ -36,13 +37,14 @@ void main() {
     return;
   }
   float log_depth = log2(depth);
-  ivec2 size = textureSize(u_eye_depth, 0);
+  // Stereo views share one texture: a neighbour across a view's edge belongs to the other eye.
+  ivec2 low = u_viewport.xy, high = u_viewport.xy + u_viewport.zw - 1;
   const vec2 directions[8] = vec2[8](vec2(1, 0), vec2(0.7071, 0.7071), vec2(0, 1),
                                      vec2(-0.7071, 0.7071), vec2(-1, 0), vec2(-0.7071, -0.7071),
                                      vec2(0, -1), vec2(0.7071, -0.7071));
   float response = 0.0;
   for (int i = 0; i < 8; ++i) {
-    ivec2 q = clamp(p + ivec2(round(directions[i] * u_radius)), ivec2(0), size - 1);
+    ivec2 q = clamp(p + ivec2(round(directions[i] * u_radius)), low, high);
     float neighbour = eyeDepth(q);
     // Empty neighbours say nothing: in a sparse scan most points have some, and counting them as
     // steps would blacken whole surfaces (Potree ignores them too).
@@ -78,6 +80,8 @@ void EdlPass::draw(GLuint color, GLuint eye_depth, const Viewport& viewport,
   glUniform1f(program_.uniform("u_strength"), settings.edl_strength);
   glUniform1f(program_.uniform("u_radius"), settings.edl_radius_px);
   glUniform3fv(program_.uniform("u_background"), 1, settings.background.data());
+  glUniform4i(program_.uniform("u_viewport"), viewport.x, viewport.y, viewport.width,
+              viewport.height);
   glBindVertexArray(vao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);

@@ -1,5 +1,7 @@
 #include "render/point_buffers.h"
 
+#include "render/draw_set.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -113,6 +115,83 @@ std::vector<float> localSpacing(const std::vector<glm::dvec3>& p) {
   return spacing;
 }
 
+StagedChunk stagePointChunk(const PointCloud& cloud, std::span<const std::uint32_t> indices,
+                            const ChunkLayout& layout) {
+  const std::size_t count = indices.size();
+  StagedChunk staged;
+  PointChunk& chunk = staged.chunk;
+  chunk.count = std::uint32_t(count);
+
+  std::vector<glm::dvec3> world(count);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      const std::size_t src = indices[i];
+      world[i] = {cloud.worldX(src), cloud.worldY(src), cloud.worldZ(src)};
+    }
+  });
+  for (const glm::dvec3& p : world) chunk.bounds.extend(p.x, p.y, p.z);
+  const auto center = chunk.bounds.center();
+  chunk.origin = count ? glm::dvec3{center[0], center[1], center[2]} : glm::dvec3{0.0};
+  std::vector<float> spacing;
+  if (layout.uniform_spacing <= 0.0f) spacing = localSpacing(world);
+
+  std::size_t size = 0;
+  chunk.positions_offset = size, size = alignUp(size + count * 12);
+  if (layout.colors) chunk.colors_offset = size, size = alignUp(size + count * 4);
+  if (layout.normals) chunk.normals_offset = size, size = alignUp(size + count * 4);
+  chunk.extras_offset = size, size = alignUp(size + count * kExtraBytes);
+
+  staged.bytes.resize(size);
+  std::byte* base = staged.bytes.data();
+  auto* positions = reinterpret_cast<float*>(base + chunk.positions_offset);
+  auto* colors = reinterpret_cast<Rgba8*>(base + chunk.colors_offset);
+  auto* normals = reinterpret_cast<std::uint32_t*>(base + chunk.normals_offset);
+  std::byte* extras = base + chunk.extras_offset;
+  const bool has_colors = cloud.hasColors(), has_normals = cloud.hasNormals();
+  const bool has_intensity = cloud.hasIntensity();
+  const bool has_classification = cloud.hasClassification();
+  const float intensity_span = layout.intensity_max > layout.intensity_min
+                                   ? layout.intensity_max - layout.intensity_min
+                                   : 1.0f;
+  const float intensity_scale = 65535.0f / intensity_span;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      const std::size_t src = indices[i];
+      // The subtraction is done in double: only the small remainder becomes a float.
+      positions[3 * i + 0] = float(world[i].x - chunk.origin.x);
+      positions[3 * i + 1] = float(world[i].y - chunk.origin.y);
+      positions[3 * i + 2] = float(world[i].z - chunk.origin.z);
+      if (layout.colors) colors[i] = has_colors ? cloud.colors[src] : Rgba8{255, 255, 255, 255};
+      if (layout.normals) normals[i] = has_normals ? packNormal(cloud.normals[src]) : 0u;
+      std::uint16_t intensity = 0;
+      if (has_intensity) {
+        const float t = (cloud.intensity[src] - layout.intensity_min) * intensity_scale;
+        intensity = std::uint16_t(std::clamp(t, 0.0f, 65535.0f) + 0.5f);
+      }
+      const std::uint8_t classification =
+          has_classification ? cloud.classification[src] : std::uint8_t(1);
+      const float point_spacing = spacing.empty() ? layout.uniform_spacing : spacing[i];
+      std::byte* extra = extras + i * kExtraBytes;
+      std::memcpy(extra, &intensity, 2);
+      std::memcpy(extra + 2, &classification, 1);
+      extra[3] = std::byte{0};
+      std::memcpy(extra + 4, &point_spacing, 4);
+    }
+  });
+  return staged;
+}
+
+PointChunk uploadStagedChunk(StagedChunk& staged) {
+  PointChunk chunk = staged.chunk;
+  glCreateBuffers(1, &chunk.buffer);
+  // An empty chunk still gets a (1-byte) buffer: glNamedBufferStorage refuses size 0.
+  const std::byte zero{0};
+  glNamedBufferStorage(chunk.buffer, GLsizeiptr(std::max<std::size_t>(staged.bytes.size(), 1)),
+                       staged.bytes.empty() ? &zero : staged.bytes.data(), 0);
+  staged.bytes = {};
+  return chunk;
+}
+
 GpuPointCloud::GpuPointCloud(const PointCloud& cloud, const PointUploadOptions& options) {
   const std::size_t n = cloud.positions.size();
   point_count_ = n;
@@ -129,73 +208,27 @@ GpuPointCloud::GpuPointCloud(const PointCloud& cloud, const PointUploadOptions& 
     for (std::size_t i = 0; i < n; ++i) order[i] = std::uint32_t(i);
   }
 
-  float intensity_min = 0, intensity_max = 1;
+  ChunkLayout layout;
+  layout.colors = has_colors_, layout.normals = has_normals_;
   if (has_intensity_ && n > 0) {
     const auto [lo, hi] = std::minmax_element(cloud.intensity.begin(), cloud.intensity.end());
-    intensity_min = *lo, intensity_max = *hi > *lo ? *hi : *lo + 1.0f;
+    layout.intensity_min = *lo, layout.intensity_max = *hi > *lo ? *hi : *lo + 1.0f;
   }
 
   std::vector<double> spacing_samples;
   const std::size_t chunk_size = std::max<std::uint32_t>(options.max_chunk_points, 1);
   for (std::size_t first = 0; first < n; first += chunk_size) {
     const std::size_t count = std::min(chunk_size, n - first);
-    PointChunk chunk;
-    chunk.count = std::uint32_t(count);
-
-    std::vector<glm::dvec3> world(count);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i < range.end(); ++i) {
-        const std::size_t src = order[first + i];
-        world[i] = {cloud.worldX(src), cloud.worldY(src), cloud.worldZ(src)};
-      }
-    });
-    for (const glm::dvec3& p : world) chunk.bounds.extend(p.x, p.y, p.z);
-    const auto center = chunk.bounds.center();
-    chunk.origin = {center[0], center[1], center[2]};
-    bounds_.extend(chunk.bounds);
-    const std::vector<float> spacing = localSpacing(world);
-    for (std::size_t i = 0; i < count; i += 997) spacing_samples.push_back(spacing[i]);
-
-    std::size_t size = 0;
-    chunk.positions_offset = size, size = alignUp(size + count * 12);
-    if (has_colors_) chunk.colors_offset = size, size = alignUp(size + count * 4);
-    if (has_normals_) chunk.normals_offset = size, size = alignUp(size + count * 4);
-    chunk.extras_offset = size, size = alignUp(size + count * kExtraBytes);
-
-    std::vector<std::byte> staging(size);
-    auto* positions = reinterpret_cast<float*>(staging.data() + chunk.positions_offset);
-    auto* colors = reinterpret_cast<Rgba8*>(staging.data() + chunk.colors_offset);
-    auto* normals = reinterpret_cast<std::uint32_t*>(staging.data() + chunk.normals_offset);
-    std::byte* extras = staging.data() + chunk.extras_offset;
-    const float intensity_scale = 65535.0f / (intensity_max - intensity_min);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i < range.end(); ++i) {
-        const std::size_t src = order[first + i];
-        // The subtraction is done in double: only the small remainder becomes a float.
-        positions[3 * i + 0] = float(world[i].x - chunk.origin.x);
-        positions[3 * i + 1] = float(world[i].y - chunk.origin.y);
-        positions[3 * i + 2] = float(world[i].z - chunk.origin.z);
-        if (has_colors_) colors[i] = cloud.colors[src];
-        if (has_normals_) normals[i] = packNormal(cloud.normals[src]);
-        std::uint16_t intensity = 0;
-        if (has_intensity_) {
-          const float t = (cloud.intensity[src] - intensity_min) * intensity_scale;
-          intensity = std::uint16_t(std::clamp(t, 0.0f, 65535.0f) + 0.5f);
-        }
-        const std::uint8_t classification =
-            has_classification_ ? cloud.classification[src] : std::uint8_t(1);
-        std::byte* extra = extras + i * kExtraBytes;
-        std::memcpy(extra, &intensity, 2);
-        std::memcpy(extra + 2, &classification, 1);
-        extra[3] = std::byte{0};
-        std::memcpy(extra + 4, &spacing[i], 4);
-      }
-    });
-
-    glCreateBuffers(1, &chunk.buffer);
-    glNamedBufferStorage(chunk.buffer, GLsizeiptr(size), staging.data(), 0);
-    gpu_bytes_ += size;
-    chunks_.push_back(chunk);
+    StagedChunk staged = stagePointChunk(cloud, std::span(order).subspan(first, count), layout);
+    bounds_.extend(staged.chunk.bounds);
+    for (std::size_t i = 0; i < count; i += 997) {
+      float spacing = 0.0f;
+      std::memcpy(&spacing, staged.bytes.data() + staged.chunk.extras_offset + i * kExtraBytes + 4,
+                  4);
+      spacing_samples.push_back(spacing);
+    }
+    gpu_bytes_ += staged.bytes.size();
+    chunks_.push_back(uploadStagedChunk(staged));
   }
   if (!spacing_samples.empty()) {
     std::nth_element(spacing_samples.begin(), spacing_samples.begin() + spacing_samples.size() / 2,
@@ -228,6 +261,19 @@ GpuPointCloud& GpuPointCloud::operator=(GpuPointCloud&& other) noexcept {
   has_intensity_ = other.has_intensity_, has_classification_ = other.has_classification_;
   typical_spacing_ = other.typical_spacing_;
   return *this;
+}
+
+DrawSet GpuPointCloud::drawSet() const {
+  DrawSet set;
+  set.items.reserve(chunks_.size());
+  for (const PointChunk& chunk : chunks_) set.items.push_back({&chunk, 0.0f, 0});
+  set.bounds = bounds_;
+  set.has_colors = has_colors_;
+  set.has_normals = has_normals_;
+  set.has_intensity = has_intensity_;
+  set.has_classification = has_classification_;
+  set.typical_spacing = typical_spacing_;
+  return set;
 }
 
 }  // namespace parallax

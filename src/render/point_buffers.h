@@ -17,11 +17,14 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <span>
 #include <vector>
 
 #include "core/point_cloud.h"
 
 namespace parallax {
+
+struct DrawSet;  // render/draw_set.h
 
 struct PointUploadOptions {
   std::uint32_t max_chunk_points = 1u << 20;
@@ -41,6 +44,34 @@ struct PointChunk {
   std::size_t normals_offset = 0;
   std::size_t extras_offset = 0;
 };
+
+// How a chunk's buffer is laid out and filled; the same for every chunk of one cloud or octree,
+// so that one shader variant draws them all.
+struct ChunkLayout {
+  // Sections present. A section the cloud has no column for is filled with a default (white,
+  // a zero normal), so a node that lacks an attribute the octree declares still draws.
+  bool colors = false, normals = false;
+  // Intensity is stored as unorm16 over [intensity_min, intensity_max] (clamped), so the range
+  // must be the cloud's (or the octree's), never a single chunk's.
+  float intensity_min = 0.0f, intensity_max = 1.0f;
+  // > 0: every point gets this spacing (world units), e.g. an octree node's; 0: the local spacing
+  // of the chunk's points in their draw order (localSpacing()).
+  float uniform_spacing = 0.0f;
+};
+
+// A chunk built on the CPU and not uploaded yet: `chunk` is complete but for `buffer` (0), and
+// `bytes` is the buffer's content. Building one needs no GL context, so any thread may do it.
+struct StagedChunk {
+  PointChunk chunk;
+  std::vector<std::byte> bytes;
+};
+
+// Builds the chunk of cloud points `indices` (in that draw order). Thread-safe; uses TBB inside.
+StagedChunk stagePointChunk(const PointCloud& cloud, std::span<const std::uint32_t> indices,
+                            const ChunkLayout& layout);
+// Creates the chunk's GL buffer from the staged bytes (needs a current context), frees the bytes
+// and returns the chunk, now owning a buffer the caller deletes with glDeleteBuffers.
+PointChunk uploadStagedChunk(StagedChunk& staged);
 
 // Owns the GL buffers of one cloud; needs a current context for its whole life.
 class GpuPointCloud {
@@ -63,6 +94,9 @@ class GpuPointCloud {
   bool hasClassification() const { return has_classification_; }
   // Median over the cloud of the local point spacing (world units), 0 for fewer than 2 points.
   double typicalSpacing() const { return typical_spacing_; }
+  // Every chunk, in upload order, with the cloud's bounds and attributes (include
+  // render/draw_set.h to use it). Points into this cloud: valid while it lives and is not moved.
+  DrawSet drawSet() const;
 
  private:
   void release();

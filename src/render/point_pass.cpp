@@ -1,9 +1,11 @@
 #include "render/point_pass.h"
 
+#include <cassert>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <string>
+#include <vector>
 
 #include "render/frustum.h"
 #include "render/point_pass_glsl.h"
@@ -97,33 +99,56 @@ PointPass::~PointPass() {
   if (vao_) glDeleteVertexArrays(1, &vao_);
 }
 
-PointPassStats PointPass::draw(const GpuPointCloud& cloud, const View& view, const ClipRange& range,
-                               const RenderSettings& settings, bool eye_depth) {
+PointPassStats PointPass::draw(const DrawSet& draw_set, std::span<const View> views,
+                               std::span<const ClipRange> ranges, const RenderSettings& settings,
+                               bool eye_depth) {
+  assert(views.size() == ranges.size() && "PointPass::draw needs one clip range per view");
+  assert(views.size() <= kMaxViews && "PointPass::draw draws at most kMaxViews views");
   PointPassStats stats;
-  if (cloud.chunks().empty()) return stats;
-  const Camera& camera = view.camera;
-  const Viewport& viewport = view.viewport;
-  const glm::dmat4 world_to_eye = camera.viewMatrix();
-  const glm::dmat4 projection = camera.projectionMatrix(viewport.aspect(), range);
-  const Frustum frustum(projection * world_to_eye);
+  if (draw_set.items.empty() || views.empty()) return stats;
+
+  // Per view: the matrices, the frustum and the point-size scale, computed once per frame.
+  struct EyeState {
+    glm::dmat4 world_to_eye;
+    glm::mat4 projection;
+    Frustum frustum;
+    float pixels_per_unit;
+    Viewport viewport;
+  };
+  std::vector<EyeState> eyes;
+  eyes.reserve(views.size());
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const Camera& camera = views[v].camera;
+    const glm::dmat4 world_to_eye = camera.viewMatrix();
+    const glm::dmat4 projection = camera.projectionMatrix(views[v].aspect(), ranges[v]);
+    const int viewport_height = views[v].viewport.height;
+    const double pixels_per_unit =
+        camera.projection == Projection::Orthographic
+            ? viewport_height / camera.ortho_height
+            : viewport_height / (2.0 * std::tan(glm::radians(camera.fov_y_deg) / 2));
+    eyes.push_back({world_to_eye, glm::mat4(projection), Frustum(projection * world_to_eye),
+                    float(pixels_per_unit), views[v].viewport});
+  }
+  const Camera& camera = views.front().camera;
 
   // Fall back to a colour the cloud can give: rgb without colours is white, not black.
   ColorMode color = settings.color;
-  if ((color == ColorMode::Rgb && !cloud.hasColors()) ||
-      (color == ColorMode::Normal && !cloud.hasNormals())) {
+  if ((color == ColorMode::Rgb && !draw_set.has_colors) ||
+      (color == ColorMode::Normal && !draw_set.has_normals)) {
     color = ColorMode::Uniform;
   }
-  const bool lighting = settings.lighting && cloud.hasNormals();
+  const bool lighting = settings.lighting && draw_set.has_normals;
   const bool orthographic = camera.projection == Projection::Orthographic;
+  const bool adaptive = settings.size_mode == PointSizeMode::Adaptive;
 
   // Only the attributes this picture needs are fetched: vertex fetch is a large part of the cost
   // of a point on llvmpipe. A disabled attribute reads its constant (set below), never memory.
   setAttribute(vao_, kColor, color == ColorMode::Rgb);
-  setAttribute(vao_, kNormal, cloud.hasNormals() && (color == ColorMode::Normal || lighting));
-  setAttribute(vao_, kIntensity, color == ColorMode::Intensity && cloud.hasIntensity());
+  setAttribute(vao_, kNormal, draw_set.has_normals && (color == ColorMode::Normal || lighting));
+  setAttribute(vao_, kIntensity, color == ColorMode::Intensity && draw_set.has_intensity);
   setAttribute(vao_, kClassification,
-               color == ColorMode::Classification && cloud.hasClassification());
-  setAttribute(vao_, kSpacing, settings.size_mode == PointSizeMode::Adaptive);
+               color == ColorMode::Classification && draw_set.has_classification);
+  setAttribute(vao_, kSpacing, adaptive);
   glVertexAttrib4f(kColor, 1, 1, 1, 1);
   glVertexAttrib4f(kNormal, 0, 0, 1, 0);
   glVertexAttrib1f(kIntensity, 1.0f);
@@ -135,7 +160,6 @@ PointPassStats PointPass::draw(const GpuPointCloud& cloud, const View& view, con
               settings.shape == PointShape::Round, eye_depth);
   glUseProgram(shader.id());
   glBindVertexArray(vao_);
-  glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_GREATER);
   glDepthMask(GL_TRUE);
@@ -149,40 +173,61 @@ PointPassStats PointPass::draw(const GpuPointCloud& cloud, const View& view, con
     glDisable(GL_MULTISAMPLE);
   }
 
-  glUniformMatrix4fv(shader.uniform("u_projection"), 1, GL_FALSE,
-                     glm::value_ptr(glm::mat4(projection)));
   glUniform3fv(shader.uniform("u_uniform_color"), 1, settings.uniform_color.data());
   glUniform1f(shader.uniform("u_size_px"), settings.point_size_px);
   glUniform1f(shader.uniform("u_world_size"), settings.world_size);
   glUniform1f(shader.uniform("u_adaptive_scale"), settings.adaptive_scale);
   glUniform2f(shader.uniform("u_size_clamp"), settings.min_size_px, settings.max_size_px);
-  const double pixels_per_unit =
-      orthographic ? viewport.height / camera.ortho_height
-                   : viewport.height / (2.0 * std::tan(glm::radians(camera.fov_y_deg) / 2));
-  glUniform1f(shader.uniform("u_pixels_per_unit"), float(pixels_per_unit));
+  const GLint projection_location = shader.uniform("u_projection");
+  const GLint pixels_per_unit_location = shader.uniform("u_pixels_per_unit");
   const GLint model_view_location = shader.uniform("u_model_view");
   const GLint elevation_location = shader.uniform("u_elevation");
-  const double z_min = cloud.bounds().min[2];
-  const double z_extent = std::max(cloud.bounds().size()[2], 1e-12);
+  const GLint node_spacing_location = shader.uniform("u_node_spacing");
+  const double z_min = draw_set.bounds.min[2];
+  const double z_extent = std::max(draw_set.bounds.size()[2], 1e-12);
+  // The per-view state is set only when the view changes: with one view, once per frame.
+  int current_eye = -1;
+  float current_node_spacing = -1.0f;
 
-  for (const PointChunk& chunk : cloud.chunks()) {
-    if (!frustum.intersects(chunk.bounds)) {
+  for (const DrawItem& item : draw_set.items) {
+    const PointChunk& chunk = *item.chunk;
+    std::uint32_t visible = 0;  // bit v: view v sees the chunk
+    for (std::size_t v = 0; v < eyes.size(); ++v) {
+      if (eyes[v].frustum.intersects(chunk.bounds)) visible |= 1u << v;
+    }
+    if (!visible) {
       ++stats.chunks_culled;
       continue;
     }
-    // Fold the chunk origin into the matrix in double; the GPU then only sees small numbers.
-    const glm::dmat4 model_view = glm::translate(world_to_eye, chunk.origin);
-    glUniformMatrix4fv(model_view_location, 1, GL_FALSE, glm::value_ptr(glm::mat4(model_view)));
+    // Bound once, drawn for every view that sees the chunk.
     glUniform2f(elevation_location, float(chunk.origin.z - z_min), float(1.0 / z_extent));
+    if (adaptive && item.node_spacing != current_node_spacing) {
+      glUniform1f(node_spacing_location, item.node_spacing);
+      current_node_spacing = item.node_spacing;
+    }
     glVertexArrayVertexBuffer(vao_, kPositions, chunk.buffer, GLintptr(chunk.positions_offset), 12);
-    if (cloud.hasColors()) {
+    if (draw_set.has_colors) {
       glVertexArrayVertexBuffer(vao_, kColors, chunk.buffer, GLintptr(chunk.colors_offset), 4);
     }
-    if (cloud.hasNormals()) {
+    if (draw_set.has_normals) {
       glVertexArrayVertexBuffer(vao_, kNormals, chunk.buffer, GLintptr(chunk.normals_offset), 4);
     }
     glVertexArrayVertexBuffer(vao_, kExtras, chunk.buffer, GLintptr(chunk.extras_offset), 8);
-    glDrawArrays(GL_POINTS, 0, GLsizei(chunk.count));
+    for (std::size_t v = 0; v < eyes.size(); ++v) {
+      if (!(visible & (1u << v))) continue;
+      const EyeState& eye = eyes[v];
+      if (int(v) != current_eye) {
+        glViewport(eye.viewport.x, eye.viewport.y, eye.viewport.width, eye.viewport.height);
+        glUniformMatrix4fv(projection_location, 1, GL_FALSE, glm::value_ptr(eye.projection));
+        glUniform1f(pixels_per_unit_location, eye.pixels_per_unit);
+        current_eye = int(v);
+      }
+      // Fold the chunk origin into the matrix in double; the GPU then only sees small numbers.
+      const glm::dmat4 model_view = glm::translate(eye.world_to_eye, chunk.origin);
+      glUniformMatrix4fv(model_view_location, 1, GL_FALSE, glm::value_ptr(glm::mat4(model_view)));
+      glDrawArrays(GL_POINTS, 0, GLsizei(chunk.count));
+      ++stats.draw_calls;
+    }
     stats.points_drawn += chunk.count;
     ++stats.chunks_drawn;
   }

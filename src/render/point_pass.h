@@ -1,10 +1,14 @@
-// The point pass: GL_POINTS from the chunks of a GpuPointCloud, one draw call per visible chunk.
+// The point pass: GL_POINTS from the chunks of a DrawSet, for every view (one for mono, two for
+// stereo): each chunk is culled against every view's frustum, and a chunk some view sees has
+// its buffers bound once and is drawn once per view that sees it (the viewport, projection and
+// model-view change between the draws, nothing else). A chunk no view sees is not touched.
 #pragma once
 
 #include <cstdint>
 #include <map>
+#include <span>
 
-#include "render/point_buffers.h"
+#include "render/draw_set.h"
 #include "render/render_settings.h"
 #include "render/shader_program.h"
 #include "render/view.h"
@@ -12,24 +16,31 @@
 namespace parallax {
 
 struct PointPassStats {
-  std::uint64_t points_drawn = 0;
-  std::uint32_t chunks_drawn = 0;
-  std::uint32_t chunks_culled = 0;
+  std::uint64_t points_drawn = 0;   // points of the chunks drawn, each chunk counted once
+  std::uint32_t chunks_drawn = 0;   // chunks that at least one view sees
+  std::uint32_t chunks_culled = 0;  // chunks that no view sees
+  std::uint32_t draw_calls = 0;     // one per chunk and view that sees it
 };
 
 class PointPass {
  public:
+  static constexpr std::size_t kMaxViews = 32;  // views are a bit mask per chunk
+
   PointPass();  // compiles the shaders; needs a current 4.5 context
   ~PointPass();
   PointPass(const PointPass&) = delete;
   PointPass& operator=(const PointPass&) = delete;
 
-  // Draws into the bound framebuffer, inside `view.viewport`, with depth test (reversed, GREATER)
-  // and the clip range given. The caller has cleared colour and depth (depth to 0) and set
-  // glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE). With `eye_depth`, linear eye depth goes to
-  // the second colour attachment (for eye-dome lighting).
-  PointPassStats draw(const GpuPointCloud& cloud, const View& view, const ClipRange& range,
-                      const RenderSettings& settings, bool eye_depth);
+  // Draws into the bound framebuffer, each view inside its viewport with its clip range
+  // (`ranges[i]` for `views[i]`), with depth test (reversed, GREATER). The views share the
+  // projection kind (perspective or orthographic: stereo eyes do). The caller has cleared colour
+  // and depth (depth to 0) and set glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE). With
+  // `eye_depth`, linear eye depth goes to the second colour attachment (for eye-dome lighting).
+  // An item with node_spacing > 0 is sized (adaptive mode) by that spacing instead of its
+  // per-point spacing attribute.
+  PointPassStats draw(const DrawSet& draw_set, std::span<const View> views,
+                      std::span<const ClipRange> ranges, const RenderSettings& settings,
+                      bool eye_depth);
 
  private:
   // One program per combination of the modes (compiled on first use, then kept): the shaders

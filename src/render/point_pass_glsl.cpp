@@ -23,6 +23,7 @@ uniform vec2 u_elevation;       // t = (z + x) * y: chunk z to 0..1 over the clo
 uniform float u_size_px;
 uniform float u_world_size;
 uniform float u_adaptive_scale;
+uniform float u_node_spacing;   // > 0: a level-of-detail node's spacing replaces a_spacing
 uniform vec2 u_size_clamp;
 uniform float u_pixels_per_unit; // perspective: at eye depth 1; orthographic: everywhere
 
@@ -94,7 +95,8 @@ void main() {
 #if SIZE_MODE == 1
   float world = u_world_size;
 #else
-  float world = a_spacing * u_adaptive_scale;
+  // A select on a uniform, not a branch: both operands are at hand anyway.
+  float world = (u_node_spacing > 0.0 ? u_node_spacing : a_spacing) * u_adaptive_scale;
 #endif
 #if ORTHOGRAPHIC
   float per_unit = u_pixels_per_unit;

@@ -1,6 +1,7 @@
 // The frame: clears, runs the point pass for every view (into a multisampled framebuffer that is
 // then resolved, when settings.samples asks for one), then eye-dome lighting or a copy into the
-// caller's framebuffer. Owns the intermediate framebuffers the passes share.
+// caller's framebuffer, or, for the composed stereo modes, into a canvas that the stereo
+// compositor turns into the output. Owns the intermediate framebuffers the passes share.
 #pragma once
 
 #include <epoxy/gl.h>
@@ -10,16 +11,20 @@
 #include <span>
 #include <vector>
 
+#include "render/draw_set.h"
 #include "render/edl_pass.h"
 #include "render/point_pass.h"
+#include "render/stereo.h"
+#include "render/stereo_compositor.h"
 #include "render/view.h"
 
 namespace parallax {
 
 struct FrameStats {
-  std::uint64_t points_drawn = 0;
-  std::uint32_t chunks_drawn = 0;
-  std::uint32_t chunks_culled = 0;
+  std::uint64_t points_drawn = 0;   // points of the chunks drawn (once, whatever the view count)
+  std::uint32_t chunks_drawn = 0;   // chunks some view sees: bound once each
+  std::uint32_t chunks_culled = 0;  // chunks no view sees: not touched
+  std::uint32_t draw_calls = 0;     // one per chunk and view that sees it
 };
 
 class Renderer {
@@ -29,20 +34,34 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  // Renders `views` (viewports in pixels of the target, bottom-left origin) into framebuffer
-  // `target` (0: the window's) of `width` x `height` pixels. Leaves glClipControl at OpenGL's
-  // default so that other drawing (the on-screen panel) is unaffected.
+  // Renders `draw_set` for every view into framebuffer `target` (0: the window's) of `width` x
+  // `height` pixels. Composition::Direct: viewports in pixels of the target (bottom-left
+  // origin). Otherwise the views are the two eyes of a StereoFrame, drawn into a canvas of
+  // 2 * width x height (left eye at x 0, right eye at x width) that the stereo compositor turns
+  // into the output. Leaves glClipControl at OpenGL's default so that other drawing (the
+  // on-screen panel) is unaffected.
+  FrameStats render(const DrawSet& draw_set, std::span<const View> views,
+                    const RenderSettings& settings, GLuint target, int width, int height,
+                    Composition composition = Composition::Direct);
+  // All chunks of a whole uploaded cloud (GpuPointCloud::drawSet()).
   FrameStats render(const GpuPointCloud& cloud, std::span<const View> views,
-                    const RenderSettings& settings, GLuint target, int width, int height);
+                    const RenderSettings& settings, GLuint target, int width, int height,
+                    Composition composition = Composition::Direct);
+  // One frame of `frame` (stereoFrame's views and composition).
+  FrameStats render(const DrawSet& draw_set, const StereoFrame& frame,
+                    const RenderSettings& settings, GLuint target, int width, int height) {
+    return render(draw_set, frame.views, settings, target, width, height, frame.composition);
+  }
 
-  // Writes the last frame's picture into `target` again (eye-dome lighting or a copy) without
-  // drawing a point: what a window shows while nothing changed. False (and nothing written) when
-  // the last frame had another size or there was none.
+  // Writes the last frame's picture into `target` again (eye-dome lighting, a copy or the stereo
+  // composition) without drawing a point: what a window shows while nothing changed. False (and
+  // nothing written) when the last frame had another size or composition, or there was none.
   bool composite(std::span<const View> views, const RenderSettings& settings, GLuint target,
-                 int width, int height);
+                 int width, int height, Composition composition = Composition::Direct);
 
-  // The world position of the point drawn at pixel (x, y) (bottom-left origin) in the last
-  // frame, std::nullopt where no point was drawn or (x, y) is outside every view.
+  // The world position of the point drawn at pixel (x, y) of the output (bottom-left origin) in
+  // the last frame, std::nullopt where no point was drawn or (x, y) is outside every view. In the
+  // composed stereo modes (anaglyph, interlaced, quad-buffer) the left eye's picture is read.
   std::optional<glm::dvec3> pick(int x, int y) const;
 
  private:
@@ -54,8 +73,14 @@ class Renderer {
   // colour over each pixel's samples.
   void resolve(bool eye_depth);
 
+  // The single-sample canvas with eye-dome lighting applied, for the compositor to read
+  // (composed stereo modes with EDL only); made on first use.
+  void ensurePostTarget();
+
   PointPass point_pass_;
   EdlPass edl_pass_;
+  std::optional<StereoCompositor> compositor_;  // made on the first composed frame
+  GLuint post_framebuffer_ = 0, post_color_ = 0;
   // The single-sample picture that eye-dome lighting, the copy to the target and picking read.
   GLuint framebuffer_ = 0;
   GLuint color_ = 0, eye_depth_ = 0, depth_ = 0;
@@ -65,6 +90,7 @@ class Renderer {
   int width_ = 0, height_ = 0, samples_ = 0;
   int max_samples_ = -1;  // GL_MAX_SAMPLES, queried on first use
   bool last_edl_ = false;
+  Composition last_composition_ = Composition::Direct;
   struct DrawnView {
     View view;
     ClipRange range;

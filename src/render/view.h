@@ -1,5 +1,6 @@
 // A view: one camera and the rectangle of the target it draws into. Mono rendering is a list of
-// one view; stereo (a later step) is a list of two, and every pass loops over the list.
+// one view; stereo a list of two (left eye first, see render/stereo.h), and every pass loops over
+// the list.
 #pragma once
 
 #include "render/camera.h"
@@ -15,6 +16,11 @@ struct Viewport {
 struct View {
   Camera camera;
   Viewport viewport;
+  // The projection's width / height; 0: the viewport's. Side-by-side squeezed draws a picture
+  // of the whole output's aspect into a half-width viewport (anamorphic, as 3D TVs expect).
+  double projection_aspect = 0.0;
+
+  double aspect() const { return projection_aspect > 0 ? projection_aspect : viewport.aspect(); }
 };
 
 }  // namespace parallax

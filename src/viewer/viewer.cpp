@@ -7,6 +7,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdio>
@@ -44,6 +45,10 @@ const char* const kHelp =
     "  T      turntable / free orbit\n"
     "  V      vsync on / off\n"
     "  P      screenshot (PNG, path shown in the panel)\n"
+    "  3      stereo mode: mono, sbs, sbs-squeezed, tb, anaglyph, ... (cycles)\n"
+    "  [ ]    stereo eye separation smaller / larger\n"
+    "  - =    stereo convergence nearer / farther\n"
+    "  X      swap the eyes\n"
     "  Esc    quit\n"
     "Drop a point file on the window to open it.";
 
@@ -53,7 +58,10 @@ struct Session {
   GLFWwindow* window = nullptr;
   std::unique_ptr<Renderer> renderer;
   std::unique_ptr<GpuPointCloud> cloud;
+  DrawSet draw_set;  // all of `cloud`'s chunks
   RenderSettings settings;
+  StereoSettings stereo;
+  bool quad_buffer = false;  // the window has left and right back buffers
   Camera camera;
   CameraController controller;
   std::string loaded_name;
@@ -71,6 +79,7 @@ struct Session {
     const GpuPointCloud* cloud = nullptr;
     Camera camera;
     RenderSettings settings;
+    StereoSettings stereo;
     int width = 0, height = 0;
     friend bool operator==(const Drawn&, const Drawn&) = default;
   };
@@ -93,6 +102,7 @@ void openFile(Session& s, const std::filesystem::path& path, bool first) {
     PointCloud cloud = readPointFile(path);
     auto gpu = std::make_unique<GpuPointCloud>(cloud);
     s.cloud = std::move(gpu);
+    s.draw_set = s.cloud->drawSet();
     s.loaded_name = path.filename().string();
     int width = 1, height = 1;
     glfwGetFramebufferSize(s.window, &width, &height);
@@ -116,10 +126,66 @@ void openFile(Session& s, const std::filesystem::path& path, bool first) {
   std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
 }
 
+// Quad-buffer only where the window has a stereo visual; elsewhere sbs, and the user is told.
+void setStereoMode(Session& s, StereoMode mode) {
+  if (mode == StereoMode::QuadBuffer && !s.quad_buffer) {
+    s.status =
+        "quad-buffer stereo: this display offers no stereo (GL_STEREO) visual; showing sbs (side "
+        "by side) instead";
+    mode = StereoMode::SideBySide;
+  } else {
+    s.status = "stereo " + std::string(stereoModeName(mode));
+  }
+  s.stereo.mode = mode;
+  std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
+}
+
+void cycleStereoMode(Session& s) {
+  const auto& modes = allStereoModes();
+  auto next = std::find(modes.begin(), modes.end(), s.stereo.mode) + 1;
+  if (next != modes.end() && *next == StereoMode::QuadBuffer && !s.quad_buffer) ++next;
+  setStereoMode(s, next == modes.end() ? modes.front() : *next);
+}
+
+// Scales the eye separation or the convergence distance, automatic values first made explicit.
+void scaleStereo(Session& s, double separation_factor, double convergence_factor) {
+  const StereoSettings resolved = resolvedStereo(s.stereo, s.camera);
+  s.stereo.eye_separation = resolved.eye_separation * separation_factor;
+  s.stereo.convergence = resolved.convergence * convergence_factor;
+  char text[160];
+  std::snprintf(text, sizeof text, "stereo eye separation %.4g, convergence %.4g",
+                s.stereo.eye_separation, s.stereo.convergence);
+  s.status = text;
+  std::fprintf(stderr, "parallax view: %s\n", text);
+}
+
 void onKey(GLFWwindow* window, int key, int, int action, int) {
-  if (action != GLFW_PRESS || ImGui::GetIO().WantCaptureKeyboard) return;
+  if ((action != GLFW_PRESS && action != GLFW_REPEAT) || ImGui::GetIO().WantCaptureKeyboard) return;
   Session& s = sessionOf(window);
+  // Held keys repeat only for the stereo adjustments.
+  const bool adjust = key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET ||
+                      key == GLFW_KEY_MINUS || key == GLFW_KEY_EQUAL;
+  if (action == GLFW_REPEAT && !adjust) return;
   switch (key) {
+    case GLFW_KEY_3:
+      cycleStereoMode(s);
+      break;
+    case GLFW_KEY_LEFT_BRACKET:
+      scaleStereo(s, 1.0 / 1.1, 1.0);
+      break;
+    case GLFW_KEY_RIGHT_BRACKET:
+      scaleStereo(s, 1.1, 1.0);
+      break;
+    case GLFW_KEY_MINUS:
+      scaleStereo(s, 1.0, 1.0 / 1.1);
+      break;
+    case GLFW_KEY_EQUAL:
+      scaleStereo(s, 1.0, 1.1);
+      break;
+    case GLFW_KEY_X:
+      s.stereo.swap_eyes = !s.stereo.swap_eyes;
+      s.status = s.stereo.swap_eyes ? "stereo eyes swapped" : "stereo eyes not swapped";
+      break;
     case GLFW_KEY_ESCAPE:
       glfwSetWindowShouldClose(window, GLFW_TRUE);
       break;
@@ -245,6 +311,32 @@ void drawPanel(Session& s, double frame_seconds, const FrameStats& stats) {
     ImGui::SliderFloat("EDL radius", &r.edl_radius_px, 1.0f, 4.0f, "%.1f px");
   }
   ImGui::Separator();
+  ImGui::TextDisabled("Stereo");
+  StereoMode mode = s.stereo.mode;
+  if (comboOf("mode (3)", mode,
+              std::array{StereoMode::Mono, StereoMode::SideBySide, StereoMode::SideBySideSqueezed,
+                         StereoMode::TopBottom, StereoMode::Anaglyph, StereoMode::AnaglyphDubois,
+                         StereoMode::Interlaced, StereoMode::QuadBuffer},
+              stereoModeName)) {
+    setStereoMode(s, mode);
+  }
+  if (s.stereo.mode != StereoMode::Mono) {
+    // Shown resolved; editing makes the value explicit, "auto" returns to the default.
+    const StereoSettings resolved = resolvedStereo(s.stereo, s.camera);
+    float separation = float(resolved.eye_separation), convergence = float(resolved.convergence);
+    if (ImGui::DragFloat("eye separation ([ ])", &separation, separation * 0.01f + 1e-6f, 0.0f,
+                         1e9f, "%.4g")) {
+      s.stereo.eye_separation = separation;
+    }
+    if (ImGui::DragFloat("convergence (- =)", &convergence, convergence * 0.01f + 1e-6f, 1e-6f,
+                         1e9f, "%.4g")) {
+      s.stereo.convergence = std::max(convergence, 1e-6f);
+    }
+    if (ImGui::Button("auto")) s.stereo.eye_separation = s.stereo.convergence = 0.0;
+    ImGui::SameLine();
+    ImGui::Checkbox("swap eyes (X)", &s.stereo.swap_eyes);
+  }
+  ImGui::Separator();
   ImGui::TextDisabled("Camera");
   bool ortho = s.camera.projection == Projection::Orthographic;
   if (ImGui::Checkbox("orthographic (O)", &ortho)) {
@@ -353,8 +445,17 @@ int runViewer(const ViewerOptions& options) {
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
   glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, debug ? GLFW_TRUE : GLFW_FALSE);
+  const bool want_quad_buffer = options.stereo.mode == StereoMode::QuadBuffer;
+  glfwWindowHint(GLFW_STEREO, want_quad_buffer ? GLFW_TRUE : GLFW_FALSE);
   GLFWwindow* window =
       glfwCreateWindow(options.width, options.height, options.title.c_str(), nullptr, nullptr);
+  if (!window && want_quad_buffer) {
+    // GLFW_STEREO is a hard constraint: without a stereo visual no window at all. Try again
+    // without; the session then falls back to sbs.
+    glfwWindowHint(GLFW_STEREO, GLFW_FALSE);
+    window =
+        glfwCreateWindow(options.width, options.height, options.title.c_str(), nullptr, nullptr);
+  }
   if (!window) {
     throw GlContextError(
         "cannot create a window with an OpenGL 4.5 core context (see the GLFW error above); "
@@ -371,6 +472,11 @@ int runViewer(const ViewerOptions& options) {
   s.options = &options;
   s.window = window;
   s.settings = options.settings;
+  s.stereo = options.stereo;
+  GLboolean stereo_buffers = GL_FALSE;
+  glGetBooleanv(GL_STEREO, &stereo_buffers);
+  s.quad_buffer = stereo_buffers == GL_TRUE;
+  if (s.stereo.mode != StereoMode::Mono) setStereoMode(s, s.stereo.mode);
   s.vsync = options.vsync;
   s.renderer = std::make_unique<Renderer>();
   glfwSwapInterval(s.vsync ? 1 : 0);
@@ -442,12 +548,13 @@ int runViewer(const ViewerOptions& options) {
     }
 
     if (s.cloud) {
-      const View view{s.camera, {0, 0, width, height}};
-      const Session::Drawn now_showing{s.cloud.get(), s.camera, s.settings, width, height};
+      const StereoFrame frame = stereoFrame(s.camera, s.stereo, width, height);
+      const Session::Drawn now_showing{s.cloud.get(), s.camera, s.settings,
+                                       s.stereo,      width,    height};
       if (s.drawn != now_showing ||
-          !s.renderer->composite(std::span(&view, 1), s.settings, 0, width, height)) {
+          !s.renderer->composite(frame.views, s.settings, 0, width, height, frame.composition)) {
         const auto start = std::chrono::steady_clock::now();
-        stats = s.renderer->render(*s.cloud, std::span(&view, 1), s.settings, 0, width, height);
+        stats = s.renderer->render(s.draw_set, frame, s.settings, 0, width, height);
         frame_seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         s.drawn = now_showing;

@@ -8,12 +8,16 @@
 
 #include "render/camera.h"
 #include "render/render_settings.h"
+#include "render/stereo.h"
 
 namespace parallax {
 
 struct ViewerOptions {
   std::filesystem::path input;  // may be empty: an empty window that accepts a dropped file
   RenderSettings settings;
+  // Quad-buffer asks the window for a stereo (GL_STEREO) visual; where the display has none,
+  // the viewer says so and shows sbs instead.
+  StereoSettings stereo;
   // The first camera for a cloud with these bounds, at this aspect ratio; empty: a fitted default.
   std::function<Camera(const Bounds3&, double aspect)> initial_camera;
   int width = 1280, height = 720;

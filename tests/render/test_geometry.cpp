@@ -6,6 +6,7 @@
 
 #include <set>
 
+#include "render/draw_set.h"
 #include "render_test_support.h"
 
 namespace parallax::test {
@@ -279,6 +280,37 @@ TEST(PointBuffers, ChunksHoldAtMostTheirLimitAndEveryPoint) {
   // A regular grid 1 cm apart along x and 2 cm along y: the typical spacing is about 1 cm.
   EXPECT_GT(gpu.typicalSpacing(), 0.005);
   EXPECT_LT(gpu.typicalSpacing(), 0.05);
+}
+
+TEST(DrawSets, ANodesSpacingSizesItsPointsInAdaptiveMode) {
+  headlessContext();
+  constexpr int kSize = 101;  // odd: the point's centre is a pixel's centre
+  Camera camera;
+  camera.lookAt({0.0, -10.0, 0.0}, {0.0, 0.0, 0.0}, {0, 0, 1});
+  camera.fov_y_deg = 60.0;
+  const PointCloud cloud = makeCloud({{0.0, 0.0, 0.0}}, {0.0, 0.0, 0.0}, 1e-4);
+  const GpuPointCloud gpu(cloud);
+  RenderSettings settings;
+  settings.color = ColorMode::Uniform;
+  settings.size_mode = PointSizeMode::Adaptive;
+  settings.adaptive_scale = 1.0f;
+  Renderer renderer;
+  RenderTarget target(kSize, kSize);
+  const View view{camera, {0, 0, kSize, kSize}};
+  auto litCount = [&](float node_spacing) {
+    DrawSet set = gpu.drawSet();
+    set.items.at(0).node_spacing = node_spacing;
+    renderer.render(set, std::span(&view, 1), settings, target.framebuffer(), kSize, kSize);
+    return litPixels({kSize, kSize, target.readRgba()}).size();
+  };
+  // Pixels per world unit at depth 10: (101 / 2) / tan(30 degrees) / 10. A node spacing of
+  // 5 (or 7) pixels' worth gives a 5 x 5 (7 x 7) square.
+  const double per_unit = kSize / 2.0 / std::tan(glm::radians(30.0)) / 10.0;
+  EXPECT_EQ(litCount(float(5.0 / per_unit)), 25u);
+  EXPECT_EQ(litCount(float(7.0 / per_unit)), 49u);
+  // Without a node spacing, the chunk's own per-point spacing (none for one point): the fixed
+  // size, 1 pixel.
+  EXPECT_EQ(litCount(0.0f), 1u);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // Golden images: a small scene rendered headless on llvmpipe in every point-size mode, colour
-// mode, with lighting, with eye-dome lighting and with multisampling, compared with PNGs in
-// tests/render/golden/.
+// mode, with lighting, with eye-dome lighting, with multisampling and in three stereo modes,
+// compared with PNGs in tests/render/golden/.
 //
 // A pixel differs when a channel is off by more than kChannelTolerance; an image passes with at
 // most kDifferingFraction of its pixels differing (room for another Mesa version's rounding,
@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "render/stereo.h"
 #include "render_test_support.h"
 
 namespace parallax::test {
@@ -33,11 +34,26 @@ Camera sceneCamera() {
   return camera;
 }
 
+// Stereo: each eye kSize pixels high; side by side is two eyes wide.
+RgbaImage renderStereoImage(const PointCloud& cloud, const Camera& camera,
+                            const StereoSettings& stereo, const RenderSettings& settings) {
+  const int width = stereo.mode == StereoMode::SideBySide ? 2 * kSize : kSize;
+  GpuPointCloud gpu(cloud);
+  Renderer renderer;
+  RenderTarget target(width, kSize);
+  renderer.render(gpu.drawSet(), stereoFrame(camera, stereo, width, kSize), settings,
+                  target.framebuffer(), width, kSize);
+  return {width, kSize, target.readRgba()};
+}
+
 void checkGolden(const std::string& name, const RenderSettings& settings,
-                 const Camera& camera = sceneCamera()) {
+                 const Camera& camera = sceneCamera(), const StereoSettings& stereo = {}) {
   headlessContext();
   const PointCloud cloud = makeWavySheet(32, {0.0, 0.0, 0.0});
-  const RgbaImage image = renderImage(cloud, camera, kSize, kSize, settings);
+  const RgbaImage image = stereo.mode == StereoMode::Mono
+                              ? renderImage(cloud, camera, kSize, kSize, settings)
+                              : renderStereoImage(cloud, camera, stereo, settings);
+  const int pixel_count = image.width * image.height;
   const std::filesystem::path golden = std::filesystem::path(PARALLAX_GOLDEN_DIR) / (name + ".png");
   if (regenerating()) {
     writePng(golden, image);
@@ -58,7 +74,7 @@ void checkGolden(const std::string& name, const RenderSettings& settings,
     largest = std::max(largest, worst);
     if (worst > kChannelTolerance) ++differing;
   }
-  const std::size_t allowed = std::size_t(kDifferingFraction * kSize * kSize);
+  const std::size_t allowed = std::size_t(kDifferingFraction * pixel_count);
   if (differing > allowed) {
     const std::filesystem::path actual =
         std::filesystem::path(PARALLAX_TEST_TMP) / (name + ".actual.png");
@@ -73,7 +89,7 @@ void checkGolden(const std::string& name, const RenderSettings& settings,
   for (std::size_t p = 0; p < image.pixels.size(); p += 4) {
     if (image.pixels[p] | image.pixels[p + 1] | image.pixels[p + 2]) ++lit;
   }
-  EXPECT_GT(lit, std::size_t(kSize * kSize / 10)) << name << " is nearly empty";
+  EXPECT_GT(lit, std::size_t(pixel_count / 10)) << name << " is nearly empty";
 }
 
 RenderSettings base() {
@@ -172,6 +188,28 @@ TEST(RenderGolden, Orthographic) {
   camera.projection = Projection::Orthographic;
   camera.fitToBounds(makeWavySheet(4, {0, 0, 0}).bounds, 1.0);
   checkGolden("orthographic", base(), camera);
+}
+
+StereoSettings stereo(StereoMode mode) {
+  StereoSettings settings;
+  settings.mode = mode;
+  settings.eye_separation = 0.25;  // more than the automatic 1/30, so that the eyes differ
+  return settings;
+}
+
+TEST(RenderGolden, StereoSideBySide) {
+  checkGolden("stereo_sbs", base(), sceneCamera(), stereo(StereoMode::SideBySide));
+}
+
+TEST(RenderGolden, StereoAnaglyphDuboisWithEyeDomeLighting) {
+  RenderSettings settings = base();
+  settings.edl = true;
+  checkGolden("stereo_anaglyph_dubois", settings, sceneCamera(),
+              stereo(StereoMode::AnaglyphDubois));
+}
+
+TEST(RenderGolden, StereoInterlaced) {
+  checkGolden("stereo_interlaced", base(), sceneCamera(), stereo(StereoMode::Interlaced));
 }
 
 }  // namespace

@@ -134,6 +134,64 @@ TEST(RenderCommand, CameraPathWritesEveryFrame) {
   }
 }
 
+// A small grid in front of the default camera, for the stereo options.
+std::string gridPly() {
+  std::vector<std::array<double, 3>> points;
+  for (int i = 0; i < 20; ++i) {
+    for (int j = 0; j < 20; ++j) points.push_back({0.05 * i, 0.05 * j, 0.01 * ((i * j) % 7)});
+  }
+  return pointsPly(points);
+}
+
+TEST(RenderCommand, StereoQuadBufferFallsBackToSideBySideHeadlessWithAMessage) {
+  TempDir dir;
+  const auto ply = dir.write("grid.ply", gridPly());
+  const std::string base = std::string(PARALLAX_EXECUTABLE) + " render " + quoted(ply) +
+                           " --width 96 --height 48 --eye-separation 0.05 --convergence 2";
+  ASSERT_EQ(run(base + " --stereo quad-buffer -o " + quoted(dir / "quad.png") + " 2>" +
+                quoted(dir / "quad.log")),
+            0)
+      << readText(dir / "quad.log");
+  ASSERT_EQ(
+      run(base + " --stereo sbs -o " + quoted(dir / "sbs.png") + " 2>" + quoted(dir / "sbs.log")),
+      0)
+      << readText(dir / "sbs.log");
+  const std::string log = readText(dir / "quad.log");
+  EXPECT_NE(log.find("quad-buffer stereo needs a window with a stereo (GL_STEREO) visual"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("falling back to sbs"), std::string::npos) << log;
+  EXPECT_NE(log.find("stereo sbs, eye separation 0.05, convergence 2"), std::string::npos) << log;
+  const RgbaImage quad = readPng(dir / "quad.png"), sbs = readPng(dir / "sbs.png");
+  EXPECT_EQ(quad.width, 96);
+  EXPECT_EQ(quad.pixels, sbs.pixels);
+  // Both halves show the grid.
+  std::size_t left = 0, right = 0;
+  for (int y = 0; y < sbs.height; ++y) {
+    for (int x = 0; x < sbs.width; ++x) {
+      const std::uint8_t* p = &sbs.pixels[(std::size_t(y) * sbs.width + x) * 4];
+      if (p[0] | p[1] | p[2]) ++(x < 48 ? left : right);
+    }
+  }
+  EXPECT_GT(left, 50u);
+  EXPECT_GT(right, 50u);
+}
+
+TEST(RenderCommand, UnknownStereoModeIsAClearError) {
+  TempDir dir;
+  const auto ply = dir.write("grid.ply", gridPly());
+  const std::string command = std::string(PARALLAX_EXECUTABLE) + " render " + quoted(ply) +
+                              " --stereo 3d -o " + quoted(dir / "out.png") + " 2>" +
+                              quoted(dir / "log");
+  EXPECT_NE(run(command), 0);
+  const std::string log = readText(dir / "log");
+  EXPECT_NE(log.find("--stereo: unknown mode '3d' (use mono|sbs|sbs-squeezed|tb|anaglyph|"
+                     "anaglyph-dubois|interlaced|quad-buffer)"),
+            std::string::npos)
+      << log;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.png"));
+}
+
 TEST(RenderCommand, UnreadableFileIsAClearErrorNotACrash) {
   TempDir dir;
   const auto bad = dir.write("broken.ply", "ply\nformat ascii 1.0\nelement vertex 2\nend_header\n");

@@ -1,5 +1,7 @@
 // The viewer in a real window under Xvfb, driven with xdotool: it opens a file, draws the panel,
-// turns the view on a mouse drag, writes screenshots on P and quits on Escape.
+// turns the view on a mouse drag, writes screenshots on P and quits on Escape; in stereo, it
+// falls back from quad-buffer (Xvfb has no stereo visual) to side by side with a message, and
+// the 3 key cycles the stereo modes.
 //
 // Needs the Debian packages xvfb and xdotool; skipped (with the reason) where they are missing.
 // Xvfb picks a free display itself (-displayfd), so parallel runs do not collide.
@@ -203,6 +205,119 @@ TEST(ViewerWindow, OpensDrawsThePanelTurnsOnDragAndTakesScreenshots) {
   EXPECT_EQ(xdo("key --window " + window + " Escape"), 0);
   EXPECT_EQ(viewer.wait(20s), 0) << "the viewer did not quit on Escape: "
                                  << readFile(dir / "viewer.log");
+}
+
+// Where the cloud's pixels (not the background's colour) are: count and centroid.
+struct Coverage {
+  std::size_t count = 0;
+  double x = 0, y = 0;
+};
+
+Coverage coverage(const RgbaImage& image, int x0, int y0, int x1, int y1) {
+  Coverage c;
+  for (int y = y0; y < y1; ++y) {
+    for (int x = x0; x < x1; ++x) {
+      const std::uint8_t* p = &image.pixels[(std::size_t(y) * image.width + x) * 4];
+      if (p[0] | p[1] | p[2]) ++c.count, c.x += x, c.y += y;
+    }
+  }
+  if (c.count) c.x /= double(c.count), c.y /= double(c.count);
+  return c;
+}
+
+TEST(ViewerWindow, QuadBufferFallsBackToSideBySideAndTheThreeKeyCyclesStereoModes) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto cloud = dir.write("grid.ply", gridPly());
+  const auto shots = dir.path() / "shots";
+  std::filesystem::create_directories(shots);
+  const auto display_file = dir / "display";
+  Child xvfb(
+      {"sh", "-c",
+       "exec Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp 3>" + display_file.string()},
+      {}, (dir / "xvfb.log").string());
+  ASSERT_TRUE(xvfb.started());
+  ASSERT_TRUE(waitFor([&] { return !readFile(display_file).empty(); }, 20s))
+      << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  const std::string display = ":" + std::to_string(std::stoi(readFile(display_file)));
+  const std::string env = "DISPLAY=" + display + " ";
+
+  const auto log = dir / "viewer.log";
+  Child viewer({PARALLAX_EXECUTABLE, "view", cloud.string(), "--width", "800", "--height", "400",
+                "--screenshot-dir", shots.string(), "--point-size", "3", "--no-vsync", "--stereo",
+                "quad-buffer"},
+               {"DISPLAY=" + display, "ASAN_OPTIONS=detect_leaks=0"}, log.string());
+  ASSERT_TRUE(viewer.started());
+  ASSERT_EQ(
+      run(env + "timeout 60 xdotool search --sync --name Parallax > " + (dir / "window").string()),
+      0)
+      << "no viewer window: " << readFile(log);
+  const std::string window = std::to_string(std::stol(readFile(dir / "window")));
+  auto xdo = [&](const std::string& args) {
+    return run(env + "xdotool " + args + " > /dev/null 2>&1");
+  };
+  auto key = [&](const std::string& name) {
+    EXPECT_EQ(xdo("key --window " + window + " " + name), 0);
+    std::this_thread::sleep_for(300ms);
+  };
+  int shot_count = 0;
+  auto screenshot = [&] {
+    const auto path = shots / ("parallax-screenshot-" + std::to_string(++shot_count) + ".png");
+    key("p");
+    EXPECT_TRUE(waitFor([&] { return std::filesystem::exists(path); }, 30s))
+        << "no screenshot " << path << ": " << readFile(log);
+    return readPng(path);
+  };
+  auto logged = [&](const std::string& text) {
+    return waitFor([&] { return readFile(log).find(text) != std::string::npos; }, 10s);
+  };
+
+  // Xvfb offers no stereo visual: the viewer says so and shows side by side.
+  EXPECT_TRUE(
+      logged("quad-buffer stereo: this display offers no stereo (GL_STEREO) visual; "
+             "showing sbs (side by side) instead"))
+      << readFile(log);
+  std::this_thread::sleep_for(1s);
+  key("g");  // hide the panel: the whole picture is the cloud's
+  const RgbaImage sbs = screenshot();
+  ASSERT_EQ(sbs.width, 800);
+  const Coverage left = coverage(sbs, 0, 0, 400, 400), right = coverage(sbs, 400, 0, 800, 400);
+  EXPECT_GT(left.count, 500u) << "no left eye";
+  EXPECT_GT(right.count, 500u) << "no right eye";
+  EXPECT_NEAR(left.x, 200, 60);
+  EXPECT_NEAR(right.x, 600, 60);
+
+  key("3");
+  EXPECT_TRUE(logged("stereo sbs-squeezed")) << readFile(log);
+  key("3");
+  EXPECT_TRUE(logged("stereo tb")) << readFile(log);
+  const RgbaImage tb = screenshot();
+  const Coverage top = coverage(tb, 0, 0, 800, 200), bottom = coverage(tb, 0, 200, 800, 400);
+  EXPECT_GT(top.count, 500u) << "no left eye on top";
+  EXPECT_GT(bottom.count, 500u) << "no right eye below";
+  EXPECT_NEAR(top.y, 100, 40);
+  EXPECT_NEAR(bottom.y, 300, 40);
+  EXPECT_NEAR(top.x, 400, 60);
+
+  key("3");
+  EXPECT_TRUE(logged("stereo anaglyph")) << readFile(log);
+  const RgbaImage anaglyph = screenshot();
+  const Coverage whole = coverage(anaglyph, 0, 0, 800, 400);
+  EXPECT_NEAR(whole.x, 400, 60) << "an anaglyph is one picture across the window";
+  EXPECT_GT(whole.count, left.count);
+  key("bracketright");
+  EXPECT_TRUE(logged("stereo eye separation")) << readFile(log);
+  // Through anaglyph-dubois and interlaced, past quad-buffer (not offered here), back to mono.
+  key("3");
+  key("3");
+  key("3");
+  EXPECT_TRUE(logged("stereo mono")) << readFile(log);
+  EXPECT_EQ(readFile(log).find("stereo quad-buffer"), std::string::npos) << readFile(log);
+
+  EXPECT_EQ(xdo("key --window " + window + " Escape"), 0);
+  EXPECT_EQ(viewer.wait(20s), 0) << "the viewer did not quit on Escape: " << readFile(log);
 }
 
 }  // namespace

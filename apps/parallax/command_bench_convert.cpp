@@ -1,0 +1,131 @@
+// `parallax bench convert FILE...`: the speed of building a Potree 2.0 octree, beside a same-run
+// reference.
+//
+// The conversion runs first (into a temporary directory beside --work, removed afterwards) and
+// reports points/s overall and per core, the time of each stage, and the peak resident memory
+// (ru_maxrss, taken before the reference runs) against the --memory budget. The reference, timed
+// right after: one streaming pass over the same inputs with the same batch reader the
+// conversion uses (PointStream), which is the least any pass must cost; the conversion makes
+// three such passes plus the build. The CPU time (getrusage) gives the work per core however
+// loaded the machine is: points per CPU-second. The machine's load average is printed beside the
+// figures, since these machines are shared.
+#include <sys/resource.h>
+#include <tbb/info.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "lod/potree_converter.h"
+
+namespace parallax::cli {
+namespace {
+
+struct BenchConvertOptions {
+  std::vector<std::string> files;
+  std::string sampling = "poisson";
+  std::uint64_t memory_mb = 2048;
+  int threads = 0;
+  std::string work = "";
+};
+
+double peakResidentMb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;  // KiB on Linux
+}
+
+// User + system CPU seconds of this process so far: on a shared machine the work per core is
+// better measured by CPU time than by wall time divided by the cores.
+double cpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-6;
+}
+
+double loadAverage() {
+  double load[1] = {0.0};
+  return getloadavg(load, 1) == 1 ? load[0] : -1.0;
+}
+
+int runBenchConvert(const BenchConvertOptions& args) {
+  std::vector<ConvertInput> inputs;
+  for (const std::string& file : args.files) inputs.push_back({file, {}});
+  PotreeConvertOptions options;
+  parseSamplingMethod(args.sampling, options.build.sampling);
+  options.build.memory_bytes = args.memory_mb << 20;
+  options.build.threads = args.threads;
+  const int cores = args.threads > 0 ? args.threads : tbb::info::default_concurrency();
+  const std::filesystem::path work =
+      args.work.empty() ? std::filesystem::temp_directory_path() : std::filesystem::path(args.work);
+  const auto output = work / ("parallax-bench-convert-" + std::to_string(::getpid()));
+
+  std::printf(
+      "bench convert: %zu input(s), sampling %s, --memory %llu MB, %d threads, "
+      "load average %.2f\n",
+      inputs.size(), args.sampling.c_str(), static_cast<unsigned long long>(args.memory_mb), cores,
+      loadAverage());
+  const double cpu_before = cpuSeconds();
+  const PotreeConvertResult result = convertToPotree(inputs, output, options);
+  const double cpu = cpuSeconds() - cpu_before;
+  const double peak_mb = peakResidentMb();
+  std::filesystem::remove_all(output);
+  const double rate = double(result.points) / result.seconds_total;
+  std::printf("convert   %llu points in %.2f s: %.2f M points/s, %.2f M points/s per core\n",
+              static_cast<unsigned long long>(result.points), result.seconds_total, rate / 1e6,
+              rate / 1e6 / cores);
+  std::printf(
+      "  cpu     %.2f s user+system: %.2f M points per CPU-second (%.0f%% of %d cores busy)\n", cpu,
+      double(result.points) / cpu / 1e6, 100.0 * cpu / result.seconds_total / cores, cores);
+  std::printf("  stages  scan %.2f s, count %.2f s, distribute %.2f s, build %.2f s\n",
+              result.seconds_scan, result.seconds_count, result.seconds_distribute,
+              result.seconds_build);
+  std::printf("  octree  %zu nodes, depth %d, %zu chunks, %.1f MB octree.bin\n", result.nodes,
+              result.depth, result.chunks, double(result.octree_bytes) / 1e6);
+  std::printf("  memory  peak resident %.0f MB (budget %llu MB)\n", peak_mb,
+              static_cast<unsigned long long>(args.memory_mb));
+
+  // Reference: one streaming read of the inputs in the conversion's batches.
+  const auto start = std::chrono::steady_clock::now();
+  std::uint64_t read = 0;
+  for (const ConvertInput& input : inputs) {
+    PointStream stream(input.path, input.text_columns);
+    PointCloud batch;
+    while (stream.next(batch, 1u << 20)) read += batch.count;
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("reference one streaming read: %.2f s, %.2f M points/s (convert = %.1f reads)\n",
+              seconds, double(read) / seconds / 1e6, result.seconds_total / seconds);
+  std::printf("load average after: %.2f\n", loadAverage());
+  return 0;
+}
+
+}  // namespace
+
+Command addBenchConvertCommand(CLI::App& bench) {
+  auto options = std::make_shared<BenchConvertOptions>();
+  Command command;
+  command.subcommand = bench.add_subcommand(
+      "convert", "Time the Potree 2.0 conversion against one streaming read of the input");
+  command.subcommand->add_option("files", options->files, "Point files")->required();
+  command.subcommand->add_option("--sampling", options->sampling, "poisson or random")
+      ->check(CLI::IsMember({"poisson", "random"}))
+      ->capture_default_str();
+  command.subcommand->add_option("--memory", options->memory_mb, "Memory budget in MB")
+      ->capture_default_str();
+  command.subcommand->add_option("--threads", options->threads, "Threads (0: all cores)");
+  command.subcommand->add_option("--work", options->work,
+                                 "Folder for the temporary output (default: the temp folder)");
+  command.run = [options] { return runBenchConvert(*options); };
+  return command;
+}
+
+}  // namespace parallax::cli

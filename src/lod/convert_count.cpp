@@ -1,0 +1,198 @@
+// Stages 1 and 2 of the conversion (convert_stages.h): scan and count.
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "core/error.h"
+#include "lod/convert_stages.h"
+
+namespace parallax {
+namespace {
+
+constexpr int kGrid = 1 << ConvertPlan::kGridLevel;
+
+// Bytes per point while a chunk is built: its record, its position copy, the Morton-sorted
+// (key, index) pairs, the node lists and the sampling flags (subtree_builder.cpp).
+std::uint64_t buildBytesPerPoint(std::size_t record_size) {
+  return record_size + 12 + 16 + 8 + 8;
+}
+
+// The inputs' quantization when they agree and it covers the cube; otherwise per axis the finest
+// input scale (coarsened by powers of two until the cube fits in int32) about the cube's centre.
+Quantization chooseOutputQuantization(const std::vector<Quantization>& inputs,
+                                      const Bounds3& cube) {
+  auto covers = [&](const Quantization& q) {
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!q.fits(axis, cube.min[axis]) || !q.fits(axis, cube.max[axis])) return false;
+    }
+    return true;
+  };
+  const bool agree = std::all_of(inputs.begin(), inputs.end(),
+                                 [&](const Quantization& q) { return q == inputs.front(); });
+  if (agree && covers(inputs.front())) return inputs.front();
+  Quantization q;
+  const auto center = cube.center();
+  for (int axis = 0; axis < 3; ++axis) {
+    double scale = inputs.front().scale[std::size_t(axis)];
+    for (const Quantization& input : inputs)
+      scale = std::min(scale, input.scale[std::size_t(axis)]);
+    const double edge = cube.max[axis] - cube.min[axis];
+    while (edge / scale > 4.0e9) scale *= 2.0;
+    q.scale[std::size_t(axis)] = scale;
+    q.offset[std::size_t(axis)] = std::round(center[axis] / scale) * scale;
+  }
+  return q;
+}
+
+}  // namespace
+
+std::size_t ConvertPlan::cellOf(const Int3& p) const {
+  const double factor = double(kGrid) / (cube.max[0] - cube.min[0]);
+  auto cell = [&](int axis, std::int32_t value) {
+    const double c = std::floor((quantization.toWorld(axis, value) - cube.min[axis]) * factor);
+    return std::size_t(std::clamp(c, 0.0, double(kGrid - 1)));
+  };
+  return (cell(0, p.x) * kGrid + cell(1, p.y)) * kGrid + cell(2, p.z);
+}
+
+ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuildOptions& options,
+                       const ProgressFactory& progress) {
+  ConvertPlan plan;
+  std::uint64_t total = 0;
+  std::vector<Quantization> quantizations;
+  bool have_layout = false;
+  for (const ConvertInput& input : inputs) {
+    PointStream stream(input.path, input.text_columns);
+    total += stream.pointCount();
+    quantizations.push_back(stream.quantization());
+  }
+  // A first guess of the record size for the batch size (the layout is known after the scan).
+  plan.batch_points = std::clamp<std::uint64_t>(options.memory_bytes / 8 / 128, 4096, 4u << 20);
+  std::unique_ptr<Progress> bar = progress ? progress("scanning", total) : nullptr;
+  for (const ConvertInput& input : inputs) {
+    PointStream stream(input.path, input.text_columns);
+    PointCloud batch;
+    bool first = true;
+    while (stream.next(batch, plan.batch_points)) {
+      if (first) {
+        PotreeLayout layout = PotreeLayout::fromCloud(batch);
+        if (!have_layout) {
+          plan.layout = std::move(layout);
+          have_layout = true;
+        } else {
+          plan.layout.merge(layout);
+        }
+        first = false;
+      }
+      batch.computeBounds();
+      plan.bounds.extend(batch.bounds);
+      plan.points += batch.count;
+      if (bar) bar->advance(batch.count);
+    }
+  }
+  if (!have_layout) plan.layout = PotreeLayout::fromCloud(PointCloud{});
+  plan.cube = octreeCube(plan.bounds);
+  plan.spacing = rootSpacing(plan.cube, options);
+  plan.quantization = chooseOutputQuantization(quantizations, plan.cube);
+  plan.stats = plan.layout.emptyStats();
+
+  const std::size_t record = plan.layout.recordSize();
+  // A quarter of the budget for a batch in flight (the decoded batch, its records, and their
+  // copy sorted by chunk), the rest for the chunk being built; the count grid's 16 MB aside.
+  plan.batch_points =
+      std::clamp<std::uint64_t>(options.memory_bytes / 4 / (3 * record + 64), 1024, 4u << 20);
+  plan.max_chunk_points =
+      options.max_chunk_points > 0
+          ? options.max_chunk_points
+          : std::max<std::uint64_t>(options.memory_bytes / 2 / buildBytesPerPoint(record),
+                                    options.max_node_points);
+  return plan;
+}
+
+void countChunks(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
+                 const ProgressFactory& progress) {
+  const std::size_t cells = std::size_t(kGrid) * kGrid * kGrid;
+  std::vector<std::uint64_t> counts(cells, 0);
+  std::unique_ptr<Progress> bar = progress ? progress("counting", plan.points) : nullptr;
+  for (const ConvertInput& input : inputs) {
+    PointStream stream(input.path, input.text_columns);
+    PointCloud batch;
+    while (stream.next(batch, plan.batch_points)) {
+      // Positions in the output quantization, as the chunks will see them.
+      const bool same = batch.quantization == plan.quantization;
+      tbb::combinable<std::vector<std::uint32_t>> local(
+          [&] { return std::vector<std::uint32_t>(cells, 0); });
+      tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, batch.count, 1 << 16),
+                        [&](const auto& range) {
+                          auto& mine = local.local();
+                          for (std::uint64_t i = range.begin(); i != range.end(); ++i) {
+                            Int3 p = batch.positions[i];
+                            if (!same) {
+                              p = {plan.quantization.toQuantized(0, batch.worldX(i)),
+                                   plan.quantization.toQuantized(1, batch.worldY(i)),
+                                   plan.quantization.toQuantized(2, batch.worldZ(i))};
+                            }
+                            ++mine[plan.cellOf(p)];
+                          }
+                        });
+      local.combine_each([&](const std::vector<std::uint32_t>& mine) {
+        for (std::size_t c = 0; c < cells; ++c) counts[c] += mine[c];
+      });
+      if (bar) bar->advance(batch.count);
+    }
+  }
+
+  // Count pyramid: level l has 2^l cells a side; level kGridLevel is `counts`.
+  std::vector<std::vector<std::uint64_t>> pyramid(ConvertPlan::kGridLevel + 1);
+  pyramid[ConvertPlan::kGridLevel] = std::move(counts);
+  for (int level = ConvertPlan::kGridLevel - 1; level >= 0; --level) {
+    const std::size_t n = std::size_t(1) << level;
+    auto& up = pyramid[std::size_t(level)];
+    const auto& down = pyramid[std::size_t(level + 1)];
+    up.assign(n * n * n, 0);
+    for (std::size_t x = 0; x < 2 * n; ++x)
+      for (std::size_t y = 0; y < 2 * n; ++y)
+        for (std::size_t z = 0; z < 2 * n; ++z)
+          up[((x / 2) * n + y / 2) * n + z / 2] += down[(x * 2 * n + y) * 2 * n + z];
+  }
+
+  // Chunks: the largest nodes holding at most max_chunk_points (or finest grid cells).
+  plan.cell_chunk.assign(cells, -1);
+  plan.chunks.clear();
+  auto visit = [&](auto&& self, int level, std::size_t x, std::size_t y, std::size_t z,
+                   const std::string& name) -> void {
+    const std::size_t n = std::size_t(1) << level;
+    const std::uint64_t count = pyramid[std::size_t(level)][(x * n + y) * n + z];
+    if (count == 0) return;
+    if (count <= plan.max_chunk_points || level == ConvertPlan::kGridLevel) {
+      const std::int32_t id = std::int32_t(plan.chunks.size());
+      plan.chunks.push_back({name, count});
+      const std::size_t span = std::size_t(1) << (ConvertPlan::kGridLevel - level);
+      for (std::size_t cx = x * span; cx < (x + 1) * span; ++cx)
+        for (std::size_t cy = y * span; cy < (y + 1) * span; ++cy)
+          for (std::size_t cz = z * span; cz < (z + 1) * span; ++cz)
+            plan.cell_chunk[(cx * kGrid + cy) * kGrid + cz] = id;
+      return;
+    }
+    for (int octant = 0; octant < 8; ++octant) {
+      self(self, level + 1, 2 * x + ((octant >> 2) & 1), 2 * y + ((octant >> 1) & 1),
+           2 * z + (octant & 1), name + char('0' + octant));
+    }
+  };
+  visit(visit, 0, 0, 0, 0, "r");
+}
+
+Column<Int3> positionsOfRecords(const std::byte* records, std::uint64_t count,
+                                std::size_t record_size) {
+  Column<Int3> positions(count);
+  tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, count, 1 << 16), [&](const auto& range) {
+    for (std::uint64_t i = range.begin(); i != range.end(); ++i)
+      std::memcpy(&positions[i], records + i * record_size, sizeof(Int3));
+  });
+  return positions;
+}
+
+}  // namespace parallax

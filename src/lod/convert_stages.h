@@ -1,0 +1,131 @@
+// The stages of the out-of-core conversion to Potree 2.0 (potree_converter.h runs them in order):
+//
+//   scan        (convert_count.cpp)        bounds, attribute layout, output quantization, cube
+//   count       (convert_count.cpp)        points per cell of a 128^3 grid over the cube, merged
+//                                          into chunks: the largest octree nodes that hold at most
+//                                          the chunk size the memory budget allows
+//   distribute  (convert_distribute.cpp)   every point, encoded once as an octree.bin record, into
+//                                          its chunk's spill file
+//   build       (convert_build_chunks.cpp) each chunk's subtree in memory (subtree_builder.h); all
+//                                          nodes but the chunk's root go to octree.bin at once
+//   top levels  (convert_top_levels.cpp)   the nodes above the chunks, sampled from the chunks'
+//                                          roots, which are written with them
+// Each stage reads the inputs (or the spill files) in batches, so memory depends on the batch
+// and chunk sizes, never on the input's size.
+#pragma once
+
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/bounds.h"
+#include "core/point_cloud.h"
+#include "core/progress.h"
+#include "lod/octree_build_options.h"
+#include "lod/potree_hierarchy_writer.h"
+#include "lod/potree_layout.h"
+#include "lod/sampler.h"
+
+namespace parallax {
+
+// A point file read in batches whatever its format: PLY and LAS through their chunk readers;
+// text files are read whole and handed out in slices (no chunked text reader yet: a text cloud
+// must fit in memory). LAZ and unknown formats throw InputError as readPointFile does.
+class PointStream {
+ public:
+  PointStream(const std::filesystem::path& path, const std::vector<std::string>& text_columns);
+  ~PointStream();
+
+  std::uint64_t pointCount() const;
+  const Quantization& quantization() const;
+  // The next at most `max_points` points; false at the end.
+  bool next(PointCloud& batch, std::size_t max_points);
+
+  struct State;  // opaque (point_stream.cpp)
+
+ private:
+  std::unique_ptr<State> state_;
+};
+
+struct ConvertInput {
+  std::filesystem::path path;
+  std::vector<std::string> text_columns;  // text files only (see point_file.h)
+};
+
+// Creates a progress sink for one stage ("counting", ...) over `total` points; may return null.
+using ProgressFactory =
+    std::function<std::unique_ptr<Progress>(const std::string& stage, std::uint64_t total)>;
+
+struct ChunkPlan {
+  std::string name;  // the chunk's octree node
+  std::uint64_t points = 0;
+};
+
+struct ConvertPlan {
+  std::uint64_t points = 0;
+  Bounds3 bounds;  // tight, world units
+  Bounds3 cube;    // the root node
+  double spacing = 0.0;
+  Quantization quantization;  // of the output positions
+  PotreeLayout layout;
+  AttributeStats stats;                  // filled by distribute
+  std::uint64_t batch_points = 0;        // points read at a time
+  std::uint64_t max_chunk_points = 0;    // chunk size the memory budget allows
+  static constexpr int kGridLevel = 7;   // the count grid is 2^7 cells a side
+  std::vector<std::int32_t> cell_chunk;  // count grid cell -> index into chunks, -1: empty
+  std::vector<ChunkPlan> chunks;
+
+  // The count grid cell of a quantized position (clamped into the grid).
+  std::size_t cellOf(const Int3& position) const;
+};
+
+// octree.bin, appended to by the build stages. `fail_after_bytes` (tests) throws once the file
+// would grow past it, to simulate an interrupted conversion.
+class OctreeBinWriter {
+ public:
+  OctreeBinWriter(const std::filesystem::path& path, std::uint64_t fail_after_bytes);
+  ~OctreeBinWriter();
+  // Appends and returns the offset the bytes were written at.
+  std::uint64_t append(const std::byte* data, std::size_t size);
+  void close();
+  std::uint64_t size() const { return size_; }
+
+ private:
+  std::filesystem::path path_;
+  std::FILE* file_ = nullptr;
+  std::uint64_t size_ = 0;
+  std::uint64_t fail_after_ = 0;
+};
+
+// What the build stage keeps of each chunk: its root's points, for the top levels to sample.
+struct ChunkRoot {
+  std::string name;
+  bool has_children = false;
+  std::vector<std::byte> records;
+};
+
+ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuildOptions& options,
+                       const ProgressFactory& progress);
+void countChunks(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
+                 const ProgressFactory& progress);
+void distributePoints(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
+                      const std::filesystem::path& chunk_dir, const ProgressFactory& progress);
+std::vector<ChunkRoot> buildChunks(const ConvertPlan& plan, const std::filesystem::path& chunk_dir,
+                                   const OctreeBuildOptions& options, const Sampler& sampler,
+                                   OctreeBinWriter& octree, std::vector<PotreeNodeEntry>& entries,
+                                   const ProgressFactory& progress);
+void buildTopLevels(const ConvertPlan& plan, std::vector<ChunkRoot>& roots, const Sampler& sampler,
+                    OctreeBinWriter& octree, std::vector<PotreeNodeEntry>& entries);
+
+// The spill file of chunk `index`.
+std::filesystem::path chunkFilePath(const std::filesystem::path& chunk_dir, std::size_t index);
+
+// Copies the quantized positions out of `count` records.
+Column<Int3> positionsOfRecords(const std::byte* records, std::uint64_t count,
+                                std::size_t record_size);
+
+}  // namespace parallax

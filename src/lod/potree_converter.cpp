@@ -1,0 +1,150 @@
+#include "lod/potree_converter.h"
+
+#include <tbb/global_control.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "core/error.h"
+
+namespace parallax {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Removes the temporary directory unless the conversion got to the rename.
+class TemporaryDirectory {
+ public:
+  explicit TemporaryDirectory(std::filesystem::path path) : path_(std::move(path)) {
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~TemporaryDirectory() {
+    if (!released_) {
+      std::error_code ignored;
+      std::filesystem::remove_all(path_, ignored);
+    }
+  }
+  const std::filesystem::path& path() const { return path_; }
+  void release() { released_ = true; }
+
+ private:
+  std::filesystem::path path_;
+  bool released_ = false;
+};
+
+void writeFile(const std::filesystem::path& path, const void* data, std::size_t size) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(static_cast<const char*>(data), std::streamsize(size));
+  out.close();
+  if (!out) throw std::runtime_error(path.string() + ": cannot write");
+}
+
+nlohmann::json metadataJson(const ConvertPlan& plan, const EncodedHierarchy& hierarchy,
+                            const std::string& name) {
+  return {{"version", "2.0"},
+          {"name", name},
+          {"description", ""},
+          {"points", plan.points},
+          {"projection", ""},
+          {"hierarchy",
+           {{"firstChunkSize", hierarchy.first_chunk_size},
+            {"stepSize", 4},
+            {"depth", hierarchy.depth}}},
+          {"offset", plan.quantization.offset},
+          {"scale", plan.quantization.scale},
+          {"spacing", plan.spacing},
+          {"boundingBox", {{"min", plan.cube.min}, {"max", plan.cube.max}}},
+          {"encoding", "DEFAULT"},
+          {"attributes", plan.layout.toJson(plan.stats)}};
+}
+
+void checkOutput(const std::filesystem::path& output) {
+  if (!std::filesystem::exists(output)) return;
+  const bool potree =
+      std::filesystem::is_directory(output) && std::filesystem::exists(output / "metadata.json");
+  const bool empty_dir = std::filesystem::is_directory(output) && std::filesystem::is_empty(output);
+  if (!potree && !empty_dir) {
+    throw InputError(
+        {.file = output.string(),
+         .expected = "a new directory, an empty one, or a Potree directory to replace",
+         .found = std::filesystem::is_directory(output) ? "a directory with other files" : "a file",
+         .hint = "choose another output name or remove it"});
+  }
+}
+
+}  // namespace
+
+PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
+                                    const std::filesystem::path& output,
+                                    const PotreeConvertOptions& options) {
+  const auto start = Clock::now();
+  std::optional<tbb::global_control> threads;
+  if (options.build.threads > 0) {
+    threads.emplace(tbb::global_control::max_allowed_parallelism,
+                    std::size_t(options.build.threads));
+  }
+  std::filesystem::path target = std::filesystem::absolute(output).lexically_normal();
+  if (!target.has_filename()) target = target.parent_path();
+  checkOutput(target);
+  std::filesystem::create_directories(target.parent_path());
+  // Built piece by piece: g++ 12 warns (-Wrestrict, falsely) on a chain of string additions.
+  std::string temp_name = ".";
+  temp_name += target.filename().string();
+  temp_name += ".partial-";
+  temp_name += std::to_string(::getpid());
+  TemporaryDirectory temp(target.parent_path() / temp_name);
+  PotreeConvertResult result;
+
+  auto mark = Clock::now();
+  ConvertPlan plan = scanInputs(inputs, options.build, options.progress);
+  result.seconds_scan = secondsSince(mark);
+  mark = Clock::now();
+  countChunks(plan, inputs, options.progress);
+  result.seconds_count = secondsSince(mark);
+  mark = Clock::now();
+  const auto chunk_dir = temp.path() / "chunks";
+  distributePoints(plan, inputs, chunk_dir, options.progress);
+  result.seconds_distribute = secondsSince(mark);
+
+  mark = Clock::now();
+  const auto sampler = makeSampler(options.build.sampling);
+  OctreeBinWriter octree(temp.path() / "octree.bin", options.fail_after_octree_bytes);
+  std::vector<PotreeNodeEntry> entries;
+  std::vector<ChunkRoot> roots =
+      buildChunks(plan, chunk_dir, options.build, *sampler, octree, entries, options.progress);
+  buildTopLevels(plan, roots, *sampler, octree, entries);
+  if (entries.empty()) entries.push_back({.name = "r"});  // an empty input: a root, no points
+  octree.close();
+  std::filesystem::remove_all(chunk_dir);
+  result.seconds_build = secondsSince(mark);
+
+  const std::int32_t root = linkPotreeNodes(entries);
+  const EncodedHierarchy hierarchy = encodePotreeHierarchy(entries, root);
+  writeFile(temp.path() / "hierarchy.bin", hierarchy.bytes.data(), hierarchy.bytes.size());
+  const std::string name = options.name.empty() ? target.filename().string() : options.name;
+  const std::string metadata = metadataJson(plan, hierarchy, name).dump(2);
+  // metadata.json last: a directory without it is never taken for a finished octree.
+  writeFile(temp.path() / "metadata.json", metadata.data(), metadata.size());
+
+  if (std::filesystem::exists(target)) std::filesystem::remove_all(target);
+  std::filesystem::rename(temp.path(), target);
+  temp.release();
+
+  result.points = plan.points;
+  result.nodes = entries.size();
+  result.chunks = plan.chunks.size();
+  result.depth = hierarchy.depth;
+  result.octree_bytes = octree.size();
+  result.seconds_total = secondsSince(start);
+  return result;
+}
+
+}  // namespace parallax

@@ -1,0 +1,51 @@
+// Conversion of point files (PLY, LAS, text; several merged into one) to a Potree 2.0 directory:
+// metadata.json, hierarchy.bin and octree.bin in the DEFAULT encoding (potree_layout.h,
+// potree_hierarchy_writer.h), which Potree 2 clients and potree_reader.h open.
+//
+// Out of core: the inputs are read in batches (three passes: scan, count, distribute), spilled
+// into chunks on disk and each chunk built in memory (convert_stages.h), so memory stays within
+// options.build.memory_bytes for any input size (text inputs excepted: they are read whole).
+// The budget is split in a quarter for the batch in flight and half for the chunk being built;
+// a grid cell of 1/128 of the cube's edge holding more points than a chunk may hold is built
+// whole anyway (a pathological density; noted in NOTES.md).
+//
+// The directory is written under a temporary sibling name (".NAME.partial-PID") and renamed to
+// `output` only when complete; on failure the temporary directory is removed. An interrupted
+// process (killed) leaves only the temporary name, never a directory that looks complete.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "lod/convert_stages.h"
+#include "lod/octree_build_options.h"
+
+namespace parallax {
+
+struct PotreeConvertOptions {
+  OctreeBuildOptions build;
+  ProgressFactory progress;  // one bar per stage; empty: none
+  std::string name;          // metadata "name"; empty: the output directory's name
+  // Tests: throw after this many bytes of octree.bin (0: never), as an interruption would stop.
+  std::uint64_t fail_after_octree_bytes = 0;
+};
+
+struct PotreeConvertResult {
+  std::uint64_t points = 0;
+  std::size_t nodes = 0;
+  std::size_t chunks = 0;
+  int depth = 0;
+  std::uint64_t octree_bytes = 0;
+  double seconds_scan = 0, seconds_count = 0, seconds_distribute = 0, seconds_build = 0,
+         seconds_total = 0;
+};
+
+// Throws InputError for unreadable or malformed inputs and when `output` exists and is not a
+// Potree directory (one with metadata.json is replaced); std::runtime_error for I/O failures.
+PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
+                                    const std::filesystem::path& output,
+                                    const PotreeConvertOptions& options = {});
+
+}  // namespace parallax

@@ -1,0 +1,90 @@
+// `parallax convert ... -o DIR` end to end: runs the built executable (PARALLAX_EXECUTABLE) on
+// small files written here and checks exit codes, messages and the directory it writes.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "io/point_file.h"
+#include "lod_test_clouds.h"
+#include "support/temp_dir.h"
+
+namespace parallax::test {
+namespace {
+
+struct RunResult {
+  int exit_code = -1;
+  std::string err;
+};
+
+std::string readAll(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+RunResult runParallax(const TempDir& dir, const std::string& args) {
+  const auto err = dir / "stderr.txt";
+  const std::string command = std::string("'") + PARALLAX_EXECUTABLE + "' " + args +
+                              " >/dev/null 2>'" + err.string() + "' </dev/null";
+  const int status = std::system(command.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), readAll(err)};
+}
+
+TEST(ConvertCli, WritesAPotreeDirectoryForAnOutputWithoutExtension) {
+  TempDir dir;
+  writePointFile(makeSurfaceCloud(5000), dir / "in.ply");
+  const std::string in = (dir / "in.ply").string(), out = (dir / "octree").string();
+  const RunResult run =
+      runParallax(dir, "convert '" + in + "' -o '" + out + "' --memory 64 --sampling random");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("Potree 2.0, 5000 points"), std::string::npos) << run.err;
+  const auto metadata = nlohmann::json::parse(readAll(dir / "octree" / "metadata.json"));
+  EXPECT_EQ(metadata["points"], 5000);
+  EXPECT_EQ(metadata["version"], "2.0");
+  EXPECT_TRUE(std::filesystem::exists(dir / "octree" / "hierarchy.bin"));
+  EXPECT_EQ(std::filesystem::file_size(dir / "octree" / "octree.bin"), 5000u * 36u);
+}
+
+TEST(ConvertCli, MergesSeveralInputsAndHonoursFormatPotree) {
+  TempDir dir;
+  writePointFile(makeSurfaceCloud(1000, 1), dir / "a.ply");
+  writePointFile(makeSurfaceCloud(700, 2), dir / "b.ply");
+  const RunResult run = runParallax(dir, "convert -q '" + (dir / "a.ply").string() + "' '" +
+                                             (dir / "b.ply").string() + "' -o '" +
+                                             (dir / "both.potree").string() + "' --format potree");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(run.err, "");  // -q: no progress, no report
+  const auto metadata = nlohmann::json::parse(readAll(dir / "both.potree" / "metadata.json"));
+  EXPECT_EQ(metadata["points"], 1700);
+}
+
+TEST(ConvertCli, SeveralInputsIntoOnePointFileIsAnError) {
+  TempDir dir;
+  writePointFile(makeSurfaceCloud(10, 1), dir / "a.ply");
+  const std::string a = (dir / "a.ply").string();
+  const RunResult run =
+      runParallax(dir, "convert '" + a + "' '" + a + "' -o '" + (dir / "out.ply").string() + "'");
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.err.find("one input when converting to a point file"), std::string::npos)
+      << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.ply"));
+}
+
+TEST(ConvertCli, FileToFileConversionStillWorks) {
+  TempDir dir;
+  writePointFile(makeSurfaceCloud(100), dir / "in.ply");
+  const RunResult run = runParallax(dir, "convert -q '" + (dir / "in.ply").string() + "' -o '" +
+                                             (dir / "out.xyz").string() + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(readPointFile(dir / "out.xyz").count, 100u);
+}
+
+}  // namespace
+}  // namespace parallax::test

@@ -1,0 +1,126 @@
+// The background node loader: every requested node arrives, staged; requests dropped from the
+// queue are never read; a new request list re-orders the queue; a failed load is reported.
+#include "render/node_loader.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+
+#include "fake_octree.h"
+
+namespace parallax {
+namespace {
+
+using test::FakeOctree;
+using namespace std::chrono_literals;
+
+Bounds3 cube16() {
+  Bounds3 box;
+  box.extend(0, 0, 0);
+  box.extend(16, 16, 16);
+  return box;
+}
+
+// Takes loaded nodes until `count` have arrived.
+std::vector<LoadedNode> takeAll(NodeLoader& loader, std::size_t count) {
+  std::vector<LoadedNode> all;
+  while (all.size() < count) {
+    loader.waitForLoaded(1000ms);
+    for (LoadedNode& node : loader.takeLoaded()) all.push_back(std::move(node));
+  }
+  return all;
+}
+
+TEST(NodeLoader, DeliversEveryRequestedNodeStaged) {
+  FakeOctree octree(cube16(), 50, 2.0);
+  octree.addFullLevels(1, 30);
+  NodeLoader loader(octree, 2);
+  const std::vector<std::int32_t> wanted{0, 3, 5, 8};
+  loader.request(octree.nodes(), wanted);
+  std::vector<LoadedNode> loaded = takeAll(loader, 4);
+  std::sort(loaded.begin(), loaded.end(), [](auto& a, auto& b) { return a.node < b.node; });
+  ASSERT_EQ(loaded.size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    const OctreeNode& node = octree.nodes()[std::size_t(wanted[i])];
+    EXPECT_EQ(loaded[i].node, wanted[i]);
+    EXPECT_TRUE(loaded[i].error.empty());
+    EXPECT_EQ(loaded[i].staged.chunk.count, node.point_count);
+    EXPECT_EQ(loaded[i].staged.chunk.buffer, 0u);
+    // Positions, colours and extras sections, each rounded up to 256 bytes.
+    EXPECT_EQ(loaded[i].staged.bytes.size(),
+              node.point_count == 50 ? 768u + 256u + 512u : 512u + 256u + 256u);
+    // Every point lies in the node's box, and carries the node's spacing.
+    const Bounds3& bounds = loaded[i].staged.chunk.bounds;
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_GE(bounds.min[std::size_t(a)], node.box.min[std::size_t(a)]);
+      EXPECT_LE(bounds.max[std::size_t(a)], node.box.max[std::size_t(a)]);
+    }
+    float spacing = 0;
+    std::memcpy(&spacing, loaded[i].staged.bytes.data() + loaded[i].staged.chunk.extras_offset + 4,
+                4);
+    EXPECT_EQ(spacing, float(node.spacing));
+  }
+  EXPECT_EQ(loader.queued(), 0u);
+  EXPECT_EQ(loader.inFlight(), 0u);
+}
+
+TEST(NodeLoader, DropsCancelledRequestsAndFollowsTheNewOrder) {
+  FakeOctree octree(cube16(), 10, 2.0);
+  octree.addFullLevels(1, 10);
+  // The intensity range is read from the root before the first node: let that happen first.
+  NodeLoader loader(octree, 1);
+  const std::vector<std::int32_t> root{0};
+  loader.request(octree.nodes(), root);
+  takeAll(loader, 1);
+  const std::size_t before = octree.loadLog().size();  // root twice: range, then the node
+
+  octree.closeGate();
+  const std::vector<std::int32_t> first{1, 2, 3, 4};
+  loader.request(octree.nodes(), first);
+  octree.waitForLoadsStarted(before + 1);  // node 1 is in flight, held at the gate
+  // The camera moved: 2 and 4 are no longer wanted, 7 is, and most urgently.
+  const std::vector<std::int32_t> second{7, 1, 3};
+  loader.request(octree.nodes(), second);
+  EXPECT_EQ(loader.queued(), 2u);  // 7 and 3; 1 is in flight already
+  EXPECT_EQ(loader.inFlight(), 1u);
+  octree.openGate();
+  std::vector<LoadedNode> loaded = takeAll(loader, 3);
+
+  const std::vector<std::string> log = octree.loadLog();
+  EXPECT_EQ(std::vector<std::string>(log.begin() + std::ptrdiff_t(before), log.end()),
+            (std::vector<std::string>{"r0", "r6", "r2"}));
+  std::vector<std::int32_t> delivered;
+  for (const LoadedNode& node : loaded) delivered.push_back(node.node);
+  EXPECT_EQ(delivered, (std::vector<std::int32_t>{1, 7, 3}));
+  EXPECT_EQ(loader.loadsStarted(), 4u);
+}
+
+TEST(NodeLoader, ReportsAFailedLoad) {
+  FakeOctree octree(cube16(), 10, 2.0);
+  octree.addFullLevels(1, 10);
+  octree.failLoads(2);
+  NodeLoader loader(octree, 2);
+  const std::vector<std::int32_t> wanted{2};
+  loader.request(octree.nodes(), wanted);
+  const std::vector<LoadedNode> loaded = takeAll(loader, 1);
+  EXPECT_EQ(loaded[0].node, 2);
+  EXPECT_NE(loaded[0].error.find("octree.bin"), std::string::npos) << loaded[0].error;
+  EXPECT_NE(loaded[0].error.find("node r1"), std::string::npos) << loaded[0].error;
+  EXPECT_TRUE(loaded[0].staged.bytes.empty());
+}
+
+TEST(NodeLoader, StopsWithWorkQueued) {
+  FakeOctree octree(cube16(), 10, 2.0);
+  octree.addFullLevels(1, 10);
+  const std::vector<std::int32_t> wanted{1, 2, 3, 4, 5, 6, 7, 8};
+  {
+    NodeLoader loader(octree, 1);
+    loader.request(octree.nodes(), wanted);
+  }  // the destructor drops the queue and joins; nothing hangs
+  EXPECT_LE(octree.loadLog().size(), 10u);
+}
+
+}  // namespace
+}  // namespace parallax
