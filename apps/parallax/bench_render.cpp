@@ -16,6 +16,9 @@
 // as in `parallax render`), and the ratio stereo / mono: what stereo costs. Beside them, the
 // mono frame drawn twice in a row: what a second eye's rasterization alone costs, so that
 // stereo / (2 x mono) above 1 is work the stereo path adds.
+//
+// `parallax bench render DIR [--budget N]`: level of detail on a Potree directory instead
+// (bench_render_lod.cpp).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -26,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_render_lod.h"
 #include "commands.h"
 #include "core/point_cloud.h"
 #include "render/gl_context.h"
@@ -42,6 +46,9 @@ struct RenderBenchOptions {
   int width = 1920, height = 1080;
   int repeat = 5;
   std::vector<std::string> stereo;  // modes to compare with mono
+  std::string directory;            // a Potree directory: the level-of-detail benchmark
+  std::uint64_t budget = 3'000'000;
+  double min_node_size = 30.0;
 };
 
 using Clock = std::chrono::steady_clock;
@@ -230,6 +237,15 @@ int runBenchRender(const RenderBenchOptions& o) {
       modes.push_back(*mode);
     }
   }
+  if (!o.directory.empty()) {
+    return runBenchRenderLod({.directory = o.directory,
+                              .budget = o.budget,
+                              .min_node_size = o.min_node_size,
+                              .width = o.width,
+                              .height = o.height,
+                              .repeat = o.repeat,
+                              .stereo = modes});
+  }
   auto context = GlContext::createHeadless();
   std::printf("bench render: %llu random points, %dx%d, median of %d frames, on %s\n",
               static_cast<unsigned long long>(o.points), o.width, o.height, o.repeat,
@@ -295,6 +311,17 @@ Command addBenchRenderCommand(CLI::App& bench) {
   command.subcommand->add_option(
       "--stereo", options->stereo,
       "Also compare mono with this stereo mode (" + stereoModeNames() + "; repeatable)");
+  command.subcommand->add_option(
+      "directory", options->directory,
+      "A Potree 2.0 directory: time level-of-detail frames against the same points drawn plainly");
+  command.subcommand->add_option("--budget", options->budget, "With a directory: the point budget")
+      ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 40))
+      ->capture_default_str();
+  command.subcommand
+      ->add_option("--min-node-size", options->min_node_size,
+                   "With a directory: smallest node drawn, pixels")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   command.run = [options] { return runBenchRender(*options); };
   return command;
 }

@@ -4,26 +4,41 @@
 // With --stereo MODE, each picture is a stereo frame (render/stereo.h) of the whole --width x
 // --height. quad-buffer needs a stereo window: headless, it falls back to sbs with a message.
 //
+// INPUT may be a Potree 2.0 directory: its octree is streamed through a LodScene (render/
+// lod_scene.h) within --budget points, and each picture waits for every node it selects. A PLY or
+// LAS file with more points than --budget is converted to such an octree first (kept in the
+// user's cache, or --cache-dir, for the next run; --no-cache: a temporary folder), unless
+// --preview asks for a picture of an even sample at once (PLY only; the budget's worth of points,
+// at most kPreviewPoints).
+//
 // Prints the time from start to PNG broken down into load, context, upload, draw and write, on
 // stderr (stdout stays free for scripts).
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "commands.h"
+#include "core/error.h"
 #include "core/point_cloud.h"
+#include "core/progress.h"
+#include "io/ply_preview.h"
 #include "io/point_file.h"
+#include "lod/potree_reader.h"
 #include "render/camera_path.h"
 #include "render/gl_context.h"
 #include "render/image_file.h"
+#include "render/lod_scene.h"
 #include "render/point_buffers.h"
 #include "render/renderer.h"
 #include "render/stereo.h"
 #include "render_options.h"
+#include "viewer/large_cloud.h"
 
 namespace parallax::cli {
 namespace {
@@ -61,12 +76,70 @@ struct RenderCommandOptions {
   int width = 1280, height = 720;
   std::string path_file;
   int frames = 0;
+  bool preview = false;
   RenderOptions render;
+  LodOptions lod;
 };
+
+// What the frames draw: a whole cloud uploaded at once (a file within the budget, or --preview's
+// sample of a larger one), or an octree streamed through a LodScene (a Potree directory, or the
+// octree of a file over the budget).
+struct RenderSource {
+  PointCloud cloud;                          // until uploaded
+  std::uint64_t file_points = 0;             // --preview: the file's point count
+  std::unique_ptr<OctreeLocation> location;  // keeps a --no-cache octree until the end
+  std::filesystem::path octree_dir;
+  std::unique_ptr<Octree> octree;
+  bool lod() const { return octree != nullptr; }
+};
+
+RenderSource openSource(const RenderCommandOptions& o) {
+  RenderSource source;
+  if (isPotreeDirectory(o.input)) {
+    source.octree_dir = o.input;
+    source.octree = openPotree(o.input);
+    return source;
+  }
+  const std::optional<std::uint64_t> points = headerPointCount(o.input);
+  if (!points || *points <= o.lod.budget) {
+    source.cloud = readPointFile(o.input);  // today's path, every point drawn
+    return source;
+  }
+  if (o.preview) {
+    if (detectPointFormat(o.input) != PointFormat::Ply) {
+      throw std::invalid_argument("--preview: " + o.input +
+                                  " is not a PLY file (the sample reader reads PLY only)");
+    }
+    source.cloud = readPlyPreview(o.input, std::min(o.lod.budget, kPreviewPoints));
+    source.file_points = *points;
+    return source;
+  }
+  const OctreeCacheSettings cache = octreeCacheSettingsFrom(o.lod);
+  source.location = std::make_unique<OctreeLocation>(o.input, cache);
+  const std::string directory = source.location->directory().string();
+  if (source.location->complete()) {
+    std::fprintf(stderr,
+                 "parallax render: %llu points, over the budget of %llu: using the octree in %s\n",
+                 static_cast<unsigned long long>(*points),
+                 static_cast<unsigned long long>(o.lod.budget), directory.c_str());
+  } else {
+    std::fprintf(stderr,
+                 "parallax render: %llu points, over the budget of %llu: converting to an octree "
+                 "in %s\n",
+                 static_cast<unsigned long long>(*points),
+                 static_cast<unsigned long long>(o.lod.budget), directory.c_str());
+    ensureOctree(*source.location, cache.build, [](const std::string& stage, std::uint64_t total) {
+      return std::make_unique<TerminalProgress>(stage, total);
+    });
+  }
+  source.octree_dir = source.location->directory();
+  source.octree = openPotree(source.octree_dir);
+  return source;
+}
 
 int runRender(const RenderCommandOptions& o) {
   const auto start = Clock::now();
-  PointCloud cloud = readPointFile(o.input);
+  RenderSource source = openSource(o);
   const double load_s = secondsSince(start);
 
   auto phase = Clock::now();
@@ -74,13 +147,23 @@ int runRender(const RenderCommandOptions& o) {
   const double context_s = secondsSince(phase);
 
   phase = Clock::now();
-  GpuPointCloud gpu(cloud);
-  glFinish();
+  std::unique_ptr<GpuPointCloud> gpu;
+  std::unique_ptr<LodScene> lod;
+  Bounds3 bounds;
+  std::uint64_t points = 0;
+  if (source.lod()) {
+    lod = std::make_unique<LodScene>(*source.octree);
+    bounds = source.octree->info().bounds;
+    points = source.octree->info().point_count;
+  } else {
+    gpu = std::make_unique<GpuPointCloud>(source.cloud);
+    glFinish();
+    bounds = gpu->bounds();
+    points = source.cloud.count;
+    source.cloud = PointCloud();  // the GPU holds the points now
+  }
   const double upload_s = secondsSince(phase);
-  const std::uint64_t points = cloud.count;
-  cloud = PointCloud();  // the GPU holds the points now
 
-  const RenderSettings settings = renderSettingsFrom(o.render, gpu.typicalSpacing());
   StereoSettings stereo = stereoSettingsFrom(o.render);
   if (stereo.mode == StereoMode::QuadBuffer) {
     std::fprintf(stderr,
@@ -100,7 +183,7 @@ int runRender(const RenderCommandOptions& o) {
     }
     std::filesystem::create_directories(std::filesystem::path(outputs.front()).parent_path());
   } else {
-    cameras.push_back(cameraFrom(o.render, gpu.bounds(), aspect));
+    cameras.push_back(cameraFrom(o.render, bounds, aspect));
     outputs.push_back(o.output);
   }
 
@@ -108,11 +191,21 @@ int runRender(const RenderCommandOptions& o) {
   RenderTarget target(o.width, o.height);
   double draw_s = 0, write_s = 0;
   std::uint64_t drawn = 0;
-  const DrawSet draw_set = gpu.drawSet();
+  const LodFrameSettings lod_settings = lodFrameSettingsFrom(o.lod);
+  std::optional<RenderSettings> settings;
   for (std::size_t i = 0; i < cameras.size(); ++i) {
     phase = Clock::now();
     const StereoFrame frame = stereoFrame(cameras[i], stereo, o.width, o.height);
-    drawn = renderer.render(draw_set, frame, settings, target.framebuffer(), o.width, o.height)
+    // The finished picture: finishLoading waits for every node this frame selects.
+    const DrawSet& draw_set = lod ? lod->finishLoading(frame.views, lod_settings) : gpu->drawSet();
+    if (lod && !lod->firstError().empty()) {
+      throw InputError({.file = source.octree_dir.string(),
+                        .expected = "every node the view selects readable",
+                        .found = std::to_string(lod->stats().failed_nodes) +
+                                 " failed, the first: " + lod->firstError()});
+    }
+    if (!settings) settings = renderSettingsFrom(o.render, draw_set.typical_spacing);
+    drawn = renderer.render(draw_set, frame, *settings, target.framebuffer(), o.width, o.height)
                 .points_drawn;
     glFinish();
     draw_s += secondsSince(phase);
@@ -126,6 +219,21 @@ int runRender(const RenderCommandOptions& o) {
     std::fprintf(stderr, "parallax render: stereo %s, eye separation %g, convergence %g%s\n",
                  std::string(stereoModeName(used.mode)).c_str(), used.eye_separation,
                  used.convergence, used.swap_eyes ? ", eyes swapped" : "");
+  }
+  if (lod) {
+    const LodStats& stats = lod->stats();
+    std::fprintf(stderr,
+                 "parallax render: level of detail, budget %llu: %zu nodes selected (%llu points), "
+                 "%zu drawn (%llu points), GPU %.1f MB\n",
+                 static_cast<unsigned long long>(o.lod.budget), stats.selected_nodes,
+                 static_cast<unsigned long long>(stats.selected_points), stats.drawn_nodes,
+                 static_cast<unsigned long long>(stats.drawn_points),
+                 double(stats.gpu_bytes) / 1e6);
+  }
+  if (source.file_points) {
+    std::fprintf(stderr, "parallax render: preview, a sample of %llu of the file's %llu points\n",
+                 static_cast<unsigned long long>(points),
+                 static_cast<unsigned long long>(source.file_points));
   }
   std::fprintf(stderr,
                "parallax render: %llu points (%llu drawn), %zu frame(s) %dx%d on %s (%s)\n"
@@ -144,7 +252,9 @@ Command addRenderCommand(CLI::App& app) {
   auto options = std::make_shared<RenderCommandOptions>();
   Command command;
   CLI::App* sub = app.add_subcommand("render", "Render a point file to a PNG, headless");
-  sub->add_option("input", options->input, "Point file (PLY, LAS or text)")->required();
+  sub->add_option("input", options->input,
+                  "Point file (PLY, LAS or text), or a Potree 2.0 directory (parallax convert)")
+      ->required();
   sub->add_option("-o,--output", options->output,
                   "Output PNG (with --path: a pattern such as DIR/frame_%04d.png)")
       ->required();
@@ -156,7 +266,12 @@ Command addRenderCommand(CLI::App& app) {
       ->check(CLI::Range(1, 16384));
   sub->add_option("--path", options->path_file, "Camera path JSON: render a frame sequence");
   sub->add_option("--frames", options->frames, "Frames along --path")->check(CLI::Range(1, 100000));
+  sub->add_flag("--preview", options->preview,
+                "A PLY file over --budget: draw an even sample (at most the budget, at most 1 M "
+                "points) at once "
+                "instead of converting it to an octree");
   addRenderOptions(*sub, options->render);
+  addLodOptions(*sub, options->lod);
   command.subcommand = sub;
   command.run = [options] { return runRender(*options); };
   return command;

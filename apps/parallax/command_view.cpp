@@ -1,5 +1,7 @@
-// `parallax view [INPUT]`: the interactive viewer (src/viewer) with the same render options as
-// `parallax render`.
+// `parallax view [INPUT]`: the interactive viewer (src/viewer) with the same render and level of
+// detail options as `parallax render`. INPUT may be a Potree 2.0 directory; a file with more
+// points than --budget shows a sample at once and its octree once built (viewer/viewer.h).
+#include <chrono>
 #include <memory>
 #include <string>
 
@@ -16,10 +18,14 @@ struct ViewCommandOptions {
   bool no_vsync = false;
   std::string screenshot_dir = ".";
   RenderOptions render;
+  LodOptions lod;
 };
 
-int runView(const ViewCommandOptions& o) {
+int runView(const ViewCommandOptions& o, std::chrono::steady_clock::time_point start) {
   ViewerOptions viewer;
+  viewer.start_time = start;
+  viewer.lod = lodFrameSettingsFrom(o.lod);
+  viewer.cache = octreeCacheSettingsFrom(o.lod);
   viewer.input = o.input;
   viewer.width = o.width;
   viewer.height = o.height;
@@ -43,7 +49,8 @@ Command addViewCommand(CLI::App& app) {
   Command command;
   CLI::App* sub = app.add_subcommand("view", "Open a point file in a window (H in it: keys)");
   sub->add_option("input", options->input,
-                  "Point file (PLY, LAS or text); or drop one on the window");
+                  "Point file (PLY, LAS or text) or Potree 2.0 directory; or drop one on the "
+                  "window");
   sub->add_option("--width", options->width, "Window width")->capture_default_str();
   sub->add_option("--height", options->height, "Window height")->capture_default_str();
   sub->add_flag("--no-vsync", options->no_vsync, "Start with vsync off (V toggles it)");
@@ -51,8 +58,10 @@ Command addViewCommand(CLI::App& app) {
                   "Folder for screenshots (P) and saved cameras")
       ->capture_default_str();
   addRenderOptions(*sub, options->render);
+  addLodOptions(*sub, options->lod);
   command.subcommand = sub;
-  command.run = [options] { return runView(*options); };
+  // The first picture's time counts from here, after the option parsing (microseconds).
+  command.run = [options] { return runView(*options, std::chrono::steady_clock::now()); };
   return command;
 }
 

@@ -85,6 +85,43 @@ void addRenderOptions(CLI::App& command, RenderOptions& o) {
   command.add_flag("--swap-eyes", o.swap_eyes, "Swap the left and right eyes' pictures");
 }
 
+void addLodOptions(CLI::App& command, LodOptions& o) {
+  command
+      .add_option("--budget", o.budget,
+                  "Level of detail: most points drawn a frame; files with more points are "
+                  "converted to an octree (cached) and streamed")
+      ->capture_default_str()
+      ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 40));
+  command
+      .add_option("--min-node-size", o.min_node_size,
+                  "Level of detail: octree nodes smaller than this on screen (pixels) are skipped")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  command.add_option("--cache-dir", o.cache_dir,
+                     "Folder for the octrees of large files (default: $XDG_CACHE_HOME/parallax/"
+                     "octrees, else ~/.cache/parallax/octrees)");
+  command.add_flag("--no-cache", o.no_cache,
+                   "Build the octree of a large file in a temporary folder removed at exit");
+  command.add_option("--memory", o.memory_mb, "Memory budget in MB of an octree conversion")
+      ->capture_default_str()
+      ->check(CLI::Range(std::uint64_t(16), std::uint64_t(1) << 24));
+}
+
+LodFrameSettings lodFrameSettingsFrom(const LodOptions& o) {
+  LodFrameSettings settings;
+  settings.selection.point_budget = o.budget;
+  settings.selection.min_node_size_px = o.min_node_size;
+  return settings;
+}
+
+OctreeCacheSettings octreeCacheSettingsFrom(const LodOptions& o) {
+  OctreeCacheSettings settings;
+  settings.use_cache = !o.no_cache;
+  settings.cache_dir = o.cache_dir;
+  settings.build.memory_bytes = o.memory_mb << 20;
+  return settings;
+}
+
 StereoSettings stereoSettingsFrom(const RenderOptions& o) {
   const auto mode = parseStereoMode(o.stereo);
   if (!mode) {

@@ -8,8 +8,10 @@
 #include <vector>
 
 #include "render/camera.h"
+#include "render/lod_scene.h"
 #include "render/render_settings.h"
 #include "render/stereo.h"
+#include "viewer/large_cloud.h"
 
 namespace parallax::cli {
 
@@ -36,6 +38,20 @@ struct RenderOptions {
   double convergence = 0.0;     // 0: automatic (the pivot's depth)
   bool swap_eyes = false;
 };
+
+// Level of detail, for a Potree directory and for files with more points than the budget.
+struct LodOptions {
+  std::uint64_t budget = NodeSelectionSettings{}.point_budget;
+  double min_node_size = NodeSelectionSettings{}.min_node_size_px;
+  std::string cache_dir;  // empty: the user's cache folder (lod/octree_cache.h)
+  bool no_cache = false;
+  std::uint64_t memory_mb = 2048;
+};
+
+// Registers --budget, --min-node-size, --cache-dir, --no-cache, --memory.
+void addLodOptions(CLI::App& command, LodOptions& options);
+LodFrameSettings lodFrameSettingsFrom(const LodOptions& options);
+OctreeCacheSettings octreeCacheSettingsFrom(const LodOptions& options);
 
 // Registers --color, --point-size, --size-mode, --shape, --world-size, --adaptive-scale,
 // --uniform-color, --background, --lighting, --edl, --edl-strength, --edl-radius, --msaa, --eye,

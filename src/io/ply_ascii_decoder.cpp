@@ -20,30 +20,13 @@
 #include <optional>
 
 #include "core/error.h"
+#include "io/ascii_chars.h"
 #include "io/decimal_parse.h"
 #include "io/ply_ascii_fast_decoder.h"
 #include "io/ply_decoder.h"
 
 namespace parallax::ply {
 namespace {
-
-// Character classes by table: one load instead of a chain of compares, in the hottest loop.
-struct CharClasses {
-  bool blank[256] = {};      // separates values within a line
-  bool delimiter[256] = {};  // may follow a number: a blank or the line end
-  constexpr CharClasses() {
-    for (unsigned char c : {' ', '\t', '\r', '\v', '\f'}) blank[c] = delimiter[c] = true;
-    delimiter[(unsigned char)'\n'] = true;
-  }
-};
-constexpr CharClasses kClasses;
-
-inline bool isBlank(char c) {
-  return kClasses.blank[static_cast<unsigned char>(c)];
-}
-inline bool isDelimiter(char c) {
-  return kClasses.delimiter[static_cast<unsigned char>(c)];
-}
 
 std::uint64_t countLineEnds(const char* begin, const char* end) {
   std::uint64_t lines = 0;

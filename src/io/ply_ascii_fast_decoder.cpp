@@ -7,29 +7,12 @@
 #include <cassert>
 #include <cstring>
 
+#include "io/ascii_chars.h"
 #include "io/ply_decoder.h"
 #include "io/short_decimal.h"
 
 namespace parallax::ply {
 namespace {
-
-// The character classes of the general parser (ply_ascii_decoder.cpp), by table.
-struct Classes {
-  bool blank[256] = {};      // separates values within a line
-  bool delimiter[256] = {};  // may follow a number: a blank or the line end
-  constexpr Classes() {
-    for (unsigned char c : {' ', '\t', '\r', '\v', '\f'}) blank[c] = delimiter[c] = true;
-    delimiter[(unsigned char)'\n'] = true;
-  }
-};
-constexpr Classes kClasses;
-
-inline bool isBlank(char c) {
-  return kClasses.blank[static_cast<unsigned char>(c)];
-}
-inline bool isDelimiter(char c) {
-  return kClasses.delimiter[static_cast<unsigned char>(c)];
-}
 
 [[gnu::noinline]] const char* skipBlanks(const char* q, const char* last_start) {
   while (q <= last_start && isBlank(*q)) ++q;

@@ -1,40 +1,37 @@
 // Stage 4 of the conversion (convert_stages.h): each chunk's subtree, built in memory with the
-// same core as the in-memory octree (subtree_builder.h), written to octree.bin node by node.
+// same core as the in-memory octree (subtree_builder.h), written to octree.bin in one piece.
+// Several chunks are built at once while they fit in the memory budget together (each build is
+// parallel inside too, but its serial parts — reading, the top of the sampling — left a core
+// idle); they are written in chunk order, so the output does not depend on the timing.
 // The chunk's root stays in memory: the top levels sample from it.
+#include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
+
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <mutex>
+#include <optional>
 #include <stdexcept>
 
 #include "core/error.h"
+#include "io/mapped_file.h"
 #include "lod/convert_stages.h"
 #include "lod/subtree_builder.h"
 
 namespace parallax {
 namespace {
 
-ByteBuffer readSpillFile(const std::filesystem::path& path, std::uint64_t bytes) {
-  ByteBuffer data(bytes);
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (!file && bytes == 0) return data;
-  if (!file) throw std::runtime_error(path.string() + ": cannot open: " + std::strerror(errno));
-  const std::size_t got = std::fread(data.data(), 1, bytes, file);
-  std::fclose(file);
-  if (got != bytes) {
-    throw std::runtime_error(path.string() + ": expected " + std::to_string(bytes) +
-                             " bytes, read " + std::to_string(got));
-  }
-  return data;
-}
-
-// The records of `indices`, gathered in order.
+// The records of `indices`, gathered in order into `out` (indices.size() records).
 void gatherRecords(const std::byte* records, std::size_t record_size,
-                   std::span<const std::uint32_t> indices, std::vector<std::byte>& out) {
-  out.resize(indices.size() * record_size);
-  for (std::size_t i = 0; i < indices.size(); ++i) {
-    std::memcpy(out.data() + i * record_size, records + std::size_t(indices[i]) * record_size,
-                record_size);
-  }
+                   std::span<const std::uint32_t> indices, std::byte* out) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, indices.size(), 1 << 15),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                        std::memcpy(out + i * record_size,
+                                    records + std::size_t(indices[i]) * record_size, record_size);
+                      }
+                    });
 }
 
 }  // namespace
@@ -72,46 +69,168 @@ void OctreeBinWriter::close() {
   file_ = nullptr;
 }
 
+namespace {
+
+// One chunk built and gathered, waiting for its turn to be written.
+struct BuiltChunk {
+  ByteBuffer records;  // the chunk's records in node order (breadth-first), its root's first
+  std::vector<BuiltNode> nodes;
+};
+
+BuiltChunk buildOneChunk(const ConvertPlan& plan, std::size_t index,
+                         const std::filesystem::path& chunk_dir, const OctreeBuildOptions& options,
+                         const Sampler& sampler) {
+  const std::size_t record = plan.layout.recordSize();
+  const ChunkPlan& chunk = plan.chunks[index];
+  const auto path = chunkFilePath(chunk_dir, index);
+  if (chunk.points == 0) return {.nodes = {BuiltNode{.name = chunk.name}}};
+  // Mapped, not read: the build reads the records straight from the page cache (a read into a
+  // fresh buffer cost a copy and the zeroing of as many new pages).
+  const MappedFile spill(path);
+  if (spill.size() != chunk.points * record) {
+    throw std::runtime_error(path.string() + ": expected " + std::to_string(chunk.points * record) +
+                             " bytes, found " + std::to_string(spill.size()));
+  }
+  const std::byte* records = spill.bytes().data();
+  const int level = int(chunk.name.size()) - 1;
+  const SubtreeFrame frame{.name = chunk.name,
+                           .level = level,
+                           .box = nodeBox(plan.cube, chunk.name),
+                           .spacing = plan.spacing / double(1ull << level)};
+  BuiltSubtree built = [&] {
+    const Column<Int3> positions = positionsOfRecords(records, chunk.points, record);
+    return buildSubtree(positions.span(), plan.quantization, frame, options, sampler);
+  }();
+  // `order` lists the nodes' points one node after the other, breadth-first: one gather gives
+  // the whole chunk in the order octree.bin wants it, written later with a single call.
+  BuiltChunk result{.records = ByteBuffer(spill.size()), .nodes = std::move(built.nodes)};
+  gatherRecords(records, record, built.order, result.records.data());
+  std::filesystem::remove(path);
+  return result;
+}
+
+// Builds the chunks several at a time and writes them in chunk order. A chunk is started (in
+// chunk order) while the chunks started and not yet written fit in the budget together, or when
+// none is in flight; whichever thread finishes the next chunk to write writes it and starts more.
+// The output is the same whatever the timing: the order of writing is fixed, not the order of
+// finishing.
+class ChunkScheduler {
+ public:
+  ChunkScheduler(const ConvertPlan& plan, const std::filesystem::path& chunk_dir,
+                 const OctreeBuildOptions& options, const Sampler& sampler, OctreeBinWriter& octree,
+                 std::vector<PotreeNodeEntry>& entries, Progress* bar)
+      : plan_(plan),
+        chunk_dir_(chunk_dir),
+        options_(options),
+        sampler_(sampler),
+        octree_(octree),
+        entries_(entries),
+        bar_(bar),
+        bytes_per_point_(chunkBuildBytesPerPoint(plan.layout.recordSize())),
+        // The batch's quarter of the budget is free once distribute is done.
+        budget_(options.memory_bytes / 4 * 3),
+        built_(plan.chunks.size()),
+        roots_(plan.chunks.size()) {}
+
+  std::vector<ChunkRoot> run() {
+    {
+      std::lock_guard lock(mutex_);
+      startMore();
+    }
+    group_.wait();
+    return std::move(roots_);
+  }
+
+ private:
+  // Called with mutex_ held.
+  void startMore() {
+    while (!failed_ && next_start_ < plan_.chunks.size()) {
+      const std::uint64_t cost = plan_.chunks[next_start_].points * bytes_per_point_;
+      if (in_flight_bytes_ > 0 && in_flight_bytes_ + cost > budget_) break;
+      in_flight_bytes_ += cost;
+      const std::size_t index = next_start_++;
+      group_.run([this, index] { buildAndWrite(index); });
+    }
+  }
+
+  void buildAndWrite(std::size_t index) {
+    try {
+      BuiltChunk chunk = buildOneChunk(plan_, index, chunk_dir_, options_, sampler_);
+      std::unique_lock lock(mutex_);
+      if (failed_) return;
+      built_[index] = std::move(chunk);
+      if (writing_) return;  // the thread writing now will get to it
+      writing_ = true;
+      while (next_write_ < built_.size() && built_[next_write_]) {
+        BuiltChunk ready = std::move(*built_[next_write_]);
+        built_[next_write_].reset();
+        const std::size_t written = next_write_;
+        lock.unlock();
+        roots_[written] = writeChunk(written, ready);
+        ready = BuiltChunk{};
+        lock.lock();
+        in_flight_bytes_ -= plan_.chunks[written].points * bytes_per_point_;
+        ++next_write_;
+        startMore();
+      }
+      writing_ = false;
+    } catch (...) {
+      std::lock_guard lock(mutex_);
+      failed_ = true;
+      writing_ = false;
+      throw;  // task_group::wait rethrows it on the calling thread
+    }
+  }
+
+  // Appends the chunk's nodes but its root to octree.bin (only the writing thread calls it).
+  ChunkRoot writeChunk(std::size_t index, const BuiltChunk& chunk) {
+    const std::size_t record = plan_.layout.recordSize();
+    const BuiltNode& root = chunk.nodes.front();
+    const std::size_t root_bytes = std::size_t(root.count) * record;
+    const std::uint64_t base =
+        octree_.append(chunk.records.data() + root_bytes, chunk.records.size() - root_bytes);
+    for (std::size_t n = 1; n < chunk.nodes.size(); ++n) {
+      const BuiltNode& node = chunk.nodes[n];
+      entries_.push_back({.name = node.name,
+                          .point_count = node.count,
+                          .byte_offset = base + (node.first - root.count) * record,
+                          .byte_size = std::uint64_t(node.count) * record});
+    }
+    ChunkRoot kept{.name = plan_.chunks[index].name, .has_children = root.child_mask != 0};
+    kept.records.assign(chunk.records.data(), chunk.records.data() + root_bytes);
+    if (bar_) bar_->advance(plan_.chunks[index].points);
+    return kept;
+  }
+
+  const ConvertPlan& plan_;
+  const std::filesystem::path& chunk_dir_;
+  const OctreeBuildOptions& options_;
+  const Sampler& sampler_;
+  OctreeBinWriter& octree_;
+  std::vector<PotreeNodeEntry>& entries_;
+  Progress* bar_;
+  const std::uint64_t bytes_per_point_;
+  const std::uint64_t budget_;
+  tbb::task_group group_;
+  std::mutex mutex_;
+  std::vector<std::optional<BuiltChunk>> built_;  // finished, not yet written
+  std::vector<ChunkRoot> roots_;
+  std::size_t next_start_ = 0;
+  std::size_t next_write_ = 0;
+  std::uint64_t in_flight_bytes_ = 0;  // chunks started and not yet written
+  bool writing_ = false;
+  bool failed_ = false;
+};
+
+}  // namespace
+
 std::vector<ChunkRoot> buildChunks(const ConvertPlan& plan, const std::filesystem::path& chunk_dir,
                                    const OctreeBuildOptions& options, const Sampler& sampler,
                                    OctreeBinWriter& octree, std::vector<PotreeNodeEntry>& entries,
                                    const ProgressFactory& progress) {
-  const std::size_t record = plan.layout.recordSize();
   std::unique_ptr<Progress> bar = progress ? progress("indexing", plan.points) : nullptr;
-  std::vector<ChunkRoot> roots;
-  roots.reserve(plan.chunks.size());
-  std::vector<std::byte> node_records;
-  for (std::size_t c = 0; c < plan.chunks.size(); ++c) {
-    const ChunkPlan& chunk = plan.chunks[c];
-    const auto path = chunkFilePath(chunk_dir, c);
-    const ByteBuffer records = readSpillFile(path, chunk.points * record);
-    std::filesystem::remove(path);
-    const Column<Int3> positions = positionsOfRecords(records.data(), chunk.points, record);
-    const int level = int(chunk.name.size()) - 1;
-    const SubtreeFrame frame{.name = chunk.name,
-                             .level = level,
-                             .box = nodeBox(plan.cube, chunk.name),
-                             .spacing = plan.spacing / double(1ull << level)};
-    const BuiltSubtree built =
-        buildSubtree(positions.span(), plan.quantization, frame, options, sampler);
-    for (std::size_t n = 1; n < built.nodes.size(); ++n) {
-      const BuiltNode& node = built.nodes[n];
-      gatherRecords(records.data(), record, std::span(built.order).subspan(node.first, node.count),
-                    node_records);
-      const std::uint64_t offset = octree.append(node_records.data(), node_records.size());
-      entries.push_back({.name = node.name,
-                         .point_count = node.count,
-                         .byte_offset = offset,
-                         .byte_size = node_records.size()});
-    }
-    const BuiltNode& root = built.nodes.front();
-    ChunkRoot kept{.name = chunk.name, .has_children = root.child_mask != 0};
-    gatherRecords(records.data(), record, std::span(built.order).subspan(root.first, root.count),
-                  kept.records);
-    roots.push_back(std::move(kept));
-    if (bar) bar->advance(chunk.points);
-  }
-  return roots;
+  ChunkScheduler scheduler(plan, chunk_dir, options, sampler, octree, entries, bar.get());
+  return scheduler.run();
 }
 
 }  // namespace parallax

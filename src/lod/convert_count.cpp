@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "core/error.h"
 #include "lod/convert_stages.h"
@@ -13,12 +14,6 @@ namespace parallax {
 namespace {
 
 constexpr int kGrid = 1 << ConvertPlan::kGridLevel;
-
-// Bytes per point while a chunk is built: its record, its position copy, the Morton-sorted
-// (key, index) pairs, the node lists and the sampling flags (subtree_builder.cpp).
-std::uint64_t buildBytesPerPoint(std::size_t record_size) {
-  return record_size + 12 + 16 + 8 + 8;
-}
 
 // The inputs' quantization when they agree and it covers the cube; otherwise per axis the finest
 // input scale (coarsened by powers of two until the cube fits in int32) about the cube's centre.
@@ -48,15 +43,6 @@ Quantization chooseOutputQuantization(const std::vector<Quantization>& inputs,
 }
 
 }  // namespace
-
-std::size_t ConvertPlan::cellOf(const Int3& p) const {
-  const double factor = double(kGrid) / (cube.max[0] - cube.min[0]);
-  auto cell = [&](int axis, std::int32_t value) {
-    const double c = std::floor((quantization.toWorld(axis, value) - cube.min[axis]) * factor);
-    return std::size_t(std::clamp(c, 0.0, double(kGrid - 1)));
-  };
-  return (cell(0, p.x) * kGrid + cell(1, p.y)) * kGrid + cell(2, p.z);
-}
 
 ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuildOptions& options,
                        const ProgressFactory& progress) {
@@ -100,16 +86,26 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
   plan.stats = plan.layout.emptyStats();
 
   const std::size_t record = plan.layout.recordSize();
-  // A quarter of the budget for a batch in flight (the decoded batch, its records, and their
-  // copy sorted by chunk), the rest for the chunk being built; the count grid's 16 MB aside.
+  // A quarter of the budget for a batch in flight (the decoded batch, its records, and two
+  // copies grouped by chunk: one being written while the next batch is grouped), the rest for
+  // the chunks being built; the count grid's 16 MB aside.
   plan.batch_points =
-      std::clamp<std::uint64_t>(options.memory_bytes / 4 / (3 * record + 64), 1024, 4u << 20);
+      std::clamp<std::uint64_t>(options.memory_bytes / 4 / (4 * record + 64), 1024, 4u << 20);
+  // Chunks of at most 3/8 of the budget: the build runs chunks side by side within 3/4 of it
+  // (convert_build_chunks.cpp), so the two largest fit together. (Half the budget, as before,
+  // left a large chunk building alone with a core idle: 8 % more wall time on 100 M points.)
   plan.max_chunk_points =
       options.max_chunk_points > 0
           ? options.max_chunk_points
-          : std::max<std::uint64_t>(options.memory_bytes / 2 / buildBytesPerPoint(record),
+          : std::max<std::uint64_t>(options.memory_bytes / 8 * 3 / chunkBuildBytesPerPoint(record),
                                     options.max_node_points);
   return plan;
+}
+
+// Its record, its position copy, the Morton-sorted (key, index) pairs, the node lists and the
+// sampling flags (subtree_builder.cpp).
+std::uint64_t chunkBuildBytesPerPoint(std::size_t record_size) {
+  return record_size + 12 + 16 + 8 + 8;
 }
 
 void countChunks(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
@@ -117,14 +113,27 @@ void countChunks(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
   const std::size_t cells = std::size_t(kGrid) * kGrid * kGrid;
   std::vector<std::uint64_t> counts(cells, 0);
   std::unique_ptr<Progress> bar = progress ? progress("counting", plan.points) : nullptr;
+  // Per-thread counts kept over the batches and summed into `counts` only before they could
+  // wrap (summed per batch, the 8 MB per thread were allocated, zeroed and added up 30 times
+  // for 100 M points).
+  tbb::combinable<std::vector<std::uint32_t>> local(
+      [&] { return std::vector<std::uint32_t>(cells, 0); });
+  std::uint64_t unsummed = 0;
+  auto sumLocal = [&] {
+    local.combine_each([&](std::vector<std::uint32_t>& mine) {
+      for (std::size_t c = 0; c < cells; ++c) counts[c] += mine[c];
+      std::fill(mine.begin(), mine.end(), 0u);
+    });
+    unsummed = 0;
+  };
   for (const ConvertInput& input : inputs) {
     PointStream stream(input.path, input.text_columns);
     PointCloud batch;
     while (stream.next(batch, plan.batch_points)) {
+      if (unsummed + batch.count > std::numeric_limits<std::uint32_t>::max()) sumLocal();
+      unsummed += batch.count;
       // Positions in the output quantization, as the chunks will see them.
       const bool same = batch.quantization == plan.quantization;
-      tbb::combinable<std::vector<std::uint32_t>> local(
-          [&] { return std::vector<std::uint32_t>(cells, 0); });
       tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, batch.count, 1 << 16),
                         [&](const auto& range) {
                           auto& mine = local.local();
@@ -138,12 +147,10 @@ void countChunks(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
                             ++mine[plan.cellOf(p)];
                           }
                         });
-      local.combine_each([&](const std::vector<std::uint32_t>& mine) {
-        for (std::size_t c = 0; c < cells; ++c) counts[c] += mine[c];
-      });
       if (bar) bar->advance(batch.count);
     }
   }
+  sumLocal();
 
   // Count pyramid: level l has 2^l cells a side; level kGridLevel is `counts`.
   std::vector<std::vector<std::uint64_t>> pyramid(ConvertPlan::kGridLevel + 1);

@@ -3,9 +3,11 @@
 //
 // A batch is encoded in parallel, then its records are grouped by chunk with a counting sort and
 // each group is appended with one write, so the spill files are written in large sequential
-// pieces however the points are ordered in the input.
+// pieces however the points are ordered in the input. The writes of one batch overlap the
+// reading of the next (two grouped buffers; the budget counts both).
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <cerrno>
 #include <cstring>
@@ -60,6 +62,12 @@ class SpillFiles {
   bool keep_open_;
 };
 
+// One batch's records grouped by chunk: chunk c's are records[start[c], start[c + 1]).
+struct GroupedBatch {
+  ByteBuffer records;
+  std::vector<std::uint64_t> start;
+};
+
 }  // namespace
 
 std::filesystem::path chunkFilePath(const std::filesystem::path& chunk_dir, std::size_t index) {
@@ -73,57 +81,75 @@ void distributePoints(ConvertPlan& plan, const std::vector<ConvertInput>& inputs
   const std::size_t record = plan.layout.recordSize();
   std::vector<std::uint64_t> delivered(plan.chunks.size(), 0);
   std::unique_ptr<Progress> bar = progress ? progress("distributing", plan.points) : nullptr;
-  ByteBuffer records, grouped;
+  ByteBuffer records;
   std::vector<std::int32_t> chunk_of;
-  for (const ConvertInput& input : inputs) {
-    PointStream stream(input.path, input.text_columns);
-    PointCloud batch;
-    while (stream.next(batch, plan.batch_points)) {
-      const std::uint64_t n = batch.count;
-      if (records.size() < n * record) {
-        records = ByteBuffer(n * record);
-        grouped = ByteBuffer(n * record);
-      }
-      chunk_of.resize(n);
-      tbb::combinable<AttributeStats> stats([&] { return plan.layout.emptyStats(); });
-      tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, n, 1 << 14), [&](const auto& range) {
-        std::byte* out = records.data() + range.begin() * record;
-        plan.layout.encode(batch, range.begin(), range.size(), plan.quantization, out,
-                           stats.local());
-        for (std::uint64_t i = range.begin(); i != range.end(); ++i) {
-          Int3 p;
-          std::memcpy(&p, records.data() + i * record, sizeof p);
-          chunk_of[i] = plan.cell_chunk[plan.cellOf(p)];
-        }
-      });
-      stats.combine_each([&](const AttributeStats& s) { plan.stats.merge(s); });
-
-      // Counting sort of the records by chunk.
-      std::vector<std::uint64_t> start(plan.chunks.size() + 1, 0);
-      for (std::uint64_t i = 0; i < n; ++i) {
-        if (chunk_of[i] < 0) {
-          // The count pass saw this cell empty: the input changed between the passes.
-          throw InputError({.file = input.path.string(),
-                            .expected = "the same points in every pass of the conversion",
-                            .found = "a point in a region that was empty when counting",
-                            .hint = "do not modify the input while it is being converted"});
-        }
-        ++start[std::size_t(chunk_of[i]) + 1];
-      }
-      for (std::size_t c = 0; c < plan.chunks.size(); ++c) start[c + 1] += start[c];
-      std::vector<std::uint64_t> at(start.begin(), start.end() - 1);
-      for (std::uint64_t i = 0; i < n; ++i) {
-        std::memcpy(grouped.data() + at[std::size_t(chunk_of[i])]++ * record,
-                    records.data() + i * record, record);
-      }
-      for (std::size_t c = 0; c < plan.chunks.size(); ++c) {
-        const std::uint64_t count = start[c + 1] - start[c];
-        if (count == 0) continue;
-        spill.append(c, grouped.data() + start[c] * record, count * record);
-        delivered[c] += count;
-      }
-      if (bar) bar->advance(n);
+  // Two grouped batches: one is written to the spill files (a task) while the next is read,
+  // encoded and grouped into the other, so the writes (the kernel's copies) overlap the reading.
+  GroupedBatch grouped[2];
+  std::size_t slot = 0;
+  tbb::task_group writer;
+  auto writeBatch = [&](const GroupedBatch& batch) {
+    for (std::size_t c = 0; c < plan.chunks.size(); ++c) {
+      const std::uint64_t count = batch.start[c + 1] - batch.start[c];
+      if (count == 0) continue;
+      spill.append(c, batch.records.data() + batch.start[c] * record, count * record);
+      delivered[c] += count;
     }
+  };
+  try {
+    for (const ConvertInput& input : inputs) {
+      PointStream stream(input.path, input.text_columns);
+      PointCloud batch;
+      while (stream.next(batch, plan.batch_points)) {
+        const std::uint64_t n = batch.count;
+        if (records.size() < n * record) records = ByteBuffer(n * record);
+        chunk_of.resize(n);
+        tbb::combinable<AttributeStats> stats([&] { return plan.layout.emptyStats(); });
+        tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, n, 1 << 14), [&](const auto& range) {
+          std::byte* out = records.data() + range.begin() * record;
+          plan.layout.encode(batch, range.begin(), range.size(), plan.quantization, out,
+                             stats.local());
+          for (std::uint64_t i = range.begin(); i != range.end(); ++i) {
+            Int3 p;
+            std::memcpy(&p, records.data() + i * record, sizeof p);
+            chunk_of[i] = plan.cell_chunk[plan.cellOf(p)];
+          }
+        });
+        stats.combine_each([&](const AttributeStats& s) { plan.stats.merge(s); });
+
+        // Counting sort of the records by chunk, into the slot not being written.
+        GroupedBatch& out = grouped[slot];
+        if (out.records.size() < n * record) out.records = ByteBuffer(n * record);
+        out.start.assign(plan.chunks.size() + 1, 0);
+        for (std::uint64_t i = 0; i < n; ++i) {
+          if (chunk_of[i] < 0) {
+            // The count pass saw this cell empty: the input changed between the passes.
+            throw InputError({.file = input.path.string(),
+                              .expected = "the same points in every pass of the conversion",
+                              .found = "a point in a region that was empty when counting",
+                              .hint = "do not modify the input while it is being converted"});
+          }
+          ++out.start[std::size_t(chunk_of[i]) + 1];
+        }
+        for (std::size_t c = 0; c < plan.chunks.size(); ++c) out.start[c + 1] += out.start[c];
+        std::vector<std::uint64_t> at(out.start.begin(), out.start.end() - 1);
+        for (std::uint64_t i = 0; i < n; ++i) {
+          std::memcpy(out.records.data() + at[std::size_t(chunk_of[i])]++ * record,
+                      records.data() + i * record, record);
+        }
+        writer.wait();  // the other slot's batch is written (rethrows its error)
+        writer.run([&writeBatch, &out] { writeBatch(out); });
+        slot ^= 1;
+        if (bar) bar->advance(n);
+      }
+    }
+    writer.wait();
+  } catch (...) {
+    try {
+      writer.wait();  // never leave the task running on buffers about to go
+    } catch (...) {
+    }
+    throw;
   }
   spill.closeAll();
   for (std::size_t c = 0; c < plan.chunks.size(); ++c) {

@@ -6,14 +6,17 @@
 //                                          the chunk size the memory budget allows
 //   distribute  (convert_distribute.cpp)   every point, encoded once as an octree.bin record, into
 //                                          its chunk's spill file
-//   build       (convert_build_chunks.cpp) each chunk's subtree in memory (subtree_builder.h); all
-//                                          nodes but the chunk's root go to octree.bin at once
+//   build       (convert_build_chunks.cpp) each chunk's subtree in memory (subtree_builder.h),
+//                                          several chunks at once within the budget; all nodes
+//                                          but the chunk's root go to octree.bin, in chunk order
 //   top levels  (convert_top_levels.cpp)   the nodes above the chunks, sampled from the chunks'
 //                                          roots, which are written with them
 // Each stage reads the inputs (or the spill files) in batches, so memory depends on the batch
 // and chunk sizes, never on the input's size.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -79,8 +82,17 @@ struct ConvertPlan {
   std::vector<std::int32_t> cell_chunk;  // count grid cell -> index into chunks, -1: empty
   std::vector<ChunkPlan> chunks;
 
-  // The count grid cell of a quantized position (clamped into the grid).
-  std::size_t cellOf(const Int3& position) const;
+  // The count grid cell of a quantized position (clamped into the grid). Inline: called per
+  // point in two passes.
+  std::size_t cellOf(const Int3& p) const {
+    constexpr int kGrid = 1 << kGridLevel;
+    const double factor = double(kGrid) / (cube.max[0] - cube.min[0]);
+    auto cell = [&](int axis, std::int32_t value) {
+      const double c = std::floor((quantization.toWorld(axis, value) - cube.min[axis]) * factor);
+      return std::size_t(std::clamp(c, 0.0, double(kGrid - 1)));
+    };
+    return (cell(0, p.x) * kGrid + cell(1, p.y)) * kGrid + cell(2, p.z);
+  }
 };
 
 // octree.bin, appended to by the build stages. `fail_after_bytes` (tests) throws once the file
@@ -120,6 +132,11 @@ std::vector<ChunkRoot> buildChunks(const ConvertPlan& plan, const std::filesyste
                                    const ProgressFactory& progress);
 void buildTopLevels(const ConvertPlan& plan, std::vector<ChunkRoot>& roots, const Sampler& sampler,
                     OctreeBinWriter& octree, std::vector<PotreeNodeEntry>& entries);
+
+// Memory the build of a chunk takes per point: its record, the positions (twice), the Morton
+// pairs and the index lists. The chunk size (3/8 of the budget) and the number of chunks built
+// at once (three quarters of it together) are derived from it.
+std::uint64_t chunkBuildBytesPerPoint(std::size_t record_size);
 
 // The spill file of chunk `index`.
 std::filesystem::path chunkFilePath(const std::filesystem::path& chunk_dir, std::size_t index);

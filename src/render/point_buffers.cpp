@@ -1,5 +1,6 @@
 #include "render/point_buffers.h"
 
+#include "core/morton.h"
 #include "render/draw_set.h"
 
 #include <tbb/blocked_range.h>
@@ -14,17 +15,6 @@
 namespace parallax {
 
 namespace {
-
-// Spreads the low 21 bits of v so that there are two zero bits between each.
-std::uint64_t spreadBits(std::uint64_t v) {
-  v &= 0x1fffff;
-  v = (v | v << 32) & 0x1f00000000ffffull;
-  v = (v | v << 16) & 0x1f0000ff0000ffull;
-  v = (v | v << 8) & 0x100f00f00f00f00full;
-  v = (v | v << 4) & 0x10c30c30c30c30c3ull;
-  v = (v | v << 2) & 0x1249249249249249ull;
-  return v;
-}
 
 std::uint32_t packNormal(const Float3& n) {
   auto component = [](float v) {
@@ -82,7 +72,7 @@ std::vector<std::uint32_t> mortonOrder(const PointCloud& cloud) {
       const std::uint64_t x = std::uint64_t(p.x - lo[0]) >> shift;
       const std::uint64_t y = std::uint64_t(p.y - lo[1]) >> shift;
       const std::uint64_t z = std::uint64_t(p.z - lo[2]) >> shift;
-      keyed[i] = {spreadBits(x) | spreadBits(y) << 1 | spreadBits(z) << 2, std::uint32_t(i)};
+      keyed[i] = {spreadBits21(x) | spreadBits21(y) << 1 | spreadBits21(z) << 2, std::uint32_t(i)};
     }
   });
   radixSort(keyed);

@@ -11,114 +11,185 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/point_cloud.h"
+#include "io/ply_preview.h"
 #include "io/point_file.h"
+#include "lod/potree_reader.h"
 #include "render/gl_context.h"
 #include "render/image_file.h"
+#include "render/lod_scene.h"
 #include "render/point_buffers.h"
 #include "render/renderer.h"
-#include "viewer/camera_controller.h"
+#include "viewer/viewer_session.h"
 
 namespace parallax {
-
-namespace {
-
-const char* const kHelp =
-    "Mouse\n"
-    "  left drag          orbit around the pivot\n"
-    "  right/middle drag  pan (or shift + left drag)\n"
-    "  wheel              zoom to the cursor\n"
-    "  double-click       new pivot at the point under the cursor\n"
-    "Keys\n"
-    "  H      this help\n"
-    "  G      show or hide the panel\n"
-    "  F      fit the cloud in view\n"
-    "  Tab    fly mode (W A S D, Q E down/up, shift faster; drag to look)\n"
-    "  O      perspective / orthographic\n"
-    "  T      turntable / free orbit\n"
-    "  V      vsync on / off\n"
-    "  P      screenshot (PNG, path shown in the panel)\n"
-    "  3      stereo mode: mono, sbs, sbs-squeezed, tb, anaglyph, ... (cycles)\n"
-    "  [ ]    stereo eye separation smaller / larger\n"
-    "  - =    stereo convergence nearer / farther\n"
-    "  X      swap the eyes\n"
-    "  Esc    quit\n"
-    "Drop a point file on the window to open it.";
-
-// State shared with the GLFW callbacks (through the window's user pointer).
-struct Session {
-  const ViewerOptions* options = nullptr;
-  GLFWwindow* window = nullptr;
-  std::unique_ptr<Renderer> renderer;
-  std::unique_ptr<GpuPointCloud> cloud;
-  DrawSet draw_set;  // all of `cloud`'s chunks
-  RenderSettings settings;
-  StereoSettings stereo;
-  bool quad_buffer = false;  // the window has left and right back buffers
-  Camera camera;
-  CameraController controller;
-  std::string loaded_name;
-  std::string status;  // last message for the user: errors, screenshot paths
-  bool show_help = false, show_panel = true, vsync = true;
-  bool screenshot_requested = false;
-  int screenshot_count = 0;
-  double scroll_steps = 0;
-  std::vector<std::string> dropped;
-  double last_click_time = -1;
-  bool pick_requested = false;
-  // What the last drawn picture shows: points are drawn again only when one of these changes
-  // (on llvmpipe a large cloud takes a good part of a second), otherwise the picture is reused.
-  struct Drawn {
-    const GpuPointCloud* cloud = nullptr;
-    Camera camera;
-    RenderSettings settings;
-    StereoSettings stereo;
-    int width = 0, height = 0;
-    friend bool operator==(const Drawn&, const Drawn&) = default;
-  };
-  std::optional<Drawn> drawn;
-};
+namespace viewer_internal {
 
 Session& sessionOf(GLFWwindow* window) {
   return *static_cast<Session*>(glfwGetWindowUserPointer(window));
 }
 
-void fitCamera(Session& s) {
-  if (!s.cloud) return;
+// The bounds of what is shown: the octree's once there is one (the preview's are a sample's).
+std::optional<Bounds3> sceneBounds(const Session& s) {
+  if (s.octree) return s.octree->info().bounds;
+  if (s.cloud) return s.cloud->bounds();
+  return std::nullopt;
+}
+
+double windowAspect(const Session& s) {
   int width = 1, height = 1;
   glfwGetFramebufferSize(s.window, &width, &height);
-  s.camera.fitToBounds(s.cloud->bounds(), double(width) / std::max(height, 1));
+  return double(width) / std::max(height, 1);
+}
+
+void fitCamera(Session& s) {
+  if (const auto bounds = sceneBounds(s)) s.camera.fitToBounds(*bounds, windowAspect(s));
+}
+
+// The first camera for a newly opened cloud: the command line's for the first file.
+void placeCamera(Session& s, const Bounds3& bounds, bool first) {
+  const double aspect = windowAspect(s);
+  if (first && s.options->initial_camera) {
+    s.camera = s.options->initial_camera(bounds, aspect);
+  } else {
+    s.camera = defaultCameraFor(bounds, aspect);
+  }
+  const auto size = bounds.size();
+  s.controller.fly_speed =
+      0.2 * std::sqrt(size[0] * size[0] + size[1] * size[1] + size[2] * size[2]);
+}
+
+void setTitle(Session& s, const std::filesystem::path& path) {
+  s.loaded_name = path.filename().string();
+  if (s.loaded_name.empty()) s.loaded_name = path.parent_path().filename().string();
+  glfwSetWindowTitle(s.window, (s.options->title + " - " + s.loaded_name).c_str());
+}
+
+// Uploads a whole cloud (a file, or a large file's preview) as what is shown.
+void showCloud(Session& s, const PointCloud& cloud, bool place_camera, bool first) {
+  auto gpu = std::make_unique<GpuPointCloud>(cloud);
+  s.lod.reset();
+  s.octree.reset();
+  s.lod_location.reset();
+  s.cloud = std::move(gpu);
+  s.draw_set = s.cloud->drawSet();
+  s.drawn.reset();
+  if (place_camera) placeCamera(s, s.cloud->bounds(), first);
+  if (s.settings.world_size <= 0) s.settings.world_size = float(2.0 * s.cloud->typicalSpacing());
+}
+
+// Opens a Potree directory as what is shown. With `keep_camera` (the switch from a preview to
+// its octree) the camera stays, and the preview is drawn until the octree draws something.
+void showOctree(Session& s, const std::filesystem::path& directory,
+                std::unique_ptr<OctreeLocation> location, bool keep_camera, bool first) {
+  auto octree = openPotree(directory);
+  s.lod.reset();
+  s.octree = std::move(octree);
+  s.lod_location = std::move(location);
+  s.lod = std::make_unique<LodScene>(*s.octree);
+  s.drawn.reset();
+  if (!keep_camera) {
+    s.cloud.reset();
+    placeCamera(s, s.octree->info().bounds, first);
+  }
+  // The attenuated size needs a spacing before any node is drawn: about a level-3 node's.
+  if (s.settings.world_size <= 0) s.settings.world_size = float(s.octree->info().spacing / 4.0);
+}
+
+// A file over the budget: its cached octree, or a preview while the octree is built.
+void openLargeFile(Session& s, const std::filesystem::path& path, std::uint64_t points,
+                   bool first) {
+  auto location = std::make_unique<OctreeLocation>(path, s.options->cache);
+  const std::filesystem::path directory = location->directory();
+  if (location->complete()) {
+    showOctree(s, directory, std::move(location), false, first);
+    s.status = "opened " + path.string() + " (" + std::to_string(points) +
+               " points) from its octree in " + directory.string();
+    return;
+  }
+  const std::uint64_t budget = s.lod_settings.selection.point_budget;
+  std::uint64_t shown = 0;
+  if (detectPointFormat(path) == PointFormat::Ply) {
+    const PointCloud preview = readPlyPreview(path, std::min(budget, kPreviewPoints));
+    shown = preview.count;
+    showCloud(s, preview, true, first);
+  } else {
+    // No sample reader for LAS: nothing is shown until the octree is ready.
+    s.cloud.reset();
+    s.lod.reset();
+    s.octree.reset();
+    s.lod_location.reset();
+  }
+  s.build_pending = std::move(location);
+  s.build_keeps_camera = shown > 0;
+  s.build_first = first;
+  s.status = path.string() + " has " + std::to_string(points) + " points, over the budget of " +
+             std::to_string(budget) + ": showing a sample of " + std::to_string(shown) +
+             " while its octree is built in " + directory.string();
+}
+
+// Starts the pending build: after the first picture of its preview has been shown.
+void startBuild(Session& s) {
+  if (!s.build_pending) return;
+  s.build.reset();  // an earlier build ends first (it cannot be interrupted)
+  OctreeBuildOptions build = s.options->cache.build;
+  // One core stays with the frame loop, so that the window answers while the octree is built.
+  if (build.threads == 0)
+    build.threads = int(std::max(2u, std::thread::hardware_concurrency())) - 1;
+  s.build = std::make_unique<BackgroundOctreeBuild>(std::move(s.build_pending), build);
+}
+
+// Switches to the octree once the background build has finished, or reports its failure.
+void pollBuild(Session& s) {
+  if (!s.build) return;
+  const BackgroundOctreeBuild::Status status = s.build->status();
+  if (!status.finished) return;
+  const double seconds = s.build->secondsElapsed();
+  auto location = s.build->takeLocation();
+  s.build.reset();
+  if (!status.error.empty()) {
+    s.status = "building the octree failed: " + status.error;
+  } else {
+    try {
+      const std::filesystem::path directory = location->directory();
+      showOctree(s, directory, std::move(location), s.build_keeps_camera, s.build_first);
+      char text[64];
+      std::snprintf(text, sizeof text, " (built in %.1f s)", seconds);
+      s.status = "switched to the level-of-detail octree in " + directory.string() + text;
+    } catch (const std::exception& e) {
+      s.status = std::string("cannot open the octree just built: ") + e.what();
+    }
+  }
+  std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
 }
 
 void openFile(Session& s, const std::filesystem::path& path, bool first) {
   try {
-    PointCloud cloud = readPointFile(path);
-    auto gpu = std::make_unique<GpuPointCloud>(cloud);
-    s.cloud = std::move(gpu);
-    s.draw_set = s.cloud->drawSet();
-    s.loaded_name = path.filename().string();
-    int width = 1, height = 1;
-    glfwGetFramebufferSize(s.window, &width, &height);
-    const double aspect = double(width) / std::max(height, 1);
-    if (first && s.options->initial_camera) {
-      s.camera = s.options->initial_camera(s.cloud->bounds(), aspect);
+    if (isPotreeDirectory(path)) {
+      showOctree(s, path, nullptr, false, first);
+      s.status = "opened the octree " + path.string() + " (" +
+                 std::to_string(s.octree->info().point_count) + " points)";
+      setTitle(s, path);
+    } else if (const auto points = headerPointCount(path);
+               points && *points > s.lod_settings.selection.point_budget) {
+      openLargeFile(s, path, *points, first);
+      setTitle(s, path);
     } else {
-      s.camera = defaultCameraFor(s.cloud->bounds(), aspect);
+      PointCloud cloud = readPointFile(path);
+      showCloud(s, cloud, true, first);
+      s.status =
+          "opened " + path.string() + " (" + std::to_string(s.cloud->pointCount()) + " points)";
+      setTitle(s, path);
     }
-    const auto size = s.cloud->bounds().size();
-    s.controller.fly_speed =
-        0.2 * std::sqrt(size[0] * size[0] + size[1] * size[1] + size[2] * size[2]);
-    if (s.settings.world_size <= 0) s.settings.world_size = float(2.0 * s.cloud->typicalSpacing());
-    s.status =
-        "opened " + path.string() + " (" + std::to_string(s.cloud->pointCount()) + " points)";
-    glfwSetWindowTitle(s.window, (s.options->title + " - " + s.loaded_name).c_str());
   } catch (const std::exception& e) {
     // Keep whatever was shown before; say why the new file is not.
     s.status = std::string("cannot open ") + path.string() + ": " + e.what();
@@ -186,6 +257,14 @@ void onKey(GLFWwindow* window, int key, int, int action, int) {
       s.stereo.swap_eyes = !s.stereo.swap_eyes;
       s.status = s.stereo.swap_eyes ? "stereo eyes swapped" : "stereo eyes not swapped";
       break;
+    case GLFW_KEY_COMMA:
+    case GLFW_KEY_PERIOD: {
+      std::uint64_t& budget = s.lod_settings.selection.point_budget;
+      budget = key == GLFW_KEY_COMMA ? std::max<std::uint64_t>(budget / 2, 1) : budget * 2;
+      s.status = "point budget " + std::to_string(budget);
+      std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
+      break;
+    }
     case GLFW_KEY_ESCAPE:
       glfwSetWindowShouldClose(window, GLFW_TRUE);
       break;
@@ -242,142 +321,6 @@ void onDrop(GLFWwindow* window, int count, const char** paths) {
   if (count > 0) s.dropped.emplace_back(paths[0]);  // one cloud at a time: the first file
 }
 
-template <class Enum, std::size_t N>
-bool comboOf(const char* label, Enum& value, const std::array<Enum, N>& values,
-             std::string_view (*name)(Enum)) {
-  bool changed = false;
-  if (ImGui::BeginCombo(label, std::string(name(value)).c_str())) {
-    for (Enum option : values) {
-      if (ImGui::Selectable(std::string(name(option)).c_str(), option == value)) {
-        value = option;
-        changed = true;
-      }
-    }
-    ImGui::EndCombo();
-  }
-  return changed;
-}
-
-void drawPanel(Session& s, double frame_seconds, const FrameStats& stats) {
-  ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
-  ImGui::Begin("Parallax");
-  ImGui::Text("%s", s.loaded_name.empty() ? "(no cloud: drop a file here)" : s.loaded_name.c_str());
-  // The last frame that drew points (frames that reuse the picture cost next to nothing).
-  ImGui::Text("frame %.1f ms, %.1f FPS", frame_seconds * 1e3,
-              frame_seconds > 0 ? 1.0 / frame_seconds : 0.0);
-  ImGui::Text("points drawn %llu of %llu", static_cast<unsigned long long>(stats.points_drawn),
-              static_cast<unsigned long long>(s.cloud ? s.cloud->pointCount() : 0));
-  ImGui::Text("GPU memory %.1f MB", s.cloud ? double(s.cloud->gpuBytes()) / 1e6 : 0.0);
-  if (ImGui::Checkbox("vsync (V)", &s.vsync)) glfwSwapInterval(s.vsync ? 1 : 0);
-
-  RenderSettings& r = s.settings;
-  ImGui::Separator();
-  ImGui::TextDisabled("Points");
-  comboOf("colour", r.color,
-          std::array{ColorMode::Rgb, ColorMode::Elevation, ColorMode::Intensity, ColorMode::Normal,
-                     ColorMode::Classification, ColorMode::Uniform},
-          colorModeName);
-  if (r.color == ColorMode::Uniform) ImGui::ColorEdit3("uniform colour", r.uniform_color.data());
-  comboOf("size", r.size_mode,
-          std::array{PointSizeMode::Fixed, PointSizeMode::Attenuated, PointSizeMode::Adaptive},
-          pointSizeModeName);
-  if (r.size_mode == PointSizeMode::Fixed) {
-    ImGui::SliderFloat("pixels", &r.point_size_px, 1.0f, 32.0f, "%.0f");
-  } else if (r.size_mode == PointSizeMode::Attenuated) {
-    ImGui::DragFloat("world size", &r.world_size, r.world_size * 0.01f + 1e-6f, 0.0f, 1e6f, "%.4f");
-  } else {
-    ImGui::SliderFloat("x spacing", &r.adaptive_scale, 0.25f, 8.0f, "%.2f");
-  }
-  comboOf("shape", r.shape, std::array{PointShape::Square, PointShape::Round}, pointShapeName);
-  ImGui::ColorEdit3("background", r.background.data());
-  // Off keeps exact pixels; the renderer clamps the count to what the GPU offers.
-  const int samples = r.samples > 1 ? r.samples : 0;
-  const auto samples_label = [](int count) {
-    return count > 1 ? std::to_string(count) + "x" : std::string("off");
-  };
-  if (ImGui::BeginCombo("multisampling", samples_label(samples).c_str())) {
-    for (int count : {0, 2, 4, 8}) {
-      if (ImGui::Selectable(samples_label(count).c_str(), count == samples)) r.samples = count;
-    }
-    ImGui::EndCombo();
-  }
-  ImGui::Separator();
-  ImGui::TextDisabled("Shading");
-  ImGui::Checkbox("lighting (needs normals)", &r.lighting);
-  ImGui::Checkbox("eye-dome lighting", &r.edl);
-  if (r.edl) {
-    ImGui::SliderFloat("EDL strength", &r.edl_strength, 0.0f, 5.0f, "%.2f");
-    ImGui::SliderFloat("EDL radius", &r.edl_radius_px, 1.0f, 4.0f, "%.1f px");
-  }
-  ImGui::Separator();
-  ImGui::TextDisabled("Stereo");
-  StereoMode mode = s.stereo.mode;
-  if (comboOf("mode (3)", mode,
-              std::array{StereoMode::Mono, StereoMode::SideBySide, StereoMode::SideBySideSqueezed,
-                         StereoMode::TopBottom, StereoMode::Anaglyph, StereoMode::AnaglyphDubois,
-                         StereoMode::Interlaced, StereoMode::QuadBuffer},
-              stereoModeName)) {
-    setStereoMode(s, mode);
-  }
-  if (s.stereo.mode != StereoMode::Mono) {
-    // Shown resolved; editing makes the value explicit, "auto" returns to the default.
-    const StereoSettings resolved = resolvedStereo(s.stereo, s.camera);
-    float separation = float(resolved.eye_separation), convergence = float(resolved.convergence);
-    if (ImGui::DragFloat("eye separation ([ ])", &separation, separation * 0.01f + 1e-6f, 0.0f,
-                         1e9f, "%.4g")) {
-      s.stereo.eye_separation = separation;
-    }
-    if (ImGui::DragFloat("convergence (- =)", &convergence, convergence * 0.01f + 1e-6f, 1e-6f,
-                         1e9f, "%.4g")) {
-      s.stereo.convergence = std::max(convergence, 1e-6f);
-    }
-    if (ImGui::Button("auto")) s.stereo.eye_separation = s.stereo.convergence = 0.0;
-    ImGui::SameLine();
-    ImGui::Checkbox("swap eyes (X)", &s.stereo.swap_eyes);
-  }
-  ImGui::Separator();
-  ImGui::TextDisabled("Camera");
-  bool ortho = s.camera.projection == Projection::Orthographic;
-  if (ImGui::Checkbox("orthographic (O)", &ortho)) {
-    s.camera.projection = ortho ? Projection::Orthographic : Projection::Perspective;
-  }
-  float fov = float(s.camera.fov_y_deg);
-  if (ImGui::SliderFloat("field of view", &fov, 10.0f, 120.0f, "%.0f deg"))
-    s.camera.fov_y_deg = fov;
-  bool free_orbit = s.controller.orbit_mode == OrbitMode::Free;
-  if (ImGui::Checkbox("free orbit (T)", &free_orbit)) {
-    s.controller.orbit_mode = free_orbit ? OrbitMode::Free : OrbitMode::Turntable;
-  }
-  ImGui::Checkbox("fly mode (Tab)", &s.controller.fly);
-  if (ImGui::Button("fit (F)")) fitCamera(s);
-  ImGui::SameLine();
-  if (ImGui::Button("save camera")) {
-    const auto path = s.options->screenshot_dir / "camera.json";
-    try {
-      saveCamera(s.camera, path);
-      s.status = "camera saved to " + path.string();
-    } catch (const std::exception& e) {
-      s.status = e.what();
-    }
-  }
-  ImGui::SameLine();
-  if (ImGui::Button("screenshot (P)")) s.screenshot_requested = true;
-  if (!s.status.empty()) ImGui::TextWrapped("%s", s.status.c_str());
-  ImGui::TextDisabled("H: keys and mouse");
-  ImGui::End();
-}
-
-void drawHelp() {
-  const ImGuiViewport* viewport = ImGui::GetMainViewport();
-  ImGui::SetNextWindowPos(ImVec2(viewport->Size.x * 0.5f, viewport->Size.y * 0.5f),
-                          ImGuiCond_Always, ImVec2(0.5f, 0.5f));
-  ImGui::SetNextWindowBgAlpha(0.85f);
-  ImGui::Begin("Keys", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse);
-  ImGui::TextUnformatted(kHelp);
-  ImGui::End();
-}
-
 void writeScreenshot(Session& s, int width, int height) {
   std::vector<std::uint8_t> bottom_up(std::size_t(width) * height * 4);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
@@ -427,9 +370,10 @@ void onGlfwError(int code, const char* description) {
   std::fprintf(stderr, "parallax view: GLFW error 0x%x: %s\n", code, description);
 }
 
-}  // namespace
+}  // namespace viewer_internal
 
 int runViewer(const ViewerOptions& options) {
+  using namespace viewer_internal;
   glfwSetErrorCallback(onGlfwError);
   if (!glfwInit()) {
     throw std::runtime_error(
@@ -473,6 +417,7 @@ int runViewer(const ViewerOptions& options) {
   s.window = window;
   s.settings = options.settings;
   s.stereo = options.stereo;
+  s.lod_settings = options.lod;
   GLboolean stereo_buffers = GL_FALSE;
   glGetBooleanv(GL_STEREO, &stereo_buffers);
   s.quad_buffer = stereo_buffers == GL_TRUE;
@@ -547,18 +492,46 @@ int runViewer(const ViewerOptions& options) {
       }
     }
 
-    if (s.cloud) {
+    pollBuild(s);
+    if (s.cloud || s.lod) {
       const StereoFrame frame = stereoFrame(s.camera, s.stereo, width, height);
-      const Session::Drawn now_showing{s.cloud.get(), s.camera, s.settings,
-                                       s.stereo,      width,    height};
-      if (s.drawn != now_showing ||
+      const void* scene = s.lod ? static_cast<const void*>(s.lod.get()) : s.cloud.get();
+      const Session::Drawn now_showing{scene,
+                                       s.lod_settings.selection.point_budget,
+                                       s.lod_settings.selection.min_node_size_px,
+                                       s.camera,
+                                       s.settings,
+                                       s.stereo,
+                                       width,
+                                       height};
+      // A scene still streaming is drawn every frame until it has everything it selected.
+      const bool streaming = s.lod && !s.lod->complete();
+      if (streaming || s.drawn != now_showing ||
           !s.renderer->composite(frame.views, s.settings, 0, width, height, frame.composition)) {
         const auto start = std::chrono::steady_clock::now();
-        stats = s.renderer->render(s.draw_set, frame, s.settings, 0, width, height);
+        const DrawSet* draw_set = &s.draw_set;
+        if (s.lod) {
+          const DrawSet& streamed = s.lod->update(frame.views, s.lod_settings);
+          s.lod_stats = s.lod->stats();
+          // A preview stays until the octree draws something in its place.
+          if (!streamed.items.empty() || !s.cloud) {
+            draw_set = &streamed;
+            s.cloud.reset();
+          }
+        }
+        stats = s.renderer->render(*draw_set, frame, s.settings, 0, width, height);
         frame_seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         s.drawn = now_showing;
         busy = true;
+        if (!s.first_picture_reported && stats.points_drawn > 0) {
+          s.first_picture_reported = true;
+          std::fprintf(stderr, "parallax view: first picture after %.3f s (%llu points)\n",
+                       std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                                     s.options->start_time)
+                           .count(),
+                       static_cast<unsigned long long>(stats.points_drawn));
+        }
       }
     } else {
       glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -577,6 +550,16 @@ int runViewer(const ViewerOptions& options) {
       writeScreenshot(s, width, height);
     }
     glfwSwapBuffers(window);
+    startBuild(s);
+  }
+  if (s.build && !s.build->status().finished) {
+    // The conversion cannot be interrupted and may take minutes: end the process here (what a
+    // kill would do, less the converter's temporary directory: never a finished-looking one).
+    std::fprintf(stderr, "parallax view: quitting during the octree build of %s\n",
+                 s.build->location().input().string().c_str());
+    s.build->location().abandon();
+    std::fflush(nullptr);
+    std::_Exit(0);
   }
   return 0;
 }

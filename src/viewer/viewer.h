@@ -2,13 +2,16 @@
 // keyboard camera control and an on-screen panel (Dear ImGui) for every render setting.
 #pragma once
 
+#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <string>
 
 #include "render/camera.h"
+#include "render/lod_scene.h"
 #include "render/render_settings.h"
 #include "render/stereo.h"
+#include "viewer/large_cloud.h"
 
 namespace parallax {
 
@@ -24,9 +27,22 @@ struct ViewerOptions {
   bool vsync = true;
   std::filesystem::path screenshot_dir = ".";  // where the screenshot key (P) writes PNGs
   std::string title = "Parallax";
+  // Level of detail: the point budget and minimum node size (live in the panel and on the , and
+  // . keys), and where the octrees of files over the budget are built.
+  LodFrameSettings lod;
+  OctreeCacheSettings cache;
+  // When the command started: the time to the first picture is printed from here.
+  std::chrono::steady_clock::time_point start_time = std::chrono::steady_clock::now();
 };
 
 // Opens the window and runs until it is closed or Escape is pressed; returns the exit status.
+//
+// What it opens: a point file within the point budget is uploaded whole. A Potree 2.0 directory
+// is streamed through a LodScene. A PLY or LAS file over the budget opens its cached octree at
+// once when there is one; otherwise the viewer shows an even sample of the file (PLY; LAS shows
+// nothing until the octree is ready), builds the octree on a background thread (progress in the
+// panel) and then switches to it without moving the camera. Quitting during a build ends the
+// process at once, removing what the conversion had written.
 // A file that cannot be read is reported in the panel and on stderr, never a crash. Throws
 // std::runtime_error when no window or no 4.5 context can be created (no display, old driver).
 int runViewer(const ViewerOptions& options);

@@ -12,30 +12,11 @@
 
 #include "io/point_file.h"
 #include "lod_test_clouds.h"
+#include "support/run_parallax.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
 namespace {
-
-struct RunResult {
-  int exit_code = -1;
-  std::string err;
-};
-
-std::string readAll(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-RunResult runParallax(const TempDir& dir, const std::string& args) {
-  const auto err = dir / "stderr.txt";
-  const std::string command = std::string("'") + PARALLAX_EXECUTABLE + "' " + args +
-                              " >/dev/null 2>'" + err.string() + "' </dev/null";
-  const int status = std::system(command.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), readAll(err)};
-}
 
 TEST(ConvertCli, WritesAPotreeDirectoryForAnOutputWithoutExtension) {
   TempDir dir;
@@ -45,7 +26,7 @@ TEST(ConvertCli, WritesAPotreeDirectoryForAnOutputWithoutExtension) {
       runParallax(dir, "convert '" + in + "' -o '" + out + "' --memory 64 --sampling random");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.err.find("Potree 2.0, 5000 points"), std::string::npos) << run.err;
-  const auto metadata = nlohmann::json::parse(readAll(dir / "octree" / "metadata.json"));
+  const auto metadata = nlohmann::json::parse(readText(dir / "octree" / "metadata.json"));
   EXPECT_EQ(metadata["points"], 5000);
   EXPECT_EQ(metadata["version"], "2.0");
   EXPECT_TRUE(std::filesystem::exists(dir / "octree" / "hierarchy.bin"));
@@ -61,7 +42,7 @@ TEST(ConvertCli, MergesSeveralInputsAndHonoursFormatPotree) {
                                              (dir / "both.potree").string() + "' --format potree");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_EQ(run.err, "");  // -q: no progress, no report
-  const auto metadata = nlohmann::json::parse(readAll(dir / "both.potree" / "metadata.json"));
+  const auto metadata = nlohmann::json::parse(readText(dir / "both.potree" / "metadata.json"));
   EXPECT_EQ(metadata["points"], 1700);
 }
 

@@ -4,11 +4,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <set>
+#include <sstream>
 
+#include "io/point_file.h"
 #include "lod/in_memory_octree.h"
+#include "lod/potree_converter.h"
 #include "lod/sampler.h"
 #include "lod_test_clouds.h"
+#include "support/temp_dir.h"
 
 namespace parallax::test {
 namespace {
@@ -147,6 +152,63 @@ TEST(OctreeBuilderEdges, EmptyAndSinglePointClouds) {
   EXPECT_EQ(single->nodes()[0].point_count, 1u);
   EXPECT_EQ(single->info().cube.max[0] - single->info().cube.min[0], 1.0);
 }
+
+std::string fileBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+// The conversion builds several chunks at once and writes them in chunk order: the files must
+// not depend on how many threads ran, nor on how many chunks the budget let run together.
+class ConvertDeterminism : public ::testing::TestWithParam<SamplingMethod> {};
+
+TEST_P(ConvertDeterminism, SameBytesWhateverTheThreadsAndChunksInFlight) {
+  TempDir dir;
+  PointCloud cloud = makeSurfaceCloud(30'000);
+  addDenseCluster(cloud);
+  writePointFile(cloud, dir / "in.ply");
+  struct Run {
+    const char* name;
+    int threads;
+    std::uint64_t memory_bytes;  // 1 MB: one or two chunks in flight; 2 GB: all of them
+  };
+  const Run runs[] = {{"one_thread", 1, 2048ull << 20},
+                      {"four_threads", 4, 2048ull << 20},
+                      {"four_threads_small_budget", 4, 1u << 20},
+                      {"default_threads", 0, 2048ull << 20}};
+  std::string reference_octree, reference_hierarchy;
+  for (const Run& run : runs) {
+    PotreeConvertOptions options;
+    options.build.sampling = GetParam();
+    options.build.max_node_points = 300;
+    options.build.max_chunk_points = 1500;
+    options.build.threads = run.threads;
+    options.build.memory_bytes = run.memory_bytes;
+    const auto out = dir / run.name;
+    const PotreeConvertResult result = convertToPotree({{dir / "in.ply", {}}}, out, options);
+    EXPECT_EQ(result.points, 30'000u);
+    EXPECT_GT(result.chunks, 8u) << run.name;
+    const std::string octree = fileBytes(out / "octree.bin");
+    const std::string hierarchy = fileBytes(out / "hierarchy.bin");
+    EXPECT_EQ(octree.size(), 30'000u * PotreeLayout::fromCloud(cloud).recordSize());
+    if (reference_octree.empty()) {
+      reference_octree = octree;
+      reference_hierarchy = hierarchy;
+      continue;
+    }
+    EXPECT_TRUE(octree == reference_octree) << run.name;
+    EXPECT_TRUE(hierarchy == reference_hierarchy) << run.name;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Samplers, ConvertDeterminism,
+                         ::testing::Values(SamplingMethod::Poisson, SamplingMethod::Random),
+                         [](const auto& param_info) {
+                           return param_info.param == SamplingMethod::Poisson ? "poisson"
+                                                                              : "random";
+                         });
 
 }  // namespace
 }  // namespace parallax::test

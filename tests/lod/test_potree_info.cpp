@@ -10,35 +10,15 @@
 #include <string>
 
 #include "lod/potree_test_dataset.h"
+#include "support/run_parallax.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
 namespace {
 
-struct RunResult {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string readText(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// `parallax ARGS` (paths in ARGS come from TempDir: no quoting needed).
-RunResult runParallax(const test::TempDir& dir, const std::string& args) {
-  const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string command = std::string(PARALLAX_EXECUTABLE) + " " + args + " >" + out.string() +
-                              " 2>" + err.string() + " </dev/null";
-  const int status = std::system(command.c_str());
-  RunResult result;
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  result.out = readText(out);
-  result.err = readText(err);
-  return result;
-}
+using test::readText;
+using test::runParallax;
+using test::RunResult;
 
 TEST(PotreeInfo, JsonHasTheKeysOfFilesAndTheWholeHierarchy) {
   test::TempDir dir;

@@ -1,6 +1,9 @@
 // `parallax render` end to end: options to picture, with the exact-pixel rule checked through
 // the command line (--eye --target --up --fov in the file's own coordinates), a camera path,
-// and a clear error for a file that cannot be read.
+// and a clear error for a file that cannot be read. Level of detail: a Potree directory drawn
+// through the node selection (equal to the plain render when the budget holds every point, at
+// most the budget otherwise), a file over the budget converted once into the cache, --preview,
+// and a hostile directory.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -215,6 +218,181 @@ TEST(RenderCommand, NoOpenGl45IsAClearError) {
   const std::string log = readText(dir / "log");
   EXPECT_NE(log.find("needs OpenGL 4.5 core"), std::string::npos) << log;
   EXPECT_NE(log.find("offers OpenGL 3.3"), std::string::npos) << log;
+}
+
+// Level of detail on a generated 60 000-point scan (several octree nodes: a node splits above
+// 20 000 points), converted once per test.
+struct LodFiles {
+  std::filesystem::path ply, octree;
+};
+
+LodFiles generatedCloud(const TempDir& dir) {
+  LodFiles files{dir / "scan.ply", dir / "scan_octree"};
+  const std::string exe = PARALLAX_EXECUTABLE;
+  EXPECT_EQ(run(exe + " generate --points 60000 -o " + quoted(files.ply) + " > /dev/null 2>&1"), 0);
+  EXPECT_EQ(run(exe + " convert -q " + quoted(files.ply) + " -o " + quoted(files.octree)), 0);
+  return files;
+}
+
+// The number after `label` in `text`, or -1.
+long long numberAfter(const std::string& text, const std::string& label) {
+  const auto at = text.find(label);
+  return at == std::string::npos ? -1 : std::atoll(text.c_str() + at + label.size());
+}
+
+std::size_t litPixels(const RgbaImage& image) {
+  std::size_t lit = 0;
+  for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
+    if (image.pixels[i] | image.pixels[i + 1] | image.pixels[i + 2]) ++lit;
+  }
+  return lit;
+}
+
+TEST(RenderCommandLod, DirectoryWithABudgetAboveTheCloudEqualsThePlainRender) {
+  TempDir dir;
+  const LodFiles files = generatedCloud(dir);
+  const std::string base = std::string(PARALLAX_EXECUTABLE) + " render --width 160 --height 120 ";
+  ASSERT_EQ(run(base + quoted(files.ply) + " -o " + quoted(dir / "plain.png") + " 2>" +
+                quoted(dir / "plain.log")),
+            0)
+      << readText(dir / "plain.log");
+  ASSERT_EQ(run(base + quoted(files.octree) + " --min-node-size 0 -o " + quoted(dir / "lod.png") +
+                " 2>" + quoted(dir / "lod.log")),
+            0)
+      << readText(dir / "lod.log");
+  const std::string log = readText(dir / "lod.log");
+  EXPECT_EQ(numberAfter(log, "drawn ("), 60000) << log;
+  const RgbaImage plain = readPng(dir / "plain.png"), lod = readPng(dir / "lod.png");
+  ASSERT_EQ(lod.width, 160);
+  EXPECT_GT(litPixels(plain), 1000u);
+  EXPECT_TRUE(plain.pixels == lod.pixels) << "the LOD render differs from the plain render";
+}
+
+TEST(RenderCommandLod, SmallBudgetDrawsAtMostTheBudgetInMonoAndStereo) {
+  TempDir dir;
+  const LodFiles files = generatedCloud(dir);
+  for (const std::string stereo : {"mono", "sbs"}) {
+    const auto log = dir / (stereo + ".log");
+    ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(files.octree) +
+                  " --budget 20000 --stereo " + stereo + " --width 128 --height 96 -o " +
+                  quoted(dir / (stereo + ".png")) + " 2>" + quoted(log)),
+              0)
+        << readText(log);
+    const std::string text = readText(log);
+    const long long drawn = numberAfter(text, "drawn (");
+    EXPECT_GT(drawn, 0) << text;
+    EXPECT_LE(drawn, 20000) << text;
+    EXPECT_EQ(numberAfter(text, "selected ("), drawn) << text;
+    EXPECT_GT(litPixels(readPng(dir / (stereo + ".png"))), 300u) << stereo;
+  }
+}
+
+TEST(RenderCommandLod, CameraPathOverADirectoryWritesEveryFrame) {
+  TempDir dir;
+  const LodFiles files = generatedCloud(dir);
+  Camera a, b;
+  a.lookAt({0, -300, 150}, {0, 0, 0}, {0, 0, 1});
+  b.lookAt({300, 0, 150}, {0, 0, 0}, {0, 0, 1});
+  dir.write("path.json", "{\"keyframes\": [{\"time\": 0, \"camera\": " + cameraToJson(a).dump() +
+                             "}, {\"time\": 1, \"camera\": " + cameraToJson(b).dump() + "}]}");
+  ASSERT_EQ(
+      run(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(files.octree) +
+          " --budget 30000 --path " + quoted(dir / "path.json") + " --frames 3 -o " +
+          quoted(dir / "frames" / "f%d.png") + " --width 48 --height 32 2>" + quoted(dir / "log")),
+      0)
+      << readText(dir / "log");
+  for (int f = 0; f < 3; ++f) {
+    EXPECT_TRUE(std::filesystem::exists(dir / "frames" / ("f" + std::to_string(f) + ".png"))) << f;
+  }
+  EXPECT_LE(numberAfter(readText(dir / "log"), "drawn ("), 30000) << readText(dir / "log");
+}
+
+TEST(RenderCommandLod, FileOverTheBudgetIsConvertedOnceIntoTheCache) {
+  TempDir dir;
+  const LodFiles files = generatedCloud(dir);
+  // XDG_CACHE_HOME decides the cache folder; the second run finds the octree there.
+  const std::string command = "XDG_CACHE_HOME=" + quoted(dir / "xdg") + " " + PARALLAX_EXECUTABLE +
+                              " render " + quoted(files.ply) +
+                              " --budget 30000 --width 128 --height 96 -o ";
+  ASSERT_EQ(run(command + quoted(dir / "first.png") + " 2>" + quoted(dir / "first.log")), 0)
+      << readText(dir / "first.log");
+  ASSERT_EQ(run(command + quoted(dir / "second.png") + " 2>" + quoted(dir / "second.log")), 0)
+      << readText(dir / "second.log");
+  const std::string first = readText(dir / "first.log"), second = readText(dir / "second.log");
+  const std::string cache = (dir / "xdg" / "parallax" / "octrees").string();
+  EXPECT_NE(
+      first.find("60000 points, over the budget of 30000: converting to an octree in " + cache),
+      std::string::npos)
+      << first;
+  EXPECT_NE(second.find("over the budget of 30000: using the octree in " + cache),
+            std::string::npos)
+      << second;
+  EXPECT_EQ(second.find("converting"), std::string::npos) << second;
+  EXPECT_LE(numberAfter(second, "drawn ("), 30000) << second;
+  EXPECT_TRUE(readPng(dir / "first.png").pixels == readPng(dir / "second.png").pixels);
+
+  // --cache-dir overrides it; --no-cache leaves nothing behind.
+  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(files.ply) +
+                " --budget 30000 --width 64 --height 48 --cache-dir " + quoted(dir / "mine") +
+                " -o " + quoted(dir / "mine.png") + " 2>" + quoted(dir / "mine.log")),
+            0)
+      << readText(dir / "mine.log");
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir / "mine"), {}), 1);
+  std::filesystem::create_directories(dir / "tmp");
+  ASSERT_EQ(run("TMPDIR=" + quoted(dir / "tmp") + " " + PARALLAX_EXECUTABLE + " render " +
+                quoted(files.ply) + " --budget 30000 --width 64 --height 48 --no-cache -o " +
+                quoted(dir / "none.png") + " 2>" + quoted(dir / "none.log")),
+            0)
+      << readText(dir / "none.log");
+  EXPECT_TRUE(std::filesystem::exists(dir / "none.png"));
+  EXPECT_NE(readText(dir / "none.log").find("converting to an octree in " + (dir / "tmp").string()),
+            std::string::npos)
+      << readText(dir / "none.log");
+  EXPECT_TRUE(std::filesystem::is_empty(dir / "tmp")) << "--no-cache left its octree behind";
+}
+
+TEST(RenderCommandLod, PreviewDrawsASampleOfTheBudget) {
+  TempDir dir;
+  const auto ply = dir / "scan.ply";
+  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " generate --points 60000 -o " + quoted(ply) +
+                " > /dev/null 2>&1"),
+            0);
+  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(ply) +
+                " --preview --budget 6000 --cache-dir " + quoted(dir / "cache") +
+                " --width 128 --height 96 -o " + quoted(dir / "preview.png") + " 2>" +
+                quoted(dir / "log")),
+            0)
+      << readText(dir / "log");
+  const std::string log = readText(dir / "log");
+  const long long sample = numberAfter(log, "preview, a sample of ");
+  EXPECT_GE(sample, 5000) << log;
+  EXPECT_LE(sample, 7000) << log;
+  EXPECT_NE(log.find("of the file's 60000 points"), std::string::npos) << log;
+  EXPECT_GT(litPixels(readPng(dir / "preview.png")), 300u);
+  EXPECT_FALSE(std::filesystem::exists(dir / "cache")) << "--preview converted the file";
+}
+
+TEST(RenderCommandLod, HierarchyPointingPastOctreeBinIsAClearError) {
+  TempDir dir;
+  const LodFiles files = generatedCloud(dir);
+  // The second hierarchy entry (node r0): its byte offset (bytes 6-13 of the 22) far past the end.
+  std::fstream hierarchy(files.octree / "hierarchy.bin",
+                         std::ios::in | std::ios::out | std::ios::binary);
+  hierarchy.seekp(22 + 6);
+  const std::uint64_t offset = 1'000'000'000;
+  hierarchy.write(reinterpret_cast<const char*>(&offset), sizeof offset);
+  hierarchy.close();
+  const std::string command = std::string(PARALLAX_EXECUTABLE) + " render " + quoted(files.octree) +
+                              " --min-node-size 0 -o " + quoted(dir / "out.png") + " 2>" +
+                              quoted(dir / "log");
+  EXPECT_EQ(run(command), 2);
+  const std::string log = readText(dir / "log");
+  EXPECT_NE(log.find("hierarchy.bin: byte offset 22, element 'node r0': expected a byte range "
+                     "inside"),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("found bytes 1000000000 to"), std::string::npos) << log;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.png"));
 }
 
 }  // namespace

@@ -1,0 +1,215 @@
+// The viewer's on-screen panel (Dear ImGui) and its help window.
+#include <imgui.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <string>
+#include <string_view>
+
+#include "viewer/viewer_session.h"
+
+namespace parallax::viewer_internal {
+
+namespace {
+
+const char* const kHelp =
+    "Mouse\n"
+    "  left drag          orbit around the pivot\n"
+    "  right/middle drag  pan (or shift + left drag)\n"
+    "  wheel              zoom to the cursor\n"
+    "  double-click       new pivot at the point under the cursor\n"
+    "Keys\n"
+    "  H      this help\n"
+    "  G      show or hide the panel\n"
+    "  F      fit the cloud in view\n"
+    "  Tab    fly mode (W A S D, Q E down/up, shift faster; drag to look)\n"
+    "  O      perspective / orthographic\n"
+    "  T      turntable / free orbit\n"
+    "  V      vsync on / off\n"
+    "  P      screenshot (PNG, path shown in the panel)\n"
+    "  3      stereo mode: mono, sbs, sbs-squeezed, tb, anaglyph, ... (cycles)\n"
+    "  [ ]    stereo eye separation smaller / larger\n"
+    "  - =    stereo convergence nearer / farther\n"
+    "  X      swap the eyes\n"
+    "  , .    point budget halved / doubled (level of detail)\n"
+    "  Esc    quit\n"
+    "Drop a point file or a Potree directory on the window to open it.";
+
+template <class Enum, std::size_t N>
+bool comboOf(const char* label, Enum& value, const std::array<Enum, N>& values,
+             std::string_view (*name)(Enum)) {
+  bool changed = false;
+  if (ImGui::BeginCombo(label, std::string(name(value)).c_str())) {
+    for (Enum option : values) {
+      if (ImGui::Selectable(std::string(name(option)).c_str(), option == value)) {
+        value = option;
+        changed = true;
+      }
+    }
+    ImGui::EndCombo();
+  }
+  return changed;
+}
+
+// The level-of-detail part of the panel: budget, what the last update selected and drew, and the
+// background build's progress.
+void drawLodPanel(Session& s) {
+  ImGui::Separator();
+  ImGui::TextDisabled("Level of detail");
+  NodeSelectionSettings& selection = s.lod_settings.selection;
+  const std::uint64_t low = 1000, high = 1'000'000'000;
+  if (ImGui::SliderScalar("point budget (, .)", ImGuiDataType_U64, &selection.point_budget, &low,
+                          &high, "%llu", ImGuiSliderFlags_Logarithmic)) {
+    selection.point_budget = std::max<std::uint64_t>(selection.point_budget, 1);
+  }
+  float min_size = float(selection.min_node_size_px);
+  if (ImGui::SliderFloat("min node size", &min_size, 0.0f, 200.0f, "%.0f px")) {
+    selection.min_node_size_px = min_size;
+  }
+  if (s.lod) {
+    const LodStats& l = s.lod_stats;
+    ImGui::Text("selected %zu nodes, %llu points", l.selected_nodes,
+                static_cast<unsigned long long>(l.selected_points));
+    ImGui::Text("drawn %zu nodes, %llu points", l.drawn_nodes,
+                static_cast<unsigned long long>(l.drawn_points));
+    ImGui::Text("resident %zu nodes, GPU %.1f MB", l.resident_nodes, double(l.gpu_bytes) / 1e6);
+    ImGui::Text("pending loads %zu%s", l.pending_loads, s.lod->complete() ? ", complete" : "");
+    if (l.failed_nodes)
+      ImGui::TextWrapped("%zu nodes failed: %s", l.failed_nodes, s.lod->firstError().c_str());
+  }
+  if (s.build) {
+    const BackgroundOctreeBuild::Status status = s.build->status();
+    ImGui::Text("building the octree: %s", status.stage.c_str());
+    const float fraction = status.total ? float(double(status.done) / double(status.total)) : 0.0f;
+    ImGui::ProgressBar(std::min(fraction, 1.0f));
+  }
+}
+
+}  // namespace
+
+void drawPanel(Session& s, double frame_seconds, const FrameStats& stats) {
+  ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
+  ImGui::Begin("Parallax");
+  ImGui::Text("%s", s.loaded_name.empty() ? "(no cloud: drop a file here)" : s.loaded_name.c_str());
+  // The last frame that drew points (frames that reuse the picture cost next to nothing).
+  ImGui::Text("frame %.1f ms, %.1f FPS", frame_seconds * 1e3,
+              frame_seconds > 0 ? 1.0 / frame_seconds : 0.0);
+  const std::uint64_t total =
+      s.octree ? s.octree->info().point_count : (s.cloud ? s.cloud->pointCount() : 0);
+  ImGui::Text("points drawn %llu of %llu", static_cast<unsigned long long>(stats.points_drawn),
+              static_cast<unsigned long long>(total));
+  ImGui::Text("GPU memory %.1f MB", (s.cloud ? double(s.cloud->gpuBytes()) / 1e6 : 0.0) +
+                                        (s.lod ? double(s.lod_stats.gpu_bytes) / 1e6 : 0.0));
+  if (ImGui::Checkbox("vsync (V)", &s.vsync)) glfwSwapInterval(s.vsync ? 1 : 0);
+  drawLodPanel(s);
+
+  RenderSettings& r = s.settings;
+  ImGui::Separator();
+  ImGui::TextDisabled("Points");
+  comboOf("colour", r.color,
+          std::array{ColorMode::Rgb, ColorMode::Elevation, ColorMode::Intensity, ColorMode::Normal,
+                     ColorMode::Classification, ColorMode::Uniform},
+          colorModeName);
+  if (r.color == ColorMode::Uniform) ImGui::ColorEdit3("uniform colour", r.uniform_color.data());
+  comboOf("size", r.size_mode,
+          std::array{PointSizeMode::Fixed, PointSizeMode::Attenuated, PointSizeMode::Adaptive},
+          pointSizeModeName);
+  if (r.size_mode == PointSizeMode::Fixed) {
+    ImGui::SliderFloat("pixels", &r.point_size_px, 1.0f, 32.0f, "%.0f");
+  } else if (r.size_mode == PointSizeMode::Attenuated) {
+    ImGui::DragFloat("world size", &r.world_size, r.world_size * 0.01f + 1e-6f, 0.0f, 1e6f, "%.4f");
+  } else {
+    ImGui::SliderFloat("x spacing", &r.adaptive_scale, 0.25f, 8.0f, "%.2f");
+  }
+  comboOf("shape", r.shape, std::array{PointShape::Square, PointShape::Round}, pointShapeName);
+  ImGui::ColorEdit3("background", r.background.data());
+  // Off keeps exact pixels; the renderer clamps the count to what the GPU offers.
+  const int samples = r.samples > 1 ? r.samples : 0;
+  const auto samples_label = [](int count) {
+    return count > 1 ? std::to_string(count) + "x" : std::string("off");
+  };
+  if (ImGui::BeginCombo("multisampling", samples_label(samples).c_str())) {
+    for (int count : {0, 2, 4, 8}) {
+      if (ImGui::Selectable(samples_label(count).c_str(), count == samples)) r.samples = count;
+    }
+    ImGui::EndCombo();
+  }
+  ImGui::Separator();
+  ImGui::TextDisabled("Shading");
+  ImGui::Checkbox("lighting (needs normals)", &r.lighting);
+  ImGui::Checkbox("eye-dome lighting", &r.edl);
+  if (r.edl) {
+    ImGui::SliderFloat("EDL strength", &r.edl_strength, 0.0f, 5.0f, "%.2f");
+    ImGui::SliderFloat("EDL radius", &r.edl_radius_px, 1.0f, 4.0f, "%.1f px");
+  }
+  ImGui::Separator();
+  ImGui::TextDisabled("Stereo");
+  StereoMode mode = s.stereo.mode;
+  if (comboOf("mode (3)", mode,
+              std::array{StereoMode::Mono, StereoMode::SideBySide, StereoMode::SideBySideSqueezed,
+                         StereoMode::TopBottom, StereoMode::Anaglyph, StereoMode::AnaglyphDubois,
+                         StereoMode::Interlaced, StereoMode::QuadBuffer},
+              stereoModeName)) {
+    setStereoMode(s, mode);
+  }
+  if (s.stereo.mode != StereoMode::Mono) {
+    // Shown resolved; editing makes the value explicit, "auto" returns to the default.
+    const StereoSettings resolved = resolvedStereo(s.stereo, s.camera);
+    float separation = float(resolved.eye_separation), convergence = float(resolved.convergence);
+    if (ImGui::DragFloat("eye separation ([ ])", &separation, separation * 0.01f + 1e-6f, 0.0f,
+                         1e9f, "%.4g")) {
+      s.stereo.eye_separation = separation;
+    }
+    if (ImGui::DragFloat("convergence (- =)", &convergence, convergence * 0.01f + 1e-6f, 1e-6f,
+                         1e9f, "%.4g")) {
+      s.stereo.convergence = std::max(convergence, 1e-6f);
+    }
+    if (ImGui::Button("auto")) s.stereo.eye_separation = s.stereo.convergence = 0.0;
+    ImGui::SameLine();
+    ImGui::Checkbox("swap eyes (X)", &s.stereo.swap_eyes);
+  }
+  ImGui::Separator();
+  ImGui::TextDisabled("Camera");
+  bool ortho = s.camera.projection == Projection::Orthographic;
+  if (ImGui::Checkbox("orthographic (O)", &ortho)) {
+    s.camera.projection = ortho ? Projection::Orthographic : Projection::Perspective;
+  }
+  float fov = float(s.camera.fov_y_deg);
+  if (ImGui::SliderFloat("field of view", &fov, 10.0f, 120.0f, "%.0f deg"))
+    s.camera.fov_y_deg = fov;
+  bool free_orbit = s.controller.orbit_mode == OrbitMode::Free;
+  if (ImGui::Checkbox("free orbit (T)", &free_orbit)) {
+    s.controller.orbit_mode = free_orbit ? OrbitMode::Free : OrbitMode::Turntable;
+  }
+  ImGui::Checkbox("fly mode (Tab)", &s.controller.fly);
+  if (ImGui::Button("fit (F)")) fitCamera(s);
+  ImGui::SameLine();
+  if (ImGui::Button("save camera")) {
+    const auto path = s.options->screenshot_dir / "camera.json";
+    try {
+      saveCamera(s.camera, path);
+      s.status = "camera saved to " + path.string();
+    } catch (const std::exception& e) {
+      s.status = e.what();
+    }
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("screenshot (P)")) s.screenshot_requested = true;
+  if (!s.status.empty()) ImGui::TextWrapped("%s", s.status.c_str());
+  ImGui::TextDisabled("H: keys and mouse");
+  ImGui::End();
+}
+
+void drawHelp() {
+  const ImGuiViewport* viewport = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(ImVec2(viewport->Size.x * 0.5f, viewport->Size.y * 0.5f),
+                          ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+  ImGui::SetNextWindowBgAlpha(0.85f);
+  ImGui::Begin("Keys", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::TextUnformatted(kHelp);
+  ImGui::End();
+}
+
+}  // namespace parallax::viewer_internal

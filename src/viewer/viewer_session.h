@@ -1,0 +1,86 @@
+// The viewer's state and the pieces of it in other files (viewer_panel.cpp: the on-screen panel
+// and the help window); internal to src/viewer.
+#pragma once
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lod/octree.h"
+#include "render/camera.h"
+#include "render/lod_scene.h"
+#include "render/point_buffers.h"
+#include "render/renderer.h"
+#include "viewer/camera_controller.h"
+#include "viewer/large_cloud.h"
+#include "viewer/viewer.h"
+
+namespace parallax::viewer_internal {
+
+// State shared with the GLFW callbacks (through the window's user pointer).
+struct Session {
+  const ViewerOptions* options = nullptr;
+  GLFWwindow* window = nullptr;
+  std::unique_ptr<Renderer> renderer;
+  std::unique_ptr<GpuPointCloud> cloud;  // a whole file, or the preview of a large one
+  DrawSet draw_set;                      // all of `cloud`'s chunks
+  // Level of detail: the octree (and the temporary folder holding it, with --no-cache) and the
+  // scene streaming it; declared in this order so that they end in the reverse one.
+  std::unique_ptr<OctreeLocation> lod_location;
+  std::unique_ptr<Octree> octree;
+  std::unique_ptr<LodScene> lod;
+  LodFrameSettings lod_settings;
+  LodStats lod_stats;
+  // The octree of a large file being built; `cloud` shows its preview meanwhile.
+  std::unique_ptr<BackgroundOctreeBuild> build;
+  // The next build, started once the preview is on screen (the build takes every core it gets).
+  std::unique_ptr<OctreeLocation> build_pending;
+  bool build_keeps_camera = false;  // the preview placed the camera
+  bool build_first = false;         // the file given on the command line (its camera options)
+  bool first_picture_reported = false;
+  RenderSettings settings;
+  StereoSettings stereo;
+  bool quad_buffer = false;  // the window has left and right back buffers
+  Camera camera;
+  CameraController controller;
+  std::string loaded_name;
+  std::string status;  // last message for the user: errors, screenshot paths
+  bool show_help = false, show_panel = true, vsync = true;
+  bool screenshot_requested = false;
+  int screenshot_count = 0;
+  double scroll_steps = 0;
+  std::vector<std::string> dropped;
+  double last_click_time = -1;
+  bool pick_requested = false;
+  // What the last drawn picture shows: points are drawn again only when one of these changes
+  // (on llvmpipe a large cloud takes a good part of a second), otherwise the picture is reused.
+  struct Drawn {
+    const void* scene = nullptr;  // the GpuPointCloud or the LodScene
+    std::uint64_t budget = 0;
+    double min_node_size = 0;
+    Camera camera;
+    RenderSettings settings;
+    StereoSettings stereo;
+    int width = 0, height = 0;
+    friend bool operator==(const Drawn&, const Drawn&) = default;
+  };
+  std::optional<Drawn> drawn;
+};
+
+// Fits the camera to what is shown (F).
+void fitCamera(Session& s);
+// Quad-buffer only where the window has a stereo visual; elsewhere sbs, and the user is told.
+void setStereoMode(Session& s, StereoMode mode);
+
+// The panel (G): file, frame time, level of detail, every render setting, stereo, camera.
+void drawPanel(Session& s, double frame_seconds, const FrameStats& stats);
+// The keys and mouse (H).
+void drawHelp();
+
+}  // namespace parallax::viewer_internal
