@@ -1,16 +1,10 @@
 #include "render/edl_pass.h"
 
+#include "render/fullscreen_triangle.h"
+
 namespace parallax {
 
 namespace {
-
-const char* const kVertex = R"glsl(#version 450 core
-void main() {
-  // One triangle that covers the viewport: (-1,-1), (3,-1), (-1,3).
-  vec2 p = vec2(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0);
-  gl_Position = vec4(p, 0.0, 1.0);
-}
-)glsl";
 
 const char* const kFragment = R"glsl(#version 450 core
 layout(binding = 0) uniform sampler2D u_color;
@@ -60,7 +54,7 @@ void main() {
 }  // namespace
 
 EdlPass::EdlPass()
-    : program_({{GL_VERTEX_SHADER, "edl_pass.vert", kVertex},
+    : program_({{GL_VERTEX_SHADER, "edl_pass.vert", kFullscreenTriangleVertexShader},
                 {GL_FRAGMENT_SHADER, "edl_pass.frag", kFragment}}) {
   glCreateVertexArrays(1, &vao_);
 }

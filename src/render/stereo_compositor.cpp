@@ -1,18 +1,12 @@
 #include "render/stereo_compositor.h"
 
+#include "render/fullscreen_triangle.h"
+
 #include <cassert>
 
 namespace parallax {
 
 namespace {
-
-const char* const kVertex = R"glsl(#version 450 core
-void main() {
-  // One triangle that covers the viewport: (-1,-1), (3,-1), (-1,3).
-  vec2 p = vec2(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0);
-  gl_Position = vec4(p, 0.0, 1.0);
-}
-)glsl";
 
 // A run-time switch on the mode: a full-screen pass is a few million fragments at most, and the
 // switch is uniform, so the variants are not worth their programs here (unlike the point pass).
@@ -45,7 +39,7 @@ void main() {
 }  // namespace
 
 StereoCompositor::StereoCompositor()
-    : program_({{GL_VERTEX_SHADER, "stereo_compositor.vert", kVertex},
+    : program_({{GL_VERTEX_SHADER, "stereo_compositor.vert", kFullscreenTriangleVertexShader},
                 {GL_FRAGMENT_SHADER, "stereo_compositor.frag", kFragment}}) {
   glCreateVertexArrays(1, &vao_);
 }
