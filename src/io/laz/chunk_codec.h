@@ -1,0 +1,111 @@
+// What every LAZ chunk codec implements, and the description of a LAZ file's point items.
+//
+// A LAZ file stores its point records in chunks (LAZ 1.4 specification; Isenburg 2013). Each
+// chunk restarts every model, so chunks decode independently (and in parallel). Two chunk
+// layouts exist:
+//   - compressor 2, "point-wise" (point formats 0-5): the first point raw, then one arithmetic
+//     stream in which each point's items follow each other (items POINT10, GPSTIME11, RGB12,
+//     WAVEPACKET13, BYTE; versions 1 and 2);
+//   - compressor 3, "layered" (point formats 6-10): the first point raw, the chunk's point
+//     count, the byte size of every layer, then the layers, one arithmetic stream per field
+//     group, so a reader can skip the fields it does not need (items POINT14, RGB14, RGBNIR14,
+//     WAVEPACKET14, BYTE14; versions 3 and 4).
+// A codec turns a chunk into raw LAS point records and back: the records are exactly the bytes
+// an uncompressed LAS file of the same points holds, so the LAS record decoder makes columns of
+// them, and a LAZ file can be checked record by record against its LAS twin.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace parallax::laz {
+
+// Item types of the LASzip VLR (the record's fields, in record order).
+enum class ItemType : std::uint16_t {
+  Byte = 0,  // "extra bytes" of formats 0-5, `size` of them
+  Short = 1,
+  Integer = 2,
+  Long = 3,
+  Float = 4,
+  Double = 5,
+  Point10 = 6,        // the 20 bytes of formats 0-5
+  GpsTime11 = 7,      // 8 bytes
+  Rgb12 = 8,          // 6 bytes
+  Wavepacket13 = 9,   // 29 bytes
+  Point14 = 10,       // the 30 bytes of formats 6-10 (GPS time included)
+  Rgb14 = 11,         // 6 bytes
+  RgbNir14 = 12,      // 8 bytes
+  Wavepacket14 = 13,  // 29 bytes
+  Byte14 = 14,        // extra bytes of formats 6-10
+};
+
+struct LazItem {
+  ItemType type = ItemType::Byte;
+  std::uint16_t size = 0;     // bytes of this item in each record
+  std::uint16_t version = 0;  // the codec version of the item (1, 2, 3 or 4)
+};
+
+// The "laszip encoded" VLR (user id "laszip encoded", record id 22204).
+struct LaszipVlr {
+  std::uint16_t compressor = 0;  // 0 none, 1 point-wise, 2 point-wise chunked, 3 layered chunked
+  std::uint16_t coder = 0;       // 0: arithmetic (the only one defined)
+  std::uint8_t version_major = 0, version_minor = 0;
+  std::uint16_t version_revision = 0;
+  std::uint32_t options = 0;
+  std::uint32_t chunk_size = 0;  // points per chunk; kVariableChunkSize: per the chunk table
+  std::int64_t special_evlr_count = -1;
+  std::int64_t special_evlr_offset = -1;
+  std::vector<LazItem> items;
+
+  // Sum of the item sizes: the record length the items describe.
+  std::size_t recordLength() const {
+    std::size_t n = 0;
+    for (const LazItem& item : items) n += item.size;
+    return n;
+  }
+};
+
+inline constexpr std::uint32_t kVariableChunkSize = 0xFFFFFFFFu;
+
+// Thrown by a codec for a chunk it cannot decode: the index of the first point affected inside
+// the chunk, and why. The reader turns it into an InputError naming the file, the chunk and its
+// byte offset.
+class ChunkCorrupt : public std::runtime_error {
+ public:
+  ChunkCorrupt(std::size_t point, const std::string& what)
+      : std::runtime_error(what), point_(point) {}
+  std::size_t point() const { return point_; }
+
+ private:
+  std::size_t point_;
+};
+
+// Decodes whole chunks into raw records. One object per thread; it keeps its models between
+// chunks and resets them at the start of each.
+class ChunkDecoder {
+ public:
+  virtual ~ChunkDecoder() = default;
+  // Decodes `point_count` records (each recordLength() bytes) from `chunk`, the chunk's bytes
+  // as the chunk table delimits them, into `records`. Throws ChunkCorrupt when the stream runs
+  // past the chunk's bytes, holds an impossible value, or (layered) disagrees with its own
+  // point count and layer sizes.
+  virtual void decode(std::span<const std::byte> chunk, std::size_t point_count,
+                      std::byte* records) = 0;
+  virtual std::size_t recordLength() const = 0;
+};
+
+// Encodes raw records into chunks. One object per thread, reused between chunks.
+class ChunkEncoder {
+ public:
+  virtual ~ChunkEncoder() = default;
+  // Appends the chunk that holds `point_count` records (each recordLength() bytes) to `out`.
+  virtual void encode(const std::byte* records, std::size_t point_count,
+                      std::vector<std::uint8_t>& out) = 0;
+  virtual std::size_t recordLength() const = 0;
+};
+
+}  // namespace parallax::laz
