@@ -84,6 +84,13 @@ class ChunkCorrupt : public std::runtime_error {
   std::size_t point_;
 };
 
+// Thrown by the codec factories for an item list they cannot code (an unknown item type or
+// version, a size that does not match the type): says which item and why.
+class UnsupportedItems : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // Decodes whole chunks into raw records. One object per thread; it keeps its models between
 // chunks and resets them at the start of each.
 class ChunkDecoder {
