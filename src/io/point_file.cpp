@@ -13,6 +13,7 @@
 #include "io/las_header.h"
 #include "io/las_reader.h"
 #include "io/las_writer.h"
+#include "io/laz_reader.h"
 #include "io/mapped_file.h"
 #include "io/ply_reader.h"
 #include "io/ply_writer.h"
@@ -88,7 +89,7 @@ PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptio
     case PointFormat::Las:
       return readLas(path, {.progress = options.progress, .parallel = options.parallel});
     case PointFormat::Laz:
-      throwLazNotSupported(path.string());
+      return readLaz(path, {.progress = options.progress, .parallel = options.parallel});
     case PointFormat::Text:
       return readText(path, {.columns = options.text_columns,
                              .progress = options.progress,
