@@ -39,18 +39,18 @@ struct PointReadOptions {
 };
 
 // Reads a whole point file of any supported format. Throws InputError for unreadable or malformed
-// files, for LAZ (with how to decompress it), and for an unknown format with the list of
-// supported ones.
+// files, and for an unknown format with the list of supported ones.
 PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptions& options = {});
 
-// The format a path's extension asks for when writing: .ply, .las, .xyz/.txt/.csv/.pts/.asc;
-// Unknown otherwise (and for .laz, which Parallax cannot write).
+// The format a path's extension asks for when writing: .ply, .las, .laz, .xyz/.txt/.csv/.pts/.asc;
+// Unknown otherwise.
 PointFormat formatForExtension(const std::filesystem::path& path);
 
 struct PointWriteOptions {
   Progress* progress = nullptr;
   bool ply_ascii = false;     // PLY: ascii instead of binary little endian
-  int las_minor_version = 0;  // LAS: 2 or 4; 0 chooses from the attributes (see las_writer.h)
+  int las_minor_version = 0;  // LAS, LAZ: 2 or 4; 0 chooses from the attributes (las_writer.h)
+  std::uint32_t laz_chunk_points = 50000;  // LAZ: points a chunk (laz_writer.h)
 };
 
 // What writing `cloud` to `path` would drop or change: one short phrase each ("alpha (LAS has no

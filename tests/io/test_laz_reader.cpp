@@ -31,6 +31,12 @@ const Twin kTwins[] = {
     {"point-color-time.las.laz", "point-color-time.las", 3, 1065},
     {"extrabytes.laz", "extrabytes.las", 3, 1065},
     {"1815.laz", "1815.las", 1, 1247},
+    // Items of version 1 (POINT10, GPSTIME11, RGB12, BYTE) and chunks of 333 points.
+    {"point-color-time-v1.laz", "point-color-time.las", 3, 1065},
+    {"extrabytes-v1.laz", "extrabytes.las", 3, 1065},
+    // Wave packets (WAVEPACKET13), GPS time jumps and repeats, versions 2 and 1.
+    {"wavepacket5.laz", "wavepacket5.las", 5, 2000},
+    {"wavepacket5-v1.laz", "wavepacket5.las", 5, 2000},
 };
 
 TEST(LazReader, EveryRecordEqualsTheLasTwin) {
