@@ -121,6 +121,47 @@ PointCloud readLasFromMemory(std::span<const std::byte> bytes, const std::string
   return readAll(RangeReader(bytes, name), header, options);
 }
 
+PointCloud readLasPreview(const std::filesystem::path& path, std::uint64_t max_points) {
+  const LasHeader header = readLasHeader(path);
+  if (header.laszip) return readLazPreview(path, max_points);
+  if (header.point_count <= max_points) return readLas(path);
+  // Runs of consecutive records: one read each, and neighbours of a scan give the adaptive
+  // point size a local spacing.
+  constexpr std::uint64_t kRun = 64;
+  const RangeReader in(path);
+  const std::uint64_t runs = std::max<std::uint64_t>(1, max_points / kRun);
+  const std::uint64_t step = header.point_count / runs;
+  LasDecodePlan plan = makeLasDecodePlan(header);
+  const std::size_t length = plan.record_length;
+  PointCloud cloud = allocateLasCloud(header, plan, std::size_t(runs * kRun));
+  LasDecodeStats stats;
+  std::mutex stats_mutex;
+  tbb::enumerable_thread_specific<std::vector<std::byte>> buffers;
+  auto pass = [&](bool colors_only) {
+    tbb::parallel_for(std::uint64_t(0), runs, [&](std::uint64_t r) {
+      std::vector<std::byte>& buffer = buffers.local();
+      buffer.resize(kRun * length);
+      in.read(header.point_data_offset + r * step * length, kRun * length, buffer.data());
+      if (colors_only) {
+        decodeLasColors(buffer.data(), kRun, plan, cloud, std::size_t(r * kRun));
+        return;
+      }
+      LasDecodeStats local;
+      decodeLasRecords(buffer.data(), kRun, plan, cloud, std::size_t(r * kRun), local);
+      const std::lock_guard lock(stats_mutex);
+      stats.merge(local);
+    });
+  };
+  pass(false);
+  if (stats.color_above_255) {
+    plan.colors_8bit = false;
+    cloud.source.color = ScalarType::UInt16;
+    pass(true);
+  }
+  cloud.bounds = stats.world(cloud.quantization);
+  return cloud;
+}
+
 struct LasChunkReader::State {
   RangeReader in;
   LasHeader header;

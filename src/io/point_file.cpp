@@ -16,6 +16,7 @@
 #include "io/laz_reader.h"
 #include "io/laz_writer.h"
 #include "io/mapped_file.h"
+#include "io/ply_preview.h"
 #include "io/ply_reader.h"
 #include "io/ply_writer.h"
 #include "io/text_reader.h"
@@ -105,6 +106,21 @@ PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptio
                     .expected = "a point cloud file",
                     .found = "an unknown format",
                     .hint = hint});
+}
+
+bool hasPointFilePreview(PointFormat format) {
+  return format == PointFormat::Ply || format == PointFormat::Las || format == PointFormat::Laz;
+}
+
+PointCloud readPointFilePreview(const std::filesystem::path& path, std::uint64_t max_points) {
+  const PointFormat format = detectPointFormat(path);
+  if (format == PointFormat::Ply) return readPlyPreview(path, max_points);
+  if (format == PointFormat::Las || format == PointFormat::Laz) {
+    return readLasPreview(path, max_points);
+  }
+  throw InputError({.file = path.string(),
+                    .expected = "a PLY, LAS or LAZ file (a sample is read from those only)",
+                    .found = pointFormatName(format)});
 }
 
 PointFormat formatForExtension(const std::filesystem::path& path) {

@@ -42,6 +42,15 @@ struct PointReadOptions {
 // files, and for an unknown format with the list of supported ones.
 PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptions& options = {});
 
+// Whether readPointFilePreview samples files of `format` (PLY, LAS, LAZ; not text, whose lines
+// cannot be addressed without reading them all).
+bool hasPointFilePreview(PointFormat format);
+
+// About `max_points` points spread over a large file, read in a fraction of the time of the
+// whole, for a first picture while its octree is built (ply_preview.h, readLasPreview,
+// readLazPreview). Throws InputError as the readers do, and for a format without a preview.
+PointCloud readPointFilePreview(const std::filesystem::path& path, std::uint64_t max_points);
+
 // The format a path's extension asks for when writing: .ply, .las, .laz, .xyz/.txt/.csv/.pts/.asc;
 // Unknown otherwise.
 PointFormat formatForExtension(const std::filesystem::path& path);
