@@ -300,6 +300,9 @@ const std::byte* LazChunkDecoder::decode(LazSource& s, std::size_t index) {
       codec_->decode(compressed_, chunk.points, raw_.data());
     }
   } catch (const laz::ChunkCorrupt& e) {
+    // An arithmetic stream has no checksums: a decoder notices damage only when it runs out of
+    // bytes or meets an impossible value, possibly some way past it. Every point of the chunk
+    // from its first on may be wrong.
     const std::uint64_t point = chunk.first_point + e.point();
     throw InputError(
         {.file = s.in.name(),
@@ -307,7 +310,9 @@ const std::byte* LazChunkDecoder::decode(LazSource& s, std::size_t index) {
          .element = describeLazChunk(s, index),
          .expected = "a valid compressed chunk of " + std::to_string(chunk.points) + " points in " +
                      std::to_string(chunk.bytes) + " bytes",
-         .found = std::string(e.what()) + "; first point affected: " + std::to_string(point),
+         .found = std::string(e.what()) + ", noticed at point " + std::to_string(point) +
+                  "; first point affected: " + std::to_string(chunk.first_point) +
+                  " (the chunk's first)",
          .hint = s.sequential ? s.table_note : "the file is damaged (truncated or altered)"});
   }
   if (!s.compatibility) return raw_.data();
