@@ -287,7 +287,9 @@ FormatDescription describeLas(const std::filesystem::path& path) {
         (laz.chunk_size ? "chunks of " + std::to_string(laz.chunk_size) + " points"
                         : std::string("variable chunks")) +
         ", " + std::to_string(laz.chunks) + " chunks, written by LASzip " + laz.laszip_version +
-        (laz.compatibility_mode ? ", LAS 1.4 compatibility mode" : ""));
+        (laz.compatibility_mode
+             ? ", LAS 1.4 compatibility mode: points of format " + std::to_string(laz.record_format)
+             : std::string()));
     out.lines.push_back("  items " + items);
     if (!laz.table_note.empty()) out.lines.push_back("  chunk table: " + laz.table_note);
     out.details["laz"] = {{"compressor", laz.compressor},
@@ -297,6 +299,7 @@ FormatDescription describeLas(const std::filesystem::path& path) {
                           {"laszip_version", laz.laszip_version},
                           {"items", laz.items},
                           {"compatibility_mode", laz.compatibility_mode},
+                          {"record_format", laz.record_format},
                           {"chunk_table_note", laz.table_note}};
   }
   return out;

@@ -246,6 +246,7 @@ LazSummary summarizeLaz(const std::filesystem::path& path) {
                             " bytes)");
   }
   summary.compatibility_mode = s.compatibility.has_value();
+  summary.record_format = s.records.point_format;
   summary.table_note = s.table_note;
   return summary;
 }

@@ -49,6 +49,7 @@ struct LazSummary {
   std::string laszip_version;      // of the writer, "3.4.3"
   std::vector<std::string> items;  // "POINT10 v2 (20 bytes)", ...
   bool compatibility_mode = false;
+  int record_format = 0;   // the point format of the decoded records (1.4's in compatibility mode)
   std::string table_note;  // empty, or why the chunk table was not used
 };
 // Reads the header, the laszip VLR and the chunk table (not the points). Throws InputError.

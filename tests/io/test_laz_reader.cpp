@@ -93,6 +93,23 @@ TEST(LazReader, CloudsEqualTheTwinsOnEveryCoreAndOnOne) {
   }
 }
 
+TEST(LazReader, CompatibilityModeGivesTheLas14Records) {
+  // LASzip's LAS 1.4 compatibility mode: format 7 points stored as format 3 plus extra bytes.
+  const LasHeader header = readLasHeader(lazData("compatibility-format7.laz"));
+  EXPECT_EQ(header.point_format, 3);
+  const std::string expected = test::lasRecords(lazData("format7.las"));
+  ASSERT_EQ(expected.size(), 1065u * 36);
+  EXPECT_EQ(test::firstDifferentRecord(test::lazRecords(lazData("compatibility-format7.laz")),
+                                       expected, 36),
+            -1);
+  const PointCloud las = readLas(lazData("format7.las"));
+  expectSameCloud(readLaz(lazData("compatibility-format7.laz")), las);
+  EXPECT_NE(las.findScalar(las_names::kScannerChannel), nullptr);
+  const LazSummary summary = summarizeLaz(lazData("compatibility-format7.laz"));
+  EXPECT_TRUE(summary.compatibility_mode);
+  EXPECT_EQ(summary.record_format, 7);
+}
+
 TEST(LazReader, ChunkReaderGivesTheSamePointsInBatches) {
   const PointCloud whole = readLaz(lazData("ellipsoid.laz"));
   ASSERT_EQ(whole.count, 100000u);
