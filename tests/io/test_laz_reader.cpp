@@ -165,6 +165,24 @@ TEST(LazReader, PreviewIsASampleOfTheFile) {
   EXPECT_EQ(readLazPreview(lazData("point10.las.laz"), 5000).count, 1065u);
 }
 
+TEST(LasPreview, RunsOfRecordsSpreadOverTheFile) {
+  const PointCloud whole = readLas(lazData("point-color-time.las"));
+  // 1065 points, 256 wanted: 4 runs of 64 records, 266 records apart.
+  const PointCloud preview = readPointFilePreview(lazData("point-color-time.las"), 256);
+  ASSERT_EQ(preview.count, 256u);
+  EXPECT_EQ(preview.quantization, whole.quantization);
+  EXPECT_EQ(preview.source.color, whole.source.color);
+  for (std::size_t run = 0; run < 4; ++run) {
+    for (std::size_t i = 0; i < 64; ++i) {
+      ASSERT_EQ(preview.positions[run * 64 + i], whole.positions[run * 266 + i]);
+      ASSERT_EQ(preview.colors[run * 64 + i], whole.colors[run * 266 + i]);
+    }
+  }
+  EXPECT_EQ(readPointFilePreview(lazData("point-color-time.las"), 5000).count, 1065u);
+  EXPECT_TRUE(hasPointFilePreview(PointFormat::Laz));
+  EXPECT_FALSE(hasPointFilePreview(PointFormat::Text));
+}
+
 TEST(LazReader, SummaryNamesCompressionChunksAndItems) {
   const LazSummary summary = summarizeLaz(lazData("extrabytes.laz"));
   EXPECT_EQ(summary.compressor, 2);
