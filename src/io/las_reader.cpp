@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "io/las_record_decoder.h"
 #include "io/laz_reader.h"
+#include "io/mapped_file.h"
 #include "io/range_reader.h"
 
 namespace parallax {
@@ -104,6 +105,11 @@ PointCloud readAll(const RangeReader& in, const LasHeader& header, const LasRead
 }  // namespace
 
 PointCloud readLas(const std::filesystem::path& path, const LasReadOptions& options) {
+  if (!std::filesystem::is_regular_file(path)) {
+    // A pipe or a special file: read whole into memory (MappedFile's fallback) first.
+    const MappedFile file(path);
+    return readLasFromMemory(file.bytes(), path.string(), options);
+  }
   const LasHeader header = readLasHeader(path);
   if (header.laszip) {
     return readLaz(path, {.progress = options.progress, .parallel = options.parallel});

@@ -135,6 +135,10 @@ std::string fileKey(const std::filesystem::path& path) {
 }  // namespace
 
 PointCloud readLaz(const std::filesystem::path& path, const LazReadOptions& options) {
+  if (!std::filesystem::is_regular_file(path)) {
+    const MappedFile file(path);  // a pipe or a special file: read whole first
+    return readLazFromMemory(file.bytes(), path.string(), options);
+  }
   std::unique_ptr<LazSource> source = openFile(path);
   return readSource(*source, options);
 }
