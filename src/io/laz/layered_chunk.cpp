@@ -108,7 +108,8 @@ std::vector<unsigned> checkItems(std::span<const LazItem> items, bool encoding) 
       throw UnsupportedItems(describe(item, i) +
                              ": layered chunks hold one POINT14 item, the first");
     }
-    if (item.size != expected_size || item.size == 0) {
+    if (item.size == 0) throw UnsupportedItems(describe(item, i) + ": expected at least 1 byte");
+    if (item.size != expected_size) {
       throw UnsupportedItems(describe(item, i) + ": expected " + std::to_string(expected_size) +
                              " bytes");
     }
