@@ -200,20 +200,22 @@ class LayeredDecoder final : public ChunkDecoder {
                                 " bytes cannot hold its first point (" +
                                 std::to_string(record_length_) + " bytes)");
     }
+    // The header governs every point after the first (in a chunk of one point, that one).
+    const std::size_t first_coded = std::min<std::size_t>(1, point_count - 1);
     const std::size_t header = 4 + 4 * layer_count_;
     std::size_t pos = record_length_;
     if (chunk.size() - pos < header) {
-      throw ChunkCorrupt(1, "the chunk ends inside its table of layer sizes (" +
-                                std::to_string(chunk.size()) +
-                                " bytes, the first point and the "
-                                "table need " +
-                                std::to_string(pos + header) + ")");
+      const std::string need = std::to_string(pos + header);
+      throw ChunkCorrupt(first_coded, "the chunk ends inside its table of layer sizes (" +
+                                          std::to_string(chunk.size()) + " bytes, " + need +
+                                          " needed up to the first layer)");
     }
     const std::uint32_t count = loadLE<std::uint32_t>(chunk.data() + pos);
     if (count != point_count) {
       // Fewer points than expected: the missing ones are the first affected. More: the chunk
       // does not match its table, so no coded point can be trusted.
-      const std::size_t first = count < point_count ? std::max<std::size_t>(count, 1) : 1;
+      const std::size_t first =
+          count < point_count ? std::max<std::size_t>(count, first_coded) : first_coded;
       throw ChunkCorrupt(first, "the chunk says it holds " + std::to_string(count) +
                                     " points, the chunk table " + std::to_string(point_count));
     }
@@ -224,9 +226,9 @@ class LayeredDecoder final : public ChunkDecoder {
     }
     const std::size_t body = chunk.size() - pos - 4 * layer_count_;
     if (total != body) {
-      throw ChunkCorrupt(1, "the chunk's layers add up to " + std::to_string(total) +
-                                " bytes, but " + std::to_string(body) +
-                                " follow its table of layer sizes");
+      throw ChunkCorrupt(first_coded, "the chunk's layers add up to " + std::to_string(total) +
+                                          " bytes, but " + std::to_string(body) +
+                                          " follow its table of layer sizes");
     }
     std::size_t at = pos + 4 * layer_count_;
     for (std::size_t i = 0; i < layer_count_; ++i) {
@@ -257,9 +259,12 @@ class LayeredDecoder final : public ChunkDecoder {
 
   // Decodes points 1..n-1 after the first. Returns kNoFailure, or where a layer was found
   // broken: with kCheckEach the first point after which it was (a layer too short to start
-  // affects point 1, or in a one-point chunk point 0); without, only that one was.
+  // affects point 1, or in a one-point chunk point 0); without, a point some way after it (the
+  // layers are checked every kCheckInterval points, so that a broken chunk claiming many points
+  // stops early).
   template <bool kCheckEach>
   std::size_t decodePoints(std::size_t n, std::byte* records) {
+    static constexpr std::size_t kCheckInterval = 1024;
     start(records);
     if constexpr (kCheckEach) {
       if (failed()) return std::min<std::size_t>(1, n - 1);
@@ -271,7 +276,7 @@ class LayeredDecoder final : public ChunkDecoder {
       for (std::size_t j = 0; j < decoders_.size(); ++j) {
         decoders_[j]->decode(record + offsets_[j], context);
       }
-      if constexpr (kCheckEach) {
+      if (kCheckEach || i % kCheckInterval == 0) {
         if (failed()) return i;
       }
     }

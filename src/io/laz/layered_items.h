@@ -28,6 +28,7 @@
 #include <cstring>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "io/laz/arithmetic_decoder.h"
@@ -51,6 +52,30 @@ template <class T>
 inline void storeLE(std::byte* p, T v) {
   std::memcpy(p, &v, sizeof(T));
 }
+
+// A model (or integer codec) reset when first used after its context (re)started rather than
+// when the context starts: the state it codes with is the same, and a chunk pays only for the
+// models it uses. (COPC files can hold chunks of a few points, where resetting every model of
+// every item would cost more than decoding.)
+template <class T>
+class Lazy {
+ public:
+  template <class... Args>
+  explicit Lazy(Args&&... args) : value_(std::forward<Args>(args)...) {}
+  void reset() { fresh_ = false; }
+  T& operator*() {
+    if (!fresh_) {
+      value_.reset();
+      fresh_ = true;
+    }
+    return value_;
+  }
+  T* operator->() { return &**this; }
+
+ private:
+  T value_;
+  bool fresh_ = false;
+};
 
 // Symbol models created on first use in a context, as LASzip creates them lazily: a model is
 // fresh (just reset) when first used after its context was (re)started, whatever it learned in an

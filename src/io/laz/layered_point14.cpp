@@ -81,7 +81,7 @@ Point14Models<IntegerCodec>::Point14Models(bool for_decoding)
 
 template <class IntegerCodec>
 void Point14Models<IntegerCodec>::reset() {
-  for (SymbolModel& m : changed_values) m.reset();
+  for (Lazy<SymbolModel>& m : changed_values) m.reset();
   scanner_channel.reset();
   number_of_returns.reset();
   return_number.reset();

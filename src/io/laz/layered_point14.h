@@ -148,18 +148,18 @@ struct Point14Models {
   explicit Point14Models(bool for_decoding);
   void reset();
 
-  std::vector<SymbolModel> changed_values;  // 8 contexts (last point's return kind, time change)
-  SymbolModel scanner_channel;
+  std::vector<Lazy<SymbolModel>> changed_values;  // 8 contexts: last return kind, time change
+  Lazy<SymbolModel> scanner_channel;
   LazySymbolModels<16> number_of_returns;  // by the last number of returns
   LazySymbolModels<16> return_number;      // by the last return number
-  SymbolModel return_number_gps_same;
-  IntegerCodec dx, dy, z;
+  Lazy<SymbolModel> return_number_gps_same;
+  Lazy<IntegerCodec> dx, dy, z;
   LazySymbolModels<64> classification;  // by the last classification and the return kind
   LazySymbolModels<64> flags;           // by the last flags
   LazySymbolModels<64> user_data;       // by the last user data / 4
-  IntegerCodec intensity, scan_angle, point_source;
-  SymbolModel gps_multi, gps_0diff;
-  IntegerCodec gps;
+  Lazy<IntegerCodec> intensity, scan_angle, point_source;
+  Lazy<SymbolModel> gps_multi, gps_0diff;
+  Lazy<IntegerCodec> gps;
 };
 
 // Context maps of the format (the level of a return, and the kind of return pair), both indexed

@@ -60,12 +60,12 @@ unsigned Point14Decoder::decode(std::byte* record) {
   const std::uint32_t lpr = (last->return_number == 1 ? 1u : 0u) +
                             (last->return_number >= last->number_of_returns ? 2u : 0u) +
                             (last->gps_time_changed ? 4u : 0u);
-  const std::uint32_t changed = dec.decodeSymbol(c->models.changed_values[lpr]);
+  const std::uint32_t changed = dec.decodeSymbol(*c->models.changed_values[lpr]);
 
   bool switched = false;
   if (changed & (1u << 6)) {
     // A new scanner channel: coded as the step (1-3) from the current one.
-    const std::uint32_t step = dec.decodeSymbol(c->models.scanner_channel) + 1;
+    const std::uint32_t step = dec.decodeSymbol(*c->models.scanner_channel) + 1;
     const unsigned channel = (current_ + step) & 3;
     if (!used_[channel]) startChannel(channel, *last);
     current_ = channel;
@@ -102,7 +102,7 @@ unsigned Point14Decoder::decode(std::byte* record) {
       if (gps_time_change) {
         r = dec.decodeSymbol(m.return_number[last_r]);
       } else {
-        r = (last_r + dec.decodeSymbol(m.return_number_gps_same) + 2) & 15;
+        r = (last_r + dec.decodeSymbol(*m.return_number_gps_same) + 2) & 15;
       }
       break;
   }
@@ -117,19 +117,19 @@ unsigned Point14Decoder::decode(std::byte* record) {
 
   // X and Y: differences from the last point, predicted by a running median per return kind;
   // Y's context is X's corrector size.
-  std::int32_t diff = m.dx.decode(dec, h.median_x[median_index].get(), single);
+  std::int32_t diff = m.dx->decode(dec, h.median_x[median_index].get(), single);
   last->x = wrappingAdd(last->x, diff);
   h.median_x[median_index].add(diff);
-  std::uint32_t k_bits = m.dx.lastK();
-  diff = m.dy.decode(dec, h.median_y[median_index].get(),
-                     single + (k_bits < 20 ? (k_bits & ~1u) : 20u));
+  std::uint32_t k_bits = m.dx->lastK();
+  diff = m.dy->decode(dec, h.median_y[median_index].get(),
+                      single + (k_bits < 20 ? (k_bits & ~1u) : 20u));
   last->y = wrappingAdd(last->y, diff);
   h.median_y[median_index].add(diff);
 
   if (present_[kLayerZ]) {
-    k_bits = (m.dx.lastK() + m.dy.lastK()) / 2;
+    k_bits = (m.dx->lastK() + m.dy->lastK()) / 2;
     last->z =
-        m.z.decode(dec_[kLayerZ], h.last_z[level], single + (k_bits < 18 ? (k_bits & ~1u) : 18u));
+        m.z->decode(dec_[kLayerZ], h.last_z[level], single + (k_bits < 18 ? (k_bits & ~1u) : 18u));
     h.last_z[level] = last->z;
   }
   if (present_[kLayerClassification]) {
@@ -143,13 +143,13 @@ unsigned Point14Decoder::decode(std::byte* record) {
   if (present_[kLayerIntensity]) {
     const std::uint32_t i = (cpr << 1) | (gps_time_change ? 1u : 0u);
     const auto intensity =
-        std::uint16_t(m.intensity.decode(dec_[kLayerIntensity], h.last_intensity[i], cpr));
+        std::uint16_t(m.intensity->decode(dec_[kLayerIntensity], h.last_intensity[i], cpr));
     h.last_intensity[i] = intensity;
     last->intensity = intensity;
   }
   if (present_[kLayerScanAngle] && scan_angle_change) {
     last->scan_angle = std::int16_t(
-        m.scan_angle.decode(dec_[kLayerScanAngle], last->scan_angle, gps_time_change ? 1u : 0u));
+        m.scan_angle->decode(dec_[kLayerScanAngle], last->scan_angle, gps_time_change ? 1u : 0u));
   }
   if (present_[kLayerUserData]) {
     last->user_data =
@@ -157,7 +157,7 @@ unsigned Point14Decoder::decode(std::byte* record) {
   }
   if (present_[kLayerPointSource] && point_source_change) {
     last->point_source =
-        std::uint16_t(m.point_source.decode(dec_[kLayerPointSource], last->point_source));
+        std::uint16_t(m.point_source->decode(dec_[kLayerPointSource], last->point_source));
   }
   if (present_[kLayerGpsTime] && gps_time_change) {
     decodeGpsTime(*c);
@@ -180,7 +180,7 @@ void Point14Decoder::decodeGpsTime(Channel& c) {
   const auto new_sequence = [&] {
     h.gps_next = (h.gps_next + 1) & 3;
     const std::int32_t high =
-        m.gps.decode(dec, std::int32_t(std::uint32_t(h.gps_time[last] >> 32)), 8);
+        m.gps->decode(dec, std::int32_t(std::uint32_t(h.gps_time[last] >> 32)), 8);
     const std::uint32_t low = dec.readInt();
     h.gps_time[h.gps_next] = (std::uint64_t(std::uint32_t(high)) << 32) | low;
     last = h.gps_next;
@@ -192,9 +192,9 @@ void Point14Decoder::decodeGpsTime(Channel& c) {
   for (int round = 0; round < 4; ++round) {
     if (h.gps_diff[last] == 0) {
       // The last difference was zero: code the difference itself.
-      const std::uint32_t multi = dec.decodeSymbol(m.gps_0diff);
+      const std::uint32_t multi = dec.decodeSymbol(*m.gps_0diff);
       if (multi == 0) {
-        h.gps_diff[last] = m.gps.decode(dec, 0, 0);
+        h.gps_diff[last] = m.gps->decode(dec, 0, 0);
         h.gps_time[last] += std::uint64_t(std::int64_t(h.gps_diff[last]));
         h.gps_extreme[last] = 0;
       } else if (multi == 1) {
@@ -205,11 +205,11 @@ void Point14Decoder::decodeGpsTime(Channel& c) {
       }
       return;
     }
-    const std::uint32_t multi = dec.decodeSymbol(m.gps_multi);
+    const std::uint32_t multi = dec.decodeSymbol(*m.gps_multi);
     const std::int32_t last_diff = h.gps_diff[last];
     if (multi == 1) {
       // The same difference again, plus a corrector.
-      h.gps_time[last] += std::uint64_t(std::int64_t(m.gps.decode(dec, last_diff, 1)));
+      h.gps_time[last] += std::uint64_t(std::int64_t(m.gps->decode(dec, last_diff, 1)));
       h.gps_extreme[last] = 0;
       return;
     }
@@ -220,19 +220,19 @@ void Point14Decoder::decodeGpsTime(Channel& c) {
       std::int32_t d;
       bool extreme = false;
       if (multi == 0) {
-        d = m.gps.decode(dec, 0, 7);
+        d = m.gps->decode(dec, 0, 7);
         extreme = true;
       } else if (multi < kGpsMulti) {
-        d = m.gps.decode(dec, wrappingMul(std::int32_t(multi), last_diff), multi < 10 ? 2 : 3);
+        d = m.gps->decode(dec, wrappingMul(std::int32_t(multi), last_diff), multi < 10 ? 2 : 3);
       } else if (multi == kGpsMulti) {
-        d = m.gps.decode(dec, wrappingMul(std::int32_t(kGpsMulti), last_diff), 4);
+        d = m.gps->decode(dec, wrappingMul(std::int32_t(kGpsMulti), last_diff), 4);
         extreme = true;
       } else {
         const std::int32_t negative = std::int32_t(kGpsMulti) - std::int32_t(multi);
         if (negative > kGpsMultiMinus) {
-          d = m.gps.decode(dec, wrappingMul(negative, last_diff), 5);
+          d = m.gps->decode(dec, wrappingMul(negative, last_diff), 5);
         } else {
-          d = m.gps.decode(dec, wrappingMul(kGpsMultiMinus, last_diff), 6);
+          d = m.gps->decode(dec, wrappingMul(kGpsMultiMinus, last_diff), 6);
           extreme = true;
         }
       }

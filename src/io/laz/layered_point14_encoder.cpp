@@ -100,10 +100,10 @@ unsigned Point14Encoder::encode(const std::byte* record) {
       changed |= 3;
     }
   }
-  enc.encodeSymbol(c->models.changed_values[lpr], changed);
+  enc.encodeSymbol(*c->models.changed_values[lpr], changed);
 
   if (switched) {
-    enc.encodeSymbol(c->models.scanner_channel, (p.channel - current_ + 3) & 3);
+    enc.encodeSymbol(*c->models.scanner_channel, (p.channel - current_ + 3) & 3);
     if (!used_[p.channel]) {
       startChannel(p.channel, c->history.last);
       last = &channels_[p.channel]->history.last;
@@ -120,7 +120,7 @@ unsigned Point14Encoder::encode(const std::byte* record) {
       enc.encodeSymbol(m.return_number[last_r], r);
     } else {
       // r = last_r + symbol + 2 (mod 16)
-      enc.encodeSymbol(m.return_number_gps_same, (r - last_r + 14) & 15);
+      enc.encodeSymbol(*m.return_number_gps_same, (r - last_r + 14) & 15);
     }
   }
 
@@ -131,17 +131,17 @@ unsigned Point14Encoder::encode(const std::byte* record) {
   const std::uint32_t median_index = (map << 1) | (gps_time_change ? 1u : 0u);
 
   std::int32_t diff = wrappingSub(p.x, last->x);
-  m.dx.encode(enc, h.median_x[median_index].get(), diff, single);
+  m.dx->encode(enc, h.median_x[median_index].get(), diff, single);
   h.median_x[median_index].add(diff);
-  std::uint32_t k_bits = m.dx.lastK();
+  std::uint32_t k_bits = m.dx->lastK();
   diff = wrappingSub(p.y, last->y);
-  m.dy.encode(enc, h.median_y[median_index].get(), diff,
-              single + (k_bits < 20 ? (k_bits & ~1u) : 20u));
+  m.dy->encode(enc, h.median_y[median_index].get(), diff,
+               single + (k_bits < 20 ? (k_bits & ~1u) : 20u));
   h.median_y[median_index].add(diff);
 
-  k_bits = (m.dx.lastK() + m.dy.lastK()) / 2;
-  m.z.encode(layers_[kLayerZ].encoder, h.last_z[level], p.z,
-             single + (k_bits < 18 ? (k_bits & ~1u) : 18u));
+  k_bits = (m.dx->lastK() + m.dy->lastK()) / 2;
+  m.z->encode(layers_[kLayerZ].encoder, h.last_z[level], p.z,
+              single + (k_bits < 18 ? (k_bits & ~1u) : 18u));
   h.last_z[level] = p.z;
 
   if (p.classification != last->classification) changed_[kLayerClassification] = true;
@@ -153,13 +153,13 @@ unsigned Point14Encoder::encode(const std::byte* record) {
 
   if (p.intensity != last->intensity) changed_[kLayerIntensity] = true;
   const std::uint32_t i = (cpr << 1) | (gps_time_change ? 1u : 0u);
-  m.intensity.encode(layers_[kLayerIntensity].encoder, h.last_intensity[i], p.intensity, cpr);
+  m.intensity->encode(layers_[kLayerIntensity].encoder, h.last_intensity[i], p.intensity, cpr);
   h.last_intensity[i] = p.intensity;
 
   if (scan_angle_change) {
     changed_[kLayerScanAngle] = true;
-    m.scan_angle.encode(layers_[kLayerScanAngle].encoder, last->scan_angle, p.scan_angle,
-                        gps_time_change ? 1u : 0u);
+    m.scan_angle->encode(layers_[kLayerScanAngle].encoder, last->scan_angle, p.scan_angle,
+                         gps_time_change ? 1u : 0u);
   }
 
   if (p.user_data != last->user_data) changed_[kLayerUserData] = true;
@@ -167,7 +167,7 @@ unsigned Point14Encoder::encode(const std::byte* record) {
 
   if (point_source_change) {
     changed_[kLayerPointSource] = true;
-    m.point_source.encode(layers_[kLayerPointSource].encoder, last->point_source, p.point_source);
+    m.point_source->encode(layers_[kLayerPointSource].encoder, last->point_source, p.point_source);
   }
   if (gps_time_change) {
     changed_[kLayerGpsTime] = true;
@@ -199,8 +199,8 @@ void Point14Encoder::encodeGpsTime(Channel& c, std::uint64_t time) {
   // A time far from every sequence starts a new one.
   const auto new_sequence = [&](SymbolModel& model, std::uint32_t symbol) {
     enc.encodeSymbol(model, symbol);
-    m.gps.encode(enc, std::int32_t(std::uint32_t(h.gps_time[last] >> 32)),
-                 std::int32_t(std::uint32_t(time >> 32)), 8);
+    m.gps->encode(enc, std::int32_t(std::uint32_t(h.gps_time[last] >> 32)),
+                  std::int32_t(std::uint32_t(time >> 32)), 8);
     enc.writeInt(std::uint32_t(time));
     h.gps_next = (h.gps_next + 1) & 3;
     last = h.gps_next;
@@ -213,16 +213,16 @@ void Point14Encoder::encodeGpsTime(Channel& c, std::uint64_t time) {
     const std::int64_t diff64 = difference(last);
     if (h.gps_diff[last] == 0) {
       if (fits32(diff64)) {
-        enc.encodeSymbol(m.gps_0diff, 0);
-        m.gps.encode(enc, 0, std::int32_t(diff64), 0);
+        enc.encodeSymbol(*m.gps_0diff, 0);
+        m.gps->encode(enc, 0, std::int32_t(diff64), 0);
         h.gps_diff[last] = std::int32_t(diff64);
         h.gps_extreme[last] = 0;
       } else if (const std::uint32_t i = other_sequence(); i != 0) {
-        enc.encodeSymbol(m.gps_0diff, i + 1);
+        enc.encodeSymbol(*m.gps_0diff, i + 1);
         last = (last + i) & 3;
         continue;
       } else {
-        new_sequence(m.gps_0diff, 1);
+        new_sequence(*m.gps_0diff, 1);
       }
       h.gps_time[last] = time;
       return;
@@ -233,30 +233,30 @@ void Point14Encoder::encodeGpsTime(Channel& c, std::uint64_t time) {
       const std::int32_t multi = quantizeRatio(float(d) / float(last_diff));
       bool extreme = false;
       if (multi == 1) {
-        enc.encodeSymbol(m.gps_multi, 1);
-        m.gps.encode(enc, last_diff, d, 1);
+        enc.encodeSymbol(*m.gps_multi, 1);
+        m.gps->encode(enc, last_diff, d, 1);
         h.gps_extreme[last] = 0;
       } else if (multi > 0) {
         if (multi < std::int32_t(kGpsMulti)) {
-          enc.encodeSymbol(m.gps_multi, std::uint32_t(multi));
-          m.gps.encode(enc, wrappingMul(multi, last_diff), d, multi < 10 ? 2 : 3);
+          enc.encodeSymbol(*m.gps_multi, std::uint32_t(multi));
+          m.gps->encode(enc, wrappingMul(multi, last_diff), d, multi < 10 ? 2 : 3);
         } else {
-          enc.encodeSymbol(m.gps_multi, kGpsMulti);
-          m.gps.encode(enc, wrappingMul(std::int32_t(kGpsMulti), last_diff), d, 4);
+          enc.encodeSymbol(*m.gps_multi, kGpsMulti);
+          m.gps->encode(enc, wrappingMul(std::int32_t(kGpsMulti), last_diff), d, 4);
           extreme = true;
         }
       } else if (multi < 0) {
         if (multi > kGpsMultiMinus) {
-          enc.encodeSymbol(m.gps_multi, std::uint32_t(std::int32_t(kGpsMulti) - multi));
-          m.gps.encode(enc, wrappingMul(multi, last_diff), d, 5);
+          enc.encodeSymbol(*m.gps_multi, std::uint32_t(std::int32_t(kGpsMulti) - multi));
+          m.gps->encode(enc, wrappingMul(multi, last_diff), d, 5);
         } else {
-          enc.encodeSymbol(m.gps_multi, std::uint32_t(std::int32_t(kGpsMulti) - kGpsMultiMinus));
-          m.gps.encode(enc, wrappingMul(kGpsMultiMinus, last_diff), d, 6);
+          enc.encodeSymbol(*m.gps_multi, std::uint32_t(std::int32_t(kGpsMulti) - kGpsMultiMinus));
+          m.gps->encode(enc, wrappingMul(kGpsMultiMinus, last_diff), d, 6);
           extreme = true;
         }
       } else {
-        enc.encodeSymbol(m.gps_multi, 0);
-        m.gps.encode(enc, 0, d, 7);
+        enc.encodeSymbol(*m.gps_multi, 0);
+        m.gps->encode(enc, 0, d, 7);
         extreme = true;
       }
       if (extreme && ++h.gps_extreme[last] > 3) {
@@ -264,11 +264,11 @@ void Point14Encoder::encodeGpsTime(Channel& c, std::uint64_t time) {
         h.gps_extreme[last] = 0;
       }
     } else if (const std::uint32_t i = other_sequence(); i != 0) {
-      enc.encodeSymbol(m.gps_multi, kGpsMultiCodeFull + i);
+      enc.encodeSymbol(*m.gps_multi, kGpsMultiCodeFull + i);
       last = (last + i) & 3;
       continue;
     } else {
-      new_sequence(m.gps_multi, kGpsMultiCodeFull);
+      new_sequence(*m.gps_multi, kGpsMultiCodeFull);
     }
     h.gps_time[last] = time;
     return;

@@ -18,24 +18,21 @@ std::uint32_t clampByte(std::int32_t v) {
 struct RgbModels {
   explicit RgbModels(bool for_decoding)
       : rgb_used(128, for_decoding),
-        rgb_diff{{{256, for_decoding},
-                  {256, for_decoding},
-                  {256, for_decoding},
-                  {256, for_decoding},
-                  {256, for_decoding},
-                  {256, for_decoding}}},
+        rgb_diff{{Lazy<SymbolModel>(256, for_decoding), Lazy<SymbolModel>(256, for_decoding),
+                  Lazy<SymbolModel>(256, for_decoding), Lazy<SymbolModel>(256, for_decoding),
+                  Lazy<SymbolModel>(256, for_decoding), Lazy<SymbolModel>(256, for_decoding)}},
         nir_used(4, for_decoding),
-        nir_diff{{{256, for_decoding}, {256, for_decoding}}} {}
+        nir_diff{{Lazy<SymbolModel>(256, for_decoding), Lazy<SymbolModel>(256, for_decoding)}} {}
   void reset() {
     rgb_used.reset();
-    for (SymbolModel& m : rgb_diff) m.reset();
+    for (auto& m : rgb_diff) m.reset();
     nir_used.reset();
-    for (SymbolModel& m : nir_diff) m.reset();
+    for (auto& m : nir_diff) m.reset();
   }
-  SymbolModel rgb_used;  // bit i: byte i changed (low/high of R, G, B); bit 6: G or B != R
-  std::array<SymbolModel, 6> rgb_diff;
-  SymbolModel nir_used;
-  std::array<SymbolModel, 2> nir_diff;
+  Lazy<SymbolModel> rgb_used;  // bit i: byte i changed (low/high of R, G, B); bit 6: G or B != R
+  std::array<Lazy<SymbolModel>, 6> rgb_diff;
+  Lazy<SymbolModel> nir_used;
+  std::array<Lazy<SymbolModel>, 2> nir_diff;
 };
 
 // 16-bit colour channels: R, G, B and, with NIR, N.
@@ -110,11 +107,11 @@ class RgbDecoder final : public ItemDecoder, RgbState {
     RgbModels& m = *models_[current_];
     Colour c = last;
     if (rgb_present_) {
-      const std::uint32_t used = rgb_.decodeSymbol(m.rgb_used);
+      const std::uint32_t used = rgb_.decodeSymbol(*m.rgb_used);
       // Red: each byte as a difference from the last red (mod 256).
       std::uint32_t lo = last[0] & 0xFF, hi = last[0] >> 8;
-      if (used & 1) lo = (lo + rgb_.decodeSymbol(m.rgb_diff[0])) & 0xFF;
-      if (used & 2) hi = (hi + rgb_.decodeSymbol(m.rgb_diff[1])) & 0xFF;
+      if (used & 1) lo = (lo + rgb_.decodeSymbol(*m.rgb_diff[0])) & 0xFF;
+      if (used & 2) hi = (hi + rgb_.decodeSymbol(*m.rgb_diff[1])) & 0xFF;
       c[0] = std::uint16_t(lo | hi << 8);
       if (used & (1u << 6)) {
         // Green and blue: predicted by the last value plus red's change (blue: the average of
@@ -122,24 +119,24 @@ class RgbDecoder final : public ItemDecoder, RgbState {
         std::int32_t d = std::int32_t(c[0] & 0xFF) - std::int32_t(last[0] & 0xFF);
         std::uint32_t g_lo = last[1] & 0xFF, b_lo = last[2] & 0xFF;
         if (used & (1u << 2)) {
-          g_lo = (rgb_.decodeSymbol(m.rgb_diff[2]) + clampByte(d + std::int32_t(last[1] & 0xFF))) &
+          g_lo = (rgb_.decodeSymbol(*m.rgb_diff[2]) + clampByte(d + std::int32_t(last[1] & 0xFF))) &
                  0xFF;
         }
         if (used & (1u << 4)) {
           d = (d + std::int32_t(g_lo) - std::int32_t(last[1] & 0xFF)) / 2;
-          b_lo = (rgb_.decodeSymbol(m.rgb_diff[4]) + clampByte(d + std::int32_t(last[2] & 0xFF))) &
+          b_lo = (rgb_.decodeSymbol(*m.rgb_diff[4]) + clampByte(d + std::int32_t(last[2] & 0xFF))) &
                  0xFF;
         }
         d = std::int32_t(c[0] >> 8) - std::int32_t(last[0] >> 8);
         std::uint32_t g_hi = last[1] >> 8, b_hi = last[2] >> 8;
         if (used & (1u << 3)) {
-          g_hi =
-              (rgb_.decodeSymbol(m.rgb_diff[3]) + clampByte(d + std::int32_t(last[1] >> 8))) & 0xFF;
+          g_hi = (rgb_.decodeSymbol(*m.rgb_diff[3]) + clampByte(d + std::int32_t(last[1] >> 8))) &
+                 0xFF;
         }
         if (used & (1u << 5)) {
           d = (d + std::int32_t(g_hi) - std::int32_t(last[1] >> 8)) / 2;
-          b_hi =
-              (rgb_.decodeSymbol(m.rgb_diff[5]) + clampByte(d + std::int32_t(last[2] >> 8))) & 0xFF;
+          b_hi = (rgb_.decodeSymbol(*m.rgb_diff[5]) + clampByte(d + std::int32_t(last[2] >> 8))) &
+                 0xFF;
         }
         c[1] = std::uint16_t(g_lo | g_hi << 8);
         c[2] = std::uint16_t(b_lo | b_hi << 8);
@@ -151,10 +148,10 @@ class RgbDecoder final : public ItemDecoder, RgbState {
       last[2] = c[2];
     }
     if (nir_present_) {
-      const std::uint32_t used = nir_dec_.decodeSymbol(m.nir_used);
+      const std::uint32_t used = nir_dec_.decodeSymbol(*m.nir_used);
       std::uint32_t lo = last[3] & 0xFF, hi = last[3] >> 8;
-      if (used & 1) lo = (lo + nir_dec_.decodeSymbol(m.nir_diff[0])) & 0xFF;
-      if (used & 2) hi = (hi + nir_dec_.decodeSymbol(m.nir_diff[1])) & 0xFF;
+      if (used & 1) lo = (lo + nir_dec_.decodeSymbol(*m.nir_diff[0])) & 0xFF;
+      if (used & 2) hi = (hi + nir_dec_.decodeSymbol(*m.nir_diff[1])) & 0xFF;
       c[3] = last[3] = std::uint16_t(lo | hi << 8);
     }
     storeColour(item, c, nir_);
@@ -202,34 +199,34 @@ class RgbEncoder final : public ItemEncoder, RgbState {
       if (hi(c[i]) != hi(last[i])) used |= 1u << (2 * i + 1);
     }
     if (c[1] != c[0] || c[2] != c[0]) used |= 1u << 6;
-    enc.encodeSymbol(m.rgb_used, used);
+    enc.encodeSymbol(*m.rgb_used, used);
     std::int32_t d_lo = 0, d_hi = 0;
     if (used & 1) {
       d_lo = lo(c[0]) - lo(last[0]);
-      enc.encodeSymbol(m.rgb_diff[0], std::uint32_t(d_lo) & 0xFF);
+      enc.encodeSymbol(*m.rgb_diff[0], std::uint32_t(d_lo) & 0xFF);
     }
     if (used & 2) {
       d_hi = hi(c[0]) - hi(last[0]);
-      enc.encodeSymbol(m.rgb_diff[1], std::uint32_t(d_hi) & 0xFF);
+      enc.encodeSymbol(*m.rgb_diff[1], std::uint32_t(d_hi) & 0xFF);
     }
     if (used & (1u << 6)) {
       if (used & (1u << 2)) {
         const std::int32_t corr = lo(c[1]) - std::int32_t(clampByte(d_lo + lo(last[1])));
-        enc.encodeSymbol(m.rgb_diff[2], std::uint32_t(corr) & 0xFF);
+        enc.encodeSymbol(*m.rgb_diff[2], std::uint32_t(corr) & 0xFF);
       }
       if (used & (1u << 4)) {
         d_lo = (d_lo + lo(c[1]) - lo(last[1])) / 2;
         const std::int32_t corr = lo(c[2]) - std::int32_t(clampByte(d_lo + lo(last[2])));
-        enc.encodeSymbol(m.rgb_diff[4], std::uint32_t(corr) & 0xFF);
+        enc.encodeSymbol(*m.rgb_diff[4], std::uint32_t(corr) & 0xFF);
       }
       if (used & (1u << 3)) {
         const std::int32_t corr = hi(c[1]) - std::int32_t(clampByte(d_hi + hi(last[1])));
-        enc.encodeSymbol(m.rgb_diff[3], std::uint32_t(corr) & 0xFF);
+        enc.encodeSymbol(*m.rgb_diff[3], std::uint32_t(corr) & 0xFF);
       }
       if (used & (1u << 5)) {
         d_hi = (d_hi + hi(c[1]) - hi(last[1])) / 2;
         const std::int32_t corr = hi(c[2]) - std::int32_t(clampByte(d_hi + hi(last[2])));
-        enc.encodeSymbol(m.rgb_diff[5], std::uint32_t(corr) & 0xFF);
+        enc.encodeSymbol(*m.rgb_diff[5], std::uint32_t(corr) & 0xFF);
       }
     }
     if (used != 0) rgb_changed_ = true;
@@ -238,11 +235,11 @@ class RgbEncoder final : public ItemEncoder, RgbState {
       if (lo(c[3]) != lo(last[3])) nir_used |= 1;
       if (hi(c[3]) != hi(last[3])) nir_used |= 2;
       ArithmeticEncoder& nenc = nir_layer_.encoder;
-      nenc.encodeSymbol(m.nir_used, nir_used);
+      nenc.encodeSymbol(*m.nir_used, nir_used);
       if (nir_used & 1)
-        nenc.encodeSymbol(m.nir_diff[0], std::uint32_t(lo(c[3]) - lo(last[3])) & 0xFF);
+        nenc.encodeSymbol(*m.nir_diff[0], std::uint32_t(lo(c[3]) - lo(last[3])) & 0xFF);
       if (nir_used & 2)
-        nenc.encodeSymbol(m.nir_diff[1], std::uint32_t(hi(c[3]) - hi(last[3])) & 0xFF);
+        nenc.encodeSymbol(*m.nir_diff[1], std::uint32_t(hi(c[3]) - hi(last[3])) & 0xFF);
       if (nir_used != 0) nir_changed_ = true;
     }
     last = c;

@@ -44,24 +44,25 @@ template <class IntegerCodec>
 struct WavepacketModels {
   explicit WavepacketModels(bool for_decoding)
       : packet_index(256, for_decoding),
-        offset_kind{{{4, for_decoding}, {4, for_decoding}, {4, for_decoding}, {4, for_decoding}}},
+        offset_kind{{Lazy<SymbolModel>(4, for_decoding), Lazy<SymbolModel>(4, for_decoding),
+                     Lazy<SymbolModel>(4, for_decoding), Lazy<SymbolModel>(4, for_decoding)}},
         offset_diff(kInt32),
         packet_size(kInt32),
         return_point(kInt32),
-        xyz({.bits = 32, .contexts = 3}) {}
+        xyz(IntegerCodecShape{.bits = 32, .contexts = 3}) {}
   void reset() {
     packet_index.reset();
-    for (SymbolModel& m : offset_kind) m.reset();
+    for (auto& m : offset_kind) m.reset();
     offset_diff.reset();
     packet_size.reset();
     return_point.reset();
     xyz.reset();
   }
-  SymbolModel packet_index;
+  Lazy<SymbolModel> packet_index;
   // How the offset follows from the last one: 0 same, 1 + last size, 2 coded difference,
   // 3 in full; by the last point's kind.
-  std::array<SymbolModel, 4> offset_kind;
-  IntegerCodec offset_diff, packet_size, return_point, xyz;
+  std::array<Lazy<SymbolModel>, 4> offset_kind;
+  Lazy<IntegerCodec> offset_diff, packet_size, return_point, xyz;
   // Per context, besides the last packet.
   std::int32_t last_diff = 0;
   std::uint32_t last_kind = 0;
@@ -121,8 +122,8 @@ class WavepacketDecoder final : public ItemDecoder, WavepacketState<IntegerDecod
     if (present_) {
       WavepacketModels<IntegerDecoder>& m = *models_[current_];
       Wavepacket w;
-      w.index = std::uint8_t(dec_.decodeSymbol(m.packet_index));
-      m.last_kind = dec_.decodeSymbol(m.offset_kind[m.last_kind]);
+      w.index = std::uint8_t(dec_.decodeSymbol(*m.packet_index));
+      m.last_kind = dec_.decodeSymbol(*m.offset_kind[m.last_kind]);
       switch (m.last_kind) {
         case 0:
           w.offset = last.offset;
@@ -131,16 +132,16 @@ class WavepacketDecoder final : public ItemDecoder, WavepacketState<IntegerDecod
           w.offset = last.offset + last.size;
           break;
         case 2:
-          m.last_diff = m.offset_diff.decode(dec_, m.last_diff);
+          m.last_diff = m.offset_diff->decode(dec_, m.last_diff);
           w.offset = last.offset + std::uint64_t(std::int64_t(m.last_diff));
           break;
         default:
           w.offset = dec_.readInt64();
           break;
       }
-      w.size = std::uint32_t(m.packet_size.decode(dec_, std::int32_t(last.size)));
-      w.return_point = m.return_point.decode(dec_, last.return_point);
-      for (unsigned i = 0; i < 3; ++i) w.xyz[i] = m.xyz.decode(dec_, last.xyz[i], i);
+      w.size = std::uint32_t(m.packet_size->decode(dec_, std::int32_t(last.size)));
+      w.return_point = m.return_point->decode(dec_, last.return_point);
+      for (unsigned i = 0; i < 3; ++i) w.xyz[i] = m.xyz->decode(dec_, last.xyz[i], i);
       last = w;
     }
     last.store(item);
@@ -175,7 +176,7 @@ class WavepacketEncoder final : public ItemEncoder, WavepacketState<IntegerEncod
     last.store(last_bytes.data());
     if (std::memcmp(item, last_bytes.data(), kWavepacketSize) != 0) changed_ = true;
 
-    enc.encodeSymbol(m.packet_index, w.index);
+    enc.encodeSymbol(*m.packet_index, w.index);
     const std::int64_t diff64 = std::int64_t(w.offset - last.offset);
     const std::int32_t diff32 = std::int32_t(diff64);
     std::uint32_t kind;
@@ -188,17 +189,17 @@ class WavepacketEncoder final : public ItemEncoder, WavepacketState<IntegerEncod
     } else {
       kind = 2;
     }
-    enc.encodeSymbol(m.offset_kind[m.last_kind], kind);
+    enc.encodeSymbol(*m.offset_kind[m.last_kind], kind);
     m.last_kind = kind;
     if (kind == 2) {
-      m.offset_diff.encode(enc, m.last_diff, diff32);
+      m.offset_diff->encode(enc, m.last_diff, diff32);
       m.last_diff = diff32;
     } else if (kind == 3) {
       enc.writeInt64(w.offset);
     }
-    m.packet_size.encode(enc, std::int32_t(last.size), std::int32_t(w.size));
-    m.return_point.encode(enc, last.return_point, w.return_point);
-    for (unsigned i = 0; i < 3; ++i) m.xyz.encode(enc, last.xyz[i], w.xyz[i], i);
+    m.packet_size->encode(enc, std::int32_t(last.size), std::int32_t(w.size));
+    m.return_point->encode(enc, last.return_point, w.return_point);
+    for (unsigned i = 0; i < 3; ++i) m.xyz->encode(enc, last.xyz[i], w.xyz[i], i);
     last = w;
   }
 
