@@ -252,10 +252,10 @@ TEST(LazLayered, RoundTripsEveryFormat) {
       for (std::size_t extra : {0, 1, 7}) {
         expectRoundTrip({.format = format,
                          .extra_bytes = extra,
-                         .count = 4000,
+                         .count = 2400,
                          .seed = std::uint64_t(100 + format * 10 + extra),
-                         .quiet_span = 1000},
-                        version, 1000);
+                         .quiet_span = 600},
+                        version, 600);
       }
     }
   }
@@ -473,7 +473,7 @@ TEST(LazLayered, NamesTheFirstPointOfACutLayer) {
   // Cutting a layer short makes its stream run out at some point p: every point before p must
   // have decoded exactly (the records before the first point affected are valid), and the
   // shorter the layer, the earlier p.
-  const EncodedChunk c = makeChunk();
+  const EncodedChunk c = makeChunk(1000);
   const std::size_t layers = 9 + 1 + 2;  // POINT14, RGB14, two extra bytes
   std::vector<std::byte> decoded;
   for (std::size_t layer : {0u, 1u, 4u, 8u, 9u, 11u}) {
@@ -508,7 +508,7 @@ TEST(LazLayered, SurvivesCorruptBytes) {
   std::vector<std::byte> decoded;
   auto decoder = makeLayeredDecoder(c.items);
   int refused = 0;
-  for (int trial = 0; trial < 200; ++trial) {
+  for (int trial = 0; trial < 120; ++trial) {
     std::vector<std::uint8_t> bad = c.chunk;
     const std::size_t from = trial % 3 == 0 ? 0 : c.length + 4;  // sometimes the header too
     for (int k = 0; k < 1 + trial % 4; ++k) {
