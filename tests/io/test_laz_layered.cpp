@@ -446,7 +446,7 @@ TEST(LazLayered, RefusesAWrongPointCount) {
   EXPECT_EQ(corruptPoint(c, c.chunk, c.count + 5, decoded, &what), c.count);
   EXPECT_NE(what.find("says it holds 2000 points, the chunk table 2005"), std::string::npos)
       << what;
-  // Fewer: the chunk and its table disagree, no coded point can be trusted.
+  // The table expects fewer: the chunk and its table disagree, no coded point can be trusted.
   EXPECT_EQ(corruptPoint(c, c.chunk, c.count - 1, decoded), 1u);
   // A lying count in the chunk itself.
   std::vector<std::uint8_t> lying = c.chunk;
