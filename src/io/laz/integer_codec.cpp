@@ -39,19 +39,21 @@ IntegerModels::IntegerModels(const IntegerCodecShape& shape, bool for_decoding)
   for (std::uint32_t k = 1; k <= corr_bits; ++k) {
     corrector.emplace_back(1u << (k <= bits_high ? k : bits_high), for_decoding);
   }
+  // Models are built in their initial state: generation 0 is the current one.
+  k_generation.assign(k_models.size(), 0);
+  corrector_generation.assign(corrector.size(), 0);
 }
 
 void IntegerModels::reset() {
-  for (SymbolModel& m : k_models) m.reset();
+  ++generation_;
   corrector0.reset();
-  for (SymbolModel& m : corrector) m.reset();
 }
 
 std::int32_t IntegerDecoder::readCorrector(ArithmeticDecoder& dec, SymbolModel& k_model) {
   k_ = dec.decodeSymbol(k_model);
   if (k_ == 0) return std::int32_t(dec.decodeBit(models_.corrector0));  // c is 0 or 1
   if (k_ >= 32) return models_.corr_min;
-  SymbolModel& model = models_.corrector[k_ - 1];
+  SymbolModel& model = models_.correctorModel(k_);
   std::int64_t c;
   if (k_ <= models_.bits_high) {
     c = dec.decodeSymbol(model);
@@ -71,7 +73,7 @@ std::int32_t IntegerDecoder::readCorrector(ArithmeticDecoder& dec, SymbolModel& 
 
 std::int32_t IntegerDecoder::decode(ArithmeticDecoder& dec, std::int32_t prediction,
                                     std::uint32_t context) {
-  const std::int32_t c = readCorrector(dec, models_.k_models[context]);
+  const std::int32_t c = readCorrector(dec, models_.kModel(context));
   // Wrap into [0, range): unsigned arithmetic, as the 32-bit case wraps modulo 2^32.
   std::uint32_t real = std::uint32_t(prediction) + std::uint32_t(c);
   if (std::int32_t(real) < 0) {
@@ -102,7 +104,7 @@ void IntegerEncoder::writeCorrector(ArithmeticEncoder& enc, std::int32_t c, Symb
   } else {
     offset -= 1;
   }
-  SymbolModel& model = models_.corrector[k_ - 1];
+  SymbolModel& model = models_.correctorModel(k_);
   if (k_ <= models_.bits_high) {
     enc.encodeSymbol(model, std::uint32_t(offset));
   } else {
@@ -127,7 +129,7 @@ void IntegerEncoder::encode(ArithmeticEncoder& enc, std::int32_t prediction, std
     }
     c = std::int32_t(d);
   }
-  writeCorrector(enc, c, models_.k_models[context]);
+  writeCorrector(enc, c, models_.kModel(context));
 }
 
 }  // namespace parallax::laz

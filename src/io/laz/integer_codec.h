@@ -30,8 +30,20 @@ struct IntegerCodecShape {
 class IntegerModels {
  public:
   IntegerModels(const IntegerCodecShape& shape, bool for_decoding);
-  // Every model back to its initial state (the start of a chunk).
+  // Every model back to its initial state (the start of a chunk). The symbol models are reset
+  // on their first use after this call instead of here: a 32-bit codec has some 6 600 corrector
+  // symbols, and a chunk of a few points (COPC's small nodes) would spend most of its time
+  // resetting models it never uses. A model reset late is in exactly the state of one reset
+  // early, so the stream is the same.
   void reset();
+
+  SymbolModel& kModel(std::uint32_t context) {
+    return fresh(k_models[context], k_generation[context]);
+  }
+  // The model of correctors with k significant bits (1..corr_bits).
+  SymbolModel& correctorModel(std::uint32_t k) {
+    return fresh(corrector[k - 1], corrector_generation[k - 1]);
+  }
 
   std::uint32_t corr_bits = 0;   // significant bits of the largest corrector
   std::uint32_t corr_range = 0;  // 0 stands for 2^32
@@ -42,6 +54,20 @@ class IntegerModels {
   BitModel corrector0;                // k == 0: c is 0 or 1
   // k = 1..corr_bits (index k - 1): 2^min(k, bits_high) symbols.
   std::vector<SymbolModel> corrector;
+
+ private:
+  SymbolModel& fresh(SymbolModel& model, std::uint32_t& generation) {
+    if (generation != generation_) {
+      model.reset();
+      generation = generation_;
+    }
+    return model;
+  }
+
+  // reset() advances generation_; a model whose generation differs is reset when next used.
+  std::uint32_t generation_ = 0;
+  std::vector<std::uint32_t> k_generation;
+  std::vector<std::uint32_t> corrector_generation;
 };
 
 class IntegerDecoder {

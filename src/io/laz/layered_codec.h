@@ -10,6 +10,12 @@
 namespace parallax::laz {
 
 // Throw UnsupportedItems for an item list the layered codec cannot code.
+//
+// The decoder's ChunkCorrupt names the first point affected: 0 when the chunk cannot hold its
+// first (raw) record; its own point count when it holds fewer points than expected; 1 (the first
+// point the chunk's header governs) when it holds more or its layer sizes are wrong; else the point
+// at which a layer stream ran past its bytes or held an impossible value; the records before that
+// point are decoded and valid. Item versions: see layered_items.h.
 std::unique_ptr<ChunkDecoder> makeLayeredDecoder(std::span<const LazItem> items);
 std::unique_ptr<ChunkEncoder> makeLayeredEncoder(std::span<const LazItem> items);
 
