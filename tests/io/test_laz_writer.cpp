@@ -13,6 +13,7 @@
 #include "io/ply_reader.h"
 #include "io/ply_writer.h"
 #include "io/point_file.h"
+#include "io/test_las_builder.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
@@ -48,6 +49,39 @@ TEST(LazWriter, RecordsAreTheLasWritersRecords) {
                                            las.record_length),
                 -1);
     }
+  }
+}
+
+// Formats 6-8 go through the layered codec (compressor 3, items version 3).
+TEST(LazWriter, Las14FormatsAreWrittenLayered) {
+  test::TempDir dir;
+  for (int format : {6, 7, 8}) {
+    SCOPED_TRACE(format);
+    test::LasTestFile file{.minor = 4, .format = format};
+    for (int i = 0; i < 3000; ++i) {
+      test::LasTestPoint p;
+      p.x = i * 37 % 5000, p.y = i * 11, p.z = (i * i) % 977;
+      p.intensity = std::uint16_t(i * 13);
+      p.return_number = std::uint8_t(1 + i % 4), p.number_of_returns = 4;
+      p.classification = std::uint8_t(i % 40), p.flags = std::uint8_t(i % 16);
+      p.channel = std::uint8_t(i % 4), p.scan_angle = std::int16_t(i * 3 - 4000);
+      p.gps_time = 1e6 + i * 1e-5, p.red = std::uint16_t(i * 21), p.green = 300;
+      p.blue = std::uint16_t(i), p.nir = std::uint16_t(i * 7);
+      file.points.push_back(p);
+    }
+    const std::string las = test::makeLas(file);
+    const PointCloud cloud =
+        readLasFromMemory(std::as_bytes(std::span(las.data(), las.size())), "in.las");
+    writeLas(cloud, dir / "out.las");
+    writeLaz(cloud, dir / "out.laz", {.chunk_points = 1000});
+    const LasHeader header = readLasHeader(dir / "out.laz");
+    EXPECT_EQ(header.point_format, format);
+    EXPECT_EQ(header.laszip->compressor, 3);
+    EXPECT_EQ(header.laszip->items[0].version, 3);
+    EXPECT_EQ(summarizeLaz(dir / "out.laz").chunks, 3u);
+    EXPECT_EQ(test::firstDifferentRecord(test::lazRecords(dir / "out.laz"),
+                                         test::lasRecords(dir / "out.las"), header.record_length),
+              -1);
   }
 }
 

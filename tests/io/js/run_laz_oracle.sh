@@ -5,7 +5,8 @@
 #   run_laz_oracle.sh writer PARALLAX WORKDIR DATA
 #       LAZ written by `parallax convert` must decode in laz-perf to exactly the records of
 #       Parallax's LAS output of the same input: a generated scan (point format 2 with extra
-#       bytes), in one chunk and in many, and the LAS files of DATA (formats 0-3, extra bytes).
+#       bytes), in one chunk and in many, and the LAS files of DATA (formats 0-3, extra bytes;
+#       formats 6 and 7 through the layered codec).
 #   run_laz_oracle.sh files TOOL WORKDIR FILE...
 #       laz-perf and Parallax (TOOL: laz_test_tool) must decode each FILE to the same records.
 # WORKDIR is emptied first.
@@ -40,6 +41,13 @@ case $mode in
       "$parallax" convert "$input" -o "$work/$name.laz" -q
       node "$here/laz_oracle.cjs" compare "$work/$name.laz" "$work/$name.las"
     done
+    # LAS 1.4 point formats 6 and 7: layered chunks.
+    "$parallax" convert "$data/point-time.las" -o "$work/format6.las" --las-version 1.4 -q
+    "$parallax" convert "$data/point-time.las" -o "$work/format6.laz" --las-version 1.4 -q
+    node "$here/laz_oracle.cjs" compare "$work/format6.laz" "$work/format6.las"
+    "$parallax" convert "$data/format7.las" -o "$work/format7.las" -q
+    "$parallax" convert "$data/format7.las" -o "$work/format7.laz" --laz-chunk 300 -q
+    node "$here/laz_oracle.cjs" compare "$work/format7.laz" "$work/format7.las"
     "$parallax" convert "$data/point-color-time.las.laz" -o "$work/again.laz" --laz-chunk 100 -q
     node "$here/laz_oracle.cjs" compare "$work/again.laz" "$work/point-color-time.las"
     ;;
