@@ -93,6 +93,27 @@ TEST(LazReader, CloudsEqualTheTwinsOnEveryCoreAndOnOne) {
   }
 }
 
+// The COPC files (layered, variable chunks) through the file layer: LASzip's records, whose
+// checksums tests/io/test_laz_layered.cpp states (FNV-1a 64 over every record), and the same
+// cloud on every core and on one.
+TEST(LazReader, CopcFilesDecodeAsLaszipThroughTheFileLayer) {
+  const std::pair<const char*, std::uint64_t> files[] = {
+      {"simple.copc.laz", 0x2b9c1be162ecbe35ull}, {"ellipsoid.copc.laz", 0x53a386236f11ab8dull}};
+  for (const auto& [name, checksum] : files) {
+    SCOPED_TRACE(name);
+    const std::string records = test::lazRecords(lazData(name));
+    std::uint64_t hash = 0xcbf29ce484222325ull;
+    for (char c : records) {
+      hash ^= std::uint64_t(std::uint8_t(c));
+      hash *= 0x100000001b3ull;
+    }
+    EXPECT_EQ(hash, checksum);
+    const PointCloud all = readLaz(lazData(name));
+    expectSameCloud(readLaz(lazData(name), {.parallel = false}), all);
+    EXPECT_EQ(summarizeLaz(lazData(name)).chunk_size, 0u);  // variable
+  }
+}
+
 TEST(LazReader, CompatibilityModeGivesTheLas14Records) {
   // LASzip's LAS 1.4 compatibility mode: format 7 points stored as format 3 plus extra bytes.
   const LasHeader header = readLasHeader(lazData("compatibility-format7.laz"));
