@@ -3,6 +3,9 @@ add_library(parallax_build_flags INTERFACE)
 target_compile_features(parallax_build_flags INTERFACE cxx_std_20)
 target_compile_options(parallax_build_flags INTERFACE -Wall -Wextra -Wpedantic -Wshadow
                                                        -Wno-missing-field-initializers)
+if(PARALLAX_WERROR)
+  target_compile_options(parallax_build_flags INTERFACE -Werror)
+endif()
 if(PARALLAX_SANITIZE)
   target_compile_options(parallax_build_flags INTERFACE -fsanitize=address,undefined
                                                          -fno-sanitize-recover=undefined
