@@ -236,13 +236,14 @@ int runRender(const RenderCommandOptions& o) {
                  static_cast<unsigned long long>(source.file_points));
   }
   std::fprintf(stderr,
-               "parallax render: %llu points (%llu drawn), %zu frame(s) %dx%d on %s (%s)\n"
+               "parallax render: %llu points (%llu drawn), %zu frame(s) %dx%d on %s (OpenGL %s, "
+               "%s)\n"
                "  load %.3f s, context %.3f s, upload %.3f s, draw %.3f s, write %.3f s, "
                "total %.3f s\n  wrote %s%s\n",
                static_cast<unsigned long long>(points), static_cast<unsigned long long>(drawn),
                cameras.size(), o.width, o.height, context->renderer().c_str(),
-               context->platform().c_str(), load_s, context_s, upload_s, draw_s, write_s, total_s,
-               outputs.front().c_str(), outputs.size() > 1 ? " ..." : "");
+               context->version().c_str(), context->platform().c_str(), load_s, context_s, upload_s,
+               draw_s, write_s, total_s, outputs.front().c_str(), outputs.size() > 1 ? " ..." : "");
   return 0;
 }
 
