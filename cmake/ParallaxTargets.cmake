@@ -40,3 +40,11 @@ function(parallax_add_module name)
                                                                      ${ARG_PRIVATE_DEPENDS})
   target_compile_features(parallax_${name} PUBLIC cxx_std_20)
 endfunction()
+
+# parallax_add_feature(TEXT...) adds a line to what `parallax --version` lists as this build's
+# features (cmake/ParallaxPackaging.cmake writes them out); the pieces of TEXT are joined. No
+# semicolons in TEXT: CMake reads them as list separators.
+function(parallax_add_feature)
+  string(JOIN "" text ${ARGN})
+  set_property(GLOBAL APPEND PROPERTY PARALLAX_FEATURES "${text}")
+endfunction()
