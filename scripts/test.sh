@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds and tests everything CI checks, in three trees:
+# Builds and tests everything CI checks: the formatting of every C++ file, then three trees:
 #   1. build/       Release: every test (ctest), benchmarks built
 #   2. build-asan/  RelWithDebInfo with AddressSanitizer + UndefinedBehaviorSanitizer: every test
 #                   (LeakSanitizer too; system GL/X11 libraries' leaks: scripts/lsan.supp)
@@ -196,6 +196,15 @@ if scripts/install-deps.sh </dev/null; then
   record "install-deps" ok $(($(now) - start))
 else
   record "install-deps" FAILED $(($(now) - start))
+fi
+
+# 0. Formatting: every C++ file as the root .clang-format has it (clang-format 14, Debian 12's).
+banner "format: clang-format --dry-run -Werror"
+start=$(now)
+if git -C "$root" ls-files -z '*.h' '*.cpp' '*.cc' | xargs -0 -r clang-format --dry-run -Werror; then
+  record "format" ok $(($(now) - start))
+else
+  record "format" FAILED $(($(now) - start))
 fi
 
 # 1. Release: all tests; benchmarks are built (so they keep compiling) but not run.
