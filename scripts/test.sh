@@ -3,8 +3,9 @@
 #   1. build/       Release: every test (ctest), benchmarks built
 #   2. build-asan/  RelWithDebInfo with AddressSanitizer + UndefinedBehaviorSanitizer: every test
 #                   (LeakSanitizer too; system GL/X11 libraries' leaks: scripts/lsan.supp)
-#   3. build-fuzz/  clang + libFuzzer: each fuzz target runs for a fixed time from a copy of its
-#                   seed corpus fuzz/corpus/<format>/ (with fuzz/<format>.dict when present)
+#   3. build-fuzz/  clang + libFuzzer (every module and the app built, for clang's warnings): each
+#                   fuzz target runs for a fixed time from a copy of its seed corpus
+#                   fuzz/corpus/<format>/ (with fuzz/<format>.dict when present)
 # Every tree is built with PARALLAX_WERROR=ON (a compiler warning fails the build) and its build
 # log is searched for any other warning (CMake, linker), which fails the stage too.
 # A skipped test is not a passed one: every skip is listed in the summary with its reason, and a
@@ -29,7 +30,7 @@ quick=0
 for arg in "$@"; do
   case "$arg" in
     --quick) quick=1 ;;
-    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,/^set/p' "$0" | sed '$d'; exit 0 ;;
     *) echo "test.sh: unknown argument '$arg' (try --help)" >&2; exit 2 ;;
   esac
 done
@@ -219,13 +220,14 @@ if [[ $quick -eq 0 ]]; then
     run_ctest asan "$asan_dir"
   fi
 
-  # 3. Fuzzing: clang, only the fuzz targets and the libraries they link.
+  # 3. Fuzzing: clang. Every module and the `parallax` app are built too (not the tests), so that
+  # clang's warnings are seen in all of the product's code, not only in what the fuzzers link.
   # A tree configured with another compiler cannot be switched in place.
   if [[ -f "$fuzz_dir/CMakeCache.txt" ]] &&
      ! grep -q '^CMAKE_CXX_COMPILER:[A-Z]*=.*clang++' "$fuzz_dir/CMakeCache.txt"; then
     rm -rf "$fuzz_dir"
   fi
-  if configure_and_build fuzz "$fuzz_dir" parallax_fuzzers -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  if configure_and_build fuzz "$fuzz_dir" all -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
        -DCMAKE_CXX_COMPILER=clang++ -DPARALLAX_BUILD_FUZZ=ON -DPARALLAX_BUILD_TESTS=OFF \
        -DPARALLAX_BUILD_BENCH=OFF; then
     while read -r target; do

@@ -68,6 +68,10 @@ Command addViewCommand(CLI::App& app) {
       ->capture_default_str();
   addRenderOptions(*sub, options->render);
   addLodOptions(*sub, options->lod);
+  sub->footer(
+      "Unlike render, view shows surfaces by default: round points sized to the local spacing "
+      "(unless --size-mode, --point-size or --shape is given), lit by the normals where the "
+      "cloud has them (unless --lighting or --lighting=false is given).");
   command.subcommand = sub;
   // The first picture's time counts from here, after the option parsing (microseconds).
   command.run = [options, sub] {

@@ -175,7 +175,15 @@ TEST(ViewerWindow, OpensDrawsThePanelTurnsOnDragAndTakesScreenshots) {
         << "no screenshot " << path << ": " << readFile(dir / "viewer.log");
     return readPng(path);
   };
-  // Let a few frames go by so that the panel has its size.
+  // The first picture first (on a loaded machine it can take seconds), then a few more frames
+  // so that the panel has its size.
+  EXPECT_TRUE(waitFor(
+      [&] {
+        return readFile(dir / "viewer.log").find("parallax view: first picture after") !=
+               std::string::npos;
+      },
+      30s))
+      << readFile(dir / "viewer.log");
   std::this_thread::sleep_for(1s);
   const RgbaImage before = screenshot(1);
 
