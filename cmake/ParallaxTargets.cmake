@@ -3,6 +3,9 @@ add_library(parallax_build_flags INTERFACE)
 target_compile_features(parallax_build_flags INTERFACE cxx_std_20)
 target_compile_options(parallax_build_flags INTERFACE -Wall -Wextra -Wpedantic -Wshadow
                                                        -Wno-missing-field-initializers)
+if(PARALLAX_WERROR)
+  target_compile_options(parallax_build_flags INTERFACE -Werror)
+endif()
 if(PARALLAX_SANITIZE)
   target_compile_options(parallax_build_flags INTERFACE -fsanitize=address,undefined
                                                          -fno-sanitize-recover=undefined
@@ -36,4 +39,12 @@ function(parallax_add_module name)
   target_link_libraries(parallax_${name} PUBLIC ${ARG_DEPENDS} PRIVATE parallax::build_flags
                                                                      ${ARG_PRIVATE_DEPENDS})
   target_compile_features(parallax_${name} PUBLIC cxx_std_20)
+endfunction()
+
+# parallax_add_feature(TEXT...) adds a line to what `parallax --version` lists as this build's
+# features (cmake/ParallaxPackaging.cmake writes them out); the pieces of TEXT are joined. No
+# semicolons in TEXT: CMake reads them as list separators.
+function(parallax_add_feature)
+  string(JOIN "" text ${ARGN})
+  set_property(GLOBAL APPEND PROPERTY PARALLAX_FEATURES "${text}")
 endfunction()

@@ -31,7 +31,9 @@ echo "== parallax info $sample"
 "$parallax" info "$sample"
 
 echo "== parallax render $sample -> out/sample.png"
-"$parallax" render "$sample" -o out/sample.png --edl
+# A look that shows the scanned surfaces (render's own default is fixed 1-pixel points, unlit):
+# round points sized to the local spacing, lit by the normals the generated scene carries.
+"$parallax" render "$sample" -o out/sample.png --size-mode adaptive --shape round --lighting
 if [[ -n "${DISPLAY:-}" ]]; then
   echo "== parallax view $sample (close the window to finish)"
   exec "$parallax" view "$sample"

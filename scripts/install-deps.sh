@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Installs the Debian packages Parallax builds and tests with (the dependency table of
-# shared/DESIGN.md). Only missing packages are installed; `apt-get update` runs once, and only when
-# something is missing. Works as root, or through sudo otherwise. Non-interactive (CI has no stdin).
+# docs/ARCHITECTURE.md). Only missing packages are installed; `apt-get update` runs once, and only
+# when something is missing. Works as root, or through sudo otherwise. Non-interactive (CI has no
+# stdin).
 set -euo pipefail
 
 packages=(
-  # toolchain
-  build-essential cmake pkg-config
+  # toolchain; packaging (cpack -G DEB: dpkg-shlibdeps, file); the formatter CI checks with
+  build-essential cmake pkg-config dpkg-dev file clang-format
   # core, io, command line
   libtbb-dev libfast-float-dev libcli11-dev nlohmann-json3-dev
   # tests, benchmarks

@@ -1,27 +1,36 @@
 #!/usr/bin/env bash
-# Builds and tests everything CI checks, in three trees:
+# Builds and tests everything CI checks: the formatting of every C++ file, then three trees:
 #   1. build/       Release: every test (ctest), benchmarks built
 #   2. build-asan/  RelWithDebInfo with AddressSanitizer + UndefinedBehaviorSanitizer: every test
 #                   (LeakSanitizer too; system GL/X11 libraries' leaks: scripts/lsan.supp)
-#   3. build-fuzz/  clang + libFuzzer: each fuzz target runs for a fixed time from a copy of its
-#                   seed corpus fuzz/corpus/<format>/ (with fuzz/<format>.dict when present)
+#   3. build-fuzz/  clang + libFuzzer (every module and the app built, for clang's warnings): each
+#                   fuzz target runs for a fixed time from a copy of its seed corpus
+#                   fuzz/corpus/<format>/ (with fuzz/<format>.dict when present)
+# Every tree is built with PARALLAX_WERROR=ON (a compiler warning fails the build) and its build
+# log is searched for any other warning (CMake, linker), which fails the stage too.
+# A skipped test is not a passed one: every skip is listed in the summary with its reason, and a
+# skip fails the run unless its test's name matches a pattern of PARALLAX_ALLOWED_SKIPS (empty in
+# CI, where Xvfb, xdotool and Mesa are installed and nothing has a reason to skip).
 # Every stage runs even when an earlier one failed (so one run shows all problems); the script
-# exits non-zero when any stage failed and ends with a summary and a "N passed, N failed" line.
+# exits non-zero when any stage failed and ends with a summary and a
+# "N passed, N failed, N skipped" line.
 #
 #   scripts/test.sh            everything (about 15-25 minutes on 2 cores from scratch)
 #   scripts/test.sh --quick    stage 1 only
 # Environment: PARALLAX_JOBS (build and test parallelism, default: nproc),
 #              PARALLAX_FUZZ_SECONDS (per fuzz target, default 30),
-#              PARALLAX_BUILD_DIR (default build; the other trees are its name + -asan, -fuzz).
+#              PARALLAX_BUILD_DIR (default build; the other trees are its name + -asan, -fuzz),
+#              PARALLAX_ALLOWED_SKIPS (test names or shell patterns, separated by blanks, that may
+#                skip on this machine, e.g. 'ViewerWindow.*' where there is no Xvfb; default none).
 set -uo pipefail
 
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/.." || exit 2
 root=$(pwd)
 quick=0
 for arg in "$@"; do
   case "$arg" in
     --quick) quick=1 ;;
-    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,/^set/p' "$0" | sed '$d'; exit 0 ;;
     *) echo "test.sh: unknown argument '$arg' (try --help)" >&2; exit 2 ;;
   esac
 done
@@ -31,6 +40,7 @@ fuzz_seconds=${PARALLAX_FUZZ_SECONDS:-30}
 release_dir=${PARALLAX_BUILD_DIR:-build}
 asan_dir=$release_dir-asan
 fuzz_dir=$release_dir-fuzz
+read -r -a allowed_skips <<<"${PARALLAX_ALLOWED_SKIPS:-}"
 export DEBIAN_FRONTEND=noninteractive
 # Sanitizers: stop at the first report, with a stack; leaks are errors.
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:strict_string_checks=1}
@@ -42,6 +52,9 @@ summary=()
 failed_stages=0
 tests_passed=0
 tests_failed=0
+tests_skipped=0
+unexpected_skips=0
+skip_lines=()
 
 now() { date +%s; }
 banner() { printf '\n==== %s ====\n' "$*"; }
@@ -54,38 +67,96 @@ record() {
 
 # configure_and_build NAME DIR TARGET -- CMAKE_ARGS...
 configure_and_build() {
-  local name=$1 dir=$2 target=$3
+  local name=$1 dir=$2 target=$3 log="$logs/build-$1.log"
   shift 4
   banner "$name: configure and build ($dir)"
-  local start rc
+  local start rc warnings
   start=$(now)
-  cmake -S "$root" -B "$dir" "$@" && cmake --build "$dir" -j "$jobs" --target "$target"
-  rc=$?
-  record "$name build" "$([[ $rc -eq 0 ]] && echo ok || echo FAILED)" $(($(now) - start))
-  return $rc
+  { cmake -S "$root" -B "$dir" -DPARALLAX_WERROR=ON "$@" &&
+    cmake --build "$dir" -j "$jobs" --target "$target"; } 2>&1 | tee "$log"
+  rc=${PIPESTATUS[0]}
+  # -Werror stops on a compiler warning; this catches the rest (CMake's, the linker's).
+  warnings=$(grep -Eic '(^|[^a-z])warning([: ]|$)' "$log")
+  if [[ $warnings -gt 0 ]]; then
+    echo "---- $name: $warnings warning line(s) in the build log ($log):"
+    grep -Ei '(^|[^a-z])warning([: ]|$)' "$log" | head -n 20
+  fi
+  local status=ok
+  [[ $rc -eq 0 ]] || status=FAILED
+  [[ $warnings -eq 0 ]] || status=WARNED
+  record "$name build" "$status" $(($(now) - start))
+  return "$rc"
+}
+
+# skip_allowed NAME: whether NAME matches a pattern of PARALLAX_ALLOWED_SKIPS.
+skip_allowed() {
+  local pattern
+  for pattern in "${allowed_skips[@]}"; do
+    # shellcheck disable=SC2053  # the pattern is a glob on purpose
+    [[ "$1" == $pattern ]] && return 0
+  done
+  return 1
+}
+
+# count_skips NAME JUNIT: lists every test of the JUnit file that did not run, with the reason
+# GoogleTest printed after "Skipped" (or ctest's own); returns 1 if one of them was unexpected.
+count_skips() {
+  local name=$1 junit=$2 test reason unexpected=0
+  [[ -f "$junit" ]] || return 0
+  while IFS=$'\t' read -r test reason; do
+    [[ -n "$test" ]] || continue
+    tests_skipped=$((tests_skipped + 1))
+    if skip_allowed "$test"; then
+      skip_lines+=("$(printf '  %-6s %s: %s (allowed: PARALLAX_ALLOWED_SKIPS)' "$name" "$test" "$reason")")
+    else
+      unexpected=$((unexpected + 1))
+      skip_lines+=("$(printf '  %-6s %s: %s (UNEXPECTED)' "$name" "$test" "$reason")")
+    fi
+  done < <(awk '
+    /<testcase / && /status="(notrun|disabled)"/ {
+      match($0, /name="[^"]*"/); test = substr($0, RSTART + 6, RLENGTH - 7); reason = ""; inside = 1
+      next
+    }
+    inside && /<skipped message=/ && reason == "" {
+      match($0, /message="[^"]*"/); reason = substr($0, RSTART + 9, RLENGTH - 10)
+    }
+    inside && after_skip { reason = $0; after_skip = 0 }
+    inside && /: Skipped$/ { after_skip = 1 }
+    inside && /<\/testcase>/ {
+      gsub(/&quot;/, "\"", reason); gsub(/&apos;/, "\047", reason); gsub(/&lt;/, "<", reason)
+      gsub(/&gt;/, ">", reason); gsub(/&amp;/, "\\&", reason)
+      printf "%s\t%s\n", test, reason; inside = 0
+    }
+  ' "$junit")
+  unexpected_skips=$((unexpected_skips + unexpected))
+  [[ $unexpected -eq 0 ]]
 }
 
 # run_ctest NAME DIR: runs every test, adds the counts to the totals.
 run_ctest() {
-  local name=$1 dir=$2 start rc log="$logs/ctest-$1.log"
+  local name=$1 dir=$2 start rc log="$logs/ctest-$1.log" junit="$logs/ctest-$1.xml"
   banner "$name: ctest ($dir)"
   start=$(now)
-  ctest --test-dir "$dir" --output-on-failure --no-tests=error -j "$jobs" --timeout 600 2>&1 |
-    tee "$log"
-  rc=$?
+  ctest --test-dir "$dir" --output-on-failure --no-tests=error -j "$jobs" --timeout 600 \
+    --output-junit "$junit" 2>&1 | tee "$log"
+  rc=${PIPESTATUS[0]}
   # "100% tests passed, 0 tests failed out of 42"
-  local line total failed
+  # ctest counts a skipped test as passed; the skips are taken back out of that count.
+  local line total failed skipped_before=$tests_skipped status=ok
   line=$(grep -E '^[0-9]+% tests passed, [0-9]+ tests? failed out of [0-9]+' "$log" | tail -n 1)
+  count_skips "$name" "$junit" || status=SKIPPED
+  local skipped=$((tests_skipped - skipped_before))
   if [[ -n "$line" ]]; then
     failed=$(sed -E 's/.* ([0-9]+) tests? failed.*/\1/' <<<"$line")
     total=$(sed -E 's/.* out of ([0-9]+).*/\1/' <<<"$line")
-    tests_passed=$((tests_passed + total - failed))
+    tests_passed=$((tests_passed + total - failed - skipped))
     tests_failed=$((tests_failed + failed))
   elif [[ $rc -ne 0 ]]; then
     tests_failed=$((tests_failed + 1))
   fi
-  record "$name ctest${line:+ ($line)}" "$([[ $rc -eq 0 ]] && echo ok || echo FAILED)" \
-    $(($(now) - start))
+  [[ $rc -eq 0 ]] || status=FAILED
+  record "$name ctest${line:+ (${total:-?} tests: $((${total:-0} - ${failed:-0} - skipped)) passed, ${failed:-?} failed, $skipped skipped)}" \
+    "$status" $(($(now) - start))
 }
 
 # run_fuzzer EXECUTABLE: a fixed time from a copy of its seed corpus (the seeds stay unchanged).
@@ -128,6 +199,15 @@ else
   record "install-deps" FAILED $(($(now) - start))
 fi
 
+# 0. Formatting: every C++ file as the root .clang-format has it (clang-format 14, Debian 12's).
+banner "format: clang-format --dry-run -Werror"
+start=$(now)
+if git -C "$root" ls-files -z '*.h' '*.cpp' '*.cc' | xargs -0 -r clang-format --dry-run -Werror; then
+  record "format" ok $(($(now) - start))
+else
+  record "format" FAILED $(($(now) - start))
+fi
+
 # 1. Release: all tests; benchmarks are built (so they keep compiling) but not run.
 if configure_and_build release "$release_dir" all -- -DCMAKE_BUILD_TYPE=Release; then
   run_ctest release "$release_dir"
@@ -140,13 +220,14 @@ if [[ $quick -eq 0 ]]; then
     run_ctest asan "$asan_dir"
   fi
 
-  # 3. Fuzzing: clang, only the fuzz targets and the libraries they link.
+  # 3. Fuzzing: clang. Every module and the `parallax` app are built too (not the tests), so that
+  # clang's warnings are seen in all of the product's code, not only in what the fuzzers link.
   # A tree configured with another compiler cannot be switched in place.
   if [[ -f "$fuzz_dir/CMakeCache.txt" ]] &&
      ! grep -q '^CMAKE_CXX_COMPILER:[A-Z]*=.*clang++' "$fuzz_dir/CMakeCache.txt"; then
     rm -rf "$fuzz_dir"
   fi
-  if configure_and_build fuzz "$fuzz_dir" parallax_fuzzers -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  if configure_and_build fuzz "$fuzz_dir" all -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
        -DCMAKE_CXX_COMPILER=clang++ -DPARALLAX_BUILD_FUZZ=ON -DPARALLAX_BUILD_TESTS=OFF \
        -DPARALLAX_BUILD_BENCH=OFF; then
     while read -r target; do
@@ -157,11 +238,16 @@ fi
 
 banner "summary ($(($(now) - total_start))s in all; logs in $logs)"
 printf '%s\n' "${summary[@]}"
+if [[ ${#skip_lines[@]} -gt 0 ]]; then
+  echo "skipped tests ($unexpected_skips unexpected; allow one on a machine that lacks what it needs"
+  echo "with PARALLAX_ALLOWED_SKIPS='NAME-OR-PATTERN ...'):"
+  printf '%s\n' "${skip_lines[@]}"
+fi
 if [[ $failed_stages -eq 0 ]]; then
   echo "all stages passed"
 else
   echo "$failed_stages stage(s) FAILED"
 fi
 # Tests counted: every ctest test of every tree, and each fuzz target as one.
-echo "$tests_passed passed, $tests_failed failed"
-[[ $failed_stages -eq 0 && $tests_failed -eq 0 ]]
+echo "$tests_passed passed, $tests_failed failed, $tests_skipped skipped ($unexpected_skips unexpected)"
+[[ $failed_stages -eq 0 && $tests_failed -eq 0 && $unexpected_skips -eq 0 ]]

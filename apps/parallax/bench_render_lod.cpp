@@ -4,7 +4,7 @@
 // plainly. The difference is what streaming costs per frame: the node selection in update(), one
 // draw call per node instead of per 1 M-point chunk, and the nodes' less compact order.
 //
-// The camera fits the whole cloud (the default view of `parallax view DIR`). Mono and, with
+// The camera frames the whole cloud (the default view of `parallax view DIR`). Mono and, with
 // --stereo MODE, that stereo mode: one selection on the union of the eyes' frusta, both eyes
 // drawn. Timed to glFinish, median of --repeat frames after a warm-up frame; update and draw
 // are timed apart.
@@ -21,6 +21,7 @@
 #include "render/lod_scene.h"
 #include "render/point_buffers.h"
 #include "render/renderer.h"
+#include "render/view_extent.h"
 
 namespace parallax::cli {
 namespace {
@@ -119,7 +120,7 @@ int runBenchRenderLod(const LodRenderBenchOptions& o) {
               o.directory.c_str(), static_cast<unsigned long long>(octree->info().point_count),
               static_cast<unsigned long long>(o.budget), o.width, o.height, o.repeat,
               context->renderer().c_str());
-  const Camera camera = defaultCameraFor(octree->info().bounds, double(o.width) / o.height);
+  const Camera camera = defaultCameraFor(viewExtentOf(*octree), double(o.width) / o.height);
   RenderSettings settings;
   settings.color = ColorMode::Rgb;
   benchFrame(o, *octree, camera, {}, settings);

@@ -37,6 +37,7 @@
 #include "render/point_buffers.h"
 #include "render/renderer.h"
 #include "render/stereo.h"
+#include "render/view_extent.h"
 #include "render_options.h"
 #include "viewer/large_cloud.h"
 
@@ -149,16 +150,16 @@ int runRender(const RenderCommandOptions& o) {
   phase = Clock::now();
   std::unique_ptr<GpuPointCloud> gpu;
   std::unique_ptr<LodScene> lod;
-  Bounds3 bounds;
+  ViewExtent extent;  // what the default camera frames
   std::uint64_t points = 0;
   if (source.lod()) {
     lod = std::make_unique<LodScene>(*source.octree);
-    bounds = source.octree->info().bounds;
+    extent = viewExtentOf(*source.octree);
     points = source.octree->info().point_count;
   } else {
     gpu = std::make_unique<GpuPointCloud>(source.cloud);
     glFinish();
-    bounds = gpu->bounds();
+    extent = viewExtentOf(source.cloud);
     points = source.cloud.count;
     source.cloud = PointCloud();  // the GPU holds the points now
   }
@@ -183,7 +184,7 @@ int runRender(const RenderCommandOptions& o) {
     }
     std::filesystem::create_directories(std::filesystem::path(outputs.front()).parent_path());
   } else {
-    cameras.push_back(cameraFrom(o.render, bounds, aspect));
+    cameras.push_back(cameraFrom(o.render, extent, aspect));
     outputs.push_back(o.output);
   }
 
@@ -236,13 +237,14 @@ int runRender(const RenderCommandOptions& o) {
                  static_cast<unsigned long long>(source.file_points));
   }
   std::fprintf(stderr,
-               "parallax render: %llu points (%llu drawn), %zu frame(s) %dx%d on %s (%s)\n"
+               "parallax render: %llu points (%llu drawn), %zu frame(s) %dx%d on %s (OpenGL %s, "
+               "%s)\n"
                "  load %.3f s, context %.3f s, upload %.3f s, draw %.3f s, write %.3f s, "
                "total %.3f s\n  wrote %s%s\n",
                static_cast<unsigned long long>(points), static_cast<unsigned long long>(drawn),
                cameras.size(), o.width, o.height, context->renderer().c_str(),
-               context->platform().c_str(), load_s, context_s, upload_s, draw_s, write_s, total_s,
-               outputs.front().c_str(), outputs.size() > 1 ? " ..." : "");
+               context->version().c_str(), context->platform().c_str(), load_s, context_s, upload_s,
+               draw_s, write_s, total_s, outputs.front().c_str(), outputs.size() > 1 ? " ..." : "");
   return 0;
 }
 

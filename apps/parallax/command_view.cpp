@@ -1,6 +1,9 @@
 // `parallax view [INPUT]`: the interactive viewer (src/viewer) with the same render and level of
 // detail options as `parallax render`. INPUT may be a Potree 2.0 directory; a file with more
 // points than --budget shows a sample at once and its octree once built (viewer/viewer.h).
+// Defaults that differ from `render`'s: without --size-mode, --point-size or --shape, points are
+// round and sized to the local spacing (adaptive); without --lighting, clouds with normals are
+// lit.
 #include <chrono>
 #include <memory>
 #include <string>
@@ -21,7 +24,8 @@ struct ViewCommandOptions {
   LodOptions lod;
 };
 
-int runView(const ViewCommandOptions& o, std::chrono::steady_clock::time_point start) {
+int runView(const ViewCommandOptions& o, const CLI::App& command,
+            std::chrono::steady_clock::time_point start) {
   ViewerOptions viewer;
   viewer.start_time = start;
   viewer.lod = lodFrameSettingsFrom(o.lod);
@@ -36,9 +40,14 @@ int runView(const ViewCommandOptions& o, std::chrono::steady_clock::time_point s
   if (o.render.world_size <= 0) viewer.settings.world_size = 0.0f;
   viewer.stereo = stereoSettingsFrom(o.render);
   const RenderOptions render = o.render;
-  viewer.initial_camera = [render](const Bounds3& bounds, double aspect) {
-    return cameraFrom(render, bounds, aspect);
+  viewer.initial_camera = [render](const ViewExtent& extent, double aspect) {
+    return cameraFrom(render, extent, aspect);
   };
+  // Unlike `render` (whose fixed 1-pixel, unlit default scripts rely on), the viewer shows
+  // surfaces by default: adaptive size and lighting where the cloud allows, unless asked otherwise.
+  viewer.choose_size = command.count("--size-mode") == 0 && command.count("--point-size") == 0 &&
+                       command.count("--shape") == 0;
+  viewer.choose_lighting = command.count("--lighting") == 0;
   return runViewer(viewer);
 }
 
@@ -59,9 +68,15 @@ Command addViewCommand(CLI::App& app) {
       ->capture_default_str();
   addRenderOptions(*sub, options->render);
   addLodOptions(*sub, options->lod);
+  sub->footer(
+      "Unlike render, view shows surfaces by default: round points sized to the local spacing "
+      "(unless --size-mode, --point-size or --shape is given), lit by the normals where the "
+      "cloud has them (unless --lighting or --lighting=false is given).");
   command.subcommand = sub;
   // The first picture's time counts from here, after the option parsing (microseconds).
-  command.run = [options] { return runView(*options, std::chrono::steady_clock::now()); };
+  command.run = [options, sub] {
+    return runView(*options, *sub, std::chrono::steady_clock::now());
+  };
   return command;
 }
 

@@ -2,13 +2,19 @@
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <string>
 #include <vector>
 
 #include "commands.h"
 #include "core/error.h"
+#include "parallax_build_info.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Parallax: a viewer and toolkit for massive 3D point clouds"};
+  // `parallax --version`: the version, this build's features, how it was built (for bug reports).
+  app.set_version_flag("--version", std::string("parallax ") + parallax::build_info::kVersion +
+                                        "\nfeatures:\n" + parallax::build_info::kFeatures +
+                                        "build: " + parallax::build_info::kBuild);
   app.require_subcommand(1);
   const std::vector<parallax::cli::Command> commands = {
       parallax::cli::addInfoCommand(app),   parallax::cli::addGenerateCommand(app),

@@ -166,15 +166,16 @@ RenderSettings renderSettingsFrom(const RenderOptions& o, double typical_spacing
   return settings;
 }
 
-Camera cameraFrom(const RenderOptions& o, const Bounds3& bounds, double aspect) {
+Camera cameraFrom(const RenderOptions& o, const ViewExtent& extent, double aspect) {
   if (!o.camera_file.empty()) return loadCamera(o.camera_file);
+  const Bounds3& bounds = extent.bounds;
   Camera camera;
   camera.fov_y_deg = o.fov;
   camera.projection = o.orthographic ? Projection::Orthographic : Projection::Perspective;
   if (o.eye.empty()) {
     camera.orientation = defaultCameraFor(bounds, aspect).orientation;
     camera.world_up = vectorFrom(o.up, "--up");
-    camera.fitToBounds(bounds, aspect);
+    fitCamera(camera, extent, aspect);
     if (!o.target.empty()) {
       // The default direction and distance, centred on the given target.
       const glm::dvec3 shift = vectorFrom(o.target, "--target") - camera.pivot;

@@ -11,6 +11,7 @@
 #include "render/lod_scene.h"
 #include "render/render_settings.h"
 #include "render/stereo.h"
+#include "render/view_extent.h"
 #include "viewer/large_cloud.h"
 
 namespace parallax::cli {
@@ -66,7 +67,8 @@ RenderSettings renderSettingsFrom(const RenderOptions& options, double typical_s
 // option and its allowed values.
 StereoSettings stereoSettingsFrom(const RenderOptions& options);
 
-// The camera: --camera FILE, else --eye/--target/--up/--fov, else one that fits `bounds`.
-Camera cameraFrom(const RenderOptions& options, const Bounds3& bounds, double aspect);
+// The camera: --camera FILE, else --eye/--target/--up/--fov, else the default direction fitted
+// to the extent's points as they project (render/view_extent.h).
+Camera cameraFrom(const RenderOptions& options, const ViewExtent& extent, double aspect);
 
 }  // namespace parallax::cli

@@ -2,12 +2,13 @@
 //
 // The point element ("vertex") is read; every other element (faces of a mesh, edges, ...) is
 // skipped. Property names are mapped to the model's columns:
-//   x y z                                   -> positions (int32, quantized, see
-//   core/quantization.h) red green blue [alpha], r g b [a], diffuse_red ... (uchar, ushort scaled
-//   to 8 bits, or float/double in 0..1)                   -> colors nx ny nz, normal_x normal_y
-//   normal_z    -> normals intensity, scalar_intensity             -> intensity classification,
-//   scalar_classification  -> classification any other scalar property               -> a
-//   ScalarColumn with its own name and type
+//   x y z                                   -> positions (int32, quantized: core/quantization.h)
+//   red green blue [alpha], r g b [a], diffuse_red ... (uchar, ushort scaled to 8 bits, or
+//   float/double in 0..1)                   -> colors
+//   nx ny nz, normal_x normal_y normal_z    -> normals
+//   intensity, scalar_intensity             -> intensity
+//   classification, scalar_classification   -> classification
+//   any other scalar property               -> a ScalarColumn with its own name and type
 // List properties of the point element are skipped.
 #pragma once
 

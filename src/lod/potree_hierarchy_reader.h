@@ -1,6 +1,6 @@
 // hierarchy.bin of a Potree 2.0 directory: one chunk at a time into OctreeNodes.
 //
-// The format (PotreeConverter 2 as it really writes it; shared/DESIGN.md): 22-byte entries, little
+// The format (PotreeConverter 2 as it really writes it; docs/FORMATS.md): 22-byte entries, little
 // endian: uint8 type (0 inner, 1 leaf, 2 proxy), uint8 child mask, uint32 point count, uint64
 // byte offset, uint64 byte size. A chunk lists a subtree breadth-first, a node's children
 // following in the bit order of its mask; the first entry is the chunk's own top node. A proxy's

@@ -139,6 +139,79 @@ void Camera::fitToBounds(const Bounds3& bounds, double aspect) {
   ortho_height = std::max(2.002 * half_height, 2.0 * radius * 1e-3);
 }
 
+void Camera::fitToPoints(std::span<const glm::dvec3> points, double aspect, double margin) {
+  if (points.empty()) return;
+  const glm::dvec3 f = forward(), r = right(), u = up();
+  // Coordinates relative to the first point (large UTM values cancel before the products).
+  const glm::dvec3 origin = points.front();
+  // Point i at (x, y, z) along (right, up, forward) from `origin`; the camera at
+  // origin + sx right + sy up - d forward sees it at depth z + d and, in perspective, inside the
+  // view with `margin` iff |x - sx| <= kx (z + d), kx = tan(fov_x / 2) (1 - margin). That holds
+  // for all points iff sx lies in [A - kx d, B + kx d], A = max(x - kx z), B = min(x + kx z),
+  // so the nearest d is (A - B) / (2 kx) with sx = (A + B) / 2; the same for y; d the larger.
+  const double keep = 1.0 - std::clamp(margin, 0.0, 0.9);
+  const double ky = std::tan(glm::radians(fov_y_deg) / 2) * keep, kx = ky * aspect;
+  double ax = -INFINITY, bx = INFINITY, ay = -INFINITY, by = INFINITY;
+  double min_x = INFINITY, max_x = -INFINITY, min_y = INFINITY, max_y = -INFINITY;
+  double min_z = INFINITY, max_z = -INFINITY;
+  for (const glm::dvec3& point : points) {
+    const glm::dvec3 p = point - origin;
+    const double x = glm::dot(p, r), y = glm::dot(p, u), z = glm::dot(p, f);
+    ax = std::max(ax, x - kx * z);
+    bx = std::min(bx, x + kx * z);
+    ay = std::max(ay, y - ky * z);
+    by = std::min(by, y + ky * z);
+    min_x = std::min(min_x, x), max_x = std::max(max_x, x);
+    min_y = std::min(min_y, y), max_y = std::max(max_y, y);
+    min_z = std::min(min_z, z), max_z = std::max(max_z, z);
+  }
+  const double extent = std::max({max_x - min_x, max_y - min_y, max_z - min_z});
+  // A single point (or all points in one) still gets a view of some size: a millimetre, or more
+  // where the coordinates are too large for a double to resolve one.
+  const double magnitude = std::max({std::abs(origin.x), std::abs(origin.y), std::abs(origin.z)});
+  const double size = std::max({extent, 1e-3, magnitude * 1e-12});
+  double shift_x, shift_y, distance;
+  if (projection == Projection::Perspective) {
+    shift_x = 0.5 * (ax + bx), shift_y = 0.5 * (ay + by);
+    distance = std::max((ax - bx) / (2 * kx), (ay - by) / (2 * ky));
+    if (extent <= 0.0) distance = size / ky;
+    // Nothing behind or on the eye: the nearest point at least a thousandth of the size ahead.
+    distance = std::max(distance, -min_z + size * 1e-3);
+    // On the axis with room to spare the band's middle is not the picture's: centre the
+    // projected extent (its largest and smallest x / depth as far from 0), by bisection on the
+    // shift, which both bounds decrease with.
+    auto centre = [&](int axis, double low, double high) {
+      for (int step = 0; step < 60 && high - low > 1e-12 * size; ++step) {
+        const double shift = 0.5 * (low + high);
+        double most = -INFINITY, least = INFINITY;
+        for (const glm::dvec3& point : points) {
+          const glm::dvec3 p = point - origin;
+          const double ndc = (glm::dot(p, axis == 0 ? r : u) - shift) / (glm::dot(p, f) + distance);
+          most = std::max(most, ndc), least = std::min(least, ndc);
+        }
+        (most + least > 0 ? low : high) = shift;
+      }
+      return 0.5 * (low + high);
+    };
+    shift_x = centre(0, ax - kx * distance, bx + kx * distance);
+    shift_y = centre(1, ay - ky * distance, by + ky * distance);
+  } else {
+    shift_x = 0.5 * (min_x + max_x), shift_y = 0.5 * (min_y + max_y);
+    const double half_height = std::max(0.5 * (max_y - min_y), 0.5 * (max_x - min_x) / aspect);
+    ortho_height = std::max(2.0 * half_height / keep, size * 1e-3);
+    // Outside the points, as a perspective camera would be (the view does not depend on it).
+    distance = -min_z + size;
+  }
+  // The pivot: on the view axis at the depth of the points' middle, so orbits keep them centred.
+  pivot = origin + r * shift_x + u * shift_y + f * (0.5 * (min_z + max_z));
+  position = origin + r * shift_x + u * shift_y - f * distance;
+  if (projection == Projection::Perspective) {
+    // What the view spans at the pivot, for a switch to orthographic.
+    ortho_height =
+        std::max(2.0 * pivotDepth() * std::tan(glm::radians(fov_y_deg) / 2), size * 1e-3);
+  }
+}
+
 glm::dmat4 Camera::viewMatrix() const {
   const glm::dmat3 world_to_eye = glm::transpose(glm::mat3_cast(orientation));
   glm::dmat4 view(world_to_eye);

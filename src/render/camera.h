@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json_fwd.hpp>
+#include <span>
 
 #include "core/bounds.h"
 
@@ -75,6 +76,16 @@ struct Camera {
   // (every corner inside the frustum, the box in front of the camera); the pivot becomes the
   // box's centre. Orthographic: sets ortho_height so that the box fits.
   void fitToBounds(const Bounds3& bounds, double aspect);
+  // Keeps the orientation and frames the points as they project: the camera moves along the view
+  // and sideways (the pivot with it) until the points' projected extent is centred and fills
+  // the view on its tighter axis, `margin` of the half-width (or half-height) left free on each
+  // side of that axis and at least that much on the other. Every point ends up in front of the
+  // camera; the pivot goes to the middle of their depth on the view axis. Sets the position and
+  // ortho_height (in perspective, to the view's height at the pivot). Much tighter than
+  // fitToBounds for real scans, whose box corners (sky over the ground, empty corners of an
+  // irregular site) are nowhere near a point. Empty `points`: nothing changes.
+  static constexpr double kFitMargin = 0.03;
+  void fitToPoints(std::span<const glm::dvec3> points, double aspect, double margin = kFitMargin);
 
   // World to eye, in double. Callers subtract chunk origins in double before going to float.
   glm::dmat4 viewMatrix() const;

@@ -61,9 +61,13 @@ std::string_view pointShapeName(PointShape shape) {
 }
 
 std::string colorModeNames() {
+  // Appended piece by piece: `"|" + std::string(text)` builds a temporary by inserting at its
+  // front, which GCC 12 at -O2 misreads as an overlapping memcpy (-Wrestrict, GCC bug 105329).
   std::string names;
-  for (const auto& [mode, text] : kColorModes)
-    names += (names.empty() ? "" : "|") + std::string(text);
+  for (const auto& [mode, text] : kColorModes) {
+    if (!names.empty()) names += '|';
+    names += text;
+  }
   return names;
 }
 

@@ -38,13 +38,6 @@ Session& sessionOf(GLFWwindow* window) {
   return *static_cast<Session*>(glfwGetWindowUserPointer(window));
 }
 
-// The bounds of what is shown: the octree's once there is one (the preview's are a sample's).
-std::optional<Bounds3> sceneBounds(const Session& s) {
-  if (s.octree) return s.octree->info().bounds;
-  if (s.cloud) return s.cloud->bounds();
-  return std::nullopt;
-}
-
 double windowAspect(const Session& s) {
   int width = 1, height = 1;
   glfwGetFramebufferSize(s.window, &width, &height);
@@ -52,20 +45,31 @@ double windowAspect(const Session& s) {
 }
 
 void fitCamera(Session& s) {
-  if (const auto bounds = sceneBounds(s)) s.camera.fitToBounds(*bounds, windowAspect(s));
+  parallax::fitCamera(s.camera, s.extent, windowAspect(s));
 }
 
-// The first camera for a newly opened cloud: the command line's for the first file.
-void placeCamera(Session& s, const Bounds3& bounds, bool first) {
+// The first camera for a newly opened cloud (s.extent): the command line's for the first file.
+void placeCamera(Session& s, bool first) {
   const double aspect = windowAspect(s);
   if (first && s.options->initial_camera) {
-    s.camera = s.options->initial_camera(bounds, aspect);
+    s.camera = s.options->initial_camera(s.extent, aspect);
   } else {
-    s.camera = defaultCameraFor(bounds, aspect);
+    s.camera = defaultCameraFor(s.extent, aspect);
   }
-  const auto size = bounds.size();
+  const auto size = s.extent.bounds.size();
   s.controller.fly_speed =
       0.2 * std::sqrt(size[0] * size[0] + size[1] * size[1] + size[2] * size[2]);
+}
+
+// The look of a newly opened cloud, where the options leave it to the viewer.
+void chooseLook(Session& s, bool spacing_known, bool has_normals) {
+  if (s.options->choose_size) {
+    // Round discs of the local spacing close a scanned surface without the blocky look squares
+    // of that size have where the scan is sparse.
+    s.settings.size_mode = spacing_known ? PointSizeMode::Adaptive : s.options->settings.size_mode;
+    s.settings.shape = spacing_known ? PointShape::Round : s.options->settings.shape;
+  }
+  if (s.options->choose_lighting) s.settings.lighting = has_normals;
 }
 
 void setTitle(Session& s, const std::filesystem::path& path) {
@@ -83,7 +87,9 @@ void showCloud(Session& s, const PointCloud& cloud, bool place_camera, bool firs
   s.cloud = std::move(gpu);
   s.draw_set = s.cloud->drawSet();
   s.drawn.reset();
-  if (place_camera) placeCamera(s, s.cloud->bounds(), first);
+  s.extent = viewExtentOf(cloud);
+  if (place_camera) placeCamera(s, first);
+  chooseLook(s, s.cloud->typicalSpacing() > 0, s.cloud->hasNormals());
   if (s.settings.world_size <= 0) s.settings.world_size = float(2.0 * s.cloud->typicalSpacing());
 }
 
@@ -97,9 +103,11 @@ void showOctree(Session& s, const std::filesystem::path& directory,
   s.lod_location = std::move(location);
   s.lod = std::make_unique<LodScene>(*s.octree);
   s.drawn.reset();
-  if (!keep_camera) {
+  s.extent = viewExtentOf(*s.octree);
+  if (!keep_camera) {  // (a preview's camera and look stay for its octree)
     s.cloud.reset();
-    placeCamera(s, s.octree->info().bounds, first);
+    placeCamera(s, first);
+    chooseLook(s, s.octree->info().spacing > 0, s.octree->info().has_normals);
   }
   // The attenuated size needs a spacing before any node is drawn: about a level-3 node's.
   if (s.settings.world_size <= 0) s.settings.world_size = float(s.octree->info().spacing / 4.0);

@@ -11,6 +11,7 @@
 #include "render/lod_scene.h"
 #include "render/render_settings.h"
 #include "render/stereo.h"
+#include "render/view_extent.h"
 #include "viewer/large_cloud.h"
 
 namespace parallax {
@@ -21,8 +22,15 @@ struct ViewerOptions {
   // Quad-buffer asks the window for a stereo (GL_STEREO) visual; where the display has none,
   // the viewer says so and shows sbs instead.
   StereoSettings stereo;
-  // The first camera for a cloud with these bounds, at this aspect ratio; empty: a fitted default.
-  std::function<Camera(const Bounds3&, double aspect)> initial_camera;
+  // The first camera for a cloud with this extent (bounds and a sample of points), at this aspect
+  // ratio; empty: the default direction fitted to the points as they project.
+  std::function<Camera(const ViewExtent&, double aspect)> initial_camera;
+  // A look that shows surfaces, chosen for each cloud opened (the `view` command asks for it
+  // unless the user chose the size, shape or lighting): round points sized to the local spacing
+  // (`settings.size_mode` adaptive, `shape` round) where the spacing is known, and lit by their
+  // normals (`settings.lighting`) where the cloud has normals.
+  bool choose_size = false;
+  bool choose_lighting = false;
   int width = 1280, height = 720;
   bool vsync = true;
   std::filesystem::path screenshot_dir = ".";  // where the screenshot key (P) writes PNGs

@@ -48,6 +48,7 @@ struct Session {
   StereoSettings stereo;
   bool quad_buffer = false;  // the window has left and right back buffers
   Camera camera;
+  ViewExtent extent;  // what is shown, for fitting the camera (F)
   CameraController controller;
   std::string loaded_name;
   std::string status;  // last message for the user: errors, screenshot paths

@@ -1,5 +1,5 @@
 // A hand-made Potree 2.0 dataset written byte by byte, in the shape PotreeConverter 2 really
-// writes (shared/DESIGN.md): LAS attributes with scan angle rank declared uint8 holding negative
+// writes (docs/FORMATS.md): LAS attributes with scan angle rank declared uint8 holding negative
 // bytes, 16-bit colour, type 1 on an inner node, a proxy into a second chunk, an entry no chunk
 // refers to (inside the first chunk and between the chunks), metadata hierarchy.depth 0.
 //

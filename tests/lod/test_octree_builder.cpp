@@ -115,9 +115,12 @@ TEST(OctreeBuilderPoisson, InnerNodesKeepTheirSpacing) {
 TEST(OctreeBuilderRandom, InnerNodesHoldOnePointPerSpacingCell) {
   const PointCloud cloud = makeSurfaceCloud(20'000);
   const auto octree = buildOctree(cloud, smallNodes(SamplingMethod::Random));
+  int inner = 0;
   for (const OctreeNode& node : octree->nodes()) {
     if (node.child_mask == 0) continue;
+    ++inner;
     const PointCloud points = octree->loadNode(node);
+    EXPECT_GT(points.count, 0u) << node.name << ": an inner node holds a sample";
     std::set<std::tuple<int, int, int>> cells;
     for (std::size_t p = 0; p < points.count; ++p) {
       // Cells of the node's edge / 128 (= its spacing), computed as the sampler does.
@@ -132,6 +135,7 @@ TEST(OctreeBuilderRandom, InnerNodesHoldOnePointPerSpacingCell) {
           << node.name;
     }
   }
+  EXPECT_GT(inner, 1);  // the root and more: the property above was checked somewhere
 }
 
 TEST(OctreeBuilderEdges, CoincidentPointsEndInOneDeepLeaf) {

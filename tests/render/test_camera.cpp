@@ -1,13 +1,17 @@
 // Camera unit tests: no GL needed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <vector>
 
 #include "core/error.h"
 #include "render/camera.h"
 #include "render/camera_path.h"
 #include "render/frustum.h"
+#include "render/view_extent.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
@@ -131,6 +135,140 @@ TEST(Camera, FitToBoundsContainsEveryPoint) {
       EXPECT_LE(clip.z / clip.w, 1.0) << "trial " << trial;
     }
   }
+}
+
+// Normalised device coordinates (x, y) of `points` seen by `camera`, and whether all are ahead.
+struct Projected {
+  double min_x = INFINITY, max_x = -INFINITY, min_y = INFINITY, max_y = -INFINITY;
+  bool all_ahead = true;
+};
+
+Projected project(const Camera& camera, const std::vector<glm::dvec3>& points, double aspect) {
+  Bounds3 bounds;
+  for (const glm::dvec3& p : points) bounds.extend(p.x, p.y, p.z);
+  const glm::dmat4 projection = camera.projectionMatrix(aspect, camera.clipRange(bounds));
+  Projected result;
+  for (const glm::dvec3& p : points) {
+    const glm::dvec3 eye = glm::dmat3(camera.viewMatrix()) * (p - camera.position);
+    const glm::dvec4 clip = projection * glm::dvec4(eye, 1.0);
+    if (!(clip.w > 0.0) || clip.z / clip.w < 0.0 || clip.z / clip.w > 1.0) result.all_ahead = false;
+    result.min_x = std::min(result.min_x, clip.x / clip.w);
+    result.max_x = std::max(result.max_x, clip.x / clip.w);
+    result.min_y = std::min(result.min_y, clip.y / clip.w);
+    result.max_y = std::max(result.max_y, clip.y / clip.w);
+  }
+  return result;
+}
+
+// A scan-like cloud: a bumpy ground disc and a few towers on it, off the origin at UTM-like
+// coordinates, so that its box has empty corners and its middle is not the box's.
+std::vector<glm::dvec3> scanLikePoints(std::mt19937_64& random) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const glm::dvec3 origin(512000 + 1000 * unit(random), 5.4e6 + 1000 * unit(random), 300.0);
+  const double radius = 20 + 200 * unit(random);
+  std::vector<glm::dvec3> points;
+  for (int i = 0; i < 3000; ++i) {
+    const double r = radius * std::sqrt(unit(random)), a = 2 * kPi * unit(random);
+    points.push_back(
+        origin + glm::dvec3(r * std::cos(a), 0.6 * r * std::sin(a), 0.02 * radius * std::sin(r)));
+  }
+  for (int tower = 0; tower < 3; ++tower) {
+    const glm::dvec3 base = origin + glm::dvec3(radius * (unit(random) - 0.5),
+                                                0.6 * radius * (unit(random) - 0.5), 0.0);
+    for (int i = 0; i < 200; ++i) {
+      points.push_back(base + glm::dvec3(unit(random), unit(random), 0.3 * radius * unit(random)));
+    }
+  }
+  return points;
+}
+
+TEST(Camera, FitToPointsFillsTheViewOnOneAxisCentredWithTheMargin) {
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const double keep = 1.0 - Camera::kFitMargin;
+  for (int trial = 0; trial < 40; ++trial) {
+    const std::vector<glm::dvec3> points = scanLikePoints(random);
+    Camera camera;
+    camera.lookAt({0, 0, 0}, {unit(random), unit(random), -std::abs(unit(random)) - 0.2},
+                  {0, 0, 1});
+    camera.projection = trial % 2 ? Projection::Orthographic : Projection::Perspective;
+    camera.fov_y_deg = 30 + 40 * std::abs(unit(random));
+    const double aspect = 0.5 + 2.0 * std::abs(unit(random));
+    const glm::dquat orientation = camera.orientation;
+    camera.fitToPoints(points, aspect);
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    EXPECT_EQ(camera.orientation, orientation);
+    const Projected p = project(camera, points, aspect);
+    EXPECT_TRUE(p.all_ahead);
+    // Inside the margin on both axes, reaching it on one, centred on both.
+    const double tolerance = 1e-6;
+    EXPECT_LE(std::max({-p.min_x, p.max_x, -p.min_y, p.max_y}), keep + tolerance);
+    EXPECT_GE(std::max(p.max_x - p.min_x, p.max_y - p.min_y), 2 * keep - tolerance);
+    EXPECT_NEAR(p.min_x + p.max_x, 0.0, 1e-6);
+    EXPECT_NEAR(p.min_y + p.max_y, 0.0, 1e-6);
+    // The pivot is on the view axis, in front of the camera.
+    const glm::dvec3 to_pivot = camera.pivot - camera.position;
+    EXPECT_GT(glm::dot(to_pivot, camera.forward()), 0.0);
+    EXPECT_LT(glm::length(glm::cross(glm::normalize(to_pivot), camera.forward())), 1e-9);
+  }
+}
+
+TEST(Camera, FitToPointsIsTighterThanTheBoxForAScan) {
+  std::mt19937_64 random(5);
+  const std::vector<glm::dvec3> points = scanLikePoints(random);
+  Bounds3 bounds;
+  for (const glm::dvec3& p : points) bounds.extend(p.x, p.y, p.z);
+  Camera box = defaultCameraFor(bounds, 16.0 / 9.0), fitted = box;
+  fitted.fitToPoints(points, 16.0 / 9.0);
+  const Projected by_box = project(box, points, 16.0 / 9.0);
+  const Projected by_points = project(fitted, points, 16.0 / 9.0);
+  // The box's fit leaves a good part of the picture empty (the scan's extent is what counts).
+  EXPECT_LT(by_box.max_x - by_box.min_x, 0.9 * (by_points.max_x - by_points.min_x));
+}
+
+TEST(Camera, FitToPointsOfOnePointAndOfNone) {
+  Camera camera;
+  camera.lookAt({0, -10, 5}, {0, 0, 0}, {0, 0, 1});
+  const Camera before = camera;
+  camera.fitToPoints({}, 1.5);
+  EXPECT_EQ(camera, before);
+  const std::vector<glm::dvec3> one{{512345.0, 5412345.0, 100.0}};
+  camera.fitToPoints(one, 1.5);
+  EXPECT_TRUE(finite(camera.position));
+  const Projected p = project(camera, one, 1.5);
+  EXPECT_TRUE(p.all_ahead);
+  EXPECT_NEAR(p.max_x, 0.0, 1e-6);
+  EXPECT_NEAR(p.max_y, 0.0, 1e-6);
+}
+
+TEST(ViewExtent, SmallCloudsGiveEveryPointLargeOnesAStrideAndTheExtremes) {
+  PointCloud cloud;
+  cloud.quantization.scale = {0.01, 0.01, 0.01};
+  cloud.quantization.offset = {500000.0, 5000000.0, 0.0};
+  const std::size_t count = 10000;
+  cloud.count = count;
+  cloud.positions = Column<Int3>(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    cloud.positions[i] = {std::int32_t(i % 100), std::int32_t(i / 100), std::int32_t(i % 7)};
+  }
+  cloud.positions[4321] = {-500, 20, 3};  // the lowest x, off the stride
+  cloud.positions[7777] = {20, 20, 900};  // the highest z
+  cloud.computeBounds();
+  const ViewExtent all = viewExtentOf(cloud);
+  ASSERT_EQ(all.points.size(), count);
+  EXPECT_EQ(all.points[4321],
+            glm::dvec3(cloud.worldX(4321), cloud.worldY(4321), cloud.worldZ(4321)));
+  const ViewExtent some = viewExtentOf(cloud, 100);
+  ASSERT_EQ(some.points.size(), 100u);
+  auto has = [&](std::size_t i) {
+    const glm::dvec3 p(cloud.worldX(i), cloud.worldY(i), cloud.worldZ(i));
+    return std::find(some.points.begin(), some.points.end(), p) != some.points.end();
+  };
+  EXPECT_TRUE(has(4321));
+  EXPECT_TRUE(has(7777));
+  EXPECT_TRUE(has(0));
+  EXPECT_EQ(some.bounds.min, cloud.bounds.min);
+  EXPECT_EQ(some.bounds.max, cloud.bounds.max);
 }
 
 TEST(Camera, ClipRangeKeepsPointsNearTheEye) {

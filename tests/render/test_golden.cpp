@@ -11,6 +11,9 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "render/stereo.h"
 #include "render_test_support.h"
@@ -98,8 +101,12 @@ RenderSettings base() {
   return settings;
 }
 
+// The same size as SizeFixedRound, so that the two differ only in the shape (the base settings'
+// 2-pixel squares are ColorRgb's picture already).
 TEST(RenderGolden, SizeFixedSquare) {
-  checkGolden("size_fixed_square", base());
+  RenderSettings settings = base();
+  settings.point_size_px = 4.0f;
+  checkGolden("size_fixed_square", settings);
 }
 
 TEST(RenderGolden, SizeFixedRound) {
@@ -188,6 +195,25 @@ TEST(RenderGolden, Orthographic) {
   camera.projection = Projection::Orthographic;
   camera.fitToBounds(makeWavySheet(4, {0, 0, 0}).bounds, 1.0);
   checkGolden("orthographic", base(), camera);
+}
+
+// Two tests with the same picture test one thing twice: no two golden images may be equal.
+TEST(RenderGolden, EveryGoldenImageIsItsOwnPicture) {
+  std::vector<std::pair<std::string, RgbaImage>> images;
+  for (const auto& entry : std::filesystem::directory_iterator(PARALLAX_GOLDEN_DIR)) {
+    if (entry.path().extension() == ".png") {
+      images.emplace_back(entry.path().filename().string(), readPng(entry.path()));
+    }
+  }
+  ASSERT_GE(images.size(), 17u);
+  for (std::size_t a = 0; a < images.size(); ++a) {
+    for (std::size_t b = a + 1; b < images.size(); ++b) {
+      EXPECT_FALSE(images[a].second.width == images[b].second.width &&
+                   images[a].second.height == images[b].second.height &&
+                   images[a].second.pixels == images[b].second.pixels)
+          << images[a].first << " and " << images[b].first << " are the same picture";
+    }
+  }
 }
 
 StereoSettings stereo(StereoMode mode) {

@@ -4,9 +4,16 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstring>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <thread>
 
 #include "fake_octree.h"
 
@@ -111,15 +118,44 @@ TEST(NodeLoader, ReportsAFailedLoad) {
   EXPECT_TRUE(loaded[0].staged.bytes.empty());
 }
 
+// The scheduler state of thread `tid` of this process, from /proc (Linux): 'S' while it sleeps.
+char threadState(pid_t tid) {
+  std::ifstream in("/proc/self/task/" + std::to_string(tid) + "/stat");
+  std::string stat;
+  std::getline(in, stat);
+  const auto name_end = stat.rfind(')');  // "tid (name) S ...": the name may hold anything
+  return name_end != std::string::npos && name_end + 2 < stat.size() ? stat[name_end + 2] : '?';
+}
+
 TEST(NodeLoader, StopsWithWorkQueued) {
   FakeOctree octree(cube16(), 10, 2.0);
   octree.addFullLevels(1, 10);
+  auto loader = std::make_unique<NodeLoader>(octree, 1);
+  const std::vector<std::int32_t> root{0};
+  loader->request(octree.nodes(), root);  // the intensity range is read before any other load
+  takeAll(*loader, 1);
+  const std::size_t before = octree.loadLog().size();
+
+  octree.closeGate();
   const std::vector<std::int32_t> wanted{1, 2, 3, 4, 5, 6, 7, 8};
-  {
-    NodeLoader loader(octree, 1);
-    loader.request(octree.nodes(), wanted);
-  }  // the destructor drops the queue and joins; nothing hangs
-  EXPECT_LE(octree.loadLog().size(), 10u);
+  loader->request(octree.nodes(), wanted);
+  octree.waitForLoadsStarted(before + 1);  // node 1 in flight, held at the gate
+  EXPECT_EQ(loader->queued(), 7u);
+  // The gate opens once this thread sleeps in the destructor's join, which comes after the
+  // destructor dropped the queue: then the loader may finish node 1 and must load nothing else.
+  const pid_t this_thread = gettid();
+  std::atomic<bool> destroying = false;
+  std::thread opener([&] {
+    while (!destroying) std::this_thread::yield();
+    while (threadState(this_thread) != 'S') std::this_thread::sleep_for(1ms);
+    octree.openGate();
+  });
+  destroying = true;
+  loader.reset();  // returns: nothing hangs
+  opener.join();
+  const std::vector<std::string> log = octree.loadLog();
+  ASSERT_EQ(log.size(), before + 1) << "the destructor let queued loads start";
+  EXPECT_EQ(log.back(), "r0");
 }
 
 }  // namespace

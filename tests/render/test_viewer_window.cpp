@@ -3,7 +3,8 @@
 // falls back from quad-buffer (Xvfb has no stereo visual) to side by side with a message, and
 // the 3 key cycles the stereo modes. Level of detail: a Potree directory is shown and the , key
 // lowers the point budget live; a file over the budget shows a sample, then switches to its
-// octree once built in the background, and a second visit opens the cached octree at once.
+// octree once built in the background, and a second visit opens the cached octree at once. The
+// first picture and the F key frame the cloud as it projects.
 //
 // Needs the Debian packages xvfb and xdotool; skipped (with the reason) where they are missing.
 // Xvfb picks a free display itself (-displayfd), so parallel runs do not collide.
@@ -15,7 +16,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
@@ -24,7 +27,9 @@
 #include <thread>
 #include <vector>
 
+#include "render/camera.h"
 #include "render/image_file.h"
+#include "render/view_extent.h"
 #include "support/temp_dir.h"
 
 extern char** environ;
@@ -170,7 +175,15 @@ TEST(ViewerWindow, OpensDrawsThePanelTurnsOnDragAndTakesScreenshots) {
         << "no screenshot " << path << ": " << readFile(dir / "viewer.log");
     return readPng(path);
   };
-  // Let a few frames go by so that the panel has its size.
+  // The first picture first (on a loaded machine it can take seconds), then a few more frames
+  // so that the panel has its size.
+  EXPECT_TRUE(waitFor(
+      [&] {
+        return readFile(dir / "viewer.log").find("parallax view: first picture after") !=
+               std::string::npos;
+      },
+      30s))
+      << readFile(dir / "viewer.log");
   std::this_thread::sleep_for(1s);
   const RgbaImage before = screenshot(1);
 
@@ -210,7 +223,8 @@ TEST(ViewerWindow, OpensDrawsThePanelTurnsOnDragAndTakesScreenshots) {
                                  << readFile(dir / "viewer.log");
 }
 
-// Where the cloud's pixels (not the background's colour) are: count and centroid.
+// Where the cloud's pixels (not the background's colour) are: count, and the middle of their
+// box (the default view centres the cloud's extent; its centroid depends on the perspective).
 struct Coverage {
   std::size_t count = 0;
   double x = 0, y = 0;
@@ -218,13 +232,17 @@ struct Coverage {
 
 Coverage coverage(const RgbaImage& image, int x0, int y0, int x1, int y1) {
   Coverage c;
+  int low_x = x1, high_x = x0, low_y = y1, high_y = y0;
   for (int y = y0; y < y1; ++y) {
     for (int x = x0; x < x1; ++x) {
       const std::uint8_t* p = &image.pixels[(std::size_t(y) * image.width + x) * 4];
-      if (p[0] | p[1] | p[2]) ++c.count, c.x += x, c.y += y;
+      if (!(p[0] | p[1] | p[2])) continue;
+      ++c.count;
+      low_x = std::min(low_x, x), high_x = std::max(high_x, x);
+      low_y = std::min(low_y, y), high_y = std::max(high_y, y);
     }
   }
-  if (c.count) c.x /= double(c.count), c.y /= double(c.count);
+  if (c.count) c.x = 0.5 * (low_x + high_x + 1), c.y = 0.5 * (low_y + high_y + 1);
   return c;
 }
 
@@ -372,6 +390,23 @@ class ViewerProcess {
         << name;
     std::this_thread::sleep_for(300ms);
   }
+  // A left-button drag from (x0, y0) to (x1, y1), window coordinates.
+  void drag(int x0, int y0, int x1, int y1) {
+    const std::string at = "mousemove --window " + window_ + " ";
+    EXPECT_EQ(run(env_ + "xdotool " + at + std::to_string(x0) + " " + std::to_string(y0) +
+                  " mousedown 1 " + at + std::to_string((x0 + x1) / 2) + " " +
+                  std::to_string((y0 + y1) / 2) + " sleep 0.3 " + at + std::to_string(x1) + " " +
+                  std::to_string(y1) + " sleep 0.3 mouseup 1 > /dev/null 2>&1"),
+              0);
+    std::this_thread::sleep_for(300ms);
+  }
+  // `clicks` steps of the wheel forward (towards the cloud) at the window's middle.
+  void scroll(int clicks) {
+    for (int i = 0; i < clicks; ++i) {
+      EXPECT_EQ(run(env_ + "xdotool click --window " + window_ + " 4 > /dev/null 2>&1"), 0);
+      std::this_thread::sleep_for(200ms);
+    }
+  }
   RgbaImage screenshot(const std::filesystem::path& shots) {
     const auto path = shots / ("parallax-screenshot-" + std::to_string(++shots_) + ".png");
     key("p");
@@ -477,6 +512,103 @@ TEST(ViewerWindow, FileOverTheBudgetShowsASampleThenItsOctreeAndIsCachedForTheNe
   EXPECT_TRUE(again.logged("(3600 points) from its octree in " + cache.string())) << again.log();
   EXPECT_EQ(again.log().find("showing a sample"), std::string::npos) << again.log();
   EXPECT_EQ(again.quit(), 0) << again.log();
+}
+
+// The box around the pixels that are not the white background; x1 < 0 when there are none.
+struct PixelBox {
+  int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
+};
+
+PixelBox cloudBox(const RgbaImage& image) {
+  PixelBox box;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint8_t* p = &image.pixels[(std::size_t(y) * image.width + x) * 4];
+      if (p[0] == 255 && p[1] == 255 && p[2] == 255) continue;
+      box.x0 = std::min(box.x0, x), box.x1 = std::max(box.x1, x);
+      box.y0 = std::min(box.y0, y), box.y1 = std::max(box.y1, y);
+    }
+  }
+  return box;
+}
+
+// What a fitted view looks like: nothing at the border, centred, one axis filled up to the
+// margin (Camera::kFitMargin of the half-size each side), give or take the 2-pixel points.
+void expectFramed(const PixelBox& box, int width, int height, const std::string& what) {
+  SCOPED_TRACE(what);
+  ASSERT_GE(box.x1, 0) << "nothing drawn";
+  EXPECT_GT(box.x0, 0);
+  EXPECT_GT(box.y0, 0);
+  EXPECT_LT(box.x1, width - 1);
+  EXPECT_LT(box.y1, height - 1);
+  EXPECT_LE(std::abs(box.x0 - (width - 1 - box.x1)), 3) << box.x0 << ".." << box.x1;
+  EXPECT_LE(std::abs(box.y0 - (height - 1 - box.y1)), 3) << box.y0 << ".." << box.y1;
+  const double fill =
+      std::max(double(box.x1 - box.x0 + 1) / width, double(box.y1 - box.y0 + 1) / height);
+  EXPECT_GE(fill, 1.0 - Camera::kFitMargin - 3.0 / height);
+  EXPECT_LE(fill, 1.0 - Camera::kFitMargin + 3.0 / height);
+}
+
+TEST(ViewerWindow, FirstPictureAndTheFKeyFrameTheCloud) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto cloud = dir.write("grid.ply", gridPly());
+  const auto shots = dir.path() / "shots";
+  std::filesystem::create_directories(shots);
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  const int width = 800, height = 480;
+  ViewerProcess viewer(dir, display.name(),
+                       {cloud.string(), "--width", std::to_string(width), "--height",
+                        std::to_string(height), "--screenshot-dir", shots.string(), "--background",
+                        "255,255,255", "--point-size", "2", "--no-vsync"},
+                       "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+  viewer.key("g");  // hide the panel: the whole picture is the cloud's
+  std::this_thread::sleep_for(500ms);
+  const RgbaImage first = viewer.screenshot(shots);
+  ASSERT_EQ(first.width, width);
+  const PixelBox box = cloudBox(first);
+  expectFramed(box, width, height, "first picture");
+
+  // The same box from the grid's points projected on the CPU with the default camera.
+  ViewExtent extent;
+  for (int j = 0; j < 60; ++j) {
+    for (int i = 0; i < 60; ++i) {
+      const double x = i / 59.0 - 0.5, y = j / 59.0 - 0.5;
+      extent.points.emplace_back(x, y, 0.3 * (0.5 - x * x - y * y));
+      extent.bounds.extend(x, y, 0.3 * (0.5 - x * x - y * y));
+    }
+  }
+  const double aspect = double(width) / height;
+  const Camera camera = defaultCameraFor(extent, aspect);
+  const glm::dmat4 to_clip =
+      camera.projectionMatrix(aspect, camera.clipRange(extent.bounds)) * camera.viewMatrix();
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  for (const glm::dvec3& p : extent.points) {
+    const glm::dvec4 clip = to_clip * glm::dvec4(p, 1.0);
+    const double px = (clip.x / clip.w + 1) * 0.5 * width;
+    const double py = (1 - clip.y / clip.w) * 0.5 * height;
+    x0 = std::min(x0, px), x1 = std::max(x1, px), y0 = std::min(y0, py), y1 = std::max(y1, py);
+  }
+  EXPECT_NEAR(box.x0, x0, 2.0);
+  EXPECT_NEAR(box.x1 + 1, x1, 2.0);
+  EXPECT_NEAR(box.y0, y0, 2.0);
+  EXPECT_NEAR(box.y1 + 1, y1, 2.0);
+
+  // Turned and zoomed in, then F: framed again from the new direction.
+  viewer.drag(400, 240, 520, 300);
+  viewer.scroll(3);
+  const PixelBox turned = cloudBox(viewer.screenshot(shots));
+  EXPECT_FALSE(turned.x0 > 0 && turned.x1 < width - 1 && turned.y0 > 0 && turned.y1 < height - 1)
+      << "zoomed in, the cloud should reach past the window";
+  viewer.key("f");
+  std::this_thread::sleep_for(300ms);
+  expectFramed(cloudBox(viewer.screenshot(shots)), width, height, "after F");
+  EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
 }
 
 }  // namespace

@@ -20,7 +20,8 @@
 // attribute's exact values in `preciseBuffer`):
 //   - the set of node names and each node's point count;
 //   - positions: |client - parallax| <= |client float| * 2^-23 + 1e-9 * |world|;
-//   - colours: within 1 (the client truncates value / 256, Parallax rounds value / 257);
+//   - colours: within 1 (the client truncates value / 256, Parallax rounds value / 257), in
+//     every node whenever metadata.json declares rgb (both readers must then give colours);
 //   - every other attribute: exactly (the first element of arrays, as the client reads them);
 //     Potree names map to Parallax's by ' ' and '-' -> '_', NormalX/Y/Z and a 3-element
 //     normal / normals / NORMAL to the normals (as float32), and a
@@ -131,6 +132,7 @@ async function main() {
   const expected = JSON.parse(fs.readFileSync(expectedFile, 'utf8'));
   const expectedNodes = new Map(expected.nodes.map((n) => [n.name, n]));
   const metadata = JSON.parse(fs.readFileSync(path.join(dir, 'metadata.json'), 'utf8'));
+  const declaresColour = metadata.attributes.some((a) => a.name === 'rgb' || a.name === 'rgba');
   const server = await serve(path.resolve(dir));
   const base = `http://127.0.0.1:${server.address().port}`;
   const failures = [];
@@ -178,10 +180,22 @@ async function main() {
         }
       }
     }
+    // Whether colours are compared follows the metadata, never what either reader happened to
+    // report: a reader that drops every colour must fail, not skip the comparison.
     let colorSum = 0;
-    if (want.colors) {
+    if (declaresColour && !want.colors) {
+      fail(`node ${node.name}: metadata.json declares rgb, Parallax reports no colours`);
+    }
+    if (!declaresColour && want.colors) {
+      fail(`node ${node.name}: metadata.json declares no rgb, Parallax reports colours`);
+    }
+    if (declaresColour && want.colors) {
       const rgba = attributes.rgba && attributes.rgba.array;
       if (!rgba) fail(`node ${node.name}: three-loader decoded no colours`);
+      if (rgba && rgba.length < 4 * node.numPoints) {
+        fail(`node ${node.name}: three-loader decoded ${rgba.length / 4} colours for ` +
+             `${node.numPoints} points`);
+      }
       for (let i = 0; rgba && i < node.numPoints; i++) {
         for (let c = 0; c < 3; c++) {
           colorSum += rgba[4 * i + c];
