@@ -31,6 +31,23 @@ std::string lowerExtension(const std::filesystem::path& path) {
   return ext;
 }
 
+// The PLY signature: the line "ply", with the blanks some exporters leave after it ("ply ",
+// "ply\t") and a CR before its LF. A first line "ply" followed by other words, above a "format"
+// line, is a PLY file with a broken first line: taken as PLY so that the header parser says
+// what is wrong with it (an unknown format would say nothing useful).
+bool looksLikePly(std::span<const std::byte> bytes) {
+  const std::string_view text(reinterpret_cast<const char*>(bytes.data()),
+                              std::min<std::size_t>(bytes.size(), 256));
+  if (!text.starts_with("ply")) return false;
+  std::size_t i = 3;
+  while (i < text.size() && (text[i] == ' ' || text[i] == '\t' || text[i] == '\r')) ++i;
+  if (i < text.size() && text[i] == '\n') return true;
+  // "ply" and CR alone (old Mac line ends): PLY, which the parser reports as such.
+  if (i > 3 && text[i - 1] == '\r') return true;
+  const std::size_t lf = text.find('\n');
+  return lf != std::string_view::npos && text.substr(lf + 1).starts_with("format");
+}
+
 }  // namespace
 
 const char* pointFormatName(PointFormat format) {
@@ -56,11 +73,7 @@ const char* supportedFormatsText() {
 }
 
 PointFormat detectPointFormatFromMemory(std::span<const std::byte> bytes) {
-  const auto* c = reinterpret_cast<const char*>(bytes.data());
-  // "ply" then a line end (LF or CRLF) is the PLY signature.
-  if (bytes.size() >= 4 && std::memcmp(c, "ply", 3) == 0 && (c[3] == '\n' || c[3] == '\r')) {
-    return PointFormat::Ply;
-  }
+  if (looksLikePly(bytes)) return PointFormat::Ply;
   if (hasLasSignature(bytes)) return looksLikeLaz(bytes) ? PointFormat::Laz : PointFormat::Las;
   if (looksLikeTextPoints(bytes)) return PointFormat::Text;
   return PointFormat::Unknown;

@@ -22,9 +22,9 @@ const char* pointFormatName(PointFormat format);
 const char* supportedFormatsText();
 
 // Detects the format from the file's first bytes (magic and header), not from its extension:
-// "ply" + line end is PLY; "LASF" is LAS, or LAZ when the header says LASzip; a file whose first
-// 64 KiB are printable text with a line of at least three numbers is text. Throws InputError when
-// the file cannot be opened.
+// the line "ply" (blanks after it and CR LF allowed) is PLY; "LASF" is LAS, or LAZ when the header
+// says LASzip; a file whose first 64 KiB are printable text with a line of at least three numbers
+// is text. Throws InputError when the file cannot be opened.
 PointFormat detectPointFormat(const std::filesystem::path& path);
 
 // The same for the first bytes of a file held in memory (as many as are at hand; 64 KiB suffice).
