@@ -2,6 +2,7 @@
 // text), keeping every attribute the target can hold and saying which ones it drops.
 // `parallax convert IN... -o DIR`: builds the level-of-detail octree of one or more point files
 // as a Potree 2.0 directory (lod/potree_converter.h), out of core within --memory.
+#include <cctype>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -63,26 +64,46 @@ int runPotreeConvert(const ConvertArgs& args) {
   return 0;
 }
 
+// An octree (Potree 2.0 directory) is written for --format potree, for a name ending in '/', for
+// an existing directory, and for a name without extension; a point file for a known extension.
+bool isOctreeOutput(const ConvertArgs& args) {
+  if (!args.format.empty()) return args.format == "potree";
+  const std::filesystem::path output(args.output);
+  if (!args.output.empty() && args.output.back() == '/') return true;
+  std::error_code ignored;
+  if (std::filesystem::is_directory(output, ignored)) return true;
+  return formatForExtension(output) == PointFormat::Unknown && !output.has_extension();
+}
+
+[[noreturn]] void throwUnknownOutput(const std::string& output) {
+  const std::filesystem::path path(output);
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const std::string octree = path.stem().string() + extension + "/";
+  throw InputError(
+      {.file = output,
+       .expected = "an output name ending in .ply, .las, .xyz, .txt, .csv, .asc or .pts, or a "
+                   "Potree 2.0 octree directory (--format potree, a name ending in '/', an "
+                   "existing directory, or a name without extension)",
+       .found = "'" + path.extension().string() + "'",
+       .hint = extension == ".laz"
+                   ? "Parallax writes uncompressed LAS: write .las and compress it with `laszip`"
+                   : "for an octree, add --format potree (or write -o " + octree + ")"});
+}
+
 int runConvert(ConvertArgs args) {
-  const bool to_potree =
-      args.format == "potree" ||
-      (args.format.empty() && formatForExtension(args.output) == PointFormat::Unknown &&
-       !std::filesystem::path(args.output).has_extension());
-  if (to_potree) return runPotreeConvert(args);
+  if (isOctreeOutput(args)) return runPotreeConvert(args);
   if (args.inputs.size() != 1) {
     throw InputError({.file = args.output,
                       .expected = "one input when converting to a point file",
                       .found = std::to_string(args.inputs.size()) + " inputs",
-                      .hint = "several inputs merge only into a Potree directory (an output "
-                              "without extension, or --format potree)"});
+                      .hint = "several inputs merge only into a Potree directory (--format "
+                              "potree, or an output name ending in '/')"});
   }
   args.input = args.inputs.front();
   PointFormat in_format = detectPointFormat(args.input);
   PointFormat out_format = formatForExtension(args.output);
-  if (out_format == PointFormat::Unknown) {
-    // writePointFile reports the supported extensions; fail before the (long) read.
-    writePointFile(PointCloud{}, args.output);
-  }
+  if (out_format == PointFormat::Unknown) throwUnknownOutput(args.output);  // before the read
   PointCloud cloud;
   {
     std::optional<TerminalProgress> progress;
@@ -152,9 +173,11 @@ Command addConvertCommand(CLI::App& app) {
       ->required();
   sub->add_option("-o,--output", args->output,
                   "Output file, its extension picks the format (.ply .las .xyz .txt .csv .asc "
-                  ".pts), or a directory (no extension): a Potree 2.0 octree")
+                  ".pts), or a Potree 2.0 octree directory: a name ending in '/', an existing "
+                  "directory, a name without extension, or --format potree")
       ->required();
-  sub->add_option("--format", args->format, "Force the output format: potree")
+  sub->add_option("--format", args->format,
+                  "potree: write a Potree 2.0 octree directory whatever the output's name")
       ->check(CLI::IsMember({"potree"}));
   sub->add_option("--memory", args->memory_mb, "Potree output: memory budget in MB (default 2048)")
       ->check(CLI::Range(std::uint64_t(16), std::uint64_t(1) << 24));
