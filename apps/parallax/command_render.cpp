@@ -29,6 +29,8 @@
 #include "core/progress.h"
 #include "io/ply_preview.h"
 #include "io/point_file.h"
+#include "lod/large_file.h"
+#include "lod/octree_cache.h"
 #include "lod/potree_reader.h"
 #include "render/camera_path.h"
 #include "render/gl_context.h"
@@ -38,7 +40,6 @@
 #include "render/renderer.h"
 #include "render/stereo.h"
 #include "render_options.h"
-#include "viewer/large_cloud.h"
 
 namespace parallax::cli {
 namespace {
@@ -100,8 +101,8 @@ RenderSource openSource(const RenderCommandOptions& o) {
     source.octree = openPotree(o.input);
     return source;
   }
-  const std::optional<std::uint64_t> points = headerPointCount(o.input);
-  if (!points || *points <= o.lod.budget) {
+  const std::optional<std::uint64_t> points = pointsOverBudget(o.input, o.lod.budget);
+  if (!points) {
     source.cloud = readPointFile(o.input);  // today's path, every point drawn
     return source;
   }

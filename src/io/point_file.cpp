@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <stdexcept>
 #include <utility>
 
@@ -14,6 +15,7 @@
 #include "io/las_reader.h"
 #include "io/las_writer.h"
 #include "io/mapped_file.h"
+#include "io/ply_header.h"
 #include "io/ply_reader.h"
 #include "io/ply_writer.h"
 #include "io/text_reader.h"
@@ -92,6 +94,26 @@ PointFormat detectPointFormat(const std::filesystem::path& path) {
   PointFormat format = detectPointFormatFromMemory(head);
   // A LAS header's VLRs can lie beyond the first 64 KiB; the reader checks LAZ again in full.
   return format;
+}
+
+std::optional<std::uint64_t> headerPointCount(const std::filesystem::path& path) {
+  try {
+    switch (detectPointFormat(path)) {
+      case PointFormat::Ply: {
+        const MappedFile file(path);
+        const PlyHeader header = parsePlyHeader(file.bytes(), path.string());
+        const int element = header.pointElement();
+        if (element < 0) return std::nullopt;
+        return header.elements[std::size_t(element)].count;
+      }
+      case PointFormat::Las:
+        return readLasHeader(path).point_count;
+      default:
+        return std::nullopt;
+    }
+  } catch (const std::exception&) {
+    return std::nullopt;  // the ordinary read says what is wrong
+  }
 }
 
 PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptions& options) {

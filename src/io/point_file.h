@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,11 @@ PointFormat detectPointFormat(const std::filesystem::path& path);
 
 // The same for the first bytes of a file held in memory (as many as are at hand; 64 KiB suffice).
 PointFormat detectPointFormatFromMemory(std::span<const std::byte> bytes);
+
+// The point count a PLY or LAS file's header states, read without the points; std::nullopt for
+// text files (no count without reading them: see countTextPoints in text_reader.h) and for
+// anything that cannot be read (the caller's ordinary read reports why).
+std::optional<std::uint64_t> headerPointCount(const std::filesystem::path& path);
 
 struct PointReadOptions {
   Progress* progress = nullptr;  // advanced by points (PLY, LAS) or bytes (text)
