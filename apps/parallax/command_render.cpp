@@ -5,11 +5,11 @@
 // --height. quad-buffer needs a stereo window: headless, it falls back to sbs with a message.
 //
 // INPUT may be a Potree 2.0 directory: its octree is streamed through a LodScene (render/
-// lod_scene.h) within --budget points, and each picture waits for every node it selects. A PLY or
-// LAS file with more points than --budget is converted to such an octree first (kept in the
-// user's cache, or --cache-dir, for the next run; --no-cache: a temporary folder), unless
-// --preview asks for a picture of an even sample at once (PLY only; the budget's worth of points,
-// at most kPreviewPoints).
+// lod_scene.h) within --budget points, and each picture waits for every node it selects. A PLY,
+// LAS or text file with more points than --budget (lod/large_file.h) is converted to such an
+// octree first (kept in the user's cache, or --cache-dir, for the next run; --no-cache: a
+// temporary folder), unless --preview asks for a picture of an even sample at once (PLY only; the
+// budget's worth of points, at most kPreviewPoints).
 //
 // Prints the time from start to PNG broken down into load, context, upload, draw and write, on
 // stderr (stdout stays free for scripts).

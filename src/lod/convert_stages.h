@@ -35,12 +35,16 @@
 
 namespace parallax {
 
-// A point file read in batches whatever its format: PLY and LAS through their chunk readers;
-// text files are read whole and handed out in slices (no chunked text reader yet: a text cloud
-// must fit in memory). LAZ and unknown formats throw InputError as readPointFile does.
+// A point file read in batches whatever its format, through the formats' chunk readers (PLY,
+// LAS, text), so memory holds one batch. LAZ and unknown formats throw InputError as
+// readPointFile does. Every batch is in quantization(): LAS's header's; for PLY and text the
+// reader's own choice (PLY: from a sample; text: exact, from a first pass over the positions),
+// or `quantization` when given (a later pass over a file whose quantization an earlier pass
+// found: text files are then not read twice).
 class PointStream {
  public:
-  PointStream(const std::filesystem::path& path, const std::vector<std::string>& text_columns);
+  PointStream(const std::filesystem::path& path, const std::vector<std::string>& text_columns,
+              const Quantization* quantization = nullptr);
   ~PointStream();
 
   std::uint64_t pointCount() const;
@@ -73,7 +77,8 @@ struct ConvertPlan {
   Bounds3 bounds;  // tight, world units
   Bounds3 cube;    // the root node
   double spacing = 0.0;
-  Quantization quantization;  // of the output positions
+  Quantization quantization;                      // of the output positions
+  std::vector<Quantization> input_quantizations;  // each input's, as its first stream chose it
   PotreeLayout layout;
   AttributeStats stats;                  // filled by distribute
   std::uint64_t batch_points = 0;        // points read at a time

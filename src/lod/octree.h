@@ -26,9 +26,9 @@ namespace parallax {
 // One node of the hierarchy. Nodes live in a flat array; indices are stable for the octree's
 // life (expanding a proxy appends, it never moves or removes nodes).
 struct OctreeNode {
-  std::string name;  // "r", "r0", "r07", ...
-  int level = 0;     // 0 for the root
-  Bounds3 box;       // the node's cube, world coordinates
+  std::string name;      // "r", "r0", "r07", ...
+  int level = 0;         // 0 for the root
+  Bounds3 box;           // the node's cube, world coordinates
   double spacing = 0.0;  // root spacing / 2^level, world units
   std::uint32_t point_count = 0;
   std::uint8_t child_mask = 0;             // bit i: child i exists
@@ -44,11 +44,11 @@ struct OctreeNode {
 };
 
 struct OctreeInfo {
-  std::uint64_t point_count = 0;  // all points of all nodes
-  Bounds3 bounds;                 // tight bounds of the points, world coordinates
-  Bounds3 cube;                   // the root node's box
-  Quantization quantization;      // of the positions loadNode() returns
-  double spacing = 0.0;           // the root's spacing
+  std::uint64_t point_count = 0;        // all points of all nodes
+  Bounds3 bounds;                       // tight bounds of the points, world coordinates
+  Bounds3 cube;                         // the root node's box
+  Quantization quantization;            // of the positions loadNode() returns
+  double spacing = 0.0;                 // the root's spacing
   std::vector<std::string> attributes;  // names, as PointCloud::attributeNames() gives them
   bool has_colors = false, has_normals = false, has_intensity = false;
   bool has_classification = false;

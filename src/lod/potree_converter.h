@@ -4,7 +4,8 @@
 //
 // Out of core: the inputs are read in batches (three passes: scan, count, distribute), spilled
 // into chunks on disk and each chunk built in memory (convert_stages.h), so memory stays within
-// options.build.memory_bytes for any input size (text inputs excepted: they are read whole).
+// options.build.memory_bytes for any input size (text inputs too: io/text_reader.h's
+// TextChunkReader).
 // The budget is split in a quarter for the batch in flight and half for the chunk being built;
 // a grid cell of 1/128 of the cube's edge holding more points than a chunk may hold is built
 // whole anyway (a pathological density; noted in NOTES.md).

@@ -55,6 +55,29 @@ TEST(LargeFile, PointsOverBudgetOnlyAboveTheBudget) {
   EXPECT_EQ(pointsOverBudget(dir / "missing.ply", 1), std::nullopt);
 }
 
+TEST(LargeFile, TextFilesOverTheBudgetAreCounted) {
+  TempDir dir;
+  writePointFile(makeSurfaceCloud(2000), dir / "a.xyz");
+  EXPECT_EQ(pointsOverBudget(dir / "a.xyz", 1999), 2000u);
+  EXPECT_EQ(pointsOverBudget(dir / "a.xyz", 2000), std::nullopt);
+  EXPECT_EQ(pointsOverBudget(dir / "a.xyz", 3'000'000), std::nullopt);
+  // A comment and a header line are not points.
+  dir.write("b.txt", "# scan\nx y z\n1 2 3\n4 5 6\n7 8 9\n");
+  EXPECT_EQ(pointsOverBudget(dir / "b.txt", 2), 3u);
+  // Not a point file: nothing to say (the ordinary read reports it).
+  dir.write("c.txt", "hello world, this is not a point cloud\nat all\n");
+  EXPECT_EQ(pointsOverBudget(dir / "c.txt", 1), std::nullopt);
+}
+
+TEST(OctreeCache, TextFileOverTheBudgetIsConvertedLikeTheOthers) {
+  TempDir dir;
+  writePointFile(makeSurfaceCloud(5000), dir / "scan.xyz");
+  const OctreeCacheSettings settings = cacheIn(dir / "cache");
+  OctreeLocation location(dir / "scan.xyz", settings);
+  EXPECT_TRUE(ensureOctree(location, settings.build, {}));
+  EXPECT_EQ(openPotree(location.directory())->info().point_count, 5000u);
+}
+
 TEST(OctreeCache, CacheDirectoryIsNamedAfterTheFileAndReusedOnceComplete) {
   TempDir dir;
   writePointFile(makeSurfaceCloud(2000), dir / "scan.ply");
