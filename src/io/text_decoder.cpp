@@ -4,7 +4,9 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
 
@@ -91,6 +93,65 @@ Quantization exactChoice(const PositionStats& exact, bool decimal[3]) {
   return q;
 }
 
+void extendAxis(Bounds3& bounds, int axis, double value) {
+  const auto a = std::size_t(axis);
+  bounds.min[a] = std::min(bounds.min[a], value);
+  bounds.max[a] = std::max(bounds.max[a], value);
+}
+
+// Axes whose quantization is a decimal scale 10^-d with a whole offset: a value written with at
+// most d decimals is stored as the integer of its digits less the offset in units, with no
+// floating point at all (decimals[axis] = d; -1 elsewhere).
+struct IntegerAxes {
+  int decimals[3] = {-1, -1, -1};
+  std::int64_t offset_units[3] = {0, 0, 0};
+};
+
+IntegerAxes integerAxes(const Quantization* q) {
+  IntegerAxes axes;
+  if (q == nullptr) return axes;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto a = std::size_t(axis);
+    for (int d = 0; d <= 9; ++d) {
+      if (q->scale[a] != 1.0 / kPowers[d]) continue;
+      const double units = q->offset[a] * kPowers[d];
+      if (std::nearbyint(q->offset[a]) == q->offset[a] && std::abs(units) < 0x1p62) {
+        axes.decimals[axis] = d;
+        axes.offset_units[axis] = std::int64_t(units);
+      }
+      break;
+    }
+  }
+  return axes;
+}
+
+constexpr std::uint64_t kIntegerPowers[] = {1,      10,      100,      1000,      10000,
+                                            100000, 1000000, 10000000, 100000000, 1000000000};
+
+// Stores the position at `p` in stored[axis] from its digits when it has at most the axis's
+// decimals and lands inside the grid (p then moves past it); false, p unmoved, for anything else:
+// the double path parses it (and reports what is wrong, or marks it outside).
+bool storeFromDigits(const char*& p, const char* end, char delimiter, const IntegerAxes& integer,
+                     int axis, std::int32_t stored[3], PositionStats& stats) {
+  std::uint64_t mantissa;
+  bool negative;
+  int fraction;
+  const char* stop = decimal::parseDecimalParts(p, end, mantissa, negative, fraction);
+  const int d = integer.decimals[axis];
+  if (stop == nullptr || fraction > d || !endsNumber(stop, end, delimiter)) return false;
+  // mantissa < 10^15 and 10^(d - fraction) <= 10^9: a product past 2^63 is far outside any int32
+  // grid; it goes to the double path, which marks it outside.
+  const std::uint64_t power = kIntegerPowers[d - fraction];
+  if (mantissa > std::uint64_t(INT64_MAX) / power) return false;
+  const auto units = std::int64_t(mantissa * power);
+  const std::int64_t value = (negative ? -units : units) - integer.offset_units[axis];
+  if (value < Quantization::kMin || value > Quantization::kMax) return false;
+  stored[axis] = std::int32_t(value);
+  stats.decimals[axis] = std::max(stats.decimals[axis], fraction);
+  p = stop;
+  return true;
+}
+
 }  // namespace
 
 void PositionStats::merge(const PositionStats& other) {
@@ -119,6 +180,11 @@ ParseResult parseLines(std::string_view text, std::size_t begin, std::size_t end
   std::uint8_t* classification =
       cloud && cloud->hasClassification() ? cloud->classification.data() : nullptr;
   const Quantization q = out.quantization ? *out.quantization : Quantization{};
+  const IntegerAxes integer = integerAxes(out.cloud ? out.quantization : nullptr);
+  // Positions stored from their digits (integer axes): their extremes, made world at the end.
+  std::int32_t lowest[3] = {Quantization::kMax, Quantization::kMax, Quantization::kMax};
+  std::int32_t highest[3] = {Quantization::kMin, Quantization::kMin, Quantization::kMin};
+  bool any_integer = false;
   PositionStats& stats = result.stats;
   std::uint64_t line_number = first_line;
   std::size_t point = out.first_index;
@@ -160,6 +226,8 @@ ParseResult parseLines(std::string_view text, std::size_t begin, std::size_t end
     if (colors) colors[point] = Rgba8{0, 0, 0, 255};  // channels the file lacks
     if (normals) normals[point] = Float3{0, 0, 0};
     double xyz[3] = {0.0, 0.0, 0.0};
+    std::int32_t stored[3] = {0, 0, 0};
+    bool have_double[3] = {false, false, false};
     std::size_t column = 0;
     while (true) {
       if (column < needed) {
@@ -167,6 +235,10 @@ ParseResult parseLines(std::string_view text, std::size_t begin, std::size_t end
         const char* q0 = p;
         if (spec.target == Target::Skip || (out.positions_only && !isPosition(spec.target))) {
           while (!endsNumber(p, end, delimiter)) ++p;
+        } else if (isPosition(spec.target) && integer.decimals[axisOf(spec.target)] >= 0 &&
+                   storeFromDigits(p, end, delimiter, integer, axisOf(spec.target), stored,
+                                   stats)) {
+          // Stored exactly from its digits; p is past the number.
         } else {
           double v;
           int decimals = -1;
@@ -192,6 +264,7 @@ ParseResult parseLines(std::string_view text, std::size_t begin, std::size_t end
                        quoteInput(std::string_view(q0, std::size_t(p - q0))));
               }
               xyz[axis] = v;
+              have_double[axis] = true;
               stats.decimals[axis] = std::max(stats.decimals[axis], decimals);
               break;
             }
@@ -250,11 +323,36 @@ ParseResult parseLines(std::string_view text, std::size_t begin, std::size_t end
       failAt(file, this_line, "", std::to_string(n) + " values", std::to_string(column) + " values",
              "every data line needs one value per column");
     }
-    stats.raw.extend(xyz[0], xyz[1], xyz[2]);
-    if (positions)
-      positions[point] = {quantize(0, xyz[0]), quantize(1, xyz[1]), quantize(2, xyz[2])};
+    if (positions == nullptr ||
+        integer.decimals[0] + integer.decimals[1] + integer.decimals[2] == -3) {
+      // The double path: positions for their stats only, or a quantization with no integer axis.
+      stats.raw.extend(xyz[0], xyz[1], xyz[2]);
+      if (positions) {
+        positions[point] = {quantize(0, xyz[0]), quantize(1, xyz[1]), quantize(2, xyz[2])};
+      }
+    } else {
+      for (int axis = 0; axis < 3; ++axis) {
+        if (have_double[axis]) {
+          stored[axis] = quantize(axis, xyz[axis]);
+          extendAxis(stats.raw, axis, xyz[axis]);
+        } else {
+          lowest[axis] = std::min(lowest[axis], stored[axis]);
+          highest[axis] = std::max(highest[axis], stored[axis]);
+          any_integer = true;
+        }
+      }
+      positions[point] = {stored[0], stored[1], stored[2]};
+    }
     ++point;
     ++result.points;
+  }
+  if (any_integer) {
+    // The extremes of the positions stored from their digits, as world values (on the grid).
+    for (int axis = 0; axis < 3; ++axis) {
+      if (lowest[axis] > highest[axis]) continue;
+      extendAxis(stats.raw, axis, q.toWorld(axis, lowest[axis]));
+      extendAxis(stats.raw, axis, q.toWorld(axis, highest[axis]));
+    }
   }
   result.end = std::size_t(p - text.data());
   return result;
