@@ -2,12 +2,14 @@
 // text), keeping every attribute the target can hold and saying which ones it drops.
 // `parallax convert IN... -o DIR`: builds the level-of-detail octree of one or more point files
 // as a Potree 2.0 directory (lod/potree_converter.h), out of core within --memory.
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,7 @@
 #include "io/las_header.h"
 #include "io/las_writer.h"
 #include "io/point_file.h"
+#include "io/text_writer.h"
 #include "lod/potree_converter.h"
 
 namespace parallax::cli {
@@ -32,12 +35,18 @@ struct ConvertArgs {
   double spacing = 0.0;
   int threads = 0;
   std::vector<std::string> columns;
+  std::vector<std::string> properties;  // PLY and text output: these attributes, in this order
   std::string las_version;
   bool ascii = false;
   bool quiet = false;
 };
 
 int runPotreeConvert(const ConvertArgs& args) {
+  if (!args.properties.empty()) {
+    throw std::invalid_argument(
+        "--properties: a Potree octree holds every attribute in Potree's order; the option is for "
+        "PLY and text outputs");
+  }
   PotreeConvertOptions options;
   parseSamplingMethod(args.sampling, options.build.sampling);
   options.build.spacing = args.spacing;
@@ -104,6 +113,12 @@ int runConvert(ConvertArgs args) {
   PointFormat in_format = detectPointFormat(args.input);
   PointFormat out_format = formatForExtension(args.output);
   if (out_format == PointFormat::Unknown) throwUnknownOutput(args.output);  // before the read
+  if (!args.properties.empty() &&
+      (out_format == PointFormat::Las || textOptionsForPath(args.output).pts)) {
+    throw std::invalid_argument("--properties: " + args.output +
+                                " has a fixed record layout (LAS, PTS); the option is for PLY "
+                                "and text outputs");
+  }
   PointCloud cloud;
   {
     std::optional<TerminalProgress> progress;
@@ -118,6 +133,21 @@ int runConvert(ConvertArgs args) {
 
   std::vector<std::string> losses = describeWriteLosses(
       cloud, args.output, {.ply_ascii = args.ascii, .las_minor_version = minor});
+  if (!args.properties.empty()) {
+    std::vector<std::string> kept;
+    try {
+      kept = cloud.attributeOrder(args.properties);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("--properties: ") + e.what());
+    }
+    std::string left_out;
+    for (const std::string& name : cloud.attributeNames()) {
+      if (std::find(kept.begin(), kept.end(), name) == kept.end()) {
+        left_out += (left_out.empty() ? "" : " ") + name;
+      }
+    }
+    if (!left_out.empty()) losses.push_back(left_out + " (not in --properties)");
+  }
   LasHeader source_header;
   bool from_las = in_format == PointFormat::Las;
   if (from_las) {
@@ -151,7 +181,10 @@ int runConvert(ConvertArgs args) {
     writeLas(cloud, args.output, options);
   } else {
     writePointFile(cloud, args.output,
-                   {.progress = sink, .ply_ascii = args.ascii, .las_minor_version = minor});
+                   {.progress = sink,
+                    .ply_ascii = args.ascii,
+                    .las_minor_version = minor,
+                    .properties = args.properties});
   }
   if (progress) progress->finish();
   if (!args.quiet) std::fprintf(stderr, "wrote %s\n", args.output.c_str());
@@ -191,6 +224,10 @@ Command addConvertCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--columns", args->columns,
                   "Text input: the columns' names, e.g. x,y,z,r,g,b (_ skips a column)")
+      ->delimiter(',');
+  sub->add_option("--properties", args->properties,
+                  "PLY and text output: the attributes to write, in this order, e.g. "
+                  "x,y,z,red,green,blue,nx,ny,nz (default: all, in the input's order)")
       ->delimiter(',');
   sub->add_option("--las-version", args->las_version,
                   "LAS output: 1.2 or 1.4 (default: 1.2 unless the attributes need 1.4)")

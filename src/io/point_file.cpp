@@ -173,15 +173,22 @@ void writePointFile(const PointCloud& cloud, const std::filesystem::path& path,
     case PointFormat::Ply:
       writePly(cloud, path,
                {.format = options.ply_ascii ? PlyFormat::Ascii : PlyFormat::BinaryLittleEndian,
-                .progress = options.progress});
+                .progress = options.progress,
+                .properties = options.properties});
       return;
     case PointFormat::Las:
+      if (!options.properties.empty()) {
+        throw std::invalid_argument(path.string() +
+                                    ": LAS records have a fixed layout, no attribute order to "
+                                    "choose");
+      }
       writeLas(cloud, path,
                {.minor_version = options.las_minor_version, .progress = options.progress});
       return;
     case PointFormat::Text: {
       TextWriteOptions text = textOptionsForPath(path);
       text.progress = options.progress;
+      text.properties = options.properties;
       writeText(cloud, path, text);
       return;
     }

@@ -57,6 +57,10 @@ struct PointWriteOptions {
   Progress* progress = nullptr;
   bool ply_ascii = false;     // PLY: ascii instead of binary little endian
   int las_minor_version = 0;  // LAS: 2 or 4; 0 chooses from the attributes (see las_writer.h)
+  // PLY and text (not PTS): the attributes to write, in this order (PointCloud::attributeOrder);
+  // empty: all, in the source's order. LAS records have a fixed layout: a non-empty list is an
+  // InputError there.
+  std::vector<std::string> properties;
 };
 
 // What writing `cloud` to `path` would drop or change: one short phrase each ("alpha (LAS has no

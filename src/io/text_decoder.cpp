@@ -450,6 +450,14 @@ PointCloud allocateTextCloud(const Layout& layout, std::uint64_t count) {
   }
   cloud.source.position = ScalarType::Float64;
   cloud.source.intensity = ScalarType::Float32;
+  static const char* const kModelNames[] = {
+      "",      "x",  "y",  "z",  "red",       "green",         "blue",
+      "alpha", "nx", "ny", "nz", "intensity", "classification"};
+  for (const ColumnSpec& spec : layout.columns) {
+    if (spec.target == Target::Skip) continue;
+    cloud.source.order.push_back(spec.target == Target::Scalar ? spec.name
+                                                               : kModelNames[int(spec.target)]);
+  }
   return cloud;
 }
 
