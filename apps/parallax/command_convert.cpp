@@ -18,6 +18,7 @@
 #include "core/progress.h"
 #include "io/las_header.h"
 #include "io/las_writer.h"
+#include "io/partial_output.h"
 #include "io/point_file.h"
 #include "io/text_writer.h"
 #include "lod/potree_converter.h"
@@ -39,7 +40,30 @@ struct ConvertArgs {
   std::string las_version;
   bool ascii = false;
   bool quiet = false;
+  bool clean =
+      false;  // --clean: remove the output's stale partial outputs (and stop without inputs)
 };
+
+// Removes what killed conversions to `output` left (io/partial_output.h) and says so, unless quiet.
+void cleanPartialOutputs(const std::string& output, bool quiet) {
+  const PartialCleanup cleanup = removeStalePartialOutputs(output);
+  if (quiet) return;
+  for (const PartialOutput& partial : cleanup.removed) {
+    std::fprintf(stderr, "removed %s, left by a killed conversion (process %d is gone): %s\n",
+                 partial.path.string().c_str(), int(partial.pid),
+                 formatBytes(partial.bytes).c_str());
+  }
+  for (const PartialOutput& partial : cleanup.running) {
+    std::fprintf(stderr, "left %s: process %d is still running (%s so far)\n",
+                 partial.path.string().c_str(), int(partial.pid),
+                 formatBytes(partial.bytes).c_str());
+  }
+  if (!cleanup.removed.empty()) {
+    std::fprintf(stderr, "freed %llu bytes (%s) of partial outputs\n",
+                 static_cast<unsigned long long>(cleanup.freed_bytes),
+                 formatBytes(cleanup.freed_bytes).c_str());
+  }
+}
 
 int runPotreeConvert(const ConvertArgs& args) {
   if (!args.properties.empty()) {
@@ -59,6 +83,7 @@ int runPotreeConvert(const ConvertArgs& args) {
   }
   std::vector<ConvertInput> inputs;
   for (const std::string& input : args.inputs) inputs.push_back({input, args.columns});
+  cleanPartialOutputs(args.output, args.quiet);
   const PotreeConvertResult result = convertToPotree(inputs, args.output, options);
   if (!args.quiet) {
     std::fprintf(stderr,
@@ -101,6 +126,13 @@ bool isOctreeOutput(const ConvertArgs& args) {
 }
 
 int runConvert(ConvertArgs args) {
+  if (args.inputs.empty()) {
+    if (!args.clean) {
+      throw std::invalid_argument("convert: no input (give point files, or --clean -o OUTPUT)");
+    }
+    cleanPartialOutputs(args.output, args.quiet);
+    return 0;
+  }
   if (isOctreeOutput(args)) return runPotreeConvert(args);
   if (args.inputs.size() != 1) {
     throw InputError({.file = args.output,
@@ -119,6 +151,7 @@ int runConvert(ConvertArgs args) {
                                 " has a fixed record layout (LAS, PTS); the option is for PLY "
                                 "and text outputs");
   }
+  cleanPartialOutputs(args.output, args.quiet);
   PointCloud cloud;
   {
     std::optional<TerminalProgress> progress;
@@ -202,8 +235,7 @@ Command addConvertCommand(CLI::App& app) {
       "a Potree 2.0 octree directory");
   sub->add_option("input", args->inputs,
                   "Input point files (format detected from their content); several only for a "
-                  "Potree directory, where they are merged")
-      ->required();
+                  "Potree directory, where they are merged");
   sub->add_option("-o,--output", args->output,
                   "Output file, its extension picks the format (.ply .las .xyz .txt .csv .asc "
                   ".pts), or a Potree 2.0 octree directory: a name ending in '/', an existing "
@@ -234,6 +266,10 @@ Command addConvertCommand(CLI::App& app) {
       ->check(CLI::IsMember({"1.2", "1.4"}));
   sub->add_flag("--ascii", args->ascii, "PLY output: ascii instead of binary little endian");
   sub->add_flag("-q,--quiet", args->quiet, "No progress or report on stderr");
+  sub->add_flag("--clean", args->clean,
+                "Remove the partial outputs killed conversions to -o OUTPUT left (hidden "
+                ".OUTPUT.partial-PID), whose process is gone, and say how much that freed; "
+                "without inputs, only that (every conversion does it first anyway)");
   command.subcommand = sub;
   command.run = [args] { return runConvert(*args); };
   return command;

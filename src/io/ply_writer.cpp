@@ -8,7 +8,7 @@
 // same bits (the contract in ply_writer.h).
 #include "io/ply_writer.h"
 
-#include <unistd.h>
+#include "io/partial_output.h"
 
 #include <atomic>
 #include <bit>
@@ -302,18 +302,11 @@ char* printField(char* out, const PointCloud& cloud, const Field& field, std::si
   return out;
 }
 
-std::atomic<std::uint64_t> temp_counter{0};
-
 std::filesystem::path temporaryPathFor(const std::filesystem::path& path) {
   // Beside the target (same file system, so the final rename is atomic), hidden, and unique per
-  // process and writer so that two writers of the same target never share a temporary.
-  std::string name = ".";
-  name += path.filename().string();
-  name += ".partial-";
-  name += std::to_string(::getpid());
-  name += '-';
-  name += std::to_string(temp_counter.fetch_add(1));
-  return path.parent_path() / name;
+  // process and writer so that two writers of the same target never share a temporary
+  // (partial_output.h: the next conversion removes it if this process is killed).
+  return newPartialFilePath(path);
 }
 
 [[noreturn]] void throwSystemError(const std::string& what, const std::filesystem::path& path,

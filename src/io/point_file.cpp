@@ -1,7 +1,5 @@
 #include "io/point_file.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
@@ -15,6 +13,7 @@
 #include "io/las_reader.h"
 #include "io/las_writer.h"
 #include "io/mapped_file.h"
+#include "io/partial_output.h"
 #include "io/ply_header.h"
 #include "io/ply_reader.h"
 #include "io/ply_writer.h"
@@ -206,8 +205,8 @@ void writePointFile(const PointCloud& cloud, const std::filesystem::path& path,
 }
 
 OutputFile::OutputFile(const std::filesystem::path& path) : path_(path) {
-  temp_ = path;
-  temp_ += ".tmp-" + std::to_string(::getpid());
+  // A hidden ".NAME.partial-PID-N" beside the target (partial_output.h), unique per writer.
+  temp_ = newPartialFilePath(path);
   file_ = std::fopen(temp_.c_str(), "wb");
   if (file_ == nullptr) fail("cannot create");
   std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);

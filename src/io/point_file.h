@@ -75,8 +75,9 @@ std::vector<std::string> describeWriteLosses(const PointCloud& cloud,
 void writePointFile(const PointCloud& cloud, const std::filesystem::path& path,
                     const PointWriteOptions& options = {});
 
-// A file written under a temporary name beside `path` and renamed over it by `commit()`; if it is
-// destroyed uncommitted (an exception), the temporary file is removed. Errors throw
+// A file written under a temporary name beside `path` (".NAME.partial-PID-N", partial_output.h)
+// and renamed over it by `commit()`; if it is destroyed uncommitted (an exception), the temporary
+// file is removed. Errors throw
 // std::runtime_error with the path and the system's reason.
 class OutputFile {
  public:

@@ -1,7 +1,6 @@
 #include "lod/octree_cache.h"
 
 #include <stdlib.h>
-#include <unistd.h>
 
 #include <cerrno>
 #include <chrono>
@@ -12,6 +11,7 @@
 #include <string>
 #include <system_error>
 
+#include "io/partial_output.h"
 #include "lod/potree_converter.h"
 
 namespace parallax {
@@ -101,11 +101,7 @@ void OctreeLocation::abandon() const noexcept {
     return;
   }
   // The converter's temporary name (lod/potree_converter.h).
-  std::string partial = ".";
-  partial += directory_.filename().string();
-  partial += ".partial-";
-  partial += std::to_string(::getpid());
-  std::filesystem::remove_all(directory_.parent_path() / partial, ignored);
+  std::filesystem::remove_all(partialOutputPath(directory_), ignored);
 }
 
 bool OctreeLocation::complete() const {

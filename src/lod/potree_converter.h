@@ -12,7 +12,9 @@
 //
 // The directory is written under a temporary sibling name (".NAME.partial-PID") and renamed to
 // `output` only when complete; on failure the temporary directory is removed. An interrupted
-// process (killed) leaves only the temporary name, never a directory that looks complete.
+// process (killed) leaves only the temporary name, never a directory that looks complete, and
+// the next conversion to the same output removes it (io/partial_output.h) when its process is
+// gone.
 #pragma once
 
 #include <cstdint>
@@ -20,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "io/partial_output.h"
 #include "lod/convert_stages.h"
 #include "lod/octree_build_options.h"
 
@@ -41,6 +44,9 @@ struct PotreeConvertResult {
   std::uint64_t octree_bytes = 0;
   double seconds_scan = 0, seconds_count = 0, seconds_distribute = 0, seconds_build = 0,
          seconds_total = 0;
+  // Partial outputs of earlier, killed conversions to the same target, removed before this one
+  // started (those of running processes are left).
+  PartialCleanup cleanup;
 };
 
 // Throws InputError for unreadable or malformed inputs and when `output` exists and is not a
