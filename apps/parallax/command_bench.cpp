@@ -33,6 +33,7 @@
 #include "core/error.h"
 #include "core/point_cloud.h"
 #include "io/point_file.h"
+#include "progress_options.h"
 
 namespace parallax::cli {
 namespace {
@@ -104,6 +105,7 @@ struct Times {
 struct LoadOptions {
   std::string file;
   int repeat = 5;
+  bool quiet = false;  // no progress bar (the figures are the result: printed)
 };
 
 int runBenchLoad(const LoadOptions& options) {
@@ -115,6 +117,8 @@ int runBenchLoad(const LoadOptions& options) {
 
   Times load, reference;
   std::uint64_t points = 0, columns = 0;
+  // Advanced between the timed parts only, so that drawing it is never inside a measurement.
+  auto progress = progressBar(options.quiet, "bench load", std::uint64_t(options.repeat), "loads");
   for (int i = 0; i < options.repeat; ++i) {
     // Interleaved, so that drift in the machine's load (shared cores) hits both alike.
     auto start = Clock::now();
@@ -127,7 +131,10 @@ int runBenchLoad(const LoadOptions& options) {
     load.seconds.push_back(secondsSince(start));
     points = cloud.count;
     columns = columnBytes(cloud);
+    cloud = PointCloud();
+    if (progress) progress->advance(1);
   }
+  progress.reset();  // its last line before the figures
 
   const double mb = double(file_bytes) / 1e6;
   const double load_median = load.median(), reference_median = reference.median();
@@ -158,6 +165,7 @@ Command addBenchLoadCommand(CLI::App& bench) {
       ->add_option("--repeat,-n", options->repeat, "Loads to time (median and best are shown)")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  addQuietFlag(*command.subcommand, options->quiet);
   command.run = [options] { return runBenchLoad(*options); };
   return command;
 }

@@ -22,6 +22,7 @@
 #include "io/point_file.h"
 #include "io/text_writer.h"
 #include "lod/potree_converter.h"
+#include "progress_options.h"
 
 namespace parallax::cli {
 namespace {
@@ -76,11 +77,7 @@ int runPotreeConvert(const ConvertArgs& args) {
   options.build.spacing = args.spacing;
   options.build.memory_bytes = args.memory_mb << 20;
   options.build.threads = args.threads;
-  if (!args.quiet) {
-    options.progress = [](const std::string& stage, std::uint64_t total) {
-      return std::make_unique<TerminalProgress>(stage, total);
-    };
-  }
+  options.progress = stageBars(args.quiet);
   std::vector<ConvertInput> inputs;
   for (const std::string& input : args.inputs) inputs.push_back({input, args.columns});
   cleanPartialOutputs(args.output, args.quiet);
@@ -154,11 +151,8 @@ int runConvert(ConvertArgs args) {
   cleanPartialOutputs(args.output, args.quiet);
   PointCloud cloud;
   {
-    std::optional<TerminalProgress> progress;
-    if (!args.quiet)
-      progress.emplace("reading", 0, in_format == PointFormat::Text ? "bytes" : "points");
-    cloud = readPointFile(
-        args.input, {.progress = progress ? &*progress : nullptr, .text_columns = args.columns});
+    const auto progress = readingBar(args.quiet, "reading", args.input);
+    cloud = readPointFile(args.input, {.progress = progress.get(), .text_columns = args.columns});
   }
   int minor = 0;
   if (args.las_version == "1.2") minor = 2;
@@ -198,9 +192,8 @@ int runConvert(ConvertArgs args) {
     }
   }
 
-  std::optional<TerminalProgress> progress;
-  if (!args.quiet) progress.emplace("writing", cloud.count);
-  Progress* sink = progress ? &*progress : nullptr;
+  const auto progress = progressBar(args.quiet, "writing", cloud.count);
+  Progress* sink = progress.get();
   if (out_format == PointFormat::Las) {
     LasWriteOptions options{.minor_version = minor, .progress = sink};
     if (from_las) {
@@ -265,7 +258,7 @@ Command addConvertCommand(CLI::App& app) {
                   "LAS output: 1.2 or 1.4 (default: 1.2 unless the attributes need 1.4)")
       ->check(CLI::IsMember({"1.2", "1.4"}));
   sub->add_flag("--ascii", args->ascii, "PLY output: ascii instead of binary little endian");
-  sub->add_flag("-q,--quiet", args->quiet, "No progress or report on stderr");
+  addQuietFlag(*sub, args->quiet);
   sub->add_flag("--clean", args->clean,
                 "Remove the partial outputs killed conversions to -o OUTPUT left (hidden "
                 ".OUTPUT.partial-PID), whose process is gone, and say how much that freed; "

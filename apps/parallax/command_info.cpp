@@ -43,6 +43,7 @@
 #include "io/ply_header.h"
 #include "io/point_file.h"
 #include "lod/potree_reader.h"
+#include "progress_options.h"
 
 namespace parallax::cli {
 namespace {
@@ -486,6 +487,7 @@ int runPotreeInfo(const std::filesystem::path& path, bool json) {
 struct InfoOptions {
   std::string file;
   bool json = false;
+  bool quiet = false;  // no loading bar (the description is the command's result: printed)
 };
 
 int runInfo(const InfoOptions& options) {
@@ -501,9 +503,9 @@ int runInfo(const InfoOptions& options) {
 
   PointCloud cloud;
   {
-    TerminalProgress progress("loading " + path.filename().string(), 0);
+    const auto progress = readingBar(options.quiet, "loading " + path.filename().string(), path);
     PointReadOptions read_options;
-    read_options.progress = &progress;
+    read_options.progress = progress.get();
     const auto start = std::chrono::steady_clock::now();
     cloud = readPointFile(path, read_options);
     load.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -535,6 +537,7 @@ Command addInfoCommand(CLI::App& app) {
       ->required();
   command.subcommand->add_flag("--json", options->json,
                                "Print one JSON object (points, bounds, attributes, ...)");
+  addQuietFlag(*command.subcommand, options->quiet);
   command.run = [options] { return runInfo(*options); };
   return command;
 }

@@ -102,6 +102,8 @@ text::SampledQuantization firstQuantization(const BodyPlan& plan) {
 PointCloud readAll(std::string_view bytes, const std::string& file, const TextReadOptions& options,
                    const MappedFile* mapping) {
   const Layout layout = text::detectLayout(bytes, file, options.columns, options.pts);
+  // Progress is by bytes: the header's count too, so that the whole file adds up to its size.
+  if (options.progress) options.progress->advance(std::min(layout.body_offset, bytes.size()));
   const BodyPlan plan = text::planBody(bytes, layout, file, mapping, options.parallel);
   const text::SampledQuantization used = firstQuantization(plan);
   PointCloud cloud = text::allocateTextCloud(layout, plan.points);
