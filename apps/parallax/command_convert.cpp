@@ -16,6 +16,7 @@
 #include "commands.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "io/coordinate_system.h"
 #include "io/las_header.h"
 #include "io/las_writer.h"
 #include "io/partial_output.h"
@@ -82,6 +83,12 @@ int runPotreeConvert(const ConvertArgs& args) {
   for (const std::string& input : args.inputs) inputs.push_back({input, args.columns});
   cleanPartialOutputs(args.output, args.quiet);
   const PotreeConvertResult result = convertToPotree(inputs, args.output, options);
+  if (!args.quiet && !result.crs.empty()) {
+    std::fprintf(stderr, "coordinate reference system %s: %s\n", result.crs.summary().c_str(),
+                 potreeProjection(result.crs.description).empty()
+                     ? "not in metadata.json \"projection\" (a user-defined CRS has no name there)"
+                     : "written as metadata.json \"projection\"");
+  }
   if (!args.quiet) {
     std::fprintf(stderr,
                  "wrote %s: Potree 2.0, %llu points, %zu nodes (depth %d) from %zu chunks, "
@@ -176,12 +183,23 @@ int runConvert(ConvertArgs args) {
     if (!left_out.empty()) losses.push_back(left_out + " (not in --properties)");
   }
   LasHeader source_header;
+  CoordinateSystem crs;  // travels into a LAS output
   bool from_las = in_format == PointFormat::Las;
   if (from_las) {
     source_header = readLasHeader(args.input);
-    if (!source_header.crs.empty() && out_format != PointFormat::Las) {
-      losses.push_back("the coordinate reference system (" + source_header.crs.summary() +
+    crs = coordinateSystemOf(source_header);
+    if (!crs.empty() && out_format != PointFormat::Las) {
+      losses.push_back("the coordinate reference system (" + crs.summary() +
                        "): " + pointFormatName(out_format) + " has no place for it");
+    }
+    // A WKT CRS is LAS 1.4's (global encoding bit 4): chosen unless 1.2 was asked for.
+    if (out_format == PointFormat::Las && !crs.description.wkt.empty()) {
+      if (minor == 0) minor = 4;
+      if (minor == 2) {
+        losses.push_back(
+            "the WKT coordinate reference system is copied, but LAS 1.2 has no "
+            "flag to say it is WKT (use --las-version 1.4)");
+      }
     }
   }
   if (!args.quiet) {
@@ -198,9 +216,7 @@ int runConvert(ConvertArgs args) {
     LasWriteOptions options{.minor_version = minor, .progress = sink};
     if (from_las) {
       // Keep the CRS records and the GPS time type of a LAS source.
-      for (const LasVlr& vlr : source_header.vlrs) {
-        if (vlr.user_id == "LASF_Projection" && !vlr.data.empty()) options.vlrs.push_back(vlr);
-      }
+      options.vlrs = crs.records;
       options.gps_time_standard = source_header.gpsTimeIsStandard();
       options.file_source_id = source_header.file_source_id;
     }

@@ -396,6 +396,19 @@ Json potreeRange(const std::vector<double>& values) {
   return out;
 }
 
+// One line for metadata.json's "projection": a WKT's name ("NAD83 / UTM zone 15N (WKT)"), a
+// proj4 string or EPSG code as it is, "none" when empty.
+std::string describeProjection(const std::string& projection) {
+  if (projection.empty()) return "none";
+  const auto bracket = projection.find('[');
+  const auto quote = projection.find('"');
+  if (bracket != std::string::npos && quote != std::string::npos && bracket < quote) {
+    const auto end = projection.find('"', quote + 1);
+    if (end != std::string::npos) return projection.substr(quote + 1, end - quote - 1) + " (WKT)";
+  }
+  return projection;
+}
+
 int runPotreeInfo(const std::filesystem::path& path, bool json) {
   const auto start = std::chrono::steady_clock::now();
   std::unique_ptr<Octree> octree = openPotree(path);
@@ -438,6 +451,7 @@ int runPotreeInfo(const std::filesystem::path& path, bool json) {
                   {"depth", depth},
                   {"declared_depth", metadata.hierarchy.depth},
                   {"spacing", metadata.spacing},
+                  {"projection", metadata.projection},
                   {"cube", {{"min", triple(info.cube.min)}, {"max", triple(info.cube.max)}}},
                   {"potree_attributes", attributes}};
   if (json) {
@@ -478,6 +492,7 @@ int runPotreeInfo(const std::filesystem::path& path, bool json) {
   std::printf("              max %s\n", formatTriple(info.cube.max).c_str());
   std::printf("quantization  scale %s offset %s\n", formatTriple(info.quantization.scale).c_str(),
               formatTriple(info.quantization.offset).c_str());
+  std::printf("projection    %s\n", describeProjection(metadata.projection).c_str());
   std::printf("attributes   ");
   for (const auto& name : info.attributes) std::printf(" %s", name.c_str());
   std::printf("\nopen          %.3f s (metadata and the whole hierarchy)\n", load.seconds);

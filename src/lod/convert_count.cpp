@@ -52,10 +52,27 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
   // Opened once each: a text stream parses its positions first to choose its quantization, which
   // the later passes are given (input_quantizations) instead of parsing them again.
   std::vector<std::unique_ptr<PointStream>> streams;
+  std::filesystem::path crs_source;
   for (const ConvertInput& input : inputs) {
     streams.push_back(std::make_unique<PointStream>(input.path, input.text_columns));
     total += streams.back()->pointCount();
     plan.input_quantizations.push_back(streams.back()->quantization());
+    // The CRS travels into the octree; merged inputs must not disagree on it (a file that
+    // states none is taken to share the others').
+    const CoordinateSystem& crs = streams.back()->crs();
+    if (crs.empty()) continue;
+    if (plan.crs.empty()) {
+      plan.crs = crs;
+      crs_source = input.path;
+    } else if (!plan.crs.sameAs(crs)) {
+      throw InputError({.file = input.path.string(),
+                        .expected = "the coordinate reference system of " + crs_source.string() +
+                                    " (" + plan.crs.summary() + ")",
+                        .found = crs.summary(),
+                        .hint = "inputs in different coordinate systems cannot be merged into "
+                                "one octree: reproject them first (e.g. pdal translate with "
+                                "filters.reprojection)"});
+    }
   }
   // A first guess of the record size for the batch size (the layout is known after the scan).
   plan.batch_points = std::clamp<std::uint64_t>(options.memory_bytes / 8 / 128, 4096, 4u << 20);

@@ -28,6 +28,7 @@
 #include "core/bounds.h"
 #include "core/point_cloud.h"
 #include "core/progress.h"
+#include "io/coordinate_system.h"
 #include "lod/octree_build_options.h"
 #include "lod/potree_hierarchy_writer.h"
 #include "lod/potree_layout.h"
@@ -49,6 +50,8 @@ class PointStream {
 
   std::uint64_t pointCount() const;
   const Quantization& quantization() const;
+  // The file's coordinate reference system (LAS: its projection records; PLY, text: none).
+  const CoordinateSystem& crs() const;
   // The next at most `max_points` points; false at the end.
   bool next(PointCloud& batch, std::size_t max_points);
 
@@ -79,6 +82,7 @@ struct ConvertPlan {
   double spacing = 0.0;
   Quantization quantization;                      // of the output positions
   std::vector<Quantization> input_quantizations;  // each input's, as its first stream chose it
+  CoordinateSystem crs;  // the inputs' (those that state one must agree); empty: none stated
   PotreeLayout layout;
   AttributeStats stats;                  // filled by distribute
   std::uint64_t batch_points = 0;        // points read at a time

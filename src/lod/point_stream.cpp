@@ -12,6 +12,7 @@ namespace parallax {
 
 struct PointStream::State {
   std::variant<PlyChunkReader, LasChunkReader, TextChunkReader> reader;
+  CoordinateSystem crs;
 };
 
 namespace {
@@ -41,7 +42,11 @@ PointStream::State openStream(const std::filesystem::path& path,
 PointStream::PointStream(const std::filesystem::path& path,
                          const std::vector<std::string>& text_columns,
                          const Quantization* quantization)
-    : state_(std::make_unique<State>(openStream(path, text_columns, quantization))) {}
+    : state_(std::make_unique<State>(openStream(path, text_columns, quantization))) {
+  if (const auto* las = std::get_if<LasChunkReader>(&state_->reader)) {
+    state_->crs = coordinateSystemOf(las->header());
+  }
+}
 PointStream::~PointStream() = default;
 
 std::uint64_t PointStream::pointCount() const {
@@ -51,6 +56,10 @@ std::uint64_t PointStream::pointCount() const {
 const Quantization& PointStream::quantization() const {
   return std::visit([](const auto& r) -> const Quantization& { return r.quantization(); },
                     state_->reader);
+}
+
+const CoordinateSystem& PointStream::crs() const {
+  return state_->crs;
 }
 
 bool PointStream::next(PointCloud& batch, std::size_t max_points) {

@@ -53,7 +53,7 @@ nlohmann::json metadataJson(const ConvertPlan& plan, const EncodedHierarchy& hie
           {"name", name},
           {"description", ""},
           {"points", plan.points},
-          {"projection", ""},
+          {"projection", potreeProjection(plan.crs.description)},
           {"hierarchy",
            {{"firstChunkSize", hierarchy.first_chunk_size},
             {"stepSize", 4},
@@ -137,6 +137,7 @@ PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
   temp.release();
 
   result.points = plan.points;
+  result.crs = plan.crs;
   result.nodes = entries.size();
   result.chunks = plan.chunks.size();
   result.depth = hierarchy.depth;

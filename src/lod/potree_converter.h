@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "io/coordinate_system.h"
 #include "io/partial_output.h"
 #include "lod/convert_stages.h"
 #include "lod/octree_build_options.h"
@@ -47,6 +48,7 @@ struct PotreeConvertResult {
   // Partial outputs of earlier, killed conversions to the same target, removed before this one
   // started (those of running processes are left).
   PartialCleanup cleanup;
+  CoordinateSystem crs;  // the inputs', written as metadata.json "projection" (empty: none)
 };
 
 // Throws InputError for unreadable or malformed inputs and when `output` exists and is not a
