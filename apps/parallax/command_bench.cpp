@@ -37,6 +37,7 @@
 #include "core/error.h"
 #include "core/point_cloud.h"
 #include "io/point_file.h"
+#include "progress_options.h"
 
 namespace parallax::cli {
 namespace {
@@ -109,6 +110,7 @@ struct LoadOptions {
   std::string file;
   int repeat = 5;
   int threads = 0;  // 0: every core
+  bool quiet = false;  // no progress bar (the figures are the result: printed)
 };
 
 // CPU seconds (user + system) of the whole process so far.
@@ -132,6 +134,8 @@ int runBenchLoad(const LoadOptions& options) {
   }
   Times load, reference, load_cpu;
   std::uint64_t points = 0, columns = 0;
+  // Advanced between the timed parts only, so that drawing it is never inside a measurement.
+  auto progress = progressBar(options.quiet, "bench load", std::uint64_t(options.repeat), "loads");
   for (int i = 0; i < options.repeat; ++i) {
     // Interleaved, so that drift in the machine's load (shared cores) hits both alike.
     auto start = Clock::now();
@@ -146,7 +150,10 @@ int runBenchLoad(const LoadOptions& options) {
     load_cpu.seconds.push_back(cpuSeconds() - cpu_start);
     points = cloud.count;
     columns = columnBytes(cloud);
+    cloud = PointCloud();
+    if (progress) progress->advance(1);
   }
+  progress.reset();  // its last line before the figures
 
   const double mb = double(file_bytes) / 1e6;
   const double load_median = load.median(), reference_median = reference.median();
@@ -187,6 +194,7 @@ Command addBenchLoadCommand(CLI::App& bench) {
       ->add_option("--threads", options->threads,
                    "Threads the load may use (default 0: every core; 1 gives a per-core figure)")
       ->check(CLI::Range(0, 1024));
+  addQuietFlag(*command.subcommand, options->quiet);
   command.run = [options] { return runBenchLoad(*options); };
   return command;
 }

@@ -23,6 +23,7 @@
 
 #include "commands.h"
 #include "lod/potree_converter.h"
+#include "progress_options.h"
 
 namespace parallax::cli {
 namespace {
@@ -33,6 +34,7 @@ struct BenchConvertOptions {
   std::uint64_t memory_mb = 2048;
   int threads = 0;
   std::string work = "";
+  bool quiet = false;  // no stage bars (the figures are the result: printed)
 };
 
 double peakResidentMb() {
@@ -62,6 +64,7 @@ int runBenchConvert(const BenchConvertOptions& args) {
   parseSamplingMethod(args.sampling, options.build.sampling);
   options.build.memory_bytes = args.memory_mb << 20;
   options.build.threads = args.threads;
+  options.progress = stageBars(args.quiet);
   const int cores = args.threads > 0 ? args.threads : tbb::info::default_concurrency();
   const std::filesystem::path work =
       args.work.empty() ? std::filesystem::temp_directory_path() : std::filesystem::path(args.work);
@@ -124,6 +127,7 @@ Command addBenchConvertCommand(CLI::App& bench) {
   command.subcommand->add_option("--threads", options->threads, "Threads (0: all cores)");
   command.subcommand->add_option("--work", options->work,
                                  "Folder for the temporary output (default: the temp folder)");
+  addQuietFlag(*command.subcommand, options->quiet);
   command.run = [options] { return runBenchConvert(*options); };
   return command;
 }

@@ -2,22 +2,29 @@
 // LAZ, text), keeping every attribute the target can hold and saying which ones it drops.
 // `parallax convert IN... -o DIR`: builds the level-of-detail octree of one or more point files
 // as a Potree 2.0 directory (lod/potree_converter.h), out of core within --memory.
+#include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "commands.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "io/coordinate_system.h"
 #include "io/las_header.h"
 #include "io/las_writer.h"
 #include "io/laz_writer.h"
+#include "io/partial_output.h"
 #include "io/point_file.h"
+#include "io/text_writer.h"
 #include "lod/potree_converter.h"
+#include "progress_options.h"
 
 namespace parallax::cli {
 namespace {
@@ -32,26 +39,58 @@ struct ConvertArgs {
   double spacing = 0.0;
   int threads = 0;
   std::vector<std::string> columns;
+  std::vector<std::string> properties;  // PLY and text output: these attributes, in this order
   std::string las_version;
   std::uint32_t laz_chunk = 50000;
   bool ascii = false;
   bool quiet = false;
+  bool clean =
+      false;  // --clean: remove the output's stale partial outputs (and stop without inputs)
 };
 
+// Removes what killed conversions to `output` left (io/partial_output.h) and says so, unless quiet.
+void cleanPartialOutputs(const std::string& output, bool quiet) {
+  const PartialCleanup cleanup = removeStalePartialOutputs(output);
+  if (quiet) return;
+  for (const PartialOutput& partial : cleanup.removed) {
+    std::fprintf(stderr, "removed %s, left by a killed conversion (process %d is gone): %s\n",
+                 partial.path.string().c_str(), int(partial.pid),
+                 formatBytes(partial.bytes).c_str());
+  }
+  for (const PartialOutput& partial : cleanup.running) {
+    std::fprintf(stderr, "left %s: process %d is still running (%s so far)\n",
+                 partial.path.string().c_str(), int(partial.pid),
+                 formatBytes(partial.bytes).c_str());
+  }
+  if (!cleanup.removed.empty()) {
+    std::fprintf(stderr, "freed %llu bytes (%s) of partial outputs\n",
+                 static_cast<unsigned long long>(cleanup.freed_bytes),
+                 formatBytes(cleanup.freed_bytes).c_str());
+  }
+}
+
 int runPotreeConvert(const ConvertArgs& args) {
+  if (!args.properties.empty()) {
+    throw std::invalid_argument(
+        "--properties: a Potree octree holds every attribute in Potree's order; the option is for "
+        "PLY and text outputs");
+  }
   PotreeConvertOptions options;
   parseSamplingMethod(args.sampling, options.build.sampling);
   options.build.spacing = args.spacing;
   options.build.memory_bytes = args.memory_mb << 20;
   options.build.threads = args.threads;
-  if (!args.quiet) {
-    options.progress = [](const std::string& stage, std::uint64_t total) {
-      return std::make_unique<TerminalProgress>(stage, total);
-    };
-  }
+  options.progress = stageBars(args.quiet);
   std::vector<ConvertInput> inputs;
   for (const std::string& input : args.inputs) inputs.push_back({input, args.columns});
+  cleanPartialOutputs(args.output, args.quiet);
   const PotreeConvertResult result = convertToPotree(inputs, args.output, options);
+  if (!args.quiet && !result.crs.empty()) {
+    std::fprintf(stderr, "coordinate reference system %s: %s\n", result.crs.summary().c_str(),
+                 potreeProjection(result.crs.description).empty()
+                     ? "not in metadata.json \"projection\" (a user-defined CRS has no name there)"
+                     : "written as metadata.json \"projection\"");
+  }
   if (!args.quiet) {
     std::fprintf(stderr,
                  "wrote %s: Potree 2.0, %llu points, %zu nodes (depth %d) from %zu chunks, "
@@ -65,33 +104,64 @@ int runPotreeConvert(const ConvertArgs& args) {
   return 0;
 }
 
+// An octree (Potree 2.0 directory) is written for --format potree, for a name ending in '/', for
+// an existing directory, and for a name without extension; a point file for a known extension.
+bool isOctreeOutput(const ConvertArgs& args) {
+  if (!args.format.empty()) return args.format == "potree";
+  const std::filesystem::path output(args.output);
+  if (!args.output.empty() && args.output.back() == '/') return true;
+  std::error_code ignored;
+  if (std::filesystem::is_directory(output, ignored)) return true;
+  return formatForExtension(output) == PointFormat::Unknown && !output.has_extension();
+}
+
+[[noreturn]] void throwUnknownOutput(const std::string& output) {
+  const std::filesystem::path path(output);
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = char(std::tolower(static_cast<unsigned char>(c)));
+  const std::string octree = path.stem().string() + extension + "/";
+  throw InputError(
+      {.file = output,
+       .expected = "an output name ending in .ply, .las, .xyz, .txt, .csv, .asc or .pts, or a "
+                   "Potree 2.0 octree directory (--format potree, a name ending in '/', an "
+                   "existing directory, or a name without extension)",
+       .found = "'" + path.extension().string() + "'",
+       .hint = extension == ".laz"
+                   ? "Parallax writes uncompressed LAS: write .las and compress it with `laszip`"
+                   : "for an octree, add --format potree (or write -o " + octree + ")"});
+}
+
 int runConvert(ConvertArgs args) {
-  const bool to_potree =
-      args.format == "potree" ||
-      (args.format.empty() && formatForExtension(args.output) == PointFormat::Unknown &&
-       !std::filesystem::path(args.output).has_extension());
-  if (to_potree) return runPotreeConvert(args);
+  if (args.inputs.empty()) {
+    if (!args.clean) {
+      throw std::invalid_argument("convert: no input (give point files, or --clean -o OUTPUT)");
+    }
+    cleanPartialOutputs(args.output, args.quiet);
+    return 0;
+  }
+  if (isOctreeOutput(args)) return runPotreeConvert(args);
   if (args.inputs.size() != 1) {
     throw InputError({.file = args.output,
                       .expected = "one input when converting to a point file",
                       .found = std::to_string(args.inputs.size()) + " inputs",
-                      .hint = "several inputs merge only into a Potree directory (an output "
-                              "without extension, or --format potree)"});
+                      .hint = "several inputs merge only into a Potree directory (--format "
+                              "potree, or an output name ending in '/')"});
   }
   args.input = args.inputs.front();
   PointFormat in_format = detectPointFormat(args.input);
   PointFormat out_format = formatForExtension(args.output);
-  if (out_format == PointFormat::Unknown) {
-    // writePointFile reports the supported extensions; fail before the (long) read.
-    writePointFile(PointCloud{}, args.output);
+  if (out_format == PointFormat::Unknown) throwUnknownOutput(args.output);  // before the read
+  if (!args.properties.empty() &&
+      (out_format == PointFormat::Las || textOptionsForPath(args.output).pts)) {
+    throw std::invalid_argument("--properties: " + args.output +
+                                " has a fixed record layout (LAS, PTS); the option is for PLY "
+                                "and text outputs");
   }
+  cleanPartialOutputs(args.output, args.quiet);
   PointCloud cloud;
   {
-    std::optional<TerminalProgress> progress;
-    if (!args.quiet)
-      progress.emplace("reading", 0, in_format == PointFormat::Text ? "bytes" : "points");
-    cloud = readPointFile(
-        args.input, {.progress = progress ? &*progress : nullptr, .text_columns = args.columns});
+    const auto progress = readingBar(args.quiet, "reading", args.input);
+    cloud = readPointFile(args.input, {.progress = progress.get(), .text_columns = args.columns});
   }
   int minor = 0;
   if (args.las_version == "1.2") minor = 2;
@@ -99,14 +169,40 @@ int runConvert(ConvertArgs args) {
 
   std::vector<std::string> losses = describeWriteLosses(
       cloud, args.output, {.ply_ascii = args.ascii, .las_minor_version = minor});
+  if (!args.properties.empty()) {
+    std::vector<std::string> kept;
+    try {
+      kept = cloud.attributeOrder(args.properties);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("--properties: ") + e.what());
+    }
+    std::string left_out;
+    for (const std::string& name : cloud.attributeNames()) {
+      if (std::find(kept.begin(), kept.end(), name) == kept.end()) {
+        left_out += (left_out.empty() ? "" : " ") + name;
+      }
+    }
+    if (!left_out.empty()) losses.push_back(left_out + " (not in --properties)");
+  }
   LasHeader source_header;
+  CoordinateSystem crs;  // travels into a LAS or LAZ output
   bool from_las = in_format == PointFormat::Las || in_format == PointFormat::Laz;
   if (from_las) {
     source_header = readLasHeader(args.input);
-    if (!source_header.crs.empty() && out_format != PointFormat::Las &&
-        out_format != PointFormat::Laz) {
-      losses.push_back("the coordinate reference system (" + source_header.crs.summary() +
+    crs = coordinateSystemOf(source_header);
+    if (!crs.empty() && out_format != PointFormat::Las && out_format != PointFormat::Laz) {
+      losses.push_back("the coordinate reference system (" + crs.summary() +
                        "): " + pointFormatName(out_format) + " has no place for it");
+    }
+    // A WKT CRS is LAS 1.4's (global encoding bit 4): chosen unless 1.2 was asked for.
+    if ((out_format == PointFormat::Las || out_format == PointFormat::Laz) &&
+        !crs.description.wkt.empty()) {
+      if (minor == 0) minor = 4;
+      if (minor == 2) {
+        losses.push_back(
+            "the WKT coordinate reference system is copied, but LAS 1.2 has no "
+            "flag to say it is WKT (use --las-version 1.4)");
+      }
     }
   }
   if (!args.quiet) {
@@ -117,16 +213,13 @@ int runConvert(ConvertArgs args) {
     }
   }
 
-  std::optional<TerminalProgress> progress;
-  if (!args.quiet) progress.emplace("writing", cloud.count);
-  Progress* sink = progress ? &*progress : nullptr;
+  const auto progress = progressBar(args.quiet, "writing", cloud.count);
+  Progress* sink = progress.get();
   if (out_format == PointFormat::Las || out_format == PointFormat::Laz) {
     LasWriteOptions options{.minor_version = minor, .progress = sink};
     if (from_las) {
       // Keep the CRS records and the GPS time type of a LAS source.
-      for (const LasVlr& vlr : source_header.vlrs) {
-        if (vlr.user_id == "LASF_Projection" && !vlr.data.empty()) options.vlrs.push_back(vlr);
-      }
+      options.vlrs = crs.records;
       options.gps_time_standard = source_header.gpsTimeIsStandard();
       options.file_source_id = source_header.file_source_id;
     }
@@ -137,7 +230,10 @@ int runConvert(ConvertArgs args) {
     }
   } else {
     writePointFile(cloud, args.output,
-                   {.progress = sink, .ply_ascii = args.ascii, .las_minor_version = minor});
+                   {.progress = sink,
+                    .ply_ascii = args.ascii,
+                    .las_minor_version = minor,
+                    .properties = args.properties});
   }
   if (progress) progress->finish();
   if (!args.quiet) std::fprintf(stderr, "wrote %s\n", args.output.c_str());
@@ -155,13 +251,14 @@ Command addConvertCommand(CLI::App& app) {
       "a Potree 2.0 octree directory");
   sub->add_option("input", args->inputs,
                   "Input point files (format detected from their content); several only for a "
-                  "Potree directory, where they are merged")
-      ->required();
+                  "Potree directory, where they are merged");
   sub->add_option("-o,--output", args->output,
                   "Output file, its extension picks the format (.ply .las .laz .xyz .txt .csv "
-                  ".asc .pts), or a directory (no extension): a Potree 2.0 octree")
+                  ".asc .pts), or a Potree 2.0 octree directory: a name ending in '/', an "
+                  "existing directory, a name without extension, or --format potree")
       ->required();
-  sub->add_option("--format", args->format, "Force the output format: potree")
+  sub->add_option("--format", args->format,
+                  "potree: write a Potree 2.0 octree directory whatever the output's name")
       ->check(CLI::IsMember({"potree"}));
   sub->add_option("--memory", args->memory_mb, "Potree output: memory budget in MB (default 2048)")
       ->check(CLI::Range(std::uint64_t(16), std::uint64_t(1) << 24));
@@ -176,6 +273,10 @@ Command addConvertCommand(CLI::App& app) {
   sub->add_option("--columns", args->columns,
                   "Text input: the columns' names, e.g. x,y,z,r,g,b (_ skips a column)")
       ->delimiter(',');
+  sub->add_option("--properties", args->properties,
+                  "PLY and text output: the attributes to write, in this order, e.g. "
+                  "x,y,z,red,green,blue,nx,ny,nz (default: all, in the input's order)")
+      ->delimiter(',');
   sub->add_option("--las-version", args->las_version,
                   "LAS output: 1.2 or 1.4 (default: 1.2 unless the attributes need 1.4)")
       ->check(CLI::IsMember({"1.2", "1.4"}));
@@ -183,7 +284,11 @@ Command addConvertCommand(CLI::App& app) {
                   "LAZ output: points a chunk (default 50000, LASzip's)")
       ->check(CLI::Range(std::uint32_t(1), std::uint32_t(100'000'000)));
   sub->add_flag("--ascii", args->ascii, "PLY output: ascii instead of binary little endian");
-  sub->add_flag("-q,--quiet", args->quiet, "No progress or report on stderr");
+  addQuietFlag(*sub, args->quiet);
+  sub->add_flag("--clean", args->clean,
+                "Remove the partial outputs killed conversions to -o OUTPUT left (hidden "
+                ".OUTPUT.partial-PID), whose process is gone, and say how much that freed; "
+                "without inputs, only that (every conversion does it first anyway)");
   command.subcommand = sub;
   command.run = [args] { return runConvert(*args); };
   return command;

@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "core/progress.h"
+#include "progress_options.h"
 #include "synth/scene_generator.h"
 
 namespace parallax::cli {
@@ -19,6 +20,7 @@ Command addGenerateCommand(CLI::App& app) {
     std::string format_name = "binary";
     std::uint64_t seed = 1;
     int threads = 0;
+    bool quiet = false;
   };
   auto options = std::make_shared<Options>();
   Command command;
@@ -41,6 +43,7 @@ Command addGenerateCommand(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--threads", options->threads, "worker threads (0: all cores)")
       ->capture_default_str();
+  addQuietFlag(*sub, options->quiet);
 
   command.run = [options] {
     synth::GenerateOptions generate;
@@ -56,10 +59,11 @@ Command addGenerateCommand(CLI::App& app) {
     synth::SceneGenerator check(generate.scene);
     synth::GenerateStats stats;
     {
-      TerminalProgress progress("generate", options->points);
-      generate.progress = &progress;
+      const auto progress = progressBar(options->quiet, "generate", options->points);
+      generate.progress = progress.get();
       stats = synth::generatePly(options->output, generate);
     }
+    if (options->quiet) return 0;
     double rate = stats.seconds > 0 ? double(stats.points) / stats.seconds / 1e6 : 0.0;
     std::printf("%s: %llu points, %llu bytes in %.2f s (%.2f M points/s)\n",
                 options->output.c_str(), static_cast<unsigned long long>(stats.points),

@@ -44,6 +44,7 @@
 #include "io/ply_header.h"
 #include "io/point_file.h"
 #include "lod/potree_reader.h"
+#include "progress_options.h"
 
 namespace parallax::cli {
 namespace {
@@ -424,6 +425,19 @@ Json potreeRange(const std::vector<double>& values) {
   return out;
 }
 
+// One line for metadata.json's "projection": a WKT's name ("NAD83 / UTM zone 15N (WKT)"), a
+// proj4 string or EPSG code as it is, "none" when empty.
+std::string describeProjection(const std::string& projection) {
+  if (projection.empty()) return "none";
+  const auto bracket = projection.find('[');
+  const auto quote = projection.find('"');
+  if (bracket != std::string::npos && quote != std::string::npos && bracket < quote) {
+    const auto end = projection.find('"', quote + 1);
+    if (end != std::string::npos) return projection.substr(quote + 1, end - quote - 1) + " (WKT)";
+  }
+  return projection;
+}
+
 int runPotreeInfo(const std::filesystem::path& path, bool json) {
   const auto start = std::chrono::steady_clock::now();
   std::unique_ptr<Octree> octree = openPotree(path);
@@ -466,6 +480,7 @@ int runPotreeInfo(const std::filesystem::path& path, bool json) {
                   {"depth", depth},
                   {"declared_depth", metadata.hierarchy.depth},
                   {"spacing", metadata.spacing},
+                  {"projection", metadata.projection},
                   {"cube", {{"min", triple(info.cube.min)}, {"max", triple(info.cube.max)}}},
                   {"potree_attributes", attributes}};
   if (json) {
@@ -506,6 +521,7 @@ int runPotreeInfo(const std::filesystem::path& path, bool json) {
   std::printf("              max %s\n", formatTriple(info.cube.max).c_str());
   std::printf("quantization  scale %s offset %s\n", formatTriple(info.quantization.scale).c_str(),
               formatTriple(info.quantization.offset).c_str());
+  std::printf("projection    %s\n", describeProjection(metadata.projection).c_str());
   std::printf("attributes   ");
   for (const auto& name : info.attributes) std::printf(" %s", name.c_str());
   std::printf("\nopen          %.3f s (metadata and the whole hierarchy)\n", load.seconds);
@@ -515,6 +531,7 @@ int runPotreeInfo(const std::filesystem::path& path, bool json) {
 struct InfoOptions {
   std::string file;
   bool json = false;
+  bool quiet = false;  // no loading bar (the description is the command's result: printed)
 };
 
 int runInfo(const InfoOptions& options) {
@@ -530,9 +547,9 @@ int runInfo(const InfoOptions& options) {
 
   PointCloud cloud;
   {
-    TerminalProgress progress("loading " + path.filename().string(), 0);
+    const auto progress = readingBar(options.quiet, "loading " + path.filename().string(), path);
     PointReadOptions read_options;
-    read_options.progress = &progress;
+    read_options.progress = progress.get();
     const auto start = std::chrono::steady_clock::now();
     cloud = readPointFile(path, read_options);
     load.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -564,6 +581,7 @@ Command addInfoCommand(CLI::App& app) {
       ->required();
   command.subcommand->add_flag("--json", options->json,
                                "Print one JSON object (points, bounds, attributes, ...)");
+  addQuietFlag(*command.subcommand, options->quiet);
   command.run = [options] { return runInfo(*options); };
   return command;
 }

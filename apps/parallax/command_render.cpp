@@ -5,11 +5,11 @@
 // --height. quad-buffer needs a stereo window: headless, it falls back to sbs with a message.
 //
 // INPUT may be a Potree 2.0 directory: its octree is streamed through a LodScene (render/
-// lod_scene.h) within --budget points, and each picture waits for every node it selects. A PLY or
-// LAS file with more points than --budget is converted to such an octree first (kept in the
-// user's cache, or --cache-dir, for the next run; --no-cache: a temporary folder), unless
-// --preview asks for a picture of an even sample at once (PLY, LAS, LAZ; the budget's worth of
-// points, at most kPreviewPoints).
+// lod_scene.h) within --budget points, and each picture waits for every node it selects. A PLY,
+// LAS, LAZ or text file with more points than --budget (lod/large_file.h) is converted to such
+// an octree first (kept in the user's cache, or --cache-dir, for the next run; --no-cache: a
+// temporary folder), unless --preview asks for a picture of an even sample at once (PLY, LAS,
+// LAZ; the budget's worth of points, at most kPreviewPoints).
 //
 // Prints the time from start to PNG broken down into load, context, upload, draw and write, on
 // stderr (stdout stays free for scripts).
@@ -29,7 +29,10 @@
 #include "core/progress.h"
 #include "io/ply_preview.h"
 #include "io/point_file.h"
+#include "lod/large_file.h"
+#include "lod/octree_cache.h"
 #include "lod/potree_reader.h"
+#include "progress_options.h"
 #include "render/camera_path.h"
 #include "render/gl_context.h"
 #include "render/image_file.h"
@@ -39,7 +42,6 @@
 #include "render/stereo.h"
 #include "render/view_extent.h"
 #include "render_options.h"
-#include "viewer/large_cloud.h"
 
 namespace parallax::cli {
 namespace {
@@ -78,6 +80,7 @@ struct RenderCommandOptions {
   std::string path_file;
   int frames = 0;
   bool preview = false;
+  bool quiet = false;  // no progress bar, no report on stderr
   RenderOptions render;
   LodOptions lod;
 };
@@ -101,9 +104,10 @@ RenderSource openSource(const RenderCommandOptions& o) {
     source.octree = openPotree(o.input);
     return source;
   }
-  const std::optional<std::uint64_t> points = headerPointCount(o.input);
-  if (!points || *points <= o.lod.budget) {
-    source.cloud = readPointFile(o.input);  // today's path, every point drawn
+  const std::optional<std::uint64_t> points = pointsOverBudget(o.input, o.lod.budget);
+  if (!points) {
+    const auto progress = readingBar(o.quiet, "loading", o.input);
+    source.cloud = readPointFile(o.input, {.progress = progress.get()});  // every point drawn
     return source;
   }
   if (o.preview) {
@@ -119,19 +123,19 @@ RenderSource openSource(const RenderCommandOptions& o) {
   source.location = std::make_unique<OctreeLocation>(o.input, cache);
   const std::string directory = source.location->directory().string();
   if (source.location->complete()) {
-    std::fprintf(stderr,
-                 "parallax render: %llu points, over the budget of %llu: using the octree in %s\n",
-                 static_cast<unsigned long long>(*points),
-                 static_cast<unsigned long long>(o.lod.budget), directory.c_str());
+    if (!o.quiet)
+      std::fprintf(
+          stderr, "parallax render: %llu points, over the budget of %llu: using the octree in %s\n",
+          static_cast<unsigned long long>(*points), static_cast<unsigned long long>(o.lod.budget),
+          directory.c_str());
   } else {
-    std::fprintf(stderr,
-                 "parallax render: %llu points, over the budget of %llu: converting to an octree "
-                 "in %s\n",
-                 static_cast<unsigned long long>(*points),
-                 static_cast<unsigned long long>(o.lod.budget), directory.c_str());
-    ensureOctree(*source.location, cache.build, [](const std::string& stage, std::uint64_t total) {
-      return std::make_unique<TerminalProgress>(stage, total);
-    });
+    if (!o.quiet)
+      std::fprintf(stderr,
+                   "parallax render: %llu points, over the budget of %llu: converting to an octree "
+                   "in %s\n",
+                   static_cast<unsigned long long>(*points),
+                   static_cast<unsigned long long>(o.lod.budget), directory.c_str());
+    ensureOctree(*source.location, cache.build, stageBars(o.quiet));
   }
   source.octree_dir = source.location->directory();
   source.octree = openPotree(source.octree_dir);
@@ -167,9 +171,10 @@ int runRender(const RenderCommandOptions& o) {
 
   StereoSettings stereo = stereoSettingsFrom(o.render);
   if (stereo.mode == StereoMode::QuadBuffer) {
-    std::fprintf(stderr,
-                 "parallax render: quad-buffer stereo needs a window with a stereo (GL_STEREO) "
-                 "visual, and a headless render has none: falling back to sbs (side by side)\n");
+    if (!o.quiet)
+      std::fprintf(stderr,
+                   "parallax render: quad-buffer stereo needs a window with a stereo (GL_STEREO) "
+                   "visual, and a headless render has none: falling back to sbs (side by side)\n");
     stereo.mode = StereoMode::SideBySide;
   }
   const double aspect = double(o.width) / o.height;
@@ -215,6 +220,7 @@ int runRender(const RenderCommandOptions& o) {
     write_s += secondsSince(phase);
   }
   const double total_s = secondsSince(start);
+  if (o.quiet) return 0;
   if (stereo.mode != StereoMode::Mono) {
     const StereoSettings used = resolvedStereo(stereo, cameras.front());
     std::fprintf(stderr, "parallax render: stereo %s, eye separation %g, convergence %g%s\n",
@@ -273,6 +279,7 @@ Command addRenderCommand(CLI::App& app) {
       "A PLY, LAS or LAZ file over --budget: draw an even sample (at most the budget, at most 1 M "
       "points) at once "
       "instead of converting it to an octree");
+  addQuietFlag(*sub, options->quiet);
   addRenderOptions(*sub, options->render);
   addLodOptions(*sub, options->lod);
   command.subcommand = sub;

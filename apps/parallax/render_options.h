@@ -7,12 +7,12 @@
 #include <string>
 #include <vector>
 
+#include "lod/octree_cache.h"
 #include "render/camera.h"
 #include "render/lod_scene.h"
 #include "render/render_settings.h"
 #include "render/stereo.h"
 #include "render/view_extent.h"
-#include "viewer/large_cloud.h"
 
 namespace parallax::cli {
 

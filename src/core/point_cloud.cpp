@@ -3,8 +3,10 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 
 namespace parallax {
 
@@ -70,6 +72,72 @@ std::vector<std::string> PointCloud::attributeNames() const {
   if (hasClassification()) names.push_back("classification");
   for (const auto& column : scalars) names.push_back(column.name);
   return names;
+}
+
+namespace {
+
+// The attributes that travel together: a colour channel the source did not name goes beside the
+// ones it did.
+int groupOf(const std::string& name) {
+  if (name == "x" || name == "y" || name == "z") return 1;
+  if (name == "red" || name == "green" || name == "blue" || name == "alpha") return 2;
+  if (name == "nx" || name == "ny" || name == "nz") return 3;
+  return 0;
+}
+
+std::string joinNames(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) text += (text.empty() ? "" : ",") + name;
+  return text;
+}
+
+}  // namespace
+
+std::vector<std::string> PointCloud::attributeOrder(const std::vector<std::string>& chosen) const {
+  const std::vector<std::string> names = attributeNames();
+  const auto indexIn = [](const std::vector<std::string>& list, const std::string& name) {
+    return std::size_t(std::find(list.begin(), list.end(), name) - list.begin());
+  };
+  if (!chosen.empty()) {
+    for (std::size_t i = 0; i < chosen.size(); ++i) {
+      if (indexIn(names, chosen[i]) == names.size()) {
+        throw std::invalid_argument("no attribute '" + chosen[i] + "' (there are " +
+                                    joinNames(names) + ")");
+      }
+      if (indexIn(chosen, chosen[i]) != i) {
+        throw std::invalid_argument("attribute '" + chosen[i] + "' named twice");
+      }
+    }
+    for (const char* axis : {"x", "y", "z"}) {
+      if (indexIn(chosen, axis) == chosen.size()) {
+        throw std::invalid_argument(std::string("the attributes must include ") + axis +
+                                    " (x, y and z are the point)");
+      }
+    }
+    return chosen;
+  }
+  // Rank: the source's position; an attribute it does not name goes right after the last of its
+  // group it does name, else after everything (both in attributeNames()'s order).
+  const std::vector<std::string>& order = source.order;
+  std::vector<std::pair<double, std::size_t>> ranked;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    double rank = double(order.size() + 1) + double(i) / double(names.size());
+    const std::size_t at = indexIn(order, names[i]);
+    if (at < order.size()) {
+      rank = double(at);
+    } else if (const int group = groupOf(names[i]); group != 0) {
+      for (std::size_t j = 0; j < order.size(); ++j) {
+        if (groupOf(order[j]) == group && indexIn(names, order[j]) < names.size()) {
+          rank = double(j) + 0.5 + double(i) / double(4 * names.size());
+        }
+      }
+    }
+    ranked.emplace_back(rank, i);
+  }
+  std::stable_sort(ranked.begin(), ranked.end());
+  std::vector<std::string> out;
+  for (const auto& [rank, i] : ranked) out.push_back(names[i]);
+  return out;
 }
 
 const ScalarColumn* PointCloud::findScalar(const std::string& name) const {

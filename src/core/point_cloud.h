@@ -62,6 +62,10 @@ struct SourceTypes {
   ScalarType intensity = ScalarType::Float32;
   ScalarType classification = ScalarType::UInt8;
   bool has_alpha = false;
+  // The attributes in the order the source holds them, under attributeNames()'s names (a PLY of
+  // x y z nx ny nz red green blue: exactly that), so that writers give the file back in its own
+  // order. Empty when the source has no order of its own to keep (LAS, generated clouds).
+  std::vector<std::string> order;
 };
 
 struct PointCloud {
@@ -89,6 +93,13 @@ struct PointCloud {
   // "x y z", then "red green blue [alpha]", "nx ny nz", "intensity", "classification", then the
   // scalar columns' names: the attributes a user sees in `info`.
   std::vector<std::string> attributeNames() const;
+
+  // attributeNames() in the order a writer puts them: `chosen` when given (a subset of
+  // attributeNames() holding x, y and z, in the order wanted), else the source's order
+  // (source.order; attributes it does not name follow their group, or go last). Throws
+  // std::invalid_argument naming an unknown or repeated name, or a missing x, y or z, with the
+  // names there are.
+  std::vector<std::string> attributeOrder(const std::vector<std::string>& chosen = {}) const;
 
   const ScalarColumn* findScalar(const std::string& name) const;
 

@@ -111,6 +111,29 @@ inline const char* parseSimpleDecimal(const char* p, const char* end, double& ou
   return p;
 }
 
+// The parts of a number "[+-]digits[.digits]" of at most 15 significant digits, without making
+// a double of it: value = (negative ? -1 : 1) * mantissa / 10^fraction. The text readers store
+// positions with a decimal scale as integers from these parts (no division, no rounding). Returns
+// nullptr for anything else, or when fewer than 8 bytes follow the number (callers then take
+// the double path).
+inline const char* parseDecimalParts(const char* p, const char* end, std::uint64_t& mantissa,
+                                     bool& negative, int& fraction) {
+  negative = false;
+  if (p != end && (*p == '-' || *p == '+')) negative = *p++ == '-';
+  mantissa = 0;
+  int digits = 0;
+  fraction = 0;
+  if (!digitRun(p, end, mantissa, digits)) return nullptr;
+  if (*p == '.') {
+    ++p;
+    const int integer_digits = digits;
+    if (!digitRun(p, end, mantissa, digits)) return nullptr;
+    fraction = digits - integer_digits;
+  }
+  if (digits == 0 || digits > 15 || *p == 'e' || *p == 'E') return nullptr;
+  return p;
+}
+
 // True when float(d) is the float nearest to every real within half a double ulp of d: d is a
 // normal float-range value whose 29 bits below float precision are not within one of the
 // midpoint pattern. Then the correctly rounded double of a decimal rounds to its correct float.

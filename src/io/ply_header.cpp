@@ -1,5 +1,6 @@
 #include "io/ply_header.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cstring>
 #include <string_view>
@@ -46,7 +47,13 @@ class HeaderParser {
       auto words = splitWords(line);
       if (words.empty()) continue;  // tolerated: some writers leave blank header lines
       std::string_view keyword = words[0];
-      if (keyword == "end_header") break;
+      if (keyword == "end_header") {
+        if (words.size() != 1) {
+          fail("'end_header' alone on its line (blanks after it are allowed)",
+               quoteInput(joined(words)));
+        }
+        break;
+      }
       if (keyword == "format") {
         parseFormat(words);
         have_format = true;
@@ -83,11 +90,12 @@ class HeaderParser {
                       .hint = std::move(hint)});
   }
 
+  // The first line is "ply". Exporters in the wild add blanks after it ("ply " from some
+  // Python writers, "ply\t"), or end it with CR LF; rply, PDAL and CloudCompare take all of
+  // these, so we do too. Anything else on the line is a broken header.
   void checkMagic() {
-    std::string_view start = text_.substr(0, 4);
-    bool ok =
-        start.size() >= 4 && start.substr(0, 3) == "ply" && (start[3] == '\n' || start[3] == '\r');
-    if (!ok) {
+    const bool starts_ply = text_.substr(0, 3) == "ply";
+    if (!starts_ply) {
       line_number_ = 1;
       throw InputError({.file = file_,
                         .byte_offset = 0,
@@ -96,7 +104,20 @@ class HeaderParser {
                         .found = text_.empty() ? std::string("an empty file")
                                                : quoteInput(text_.substr(0, 16))});
     }
-    nextLine();
+    const std::size_t limit = std::min(text_.size(), kMaxPlyHeaderBytes);
+    const bool has_lf = std::memchr(text_.data(), '\n', limit) != nullptr;
+    if (!has_lf && text_.substr(0, limit).find('\r') != std::string_view::npos) {
+      line_number_ = 1;
+      fail("header lines ending in LF (or CR LF)", "lines ending in CR alone (classic Mac OS)", "",
+           "", "the header's line ends must be converted to LF");
+    }
+    std::string_view line = nextLine();
+    std::string_view rest = line.substr(3);
+    while (!rest.empty() && isBlank(rest.front())) rest.remove_prefix(1);
+    if (!rest.empty()) {
+      fail("the first line 'ply' (blanks after it are allowed)",
+           quoteInput(line.substr(0, std::min<std::size_t>(line.size(), 40))));
+    }
   }
 
   // The next line without its end (LF or CRLF); throws when the header does not end.

@@ -46,7 +46,7 @@ struct PlyHeader {
   std::vector<PlyElement> elements;
   std::vector<std::string> comments;
   std::vector<std::string> obj_info;
-  std::size_t body_offset = 0;  // first byte after "end_header\n"
+  std::size_t body_offset = 0;  // first byte after the LF ending the end_header line
   std::uint64_t body_line = 0;  // 1-based line number of the body's first line (ascii)
 
   // Index of the element holding the points: "vertex" (or "vertices", "point", "points"),
@@ -60,8 +60,11 @@ constexpr std::size_t kMaxPlyHeaderBytes = 1 << 20;
 
 // Parses the header at the start of `bytes`. Throws InputError naming `file_name` and the header
 // line for: no "ply" magic, an unknown format or version, an unknown type, a property outside an
-// element, a malformed count, a missing end_header, a header over kMaxPlyHeaderBytes. Accepts CRLF
-// line ends, extra spaces and tabs, `comment` and `obj_info` lines.
+// element, a malformed count, a missing end_header, a header over kMaxPlyHeaderBytes, other words
+// on the "ply" or "end_header" line, lines ending in CR alone. Accepts what exporters write: CRLF
+// line ends, spaces and tabs before, between and after the words of every line ("ply " and
+// "end_header\t\r\n" included), blank lines, `comment` and `obj_info` lines. The body starts
+// right after the LF that ends the end_header line.
 PlyHeader parsePlyHeader(std::span<const std::byte> bytes, const std::string& file_name);
 
 // Writes a header (LF line ends) whose body follows directly.

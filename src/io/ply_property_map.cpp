@@ -135,6 +135,15 @@ PointLayout planPointLayout(const PlyElement& element, const std::string& file) 
   if (layout.has_intensity) layout.source.intensity = typeOf(Target::Intensity);
   layout.has_classification = seen[int(Target::Classification)];
   if (layout.has_classification) layout.source.classification = typeOf(Target::Classification);
+  // The file's order, under the model's names (what a writer gives back).
+  static const char* const kModelNames[] = {"x",     "y",    "z",         "red",
+                                            "green", "blue", "alpha",     "nx",
+                                            "ny",    "nz",   "intensity", "classification"};
+  for (const auto& plan : layout.properties) {
+    if (plan.target == Target::Skip) continue;
+    layout.source.order.push_back(plan.target == Target::Scalar ? plan.name
+                                                                : kModelNames[int(plan.target)]);
+  }
   return layout;
 }
 

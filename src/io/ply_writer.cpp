@@ -8,7 +8,7 @@
 // same bits (the contract in ply_writer.h).
 #include "io/ply_writer.h"
 
-#include <unistd.h>
+#include "io/partial_output.h"
 
 #include <atomic>
 #include <bit>
@@ -71,7 +71,9 @@ ScalarType colorType(const SourceTypes& source) {
   }
 }
 
-std::vector<Field> buildFields(const PointCloud& layout) {
+// Every attribute's field, in the order `properties` asks (PointCloud::attributeOrder).
+std::vector<Field> buildFields(const PointCloud& layout,
+                               const std::vector<std::string>& properties) {
   std::vector<Field> fields;
   ScalarType position = positionType(layout.source);
   fields.push_back({FieldSource::PositionX, position, 0, "x"});
@@ -101,7 +103,16 @@ std::vector<Field> buildFields(const PointCloud& layout) {
   for (std::size_t i = 0; i < layout.scalars.size(); ++i) {
     fields.push_back({FieldSource::Scalar, layout.scalars[i].type, i, layout.scalars[i].name});
   }
-  return fields;
+  std::vector<Field> ordered;
+  for (const std::string& name : layout.attributeOrder(properties)) {
+    for (const Field& field : fields) {
+      if (field.name == name) {
+        ordered.push_back(field);
+        break;
+      }
+    }
+  }
+  return ordered;
 }
 
 // Calls f with a value of the C++ type that `type` names (the value itself is unused).
@@ -291,18 +302,11 @@ char* printField(char* out, const PointCloud& cloud, const Field& field, std::si
   return out;
 }
 
-std::atomic<std::uint64_t> temp_counter{0};
-
 std::filesystem::path temporaryPathFor(const std::filesystem::path& path) {
   // Beside the target (same file system, so the final rename is atomic), hidden, and unique per
-  // process and writer so that two writers of the same target never share a temporary.
-  std::string name = ".";
-  name += path.filename().string();
-  name += ".partial-";
-  name += std::to_string(::getpid());
-  name += '-';
-  name += std::to_string(temp_counter.fetch_add(1));
-  return path.parent_path() / name;
+  // process and writer so that two writers of the same target never share a temporary
+  // (partial_output.h: the next conversion removes it if this process is killed).
+  return newPartialFilePath(path);
 }
 
 [[noreturn]] void throwSystemError(const std::string& what, const std::filesystem::path& path,
@@ -418,7 +422,7 @@ PlyStreamWriter::PlyStreamWriter(const std::filesystem::path& path, const PointC
   s.temp_path = temporaryPathFor(path);
   s.total_points = total_points;
   s.options = options;
-  s.fields = buildFields(layout);
+  s.fields = buildFields(layout, options.properties);
   for (const auto& field : s.fields) {
     s.offsets.push_back(s.record_size);
     s.record_size += scalarSize(field.type);

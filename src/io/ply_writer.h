@@ -1,10 +1,11 @@
 // Writing PointClouds as PLY: ascii, binary little or big endian.
 //
-// Columns are written as the point element "vertex" in the types the source had (PointCloud::
-// source), so a file read and written back keeps its layout and values: positions as float or
-// double (world = quantized * scale + offset), colours as uchar (or ushort scaled by 257, or float
-// 0..1), normals nx ny nz, intensity, classification, then every scalar column with its name and
-// type. Ascii output prints each value with the fewest digits that read back to the same bits.
+// Columns are written as the point element "vertex" in the types and the order the source had
+// (PointCloud::source), so a file read and written back keeps its layout and values: positions
+// as float or double (world = quantized * scale + offset), colours as uchar (or ushort scaled by
+// 257, or float 0..1), normals nx ny nz, intensity, classification and every scalar column with
+// its name and type; without a source order (LAS, generated clouds) in that order. Ascii output
+// prints each value with the fewest digits that read back to the same bits.
 #pragma once
 
 #include <cstdint>
@@ -22,6 +23,11 @@ struct PlyWriteOptions {
   PlyFormat format = PlyFormat::BinaryLittleEndian;
   std::vector<std::string> comments;  // written as `comment` lines
   Progress* progress = nullptr;       // advanced by points written
+  // The properties to write, in this order (names as PointCloud::attributeNames gives them; x,
+  // y and z among them); empty: every attribute in the source's order (PointCloud::
+  // attributeOrder). An unknown or repeated name, or a missing x, y or z, throws
+  // std::invalid_argument before anything is written.
+  std::vector<std::string> properties;
 };
 
 // Writes to a temporary file beside `path` and renames it over `path` at the end, so an

@@ -1,11 +1,10 @@
 #include "io/point_file.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <stdexcept>
 #include <utility>
 
@@ -16,6 +15,8 @@
 #include "io/laz_reader.h"
 #include "io/laz_writer.h"
 #include "io/mapped_file.h"
+#include "io/partial_output.h"
+#include "io/ply_header.h"
 #include "io/ply_preview.h"
 #include "io/ply_reader.h"
 #include "io/ply_writer.h"
@@ -32,6 +33,23 @@ std::string lowerExtension(const std::filesystem::path& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });
   return ext;
+}
+
+// The PLY signature: the line "ply", with the blanks some exporters leave after it ("ply ",
+// "ply\t") and a CR before its LF. A first line "ply" followed by other words, above a "format"
+// line, is a PLY file with a broken first line: taken as PLY so that the header parser says
+// what is wrong with it (an unknown format would say nothing useful).
+bool looksLikePly(std::span<const std::byte> bytes) {
+  const std::string_view text(reinterpret_cast<const char*>(bytes.data()),
+                              std::min<std::size_t>(bytes.size(), 256));
+  if (!text.starts_with("ply")) return false;
+  std::size_t i = 3;
+  while (i < text.size() && (text[i] == ' ' || text[i] == '\t' || text[i] == '\r')) ++i;
+  if (i < text.size() && text[i] == '\n') return true;
+  // "ply" and CR alone (old Mac line ends): PLY, which the parser reports as such.
+  if (i > 3 && text[i - 1] == '\r') return true;
+  const std::size_t lf = text.find('\n');
+  return lf != std::string_view::npos && text.substr(lf + 1).starts_with("format");
 }
 
 }  // namespace
@@ -60,11 +78,7 @@ const char* supportedFormatsText() {
 }
 
 PointFormat detectPointFormatFromMemory(std::span<const std::byte> bytes) {
-  const auto* c = reinterpret_cast<const char*>(bytes.data());
-  // "ply" then a line end (LF or CRLF) is the PLY signature.
-  if (bytes.size() >= 4 && std::memcmp(c, "ply", 3) == 0 && (c[3] == '\n' || c[3] == '\r')) {
-    return PointFormat::Ply;
-  }
+  if (looksLikePly(bytes)) return PointFormat::Ply;
   if (hasLasSignature(bytes)) return looksLikeLaz(bytes) ? PointFormat::Laz : PointFormat::Las;
   if (looksLikeTextPoints(bytes)) return PointFormat::Text;
   return PointFormat::Unknown;
@@ -83,6 +97,27 @@ PointFormat detectPointFormat(const std::filesystem::path& path) {
   PointFormat format = detectPointFormatFromMemory(head);
   // A LAS header's VLRs can lie beyond the first 64 KiB; the reader checks LAZ again in full.
   return format;
+}
+
+std::optional<std::uint64_t> headerPointCount(const std::filesystem::path& path) {
+  try {
+    switch (detectPointFormat(path)) {
+      case PointFormat::Ply: {
+        const MappedFile file(path);
+        const PlyHeader header = parsePlyHeader(file.bytes(), path.string());
+        const int element = header.pointElement();
+        if (element < 0) return std::nullopt;
+        return header.elements[std::size_t(element)].count;
+      }
+      case PointFormat::Las:
+      case PointFormat::Laz:
+        return readLasHeader(path).point_count;
+      default:
+        return std::nullopt;
+    }
+  } catch (const std::exception&) {
+    return std::nullopt;  // the ordinary read says what is wrong
+  }
 }
 
 PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptions& options) {
@@ -154,20 +189,29 @@ void writePointFile(const PointCloud& cloud, const std::filesystem::path& path,
     case PointFormat::Ply:
       writePly(cloud, path,
                {.format = options.ply_ascii ? PlyFormat::Ascii : PlyFormat::BinaryLittleEndian,
-                .progress = options.progress});
+                .progress = options.progress,
+                .properties = options.properties});
       return;
     case PointFormat::Las:
+    case PointFormat::Laz:
+      if (!options.properties.empty()) {
+        throw std::invalid_argument(path.string() +
+                                    ": LAS and LAZ records have a fixed layout, no attribute "
+                                    "order to choose");
+      }
+      if (formatForExtension(path) == PointFormat::Laz) {
+        writeLaz(cloud, path,
+                 {.las = {.minor_version = options.las_minor_version, .progress = options.progress},
+                  .chunk_points = options.laz_chunk_points});
+        return;
+      }
       writeLas(cloud, path,
                {.minor_version = options.las_minor_version, .progress = options.progress});
-      return;
-    case PointFormat::Laz:
-      writeLaz(cloud, path,
-               {.las = {.minor_version = options.las_minor_version, .progress = options.progress},
-                .chunk_points = options.laz_chunk_points});
       return;
     case PointFormat::Text: {
       TextWriteOptions text = textOptionsForPath(path);
       text.progress = options.progress;
+      text.properties = options.properties;
       writeText(cloud, path, text);
       return;
     }
@@ -182,8 +226,8 @@ void writePointFile(const PointCloud& cloud, const std::filesystem::path& path,
 }
 
 OutputFile::OutputFile(const std::filesystem::path& path) : path_(path) {
-  temp_ = path;
-  temp_ += ".tmp-" + std::to_string(::getpid());
+  // A hidden ".NAME.partial-PID-N" beside the target (partial_output.h), unique per writer.
+  temp_ = newPartialFilePath(path);
   file_ = std::fopen(temp_.c_str(), "wb");
   if (file_ == nullptr) fail("cannot create");
   std::setvbuf(file_, nullptr, _IOFBF, 1 << 20);

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,13 +23,18 @@ const char* pointFormatName(PointFormat format);
 const char* supportedFormatsText();
 
 // Detects the format from the file's first bytes (magic and header), not from its extension:
-// "ply" + line end is PLY; "LASF" is LAS, or LAZ when the header says LASzip; a file whose first
-// 64 KiB are printable text with a line of at least three numbers is text. Throws InputError when
-// the file cannot be opened.
+// the line "ply" (blanks after it and CR LF allowed) is PLY; "LASF" is LAS, or LAZ when the header
+// says LASzip; a file whose first 64 KiB are printable text with a line of at least three numbers
+// is text. Throws InputError when the file cannot be opened.
 PointFormat detectPointFormat(const std::filesystem::path& path);
 
 // The same for the first bytes of a file held in memory (as many as are at hand; 64 KiB suffice).
 PointFormat detectPointFormatFromMemory(std::span<const std::byte> bytes);
+
+// The point count a PLY or LAS file's header states, read without the points; std::nullopt for
+// text files (no count without reading them: see countTextPoints in text_reader.h) and for
+// anything that cannot be read (the caller's ordinary read reports why).
+std::optional<std::uint64_t> headerPointCount(const std::filesystem::path& path);
 
 struct PointReadOptions {
   Progress* progress = nullptr;  // advanced by points (PLY, LAS) or bytes (text)
@@ -60,6 +66,10 @@ struct PointWriteOptions {
   bool ply_ascii = false;     // PLY: ascii instead of binary little endian
   int las_minor_version = 0;  // LAS, LAZ: 2 or 4; 0 chooses from the attributes (las_writer.h)
   std::uint32_t laz_chunk_points = 50000;  // LAZ: points a chunk (laz_writer.h)
+  // PLY and text (not PTS): the attributes to write, in this order (PointCloud::attributeOrder);
+  // empty: all, in the source's order. LAS and LAZ records have a fixed layout: a non-empty list
+  // is an InputError there.
+  std::vector<std::string> properties;
 };
 
 // What writing `cloud` to `path` would drop or change: one short phrase each ("alpha (LAS has no
@@ -74,8 +84,9 @@ std::vector<std::string> describeWriteLosses(const PointCloud& cloud,
 void writePointFile(const PointCloud& cloud, const std::filesystem::path& path,
                     const PointWriteOptions& options = {});
 
-// A file written under a temporary name beside `path` and renamed over it by `commit()`; if it is
-// destroyed uncommitted (an exception), the temporary file is removed. Errors throw
+// A file written under a temporary name beside `path` (".NAME.partial-PID-N", partial_output.h)
+// and renamed over it by `commit()`; if it is destroyed uncommitted (an exception), the temporary
+// file is removed. Errors throw
 // std::runtime_error with the path and the system's reason.
 class OutputFile {
  public:

@@ -15,15 +15,24 @@
 // intensity or i; classification or class; "_" skips a column; any other name is a scalar column
 // (the LAS names of las_reader.h in their LAS types, anything else as double).
 //
-// Positions: when every x, y, z is written in plain decimal notation with at most 9 decimals
-// (the usual case), the scale is 10^-d per axis (d = most decimals seen) and the offset a whole
-// number near the centre, so each written value is held exactly and a LAS written from it gets
-// the file's own resolution; otherwise chooseQuantization (core/quantization.h). Colours are
-// rounded and clamped to 0..255.
+// Positions: per axis, when every value is written in plain decimal notation with at most 9
+// decimals (the usual case), the scale is 10^-d (d = most decimals seen) and the offset 0, or a
+// whole number near the centre when 0 does not fit, so each written value is held exactly and a
+// LAS written from it gets the file's own resolution; otherwise a power-of-two scale
+// (chooseQuantization, core/quantization.h: from the exact bounds for files of at most 64 Ki
+// points, else from a sample of 4096 lines with a 16x margin, verified). Colours are rounded and
+// clamped to 0..255.
+//
+// Memory: the columns, plus the pages of the input being parsed (the file is mapped and its
+// pages released as blocks are passed). Positions go straight into their int32 columns: the
+// quantization is chosen from a sample of lines taken while the lines are counted, and checked
+// against every position after the parse (text_decoder.h says how it is mended when the sample
+// was wrong).
 #pragma once
 
 #include <cstddef>
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -50,6 +59,36 @@ PointCloud readText(const std::filesystem::path& path, const TextReadOptions& op
 // turns on `pts`).
 PointCloud readTextFromMemory(std::span<const std::byte> bytes, const std::string& name,
                               const TextReadOptions& options = {});
+
+// The number of points (data lines) of a text file, counted without parsing them (the layout is
+// detected as readText does, so comments, a header line and PTS counts are not counted). Throws
+// what readText throws for a file whose first lines are not a text point file.
+std::uint64_t countTextPoints(const std::filesystem::path& path,
+                              const TextReadOptions& options = {});
+
+// Streams the points of a text file in chunks, in file order, holding one chunk and the pages of
+// the input it is parsing. The quantization is fixed before the first chunk: given, or the exact
+// choice of readText, from a first pass that parses the positions alone (text has no header to
+// say it). Only `columns` and `pts` of the options are used.
+class TextChunkReader {
+ public:
+  // Throws InputError as readText does for the layout; `quantization`, when given, is used for
+  // every chunk (a point outside it is an InputError).
+  explicit TextChunkReader(const std::filesystem::path& path, const TextReadOptions& options = {},
+                           const Quantization* quantization = nullptr);
+  ~TextChunkReader();
+  TextChunkReader(TextChunkReader&&) noexcept;
+
+  std::uint64_t pointCount() const;
+  const Quantization& quantization() const;
+  // Replaces `chunk` with the next at most `max_points` points (`max_points` > 0); false (and an
+  // empty chunk) at the end. Throws InputError for a bad line (its number and column).
+  bool next(PointCloud& chunk, std::size_t max_points);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 // True when `bytes` (the start of a file) look like a text point file: no control bytes other
 // than blanks and line ends in the first 64 KiB, and a line of at least three numbers.

@@ -6,6 +6,10 @@
 #include <charconv>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "io/point_file.h"
 
@@ -64,52 +68,111 @@ void appendScalar(std::string& out, const ScalarColumn& column, std::size_t i) {
   }
 }
 
+// One written column: which attribute, and for a scalar which column.
+enum class Field {
+  X,
+  Y,
+  Z,
+  Red,
+  Green,
+  Blue,
+  Alpha,
+  Nx,
+  Ny,
+  Nz,
+  Intensity,
+  Classification,
+  Scalar
+};
+
+struct WrittenColumn {
+  Field field;
+  std::size_t scalar = 0;
+};
+
 struct Plan {
   char delimiter;
-  bool pts;
   std::optional<int> decimals[3];
-  bool colors, alpha, normals, intensity, classification, scalars;
+  std::vector<WrittenColumn> columns;
+  std::vector<std::string> names;  // the header line's
 };
+
+WrittenColumn columnFor(const PointCloud& cloud, const std::string& name) {
+  static const std::pair<const char*, Field> kNames[] = {{"x", Field::X},
+                                                         {"y", Field::Y},
+                                                         {"z", Field::Z},
+                                                         {"red", Field::Red},
+                                                         {"green", Field::Green},
+                                                         {"blue", Field::Blue},
+                                                         {"alpha", Field::Alpha},
+                                                         {"nx", Field::Nx},
+                                                         {"ny", Field::Ny},
+                                                         {"nz", Field::Nz},
+                                                         {"intensity", Field::Intensity},
+                                                         {"classification", Field::Classification}};
+  for (std::size_t i = 0; i < cloud.scalars.size(); ++i) {
+    if (cloud.scalars[i].name == name) return {Field::Scalar, i};
+  }
+  for (const auto& [text, field] : kNames) {
+    if (name == text) return {field, 0};
+  }
+  return {Field::Scalar, 0};  // cannot happen: names come from attributeOrder
+}
 
 void formatBlock(const PointCloud& cloud, const Plan& plan, std::size_t first, std::size_t n,
                  std::string& out) {
   out.clear();
   const char sep = plan.delimiter;
   for (std::size_t i = first; i < first + n; ++i) {
-    const Int3& p = cloud.positions[i];
-    const std::int32_t q[3] = {p.x, p.y, p.z};
-    for (int axis = 0; axis < 3; ++axis) {
-      if (axis) out += sep;
-      double world = cloud.quantization.toWorld(axis, q[axis]);
-      if (plan.decimals[axis]) {
-        appendFixed(out, world, *plan.decimals[axis]);
-      } else {
-        append(out, world);
-      }
-    }
-    if (plan.intensity && plan.pts) {
-      out += sep;
-      append(out, cloud.intensity[i]);
-    }
-    if (plan.colors) {
-      const Rgba8& c = cloud.colors[i];
-      out += sep, append(out, unsigned(c.r));
-      out += sep, append(out, unsigned(c.g));
-      out += sep, append(out, unsigned(c.b));
-      if (plan.alpha) out += sep, append(out, unsigned(c.a));
-    }
-    if (!plan.pts) {
-      if (plan.normals) {
-        const Float3& v = cloud.normals[i];
-        out += sep, append(out, v.x);
-        out += sep, append(out, v.y);
-        out += sep, append(out, v.z);
-      }
-      if (plan.intensity) out += sep, append(out, cloud.intensity[i]);
-      if (plan.classification) out += sep, append(out, unsigned(cloud.classification[i]));
-      for (const ScalarColumn& column : cloud.scalars) {
-        out += sep;
-        appendScalar(out, column, i);
+    bool first_column = true;
+    for (const WrittenColumn& column : plan.columns) {
+      if (!first_column) out += sep;
+      first_column = false;
+      switch (column.field) {
+        case Field::X:
+        case Field::Y:
+        case Field::Z: {
+          const int axis = int(column.field) - int(Field::X);
+          const Int3& p = cloud.positions[i];
+          const std::int32_t q = axis == 0 ? p.x : axis == 1 ? p.y : p.z;
+          const double world = cloud.quantization.toWorld(axis, q);
+          if (plan.decimals[axis]) {
+            appendFixed(out, world, *plan.decimals[axis]);
+          } else {
+            append(out, world);
+          }
+          break;
+        }
+        case Field::Red:
+          append(out, unsigned(cloud.colors[i].r));
+          break;
+        case Field::Green:
+          append(out, unsigned(cloud.colors[i].g));
+          break;
+        case Field::Blue:
+          append(out, unsigned(cloud.colors[i].b));
+          break;
+        case Field::Alpha:
+          append(out, unsigned(cloud.colors[i].a));
+          break;
+        case Field::Nx:
+          append(out, cloud.normals[i].x);
+          break;
+        case Field::Ny:
+          append(out, cloud.normals[i].y);
+          break;
+        case Field::Nz:
+          append(out, cloud.normals[i].z);
+          break;
+        case Field::Intensity:
+          append(out, cloud.intensity[i]);
+          break;
+        case Field::Classification:
+          append(out, unsigned(cloud.classification[i]));
+          break;
+        case Field::Scalar:
+          appendScalar(out, cloud.scalars[column.scalar], i);
+          break;
       }
     }
     out += '\n';
@@ -144,25 +207,32 @@ std::vector<std::string> describeTextLosses(const PointCloud& cloud,
 void writeText(const PointCloud& cloud, const std::filesystem::path& path,
                const TextWriteOptions& options) {
   Plan plan{};
-  plan.pts = options.pts;
   plan.delimiter = options.pts ? ' ' : options.delimiter;
   for (int axis = 0; axis < 3; ++axis)
     plan.decimals[axis] = decimalsOf(cloud.quantization.scale[std::size_t(axis)]);
-  plan.colors = cloud.hasColors();
-  plan.alpha = cloud.hasColors() && cloud.source.has_alpha && !options.pts;
-  plan.normals = cloud.hasNormals();
-  plan.intensity = cloud.hasIntensity();
-  plan.classification = cloud.hasClassification();
+  if (options.pts) {
+    // PTS: x y z [intensity] [r g b], whatever the order asked.
+    if (!options.properties.empty()) {
+      throw std::invalid_argument(
+          "PTS has a fixed layout (x y z intensity r g b): no order to "
+          "choose");
+    }
+    plan.names = {"x", "y", "z"};
+    if (cloud.hasIntensity()) plan.names.push_back("intensity");
+    if (cloud.hasColors()) plan.names.insert(plan.names.end(), {"red", "green", "blue"});
+  } else {
+    plan.names = cloud.attributeOrder(options.properties);
+  }
+  for (const std::string& name : plan.names) plan.columns.push_back(columnFor(cloud, name));
 
   OutputFile out(path);
   if (options.pts) {
     out.write(std::to_string(cloud.count) + "\n");
   } else if (options.header) {
-    std::vector<std::string> names = cloud.attributeNames();
     std::string line;
-    for (std::size_t i = 0; i < names.size(); ++i) {
+    for (std::size_t i = 0; i < plan.names.size(); ++i) {
       if (i) line += plan.delimiter;
-      line += names[i];
+      line += plan.names[i];
     }
     out.write(line + "\n");
   }

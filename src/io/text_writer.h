@@ -1,8 +1,10 @@
 // Writing PointClouds as plain text: one point a line, values separated by a space (.xyz .txt
 // .asc), a comma (.csv) or in the PTS layout (.pts).
 //
-// Columns: x y z, red green blue [alpha], nx ny nz, intensity, classification, then every scalar
-// column under its name, after a header line naming them (read back by text_reader.h). PTS has
+// Columns: every attribute in the source's order (a text or PLY file's own; else x y z, red green
+// blue [alpha], nx ny nz, intensity, classification, then every scalar column under its name),
+// or the order TextWriteOptions::properties gives, after a header line naming them (read back by
+// text_reader.h). PTS has
 // no header: its first line is the point count, then x y z [intensity] [r g b] (the other
 // attributes are dropped; see describeTextLosses).
 //
@@ -26,6 +28,9 @@ struct TextWriteOptions {
   bool header = true;            // a first line naming the columns
   bool pts = false;              // PTS layout (overrides delimiter and header)
   Progress* progress = nullptr;  // advanced by points written
+  // The columns to write, in this order (as PLY's PlyWriteOptions::properties); empty: every
+  // attribute in the source's order. Not for PTS (a fixed layout: std::invalid_argument).
+  std::vector<std::string> properties;
 };
 
 // The options a path's extension implies: .csv comma-separated, .pts PTS, others blanks.

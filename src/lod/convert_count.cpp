@@ -48,21 +48,41 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
                        const ProgressFactory& progress) {
   ConvertPlan plan;
   std::uint64_t total = 0;
-  std::vector<Quantization> quantizations;
   bool have_layout = false;
+  // Opened once each: a text stream parses its positions first to choose its quantization, which
+  // the later passes are given (input_quantizations) instead of parsing them again.
+  std::vector<std::unique_ptr<PointStream>> streams;
+  std::filesystem::path crs_source;
   for (const ConvertInput& input : inputs) {
-    PointStream stream(input.path, input.text_columns);
-    total += stream.pointCount();
-    quantizations.push_back(stream.quantization());
+    streams.push_back(std::make_unique<PointStream>(input.path, input.text_columns));
+    total += streams.back()->pointCount();
+    plan.input_quantizations.push_back(streams.back()->quantization());
+    // The CRS travels into the octree; merged inputs must not disagree on it (a file that
+    // states none is taken to share the others').
+    const CoordinateSystem& crs = streams.back()->crs();
+    if (crs.empty()) continue;
+    if (plan.crs.empty()) {
+      plan.crs = crs;
+      crs_source = input.path;
+    } else if (!plan.crs.sameAs(crs)) {
+      throw InputError({.file = input.path.string(),
+                        .expected = "the coordinate reference system of " + crs_source.string() +
+                                    " (" + plan.crs.summary() + ")",
+                        .found = crs.summary(),
+                        .hint = "inputs in different coordinate systems cannot be merged into "
+                                "one octree: reproject them first (e.g. pdal translate with "
+                                "filters.reprojection)"});
+    }
   }
   // A first guess of the record size for the batch size (the layout is known after the scan).
   plan.batch_points = std::clamp<std::uint64_t>(options.memory_bytes / 8 / 128, 4096, 4u << 20);
   std::unique_ptr<Progress> bar = progress ? progress("scanning", total) : nullptr;
-  for (const ConvertInput& input : inputs) {
-    PointStream stream(input.path, input.text_columns);
+  for (auto& owned : streams) {
+    // Released after its pass: one input's mapping at a time.
+    const std::unique_ptr<PointStream> stream = std::move(owned);
     PointCloud batch;
     bool first = true;
-    while (stream.next(batch, plan.batch_points)) {
+    while (stream->next(batch, plan.batch_points)) {
       if (first) {
         PotreeLayout layout = PotreeLayout::fromCloud(batch);
         if (!have_layout) {
@@ -82,7 +102,7 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
   if (!have_layout) plan.layout = PotreeLayout::fromCloud(PointCloud{});
   plan.cube = octreeCube(plan.bounds);
   plan.spacing = rootSpacing(plan.cube, options);
-  plan.quantization = chooseOutputQuantization(quantizations, plan.cube);
+  plan.quantization = chooseOutputQuantization(plan.input_quantizations, plan.cube);
   plan.stats = plan.layout.emptyStats();
 
   const std::size_t record = plan.layout.recordSize();
@@ -126,8 +146,9 @@ void countChunks(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
     });
     unsummed = 0;
   };
-  for (const ConvertInput& input : inputs) {
-    PointStream stream(input.path, input.text_columns);
+  for (std::size_t input = 0; input < inputs.size(); ++input) {
+    PointStream stream(inputs[input].path, inputs[input].text_columns,
+                       &plan.input_quantizations[input]);
     PointCloud batch;
     while (stream.next(batch, plan.batch_points)) {
       if (unsummed + batch.count > std::numeric_limits<std::uint32_t>::max()) sumLocal();

@@ -97,8 +97,9 @@ void distributePoints(ConvertPlan& plan, const std::vector<ConvertInput>& inputs
     }
   };
   try {
-    for (const ConvertInput& input : inputs) {
-      PointStream stream(input.path, input.text_columns);
+    for (std::size_t input = 0; input < inputs.size(); ++input) {
+      PointStream stream(inputs[input].path, inputs[input].text_columns,
+                         &plan.input_quantizations[input]);
       PointCloud batch;
       while (stream.next(batch, plan.batch_points)) {
         const std::uint64_t n = batch.count;
@@ -124,7 +125,7 @@ void distributePoints(ConvertPlan& plan, const std::vector<ConvertInput>& inputs
         for (std::uint64_t i = 0; i < n; ++i) {
           if (chunk_of[i] < 0) {
             // The count pass saw this cell empty: the input changed between the passes.
-            throw InputError({.file = input.path.string(),
+            throw InputError({.file = inputs[input].path.string(),
                               .expected = "the same points in every pass of the conversion",
                               .found = "a point in a region that was empty when counting",
                               .hint = "do not modify the input while it is being converted"});

@@ -28,6 +28,7 @@
 #include "core/bounds.h"
 #include "core/point_cloud.h"
 #include "core/progress.h"
+#include "io/coordinate_system.h"
 #include "lod/octree_build_options.h"
 #include "lod/potree_hierarchy_writer.h"
 #include "lod/potree_layout.h"
@@ -35,16 +36,22 @@
 
 namespace parallax {
 
-// A point file read in batches whatever its format: PLY, LAS and LAZ through their chunk readers;
-// text files are read whole and handed out in slices (no chunked text reader yet: a text cloud
-// must fit in memory). Unknown formats throw InputError as readPointFile does.
+// A point file read in batches whatever its format, through the formats' chunk readers (PLY,
+// LAS, LAZ, text), so memory holds one batch. Unknown formats throw InputError as readPointFile
+// does. Every batch is in quantization(): LAS's and LAZ's header's; for PLY and text the
+// reader's own choice (PLY: from a sample; text: exact, from a first pass over the positions),
+// or `quantization` when given (a later pass over a file whose quantization an earlier pass
+// found: text files are then not read twice).
 class PointStream {
  public:
-  PointStream(const std::filesystem::path& path, const std::vector<std::string>& text_columns);
+  PointStream(const std::filesystem::path& path, const std::vector<std::string>& text_columns,
+              const Quantization* quantization = nullptr);
   ~PointStream();
 
   std::uint64_t pointCount() const;
   const Quantization& quantization() const;
+  // The file's coordinate reference system (LAS: its projection records; PLY, text: none).
+  const CoordinateSystem& crs() const;
   // The next at most `max_points` points; false at the end.
   bool next(PointCloud& batch, std::size_t max_points);
 
@@ -73,7 +80,9 @@ struct ConvertPlan {
   Bounds3 bounds;  // tight, world units
   Bounds3 cube;    // the root node
   double spacing = 0.0;
-  Quantization quantization;  // of the output positions
+  Quantization quantization;                      // of the output positions
+  std::vector<Quantization> input_quantizations;  // each input's, as its first stream chose it
+  CoordinateSystem crs;  // the inputs' (those that state one must agree); empty: none stated
   PotreeLayout layout;
   AttributeStats stats;                  // filled by distribute
   std::uint64_t batch_points = 0;        // points read at a time

@@ -1,10 +1,18 @@
 #include "lod/octree_cache.h"
 
+#include <stdlib.h>
+
+#include <cerrno>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
+#include <system_error>
+
+#include "io/partial_output.h"
+#include "lod/potree_converter.h"
 
 namespace parallax {
 
@@ -51,6 +59,65 @@ bool isCompleteOctree(const std::filesystem::path& directory) {
     if (!std::filesystem::is_regular_file(directory / name, error)) return false;
   }
   return std::filesystem::file_size(directory / "metadata.json", error) > 0 && !error;
+}
+
+OctreeLocation::OctreeLocation(const std::filesystem::path& input,
+                               const OctreeCacheSettings& settings)
+    : input_(std::filesystem::absolute(input)) {
+  if (!settings.use_cache) {
+    std::string pattern = (std::filesystem::temp_directory_path() / "parallax-octree-XXXXXX");
+    if (!mkdtemp(pattern.data())) {
+      throw std::system_error(
+          errno, std::generic_category(),
+          "cannot create a temporary folder for the octree of " + input.string());
+    }
+    temporary_root_ = pattern;
+    directory_ = temporary_root_ / input.filename().replace_extension();
+    return;
+  }
+  std::filesystem::path root = settings.cache_dir;
+  if (root.empty()) {
+    const auto found = octreeCacheRoot();
+    if (!found) {
+      throw std::runtime_error(
+          "no cache folder for the octree of " + input.string() +
+          ": neither XDG_CACHE_HOME nor HOME is set (use --cache-dir DIR or --no-cache)");
+    }
+    root = *found;
+  }
+  directory_ = cachedOctreePath(root, input_);
+}
+
+OctreeLocation::~OctreeLocation() {
+  if (temporary_root_.empty()) return;
+  std::error_code ignored;
+  std::filesystem::remove_all(temporary_root_, ignored);
+}
+
+void OctreeLocation::abandon() const noexcept {
+  std::error_code ignored;
+  if (!temporary_root_.empty()) {
+    std::filesystem::remove_all(temporary_root_, ignored);
+    return;
+  }
+  // The converter's temporary name (lod/potree_converter.h).
+  std::filesystem::remove_all(partialOutputPath(directory_), ignored);
+}
+
+bool OctreeLocation::complete() const {
+  return isCompleteOctree(directory_);
+}
+
+bool ensureOctree(const OctreeLocation& location, const OctreeBuildOptions& build,
+                  const ProgressFactory& progress) {
+  if (location.complete()) return false;
+  std::filesystem::create_directories(location.directory().parent_path());
+  PotreeConvertOptions options;
+  options.build = build;
+  options.progress = progress;
+  options.name = location.input().filename().string();
+  convertToPotree({ConvertInput{location.input(), {}}}, location.directory(), options);
+  return true;
 }
 
 }  // namespace parallax

@@ -1,5 +1,4 @@
 // PointStream (convert_stages.h): one batch interface over the formats' chunk readers.
-#include <type_traits>
 #include <variant>
 
 #include "core/error.h"
@@ -9,34 +8,31 @@
 #include "io/point_file.h"
 #include "io/text_reader.h"
 #include "lod/convert_stages.h"
-#include "lod/in_memory_octree.h"
 
 namespace parallax {
 
 struct PointStream::State {
-  struct WholeCloud {
-    PointCloud cloud;
-    std::uint64_t next = 0;
-  };
-  std::variant<PlyChunkReader, LasChunkReader, LazChunkReader, WholeCloud> reader;
+  std::variant<PlyChunkReader, LasChunkReader, LazChunkReader, TextChunkReader> reader;
+  CoordinateSystem crs;
 };
 
 namespace {
 
 PointStream::State openStream(const std::filesystem::path& path,
-                              const std::vector<std::string>& text_columns) {
+                              const std::vector<std::string>& text_columns,
+                              const Quantization* quantization) {
   switch (detectPointFormat(path)) {
-    case PointFormat::Ply:
-      return {PlyChunkReader(path)};
-    case PointFormat::Las:
-      return {LasChunkReader(path)};
-    case PointFormat::Laz:
-      return {LazChunkReader(path)};
-    case PointFormat::Text: {
-      PointStream::State::WholeCloud whole;
-      whole.cloud = readText(path, {.columns = text_columns});
-      return {std::move(whole)};
+    case PointFormat::Ply: {
+      PlyChunkReader reader(path);
+      if (quantization) reader.setQuantization(*quantization);
+      return {std::move(reader)};
     }
+    case PointFormat::Las:
+      return {LasChunkReader(path)};  // the header's quantization, whatever is asked
+    case PointFormat::Laz:
+      return {LazChunkReader(path)};  // likewise
+    case PointFormat::Text:
+      return {TextChunkReader(path, {.columns = text_columns}, quantization)};
     default:
       // readPointFile gives the message for unknown formats.
       readPointFile(path);
@@ -47,51 +43,32 @@ PointStream::State openStream(const std::filesystem::path& path,
 }  // namespace
 
 PointStream::PointStream(const std::filesystem::path& path,
-                         const std::vector<std::string>& text_columns)
-    : state_(std::make_unique<State>(openStream(path, text_columns))) {}
+                         const std::vector<std::string>& text_columns,
+                         const Quantization* quantization)
+    : state_(std::make_unique<State>(openStream(path, text_columns, quantization))) {
+  if (const auto* las = std::get_if<LasChunkReader>(&state_->reader)) {
+    state_->crs = coordinateSystemOf(las->header());
+  } else if (const auto* laz = std::get_if<LazChunkReader>(&state_->reader)) {
+    state_->crs = coordinateSystemOf(laz->header());
+  }
+}
 PointStream::~PointStream() = default;
 
 std::uint64_t PointStream::pointCount() const {
-  return std::visit(
-      [](const auto& r) -> std::uint64_t {
-        if constexpr (std::is_same_v<std::decay_t<decltype(r)>, State::WholeCloud>) {
-          return r.cloud.count;
-        } else {
-          return r.pointCount();
-        }
-      },
-      state_->reader);
+  return std::visit([](const auto& r) { return r.pointCount(); }, state_->reader);
 }
 
 const Quantization& PointStream::quantization() const {
-  return std::visit(
-      [](const auto& r) -> const Quantization& {
-        if constexpr (std::is_same_v<std::decay_t<decltype(r)>, State::WholeCloud>) {
-          return r.cloud.quantization;
-        } else {
-          return r.quantization();
-        }
-      },
-      state_->reader);
+  return std::visit([](const auto& r) -> const Quantization& { return r.quantization(); },
+                    state_->reader);
+}
+
+const CoordinateSystem& PointStream::crs() const {
+  return state_->crs;
 }
 
 bool PointStream::next(PointCloud& batch, std::size_t max_points) {
-  return std::visit(
-      [&](auto& r) -> bool {
-        if constexpr (std::is_same_v<std::decay_t<decltype(r)>, State::WholeCloud>) {
-          const std::uint64_t n = std::min<std::uint64_t>(max_points, r.cloud.count - r.next);
-          if (n == 0) {
-            batch = PointCloud{};
-            return false;
-          }
-          batch = slicePoints(r.cloud, r.next, n);
-          r.next += n;
-          return true;
-        } else {
-          return r.next(batch, max_points);
-        }
-      },
-      state_->reader);
+  return std::visit([&](auto& r) { return r.next(batch, max_points); }, state_->reader);
 }
 
 }  // namespace parallax

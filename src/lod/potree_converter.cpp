@@ -1,7 +1,6 @@
 #include "lod/potree_converter.h"
 
 #include <tbb/global_control.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <fstream>
@@ -9,6 +8,7 @@
 #include <optional>
 
 #include "core/error.h"
+#include "io/partial_output.h"
 
 namespace parallax {
 namespace {
@@ -53,7 +53,7 @@ nlohmann::json metadataJson(const ConvertPlan& plan, const EncodedHierarchy& hie
           {"name", name},
           {"description", ""},
           {"points", plan.points},
-          {"projection", ""},
+          {"projection", potreeProjection(plan.crs.description)},
           {"hierarchy",
            {{"firstChunkSize", hierarchy.first_chunk_size},
             {"stepSize", 4},
@@ -95,13 +95,11 @@ PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
   if (!target.has_filename()) target = target.parent_path();
   checkOutput(target);
   std::filesystem::create_directories(target.parent_path());
-  // Built piece by piece: g++ 12 warns (-Wrestrict, falsely) on a chain of string additions.
-  std::string temp_name = ".";
-  temp_name += target.filename().string();
-  temp_name += ".partial-";
-  temp_name += std::to_string(::getpid());
-  TemporaryDirectory temp(target.parent_path() / temp_name);
   PotreeConvertResult result;
+  // What killed conversions to the same target left behind (partial_output.h), before this one
+  // needs the space.
+  result.cleanup = removeStalePartialOutputs(target);
+  TemporaryDirectory temp(partialOutputPath(target));
 
   auto mark = Clock::now();
   ConvertPlan plan = scanInputs(inputs, options.build, options.progress);
@@ -139,6 +137,7 @@ PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
   temp.release();
 
   result.points = plan.points;
+  result.crs = plan.crs;
   result.nodes = entries.size();
   result.chunks = plan.chunks.size();
   result.depth = hierarchy.depth;

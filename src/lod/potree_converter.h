@@ -4,14 +4,17 @@
 //
 // Out of core: the inputs are read in batches (three passes: scan, count, distribute), spilled
 // into chunks on disk and each chunk built in memory (convert_stages.h), so memory stays within
-// options.build.memory_bytes for any input size (text inputs excepted: they are read whole).
+// options.build.memory_bytes for any input size (text inputs too: io/text_reader.h's
+// TextChunkReader).
 // The budget is split in a quarter for the batch in flight and half for the chunk being built;
 // a grid cell of 1/128 of the cube's edge holding more points than a chunk may hold is built
 // whole anyway (a pathological density; noted in NOTES.md).
 //
 // The directory is written under a temporary sibling name (".NAME.partial-PID") and renamed to
 // `output` only when complete; on failure the temporary directory is removed. An interrupted
-// process (killed) leaves only the temporary name, never a directory that looks complete.
+// process (killed) leaves only the temporary name, never a directory that looks complete, and
+// the next conversion to the same output removes it (io/partial_output.h) when its process is
+// gone.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "io/coordinate_system.h"
+#include "io/partial_output.h"
 #include "lod/convert_stages.h"
 #include "lod/octree_build_options.h"
 
@@ -40,6 +45,10 @@ struct PotreeConvertResult {
   std::uint64_t octree_bytes = 0;
   double seconds_scan = 0, seconds_count = 0, seconds_distribute = 0, seconds_build = 0,
          seconds_total = 0;
+  // Partial outputs of earlier, killed conversions to the same target, removed before this one
+  // started (those of running processes are left).
+  PartialCleanup cleanup;
+  CoordinateSystem crs;  // the inputs', written as metadata.json "projection" (empty: none)
 };
 
 // Throws InputError for unreadable or malformed inputs and when `output` exists and is not a

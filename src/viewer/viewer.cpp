@@ -187,8 +187,7 @@ void openFile(Session& s, const std::filesystem::path& path, bool first) {
       s.status = "opened the octree " + path.string() + " (" +
                  std::to_string(s.octree->info().point_count) + " points)";
       setTitle(s, path);
-    } else if (const auto points = headerPointCount(path);
-               points && *points > s.lod_settings.selection.point_budget) {
+    } else if (const auto points = pointsOverBudget(path, s.lod_settings.selection.point_budget)) {
       openLargeFile(s, path, *points, first);
       setTitle(s, path);
     } else {

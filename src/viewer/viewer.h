@@ -7,12 +7,12 @@
 #include <functional>
 #include <string>
 
+#include "lod/octree_cache.h"
 #include "render/camera.h"
 #include "render/lod_scene.h"
 #include "render/render_settings.h"
 #include "render/stereo.h"
 #include "render/view_extent.h"
-#include "viewer/large_cloud.h"
 
 namespace parallax {
 
@@ -46,9 +46,9 @@ struct ViewerOptions {
 // Opens the window and runs until it is closed or Escape is pressed; returns the exit status.
 //
 // What it opens: a point file within the point budget is uploaded whole. A Potree 2.0 directory
-// is streamed through a LodScene. A PLY or LAS file over the budget opens its cached octree at
-// once when there is one; otherwise the viewer shows an even sample of the file (PLY; LAS shows
-// nothing until the octree is ready), builds the octree on a background thread (progress in the
+// is streamed through a LodScene. A PLY, LAS or text file over the budget opens its cached octree
+// at once when there is one; otherwise the viewer shows an even sample of the file (PLY; LAS and
+// text show nothing until the octree is ready), builds the octree on a background thread (progress in the
 // panel) and then switches to it without moving the camera. Quitting during a build ends the
 // process at once, removing what the conversion had written.
 // A file that cannot be read is reported in the panel and on stderr, never a crash. Throws

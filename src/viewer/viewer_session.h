@@ -12,13 +12,15 @@
 #include <string>
 #include <vector>
 
+#include "lod/background_octree_build.h"
+#include "lod/large_file.h"
 #include "lod/octree.h"
+#include "lod/octree_cache.h"
 #include "render/camera.h"
 #include "render/lod_scene.h"
 #include "render/point_buffers.h"
 #include "render/renderer.h"
 #include "viewer/camera_controller.h"
-#include "viewer/large_cloud.h"
 #include "viewer/viewer.h"
 
 namespace parallax::viewer_internal {

@@ -67,5 +67,50 @@ TEST(ConvertCli, FileToFileConversionStillWorks) {
   EXPECT_EQ(readPointFile(dir / "out.xyz").count, 100u);
 }
 
+TEST(ConvertCli, AnUnknownExtensionSaysHowToGetAnOctree) {
+  TempDir dir;
+  writePointFile(makeSurfaceCloud(50), dir / "in.ply");
+  const RunResult run = runParallax(dir, "convert '" + (dir / "in.ply").string() + "' -o '" +
+                                             (dir / "scan.potree").string() + "'");
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_NE(run.err.find("'.potree'"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("--format potree"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("-o scan.potree/"), std::string::npos) << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "scan.potree"));
+}
+
+TEST(ConvertCli, ANameEndingInASlashIsAnOctree) {
+  TempDir dir;
+  writePointFile(makeSurfaceCloud(300), dir / "in.ply");
+  const RunResult run = runParallax(dir, "convert -q '" + (dir / "in.ply").string() + "' -o '" +
+                                             (dir / "scan.potree").string() + "/'");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto metadata = nlohmann::json::parse(readText(dir / "scan.potree" / "metadata.json"));
+  EXPECT_EQ(metadata["points"], 300);
+  EXPECT_EQ(metadata["name"], "scan.potree");
+}
+
+TEST(ConvertCli, AnExistingDirectoryIsAnOctreeWhateverItsName) {
+  TempDir dir;
+  writePointFile(makeSurfaceCloud(200), dir / "in.ply");
+  std::filesystem::create_directory(dir / "tiles.las");  // empty: a name, not a LAS file
+  const RunResult run = runParallax(dir, "convert -q '" + (dir / "in.ply").string() + "' -o '" +
+                                             (dir / "tiles.las").string() + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto metadata = nlohmann::json::parse(readText(dir / "tiles.las" / "metadata.json"));
+  EXPECT_EQ(metadata["points"], 200);
+}
+
+TEST(ConvertCli, FormatPotreeOverridesAPointFileExtension) {
+  TempDir dir;
+  writePointFile(makeSurfaceCloud(120), dir / "in.ply");
+  const RunResult run = runParallax(dir, "convert -q '" + (dir / "in.ply").string() + "' -o '" +
+                                             (dir / "octree.ply").string() + "' --format potree");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(std::filesystem::is_directory(dir / "octree.ply"));
+  const auto metadata = nlohmann::json::parse(readText(dir / "octree.ply" / "metadata.json"));
+  EXPECT_EQ(metadata["points"], 120);
+}
+
 }  // namespace
 }  // namespace parallax::test

@@ -232,6 +232,28 @@ TEST(PotreeConverter, WritesMetadataAsPotreeClientsReadIt) {
   EXPECT_EQ(octree.size(), 2000u * 36u);
 }
 
+TEST(PotreeConverter, StreamsATextFileInBatchesLikeTheOtherFormats) {
+  TempDir dir;
+  // Over the 64 Ki points a text reader parses whole for its quantization.
+  writePointFile(makeSurfaceCloud(70'000), dir / "in.xyz");
+  const PointCloud cloud = readPointFile(dir / "in.xyz");
+  PotreeConvertOptions options;
+  options.build.max_node_points = 2000;
+  options.build.memory_bytes = 1u << 20;  // batches of about 1 500 points, chunks of ~5 900
+  const PotreeConvertResult result = convertToPotree({{dir / "in.xyz", {}}}, dir / "out", options);
+  EXPECT_EQ(result.points, 70'000u);
+  EXPECT_GT(result.chunks, 4u);
+  const WalkedOctree walked = walk(dir / "out");
+  const PotreeLayout layout = PotreeLayout::fromCloud(cloud);
+  expectConsistent(walked, layout.recordSize(), 70'000);
+  EXPECT_EQ(pointMultiset(decodeAll(walked, layout)), pointMultiset(cloud));
+  // One input: its own (decimal, exact) quantization.
+  for (int axis = 0; axis < 3; ++axis) {
+    EXPECT_EQ(walked.metadata["scale"][axis], cloud.quantization.scale[std::size_t(axis)]);
+    EXPECT_EQ(walked.metadata["offset"][axis], cloud.quantization.offset[std::size_t(axis)]);
+  }
+}
+
 TEST(PotreeConverter, MergesSeveralInputsIntoOneOctree) {
   TempDir dir;
   const PointCloud a = makeSurfaceCloud(3000, 1);

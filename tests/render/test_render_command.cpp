@@ -462,6 +462,29 @@ TEST(RenderCommandLod, FileOverTheBudgetIsConvertedOnceIntoTheCache) {
   EXPECT_TRUE(std::filesystem::is_empty(dir / "tmp")) << "--no-cache left its octree behind";
 }
 
+TEST(RenderCommandLod, TextFileOverTheBudgetGoesThroughTheOctree) {
+  TempDir dir;
+  const LodFiles files = generatedCloud(dir);
+  const auto xyz = dir / "scan.xyz";
+  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " convert -q " + quoted(files.ply) + " -o " +
+                quoted(xyz)),
+            0);
+  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(xyz) +
+                " --budget 30000 --width 64 --height 48 --cache-dir " + quoted(dir / "cache") +
+                " -o " + quoted(dir / "text.png") + " 2>" + quoted(dir / "text.log")),
+            0)
+      << readText(dir / "text.log");
+  const std::string log = readText(dir / "text.log");
+  EXPECT_NE(log.find("60000 points, over the budget of 30000: converting to an octree in " +
+                     (dir / "cache").string()),
+            std::string::npos)
+      << log;
+  EXPECT_LE(numberAfter(log, "drawn ("), 30000) << log;
+  ASSERT_EQ(std::distance(std::filesystem::directory_iterator(dir / "cache"), {}), 1);
+  const auto octree = std::filesystem::directory_iterator(dir / "cache")->path();
+  EXPECT_EQ(nlohmann::json::parse(readText(octree / "metadata.json"))["points"], 60000);
+}
+
 TEST(RenderCommandLod, PreviewDrawsASampleOfTheBudget) {
   TempDir dir;
   const auto ply = dir / "scan.ply";
