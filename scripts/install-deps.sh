@@ -16,25 +16,29 @@ packages=(
   # renderer and viewer: window, GL loading, headless EGL, math, panels, images, window tests
   libglfw3-dev libepoxy-dev libegl-dev libgl1-mesa-dri libglm-dev libimgui-dev libstb-dev
   xvfb xdotool
-  # the real Potree client test (tests/lod/js): Node.js (with npm; see install_npm_packages)
+  # the real Potree client test (tests/lod/js) and the LAZ oracles (tests/io/js): Node.js (with
+  # npm; see install_npm_packages)
   nodejs
 )
 
 # npm packages of the tests, from their package-lock.json (`npm ci`), only when missing or older
 # than the lock file. Debian's nodejs has no npm of its own: its `npm` package is added then.
 install_npm_packages() {
-  local dir
-  dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/tests/lod/js"
-  if [[ -f "$dir/node_modules/.package-lock.json" &&
-        "$dir/node_modules/.package-lock.json" -nt "$dir/package-lock.json" ]]; then
-    return 0
-  fi
-  if ! command -v npm >/dev/null 2>&1; then
-    "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive \
-      apt-get install -y -q --no-install-recommends npm </dev/null
-  fi
-  echo "install-deps: npm ci in $dir"
-  (cd "$dir" && npm ci --no-audit --no-fund)
+  local root dir
+  root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+  # tests/lod/js: the Potree client; tests/io/js: laz-perf and copc.js, the LAZ/COPC oracles.
+  for dir in "$root/tests/lod/js" "$root/tests/io/js"; do
+    if [[ -f "$dir/node_modules/.package-lock.json" &&
+          "$dir/node_modules/.package-lock.json" -nt "$dir/package-lock.json" ]]; then
+      continue
+    fi
+    if ! command -v npm >/dev/null 2>&1; then
+      "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive \
+        apt-get install -y -q --no-install-recommends npm </dev/null
+    fi
+    echo "install-deps: npm ci in $dir"
+    (cd "$dir" && npm ci --no-audit --no-fund)
+  done
 }
 
 missing=()

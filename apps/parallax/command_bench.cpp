@@ -12,11 +12,14 @@
 //   which is the least any loader must do (the kernel copy and the first touch of fresh memory).
 //   "load / reference" says how much the parsing costs on top. One warm-up read comes first so
 //   that both measure from the page cache, never from the disk. Peak memory (ru_maxrss) is shown
-//   beside the size of the columns the load produced.
+//   beside the size of the columns the load produced, and the CPU time of a load (user + system),
+//   a per-core figure that holds on a shared machine. --threads N limits the load's threads.
 #include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
+
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -26,6 +29,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -104,7 +108,16 @@ struct Times {
 struct LoadOptions {
   std::string file;
   int repeat = 5;
+  int threads = 0;  // 0: every core
 };
+
+// CPU seconds (user + system) of the whole process so far.
+double cpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
 
 int runBenchLoad(const LoadOptions& options) {
   const std::string& path = options.file;
@@ -113,7 +126,11 @@ int runBenchLoad(const LoadOptions& options) {
   const std::uint64_t file_bytes = readIntoNewBuffer(path, buffer);
   buffer.reset();
 
-  Times load, reference;
+  std::optional<tbb::global_control> limit;
+  if (options.threads > 0) {
+    limit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(options.threads));
+  }
+  Times load, reference, load_cpu;
   std::uint64_t points = 0, columns = 0;
   for (int i = 0; i < options.repeat; ++i) {
     // Interleaved, so that drift in the machine's load (shared cores) hits both alike.
@@ -123,8 +140,10 @@ int runBenchLoad(const LoadOptions& options) {
     buffer.reset();
 
     start = Clock::now();
+    const double cpu_start = cpuSeconds();
     PointCloud cloud = readPointFile(path);
     load.seconds.push_back(secondsSince(start));
+    load_cpu.seconds.push_back(cpuSeconds() - cpu_start);
     points = cloud.count;
     columns = columnBytes(cloud);
   }
@@ -141,6 +160,12 @@ int runBenchLoad(const LoadOptions& options) {
       "reference  median %.4f s, best %.4f s: %.1f MB/s (open + read() into a new "
       "buffer)\n",
       reference_median, reference.best(), mb / reference_median);
+  std::printf(
+      "cpu        median %.4f s of CPU a load (user + system, %s): %.2f M points/s per "
+      "CPU second\n",
+      load_cpu.median(),
+      options.threads > 0 ? (std::to_string(options.threads) + " threads").c_str() : "all cores",
+      double(points) / load_cpu.median() / 1e6);
   std::printf("ratio      load / reference = %.2f (median), %.2f (best)\n",
               load_median / reference_median, load.best() / reference.best());
   std::printf("memory     peak RSS %.1f MB; columns %.1f MB; file %.1f MB\n", peakRssBytes() / 1e6,
@@ -158,6 +183,10 @@ Command addBenchLoadCommand(CLI::App& bench) {
       ->add_option("--repeat,-n", options->repeat, "Loads to time (median and best are shown)")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
+  command.subcommand
+      ->add_option("--threads", options->threads,
+                   "Threads the load may use (default 0: every core; 1 gives a per-core figure)")
+      ->check(CLI::Range(0, 1024));
   command.run = [options] { return runBenchLoad(*options); };
   return command;
 }

@@ -1,5 +1,5 @@
 // `parallax convert IN -o OUT`: converts between any two supported point formats (PLY, LAS,
-// text), keeping every attribute the target can hold and saying which ones it drops.
+// LAZ, text), keeping every attribute the target can hold and saying which ones it drops.
 // `parallax convert IN... -o DIR`: builds the level-of-detail octree of one or more point files
 // as a Potree 2.0 directory (lod/potree_converter.h), out of core within --memory.
 #include <cstdint>
@@ -15,6 +15,7 @@
 #include "core/progress.h"
 #include "io/las_header.h"
 #include "io/las_writer.h"
+#include "io/laz_writer.h"
 #include "io/point_file.h"
 #include "lod/potree_converter.h"
 
@@ -32,6 +33,7 @@ struct ConvertArgs {
   int threads = 0;
   std::vector<std::string> columns;
   std::string las_version;
+  std::uint32_t laz_chunk = 50000;
   bool ascii = false;
   bool quiet = false;
 };
@@ -98,10 +100,11 @@ int runConvert(ConvertArgs args) {
   std::vector<std::string> losses = describeWriteLosses(
       cloud, args.output, {.ply_ascii = args.ascii, .las_minor_version = minor});
   LasHeader source_header;
-  bool from_las = in_format == PointFormat::Las;
+  bool from_las = in_format == PointFormat::Las || in_format == PointFormat::Laz;
   if (from_las) {
     source_header = readLasHeader(args.input);
-    if (!source_header.crs.empty() && out_format != PointFormat::Las) {
+    if (!source_header.crs.empty() && out_format != PointFormat::Las &&
+        out_format != PointFormat::Laz) {
       losses.push_back("the coordinate reference system (" + source_header.crs.summary() +
                        "): " + pointFormatName(out_format) + " has no place for it");
     }
@@ -117,7 +120,7 @@ int runConvert(ConvertArgs args) {
   std::optional<TerminalProgress> progress;
   if (!args.quiet) progress.emplace("writing", cloud.count);
   Progress* sink = progress ? &*progress : nullptr;
-  if (out_format == PointFormat::Las) {
+  if (out_format == PointFormat::Las || out_format == PointFormat::Laz) {
     LasWriteOptions options{.minor_version = minor, .progress = sink};
     if (from_las) {
       // Keep the CRS records and the GPS time type of a LAS source.
@@ -127,7 +130,11 @@ int runConvert(ConvertArgs args) {
       options.gps_time_standard = source_header.gpsTimeIsStandard();
       options.file_source_id = source_header.file_source_id;
     }
-    writeLas(cloud, args.output, options);
+    if (out_format == PointFormat::Laz) {
+      writeLaz(cloud, args.output, {.las = options, .chunk_points = args.laz_chunk});
+    } else {
+      writeLas(cloud, args.output, options);
+    }
   } else {
     writePointFile(cloud, args.output,
                    {.progress = sink, .ply_ascii = args.ascii, .las_minor_version = minor});
@@ -144,15 +151,15 @@ Command addConvertCommand(CLI::App& app) {
   Command command;
   CLI::App* sub = app.add_subcommand(
       "convert",
-      "Convert a point file between PLY, LAS and text (xyz, txt, csv, pts), or point files to "
+      "Convert a point file between PLY, LAS, LAZ and text (xyz, txt, csv, pts), or point files to "
       "a Potree 2.0 octree directory");
   sub->add_option("input", args->inputs,
                   "Input point files (format detected from their content); several only for a "
                   "Potree directory, where they are merged")
       ->required();
   sub->add_option("-o,--output", args->output,
-                  "Output file, its extension picks the format (.ply .las .xyz .txt .csv .asc "
-                  ".pts), or a directory (no extension): a Potree 2.0 octree")
+                  "Output file, its extension picks the format (.ply .las .laz .xyz .txt .csv "
+                  ".asc .pts), or a directory (no extension): a Potree 2.0 octree")
       ->required();
   sub->add_option("--format", args->format, "Force the output format: potree")
       ->check(CLI::IsMember({"potree"}));
@@ -172,6 +179,9 @@ Command addConvertCommand(CLI::App& app) {
   sub->add_option("--las-version", args->las_version,
                   "LAS output: 1.2 or 1.4 (default: 1.2 unless the attributes need 1.4)")
       ->check(CLI::IsMember({"1.2", "1.4"}));
+  sub->add_option("--laz-chunk", args->laz_chunk,
+                  "LAZ output: points a chunk (default 50000, LASzip's)")
+      ->check(CLI::Range(std::uint32_t(1), std::uint32_t(100'000'000)));
   sub->add_flag("--ascii", args->ascii, "PLY output: ascii instead of binary little endian");
   sub->add_flag("-q,--quiet", args->quiet, "No progress or report on stderr");
   command.subcommand = sub;

@@ -40,6 +40,7 @@
 #include "core/point_cloud.h"
 #include "core/progress.h"
 #include "io/las_header.h"
+#include "io/laz_reader.h"
 #include "io/ply_header.h"
 #include "io/point_file.h"
 #include "lod/potree_reader.h"
@@ -245,8 +246,9 @@ FormatDescription describePly(const std::filesystem::path& path) {
   return out;
 }
 
-// LAS: the header's own account (io/las_header.h): version, point format, the header's scale,
-// offset and bounds (shown as the file's bounds beside the computed ones), the CRS, extra bytes.
+// LAS and LAZ: the header's own account (io/las_header.h): version, point format, the header's
+// scale, offset and bounds (shown as the file's bounds beside the computed ones), the CRS, extra
+// bytes; for LAZ the compression (compressor, chunking, chunk count, items and their versions).
 FormatDescription describeLas(const std::filesystem::path& path) {
   const LasHeader header = readLasHeader(path);
   FormatDescription out;
@@ -274,6 +276,32 @@ FormatDescription describeLas(const std::filesystem::path& path) {
                  {"generating_software", header.generating_software},
                  {"system_identifier", header.system_identifier}};
   if (!header.bounds.empty()) out.declared_bounds = header.bounds;
+  if (header.laszip) {
+    // LAZ: how the points are compressed (io/laz_reader.h).
+    const LazSummary laz = summarizeLaz(path);
+    out.name = "laz";
+    std::string items;
+    for (const std::string& item : laz.items) items += (items.empty() ? "" : ", ") + item;
+    out.lines.push_back(
+        "  LAZ " + laz.compressor_name + " (compressor " + std::to_string(laz.compressor) + "), " +
+        (laz.chunk_size ? "chunks of " + std::to_string(laz.chunk_size) + " points"
+                        : std::string("variable chunks")) +
+        ", " + std::to_string(laz.chunks) + " chunks, written by LASzip " + laz.laszip_version +
+        (laz.compatibility_mode
+             ? ", LAS 1.4 compatibility mode: points of format " + std::to_string(laz.record_format)
+             : std::string()));
+    out.lines.push_back("  items " + items);
+    if (!laz.table_note.empty()) out.lines.push_back("  chunk table: " + laz.table_note);
+    out.details["laz"] = {{"compressor", laz.compressor},
+                          {"compressor_name", laz.compressor_name},
+                          {"chunk_size", laz.chunk_size},
+                          {"chunks", laz.chunks},
+                          {"laszip_version", laz.laszip_version},
+                          {"items", laz.items},
+                          {"compatibility_mode", laz.compatibility_mode},
+                          {"record_format", laz.record_format},
+                          {"chunk_table_note", laz.table_note}};
+  }
   return out;
 }
 
@@ -284,6 +312,7 @@ FormatDescription describeFormat(const std::filesystem::path& path, PointFormat 
     case PointFormat::Ply:
       return describePly(path);
     case PointFormat::Las:
+    case PointFormat::Laz:
       return describeLas(path);
     default:
       break;

@@ -8,8 +8,8 @@
 // lod_scene.h) within --budget points, and each picture waits for every node it selects. A PLY or
 // LAS file with more points than --budget is converted to such an octree first (kept in the
 // user's cache, or --cache-dir, for the next run; --no-cache: a temporary folder), unless
-// --preview asks for a picture of an even sample at once (PLY only; the budget's worth of points,
-// at most kPreviewPoints).
+// --preview asks for a picture of an even sample at once (PLY, LAS, LAZ; the budget's worth of
+// points, at most kPreviewPoints).
 //
 // Prints the time from start to PNG broken down into load, context, upload, draw and write, on
 // stderr (stdout stays free for scripts).
@@ -106,11 +106,11 @@ RenderSource openSource(const RenderCommandOptions& o) {
     return source;
   }
   if (o.preview) {
-    if (detectPointFormat(o.input) != PointFormat::Ply) {
+    if (!hasPointFilePreview(detectPointFormat(o.input))) {
       throw std::invalid_argument("--preview: " + o.input +
-                                  " is not a PLY file (the sample reader reads PLY only)");
+                                  " is a text file (samples are read from PLY, LAS and LAZ files)");
     }
-    source.cloud = readPlyPreview(o.input, std::min(o.lod.budget, kPreviewPoints));
+    source.cloud = readPointFilePreview(o.input, std::min(o.lod.budget, kPreviewPoints));
     source.file_points = *points;
     return source;
   }
@@ -266,10 +266,11 @@ Command addRenderCommand(CLI::App& app) {
       ->check(CLI::Range(1, 16384));
   sub->add_option("--path", options->path_file, "Camera path JSON: render a frame sequence");
   sub->add_option("--frames", options->frames, "Frames along --path")->check(CLI::Range(1, 100000));
-  sub->add_flag("--preview", options->preview,
-                "A PLY file over --budget: draw an even sample (at most the budget, at most 1 M "
-                "points) at once "
-                "instead of converting it to an octree");
+  sub->add_flag(
+      "--preview", options->preview,
+      "A PLY, LAS or LAZ file over --budget: draw an even sample (at most the budget, at most 1 M "
+      "points) at once "
+      "instead of converting it to an octree");
   addRenderOptions(*sub, options->render);
   addLodOptions(*sub, options->lod);
   command.subcommand = sub;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "io/laz/laz_layout.h"
 #include "io/mapped_file.h"
 
 namespace parallax {
@@ -270,27 +271,7 @@ bool hasLasSignature(std::span<const std::byte> bytes) {
 bool looksLikeLaz(std::span<const std::byte> bytes) {
   if (!hasLasSignature(bytes) || bytes.size() < kLasHeaderSize12) return false;
   // LASzip sets bit 7 (and in its compatibility mode bit 6) of the point format byte.
-  if ((load<std::uint8_t>(bytes.data() + 104) & 0xC0) != 0) return true;
-  std::uint64_t pos = load<std::uint16_t>(bytes.data() + 94);
-  std::uint32_t count = load<std::uint32_t>(bytes.data() + 100);
-  for (std::uint32_t i = 0; i < count && pos + kLasVlrHeaderSize <= bytes.size(); ++i) {
-    const std::byte* p = bytes.data() + pos;
-    if (loadText(p + 2, 16) == "laszip encoded") return true;
-    pos += kLasVlrHeaderSize + load<std::uint16_t>(p + 20);
-  }
-  return false;
-}
-
-void throwLazNotSupported(const std::string& file_name) {
-  throw InputError(
-      {.file = file_name,
-       .byte_offset = 104,
-       .element = "header",
-       .property = "point data format",
-       .expected = "an uncompressed LAS file",
-       .found = "a LAZ file (LASzip-compressed LAS), which Parallax does not decompress",
-       .hint = "decompress it first, e.g. `laszip -i in.laz -o out.las` or "
-               "`pdal translate in.laz out.las`"});
+  return (load<std::uint8_t>(bytes.data() + 104) & 0xC0) != 0;
 }
 
 LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& file) {
@@ -322,7 +303,8 @@ LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& fi
   header.vlr_count = load<std::uint32_t>(h + 100);
   std::uint8_t format_byte = load<std::uint8_t>(h + 104);
   header.record_length = load<std::uint16_t>(h + 105);
-  if (looksLikeLaz(bytes)) throwLazNotSupported(file);
+  const bool compressed = (format_byte & 0xC0) != 0;
+  format_byte &= 0x3F;
 
   std::size_t minimum_header = header.version_minor <= 2   ? kLasHeaderSize12
                                : header.version_minor == 3 ? kLasHeaderSize13
@@ -387,7 +369,7 @@ LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& fi
       header.evlr_offset <= size) {
     room = header.evlr_offset - header.point_data_offset;
   }
-  if (header.point_count > room / header.record_length) {
+  if (!compressed && header.point_count > room / header.record_length) {
     fail(file, header.version_minor >= 4 ? 247 : 107, "number of point records",
          "at most " + std::to_string(room / header.record_length) + " records of " +
              std::to_string(header.record_length) + " bytes in the " + std::to_string(room) +
@@ -398,6 +380,16 @@ LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& fi
   readVlrs(header, bytes, file);
   for (const LasVlr& vlr : header.vlrs) {
     if (vlr.user_id == "LASF_Spec" && vlr.record_id == 4) parseExtraBytes(header, vlr, file);
+    if (compressed && !vlr.extended && vlr.user_id == laz::kLaszipUserId &&
+        vlr.record_id == laz::kLaszipRecordId && !header.laszip) {
+      try {
+        header.laszip = laz::parseLaszipVlr(vlr.data);
+        header.laszip_vlr_offset = vlr.data_offset;
+      } catch (const laz::UnsupportedItems& e) {
+        fail(file, vlr.data_offset, "laszip VLR", "a LASzip compression description", e.what(),
+             "the file's LAZ description is damaged");
+      }
+    }
     if (vlr.user_id != "LASF_Projection") continue;
     if (vlr.record_id == 2112) {
       header.crs.wkt.assign(reinterpret_cast<const char*>(vlr.data.data()), vlr.data.size());
@@ -409,6 +401,12 @@ LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& fi
                                          vlr.data.size());
       header.crs.geotiff_citation.resize(std::strlen(header.crs.geotiff_citation.c_str()));
     }
+  }
+  if (compressed && !header.laszip) {
+    fail(file, 104, "point data format",
+         "a 'laszip encoded' VLR (record 22204) describing the compression",
+         "LASzip's compression bit set in the point format byte but no such VLR",
+         "the LAZ file is damaged, or not written by a LAZ writer");
   }
   return header;
 }

@@ -18,6 +18,7 @@
 #include "core/bounds.h"
 #include "core/quantization.h"
 #include "core/scalar_type.h"
+#include "io/laz/chunk_codec.h"
 
 namespace parallax {
 
@@ -111,6 +112,10 @@ struct LasHeader {
   std::vector<LasVlr> vlrs;           // VLRs, then EVLRs
   std::vector<LasExtraBytes> extra_bytes;
   LasCrs crs;
+  // LAZ (LASzip-compressed LAS): the "laszip encoded" VLR, present exactly when the point data
+  // format byte has LASzip's bit 7 (or 6) set; `point_format` is then the format without them.
+  std::optional<laz::LaszipVlr> laszip;
+  std::uint64_t laszip_vlr_offset = 0;  // of the VLR's payload, for messages
 
   std::string versionString() const;  // "1.4"
   bool gpsTimeIsStandard() const { return (global_encoding & 1) != 0; }
@@ -118,20 +123,19 @@ struct LasHeader {
 
 // True when `bytes` start with the LAS signature "LASF".
 bool hasLasSignature(std::span<const std::byte> bytes);
-// True for a LASzip-compressed file: the point format's compression bits (7 or 6) are set, or a
-// "laszip encoded" VLR is present. Needs the header bytes; false for anything that is not LAS.
+// True for a LASzip-compressed file: the point format's compression bits (7 or 6) are set, as
+// LASzip itself decides. Needs the header bytes; false for anything that is not LAS.
 bool looksLikeLaz(std::span<const std::byte> bytes);
-
-// The InputError thrown for LAZ input: says that LAZ is compressed and how to decompress it.
-[[noreturn]] void throwLazNotSupported(const std::string& file_name);
 
 // Parses and checks the header, VLRs, EVLRs, extra bytes and CRS of a whole LAS file in `bytes`.
 // Throws InputError (file, byte offset, field, expected, found, hint) for: a short file, a wrong
-// signature, an unknown version or point format, a LAZ file, a header size or point data offset
+// signature, an unknown version or point format, a LAZ file without its laszip VLR (or a VLR
+// that cannot be parsed), a header size or point data offset
 // outside the file or below the version's minimum, VLRs or EVLRs running past their region, a
 // record length below the format's size, extra bytes not fitting the record, a zero or
-// non-finite scale, and a point count the file cannot hold. Never allocates more than the file's
-// size justifies.
+// non-finite scale, and a point count the file cannot hold (uncompressed files; a LAZ file's
+// count is checked against its chunk table by the LAZ reader). Never allocates more than the
+// file's size justifies.
 LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& file_name);
 
 // The header of a LAS file on disk (memory-mapped; reads only the header, VLRs and EVLRs).

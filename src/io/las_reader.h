@@ -1,5 +1,5 @@
 // Reading the points of an uncompressed LAS 1.0-1.4 file (point formats 0-10) into the column
-// model. LAZ is recognised and refused with the way to decompress it.
+// model (LAZ, compressed LAS, through laz_reader.h into the same columns).
 //
 // Mapping (LAS 1.4 R15 Tables 7-17):
 //   X Y Z (int32) + header scale/offset -> positions + quantization, exactly as stored
@@ -64,8 +64,16 @@ struct LasReadOptions {
   bool parallel = true;          // all cores (TBB); false runs on the calling thread only
 };
 
-// Reads every point. Throws InputError for malformed input (see parseLasHeader) and for LAZ.
+// Reads every point: the records are read through per-thread buffers of a block each (pread), so
+// the process holds the columns and a few MB, never the file's pages. A LAZ file (the header
+// says so) is read by readLaz (laz_reader.h). Throws InputError for malformed input (see
+// parseLasHeader).
 PointCloud readLas(const std::filesystem::path& path, const LasReadOptions& options = {});
+
+// About `max_points` points of a large LAS or LAZ file for a first picture: runs of 64
+// consecutive records at even steps through the file (LAZ: readLazPreview). Colours follow the
+// 8-bit rule over the sample. The whole file when it has at most `max_points` points.
+PointCloud readLasPreview(const std::filesystem::path& path, std::uint64_t max_points);
 
 // The same from bytes in memory (tests, fuzzing); `name` stands for the file in messages.
 PointCloud readLasFromMemory(std::span<const std::byte> bytes, const std::string& name,

@@ -12,6 +12,8 @@
 #include <mutex>
 
 #include "io/las_reader.h"
+#include "io/laz/laz_layout.h"
+#include "io/laz_writer.h"
 #include "io/point_file.h"
 
 namespace parallax {
@@ -481,6 +483,16 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
     vlrs.push_back(vlrBytes(vlr));
   }
   if (!layout.extra_types.empty()) vlrs.push_back(vlrBytes(extraBytesVlr(layout)));
+  const bool compress = options.laz_chunk_points > 0;
+  laz::LaszipVlr laszip;
+  if (compress) {
+    laszip = makeLaszipVlr(plan.point_format, plan.record_length, options.laz_chunk_points);
+    LasVlr vlr{.user_id = laz::kLaszipUserId,
+               .record_id = laz::kLaszipRecordId,
+               .description = "by Parallax"};
+    vlr.data = laz::laszipVlrPayload(laszip);
+    vlrs.push_back(vlrBytes(vlr));
+  }
   std::size_t point_data_offset = header_size;
   for (const auto& vlr : vlrs) point_data_offset += vlr.size();
 
@@ -489,32 +501,47 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
   out.write(header.data(), header.size());  // rewritten at the end with counts and bounds
   for (const auto& vlr : vlrs) out.write(vlr.data(), vlr.size());
 
-  // Blocks encoded in parallel, a batch at a time, written in order.
-  constexpr std::size_t kBlock = 1 << 16;
-  constexpr std::size_t kBatch = 8;
   const std::size_t count = cloud.count;
   const std::size_t stride = plan.record_length;
-  std::vector<std::vector<std::byte>> buffers(kBatch);
-  std::vector<BlockStats> stats(kBatch);
   BlockStats total;
-  for (std::size_t batch = 0; batch < count; batch += kBlock * kBatch) {
-    std::size_t blocks = std::min(kBatch, (count - batch + kBlock - 1) / kBlock);
-    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
-      std::size_t first = batch + b * kBlock;
-      std::size_t n = std::min(kBlock, count - first);
-      buffers[b].resize(n * stride);
-      stats[b] = BlockStats{};
-      encodeBlock(cloud, layout, first, n, buffers[b].data(), stats[b]);
-    });
-    for (std::size_t b = 0; b < blocks; ++b) {
-      out.write(buffers[b].data(), buffers[b].size());
-      const BlockStats& s = stats[b];
-      total.lo = {std::min(total.lo.x, s.lo.x), std::min(total.lo.y, s.lo.y),
-                  std::min(total.lo.z, s.lo.z)};
-      total.hi = {std::max(total.hi.x, s.hi.x), std::max(total.hi.y, s.hi.y),
-                  std::max(total.hi.z, s.hi.z)};
-      for (std::size_t r = 0; r < 16; ++r) total.by_return[r] += s.by_return[r];
-      if (options.progress) options.progress->advance(buffers[b].size() / stride);
+  auto addStats = [&total](const BlockStats& s) {
+    total.lo = {std::min(total.lo.x, s.lo.x), std::min(total.lo.y, s.lo.y),
+                std::min(total.lo.z, s.lo.z)};
+    total.hi = {std::max(total.hi.x, s.hi.x), std::max(total.hi.y, s.hi.y),
+                std::max(total.hi.z, s.hi.z)};
+    for (std::size_t r = 0; r < 16; ++r) total.by_return[r] += s.by_return[r];
+  };
+  if (compress) {
+    std::mutex stats_mutex;
+    writeLazPointData(
+        out, point_data_offset, laszip, count,
+        [&](std::uint64_t first, std::size_t n, std::byte* records) {
+          BlockStats stats;
+          encodeBlock(cloud, layout, std::size_t(first), n, records, stats);
+          const std::lock_guard lock(stats_mutex);
+          addStats(stats);
+        },
+        options.progress);
+  } else {
+    // Blocks encoded in parallel, a batch at a time, written in order.
+    constexpr std::size_t kBlock = 1 << 16;
+    constexpr std::size_t kBatch = 8;
+    std::vector<std::vector<std::byte>> buffers(kBatch);
+    std::vector<BlockStats> stats(kBatch);
+    for (std::size_t batch = 0; batch < count; batch += kBlock * kBatch) {
+      std::size_t blocks = std::min(kBatch, (count - batch + kBlock - 1) / kBlock);
+      tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
+        std::size_t first = batch + b * kBlock;
+        std::size_t n = std::min(kBlock, count - first);
+        buffers[b].resize(n * stride);
+        stats[b] = BlockStats{};
+        encodeBlock(cloud, layout, first, n, buffers[b].data(), stats[b]);
+      });
+      for (std::size_t b = 0; b < blocks; ++b) {
+        out.write(buffers[b].data(), buffers[b].size());
+        addStats(stats[b]);
+        if (options.progress) options.progress->advance(buffers[b].size() / stride);
+      }
     }
   }
 
@@ -538,7 +565,8 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
   store(h + 94, std::uint16_t(header_size));
   store(h + 96, std::uint32_t(point_data_offset));
   store(h + 100, std::uint32_t(vlrs.size()));
-  h[104] = std::byte(plan.point_format);
+  // LAZ: LASzip's bit 7 says the points are compressed (the laszip VLR says how).
+  h[104] = std::byte(plan.point_format | (compress ? 0x80 : 0));
   store(h + 105, std::uint16_t(stride));
   // Legacy counts are zero for formats 6-10 (R15 2.4) and when they would overflow.
   bool legacy = plan.point_format < 6 && count <= UINT32_MAX;

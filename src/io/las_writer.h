@@ -42,6 +42,9 @@ struct LasWriteOptions {
   std::optional<bool> gps_time_standard;
   std::uint16_t file_source_id = 0;
   Progress* progress = nullptr;  // advanced by points written
+  // 0: LAS. More: LAZ, the point data compressed in chunks of this many points (laz_writer.h;
+  // writeLaz sets it).
+  std::uint32_t laz_chunk_points = 0;
 };
 
 struct LasWritePlan {

@@ -13,7 +13,10 @@
 #include "io/las_header.h"
 #include "io/las_reader.h"
 #include "io/las_writer.h"
+#include "io/laz_reader.h"
+#include "io/laz_writer.h"
 #include "io/mapped_file.h"
+#include "io/ply_preview.h"
 #include "io/ply_reader.h"
 #include "io/ply_writer.h"
 #include "io/text_reader.h"
@@ -50,8 +53,9 @@ const char* pointFormatName(PointFormat format) {
 }
 
 const char* supportedFormatsText() {
-  return "supported formats: PLY (ascii, binary little and big endian; .ply), LAS 1.0-1.4 "
-         "uncompressed, point formats 0-10 (.las), text with x y z [r g b ...] a line, "
+  return "supported formats: PLY (ascii, binary little and big endian; .ply), LAS 1.0-1.4, "
+         "point formats 0-10 (.las), LAZ (LASzip-compressed LAS; .laz), text with x y z [r g b "
+         "...] a line, "
          "separated by blanks, commas or semicolons (.xyz .txt .csv .asc .pts)";
 }
 
@@ -88,7 +92,7 @@ PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptio
     case PointFormat::Las:
       return readLas(path, {.progress = options.progress, .parallel = options.parallel});
     case PointFormat::Laz:
-      throwLazNotSupported(path.string());
+      return readLaz(path, {.progress = options.progress, .parallel = options.parallel});
     case PointFormat::Text:
       return readText(path, {.columns = options.text_columns,
                              .progress = options.progress,
@@ -96,12 +100,7 @@ PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptio
     case PointFormat::Unknown:
       break;
   }
-  std::string hint = supportedFormatsText();
-  if (lowerExtension(path) == ".laz") {
-    hint =
-        "LAZ is compressed LAS, which Parallax does not decompress: decompress it first, e.g. "
-        "`laszip -i in.laz -o out.las` or `pdal translate in.laz out.las`";
-  }
+  const std::string hint = supportedFormatsText();
   throw InputError({.file = path.string(),
                     .byte_offset = 0,
                     .expected = "a point cloud file",
@@ -109,10 +108,26 @@ PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptio
                     .hint = hint});
 }
 
+bool hasPointFilePreview(PointFormat format) {
+  return format == PointFormat::Ply || format == PointFormat::Las || format == PointFormat::Laz;
+}
+
+PointCloud readPointFilePreview(const std::filesystem::path& path, std::uint64_t max_points) {
+  const PointFormat format = detectPointFormat(path);
+  if (format == PointFormat::Ply) return readPlyPreview(path, max_points);
+  if (format == PointFormat::Las || format == PointFormat::Laz) {
+    return readLasPreview(path, max_points);
+  }
+  throw InputError({.file = path.string(),
+                    .expected = "a PLY, LAS or LAZ file (a sample is read from those only)",
+                    .found = pointFormatName(format)});
+}
+
 PointFormat formatForExtension(const std::filesystem::path& path) {
   std::string ext = lowerExtension(path);
   if (ext == ".ply") return PointFormat::Ply;
   if (ext == ".las") return PointFormat::Las;
+  if (ext == ".laz") return PointFormat::Laz;
   if (ext == ".xyz" || ext == ".txt" || ext == ".csv" || ext == ".asc" || ext == ".pts") {
     return PointFormat::Text;
   }
@@ -124,6 +139,7 @@ std::vector<std::string> describeWriteLosses(const PointCloud& cloud,
                                              const PointWriteOptions& options) {
   switch (formatForExtension(path)) {
     case PointFormat::Las:
+    case PointFormat::Laz:
       return planLasWrite(cloud, {.minor_version = options.las_minor_version}).losses;
     case PointFormat::Text:
       return describeTextLosses(cloud, textOptionsForPath(path));
@@ -144,6 +160,11 @@ void writePointFile(const PointCloud& cloud, const std::filesystem::path& path,
       writeLas(cloud, path,
                {.minor_version = options.las_minor_version, .progress = options.progress});
       return;
+    case PointFormat::Laz:
+      writeLaz(cloud, path,
+               {.las = {.minor_version = options.las_minor_version, .progress = options.progress},
+                .chunk_points = options.laz_chunk_points});
+      return;
     case PointFormat::Text: {
       TextWriteOptions text = textOptionsForPath(path);
       text.progress = options.progress;
@@ -154,13 +175,10 @@ void writePointFile(const PointCloud& cloud, const std::filesystem::path& path,
       break;
   }
   throw InputError({.file = path.string(),
-                    .expected = "an output name ending in .ply, .las, .xyz, .txt, .csv, .asc or "
-                                ".pts",
+                    .expected = "an output name ending in .ply, .las, .laz, .xyz, .txt, .csv, "
+                                ".asc or .pts",
                     .found = "'" + path.extension().string() + "'",
-                    .hint = lowerExtension(path) == ".laz"
-                                ? "Parallax writes uncompressed LAS: write .las and compress it "
-                                  "with `laszip` if needed"
-                                : supportedFormatsText()});
+                    .hint = supportedFormatsText()});
 }
 
 OutputFile::OutputFile(const std::filesystem::path& path) : path_(path) {

@@ -39,18 +39,27 @@ struct PointReadOptions {
 };
 
 // Reads a whole point file of any supported format. Throws InputError for unreadable or malformed
-// files, for LAZ (with how to decompress it), and for an unknown format with the list of
-// supported ones.
+// files, and for an unknown format with the list of supported ones.
 PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptions& options = {});
 
-// The format a path's extension asks for when writing: .ply, .las, .xyz/.txt/.csv/.pts/.asc;
-// Unknown otherwise (and for .laz, which Parallax cannot write).
+// Whether readPointFilePreview samples files of `format` (PLY, LAS, LAZ; not text, whose lines
+// cannot be addressed without reading them all).
+bool hasPointFilePreview(PointFormat format);
+
+// About `max_points` points spread over a large file, read in a fraction of the time of the
+// whole, for a first picture while its octree is built (ply_preview.h, readLasPreview,
+// readLazPreview). Throws InputError as the readers do, and for a format without a preview.
+PointCloud readPointFilePreview(const std::filesystem::path& path, std::uint64_t max_points);
+
+// The format a path's extension asks for when writing: .ply, .las, .laz, .xyz/.txt/.csv/.pts/.asc;
+// Unknown otherwise.
 PointFormat formatForExtension(const std::filesystem::path& path);
 
 struct PointWriteOptions {
   Progress* progress = nullptr;
   bool ply_ascii = false;     // PLY: ascii instead of binary little endian
-  int las_minor_version = 0;  // LAS: 2 or 4; 0 chooses from the attributes (see las_writer.h)
+  int las_minor_version = 0;  // LAS, LAZ: 2 or 4; 0 chooses from the attributes (las_writer.h)
+  std::uint32_t laz_chunk_points = 50000;  // LAZ: points a chunk (laz_writer.h)
 };
 
 // What writing `cloud` to `path` would drop or change: one short phrase each ("alpha (LAS has no

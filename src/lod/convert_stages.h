@@ -35,9 +35,9 @@
 
 namespace parallax {
 
-// A point file read in batches whatever its format: PLY and LAS through their chunk readers;
+// A point file read in batches whatever its format: PLY, LAS and LAZ through their chunk readers;
 // text files are read whole and handed out in slices (no chunked text reader yet: a text cloud
-// must fit in memory). LAZ and unknown formats throw InputError as readPointFile does.
+// must fit in memory). Unknown formats throw InputError as readPointFile does.
 class PointStream {
  public:
   PointStream(const std::filesystem::path& path, const std::vector<std::string>& text_columns);

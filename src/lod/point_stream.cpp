@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "io/las_reader.h"
+#include "io/laz_reader.h"
 #include "io/ply_reader.h"
 #include "io/point_file.h"
 #include "io/text_reader.h"
@@ -17,7 +18,7 @@ struct PointStream::State {
     PointCloud cloud;
     std::uint64_t next = 0;
   };
-  std::variant<PlyChunkReader, LasChunkReader, WholeCloud> reader;
+  std::variant<PlyChunkReader, LasChunkReader, LazChunkReader, WholeCloud> reader;
 };
 
 namespace {
@@ -29,13 +30,15 @@ PointStream::State openStream(const std::filesystem::path& path,
       return {PlyChunkReader(path)};
     case PointFormat::Las:
       return {LasChunkReader(path)};
+    case PointFormat::Laz:
+      return {LazChunkReader(path)};
     case PointFormat::Text: {
       PointStream::State::WholeCloud whole;
       whole.cloud = readText(path, {.columns = text_columns});
       return {std::move(whole)};
     }
     default:
-      // readPointFile gives the messages for LAZ and unknown formats.
+      // readPointFile gives the message for unknown formats.
       readPointFile(path);
       throw InputError({.file = path.string(), .expected = supportedFormatsText()});
   }

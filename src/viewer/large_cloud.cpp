@@ -26,6 +26,7 @@ std::optional<std::uint64_t> headerPointCount(const std::filesystem::path& path)
         return header.elements[std::size_t(element)].count;
       }
       case PointFormat::Las:
+      case PointFormat::Laz:
         return readLasHeader(path).point_count;
       default:
         return std::nullopt;

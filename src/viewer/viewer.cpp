@@ -118,12 +118,12 @@ void openLargeFile(Session& s, const std::filesystem::path& path, std::uint64_t 
   }
   const std::uint64_t budget = s.lod_settings.selection.point_budget;
   std::uint64_t shown = 0;
-  if (detectPointFormat(path) == PointFormat::Ply) {
-    const PointCloud preview = readPlyPreview(path, std::min(budget, kPreviewPoints));
+  if (hasPointFilePreview(detectPointFormat(path))) {
+    const PointCloud preview = readPointFilePreview(path, std::min(budget, kPreviewPoints));
     shown = preview.count;
     showCloud(s, preview, true, first);
   } else {
-    // No sample reader for LAS: nothing is shown until the octree is ready.
+    // No sample reader for text: nothing is shown until the octree is ready.
     s.cloud.reset();
     s.lod.reset();
     s.octree.reset();

@@ -102,6 +102,15 @@ class ChunkDecoder {
   // point count and layer sizes.
   virtual void decode(std::span<const std::byte> chunk, std::size_t point_count,
                       std::byte* records) = 0;
+  // For a file without a usable chunk table: decodes a chunk of `point_count` records whose end
+  // is not known (`bytes` runs from its start to the end of the point data, or a window of it)
+  // and returns the bytes it took, where the next chunk starts. Codecs that cannot delimit a
+  // chunk this way throw ChunkCorrupt (the default).
+  virtual std::size_t decodeUnsized(std::span<const std::byte> bytes, std::size_t point_count,
+                                    std::byte* records) {
+    (void)bytes, (void)point_count, (void)records;
+    throw ChunkCorrupt(0, "this codec cannot find a chunk's end without the chunk table");
+  }
   virtual std::size_t recordLength() const = 0;
 };
 

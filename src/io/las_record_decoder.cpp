@@ -1,0 +1,311 @@
+#include "io/las_record_decoder.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "io/las_reader.h"
+
+namespace parallax {
+namespace {
+
+template <class T>
+T load(const std::byte* p) {
+  T value;
+  std::memcpy(&value, p, sizeof value);
+  return value;
+}
+
+void addBits(LasDecodePlan& plan, const char* name, std::size_t offset, int shift, int mask) {
+  plan.fields.push_back(
+      {.kind = LasFieldDecoder::Kind::Bits, .offset = offset, .shift = shift, .mask = mask});
+  plan.columns.emplace_back(name, ScalarType::UInt8);
+}
+void addCopy(LasDecodePlan& plan, std::string name, ScalarType type, std::size_t offset) {
+  plan.fields.push_back(
+      {.kind = LasFieldDecoder::Kind::Copy, .offset = offset, .size = scalarSize(type)});
+  plan.columns.emplace_back(std::move(name), type);
+}
+
+LasDecodePlan makePlanImpl(const LasHeader& header) {
+  using namespace las_names;
+  LasDecodePlan plan;
+  const int format = header.point_format;
+  plan.record_length = header.record_length;
+  plan.extended = lasFormatIsExtended(format);
+  std::size_t gps = plan.extended ? 22 : 20;
+  std::size_t after_gps = lasFormatHasGpsTime(format) ? gps + 8 : gps;
+  if (lasFormatHasColor(format)) plan.color_offset = after_gps;
+  if (plan.extended) {
+    addBits(plan, kReturnNumber, 14, 0, 15);
+    addBits(plan, kNumberOfReturns, 14, 4, 15);
+    addBits(plan, kClassificationFlags, 15, 0, 15);
+    addBits(plan, kScannerChannel, 15, 4, 3);
+    addBits(plan, kScanDirectionFlag, 15, 6, 1);
+    addBits(plan, kEdgeOfFlightLine, 15, 7, 1);
+    addCopy(plan, kUserData, ScalarType::UInt8, 17);
+    addCopy(plan, kScanAngle, ScalarType::Int16, 18);
+    addCopy(plan, kPointSourceId, ScalarType::UInt16, 20);
+  } else {
+    addBits(plan, kReturnNumber, 14, 0, 7);
+    addBits(plan, kNumberOfReturns, 14, 3, 7);
+    addBits(plan, kScanDirectionFlag, 14, 6, 1);
+    addBits(plan, kEdgeOfFlightLine, 14, 7, 1);
+    addBits(plan, kClassificationFlags, 15, 5, 7);
+    addCopy(plan, kScanAngleRank, ScalarType::Int8, 16);
+    addCopy(plan, kUserData, ScalarType::UInt8, 17);
+    addCopy(plan, kPointSourceId, ScalarType::UInt16, 18);
+  }
+  if (lasFormatHasGpsTime(format)) addCopy(plan, kGpsTime, ScalarType::Float64, gps);
+  std::size_t end = after_gps + (lasFormatHasColor(format) ? 6 : 0);
+  if (lasFormatHasNir(format)) {
+    addCopy(plan, kNir, ScalarType::UInt16, end);
+    end += 2;
+  }
+  if (lasFormatHasWavePacket(format)) {
+    // LAS 1.4 R15 Table 13: index, offset, size, location, x(t), y(t), z(t): 29 bytes.
+    addCopy(plan, "wave_packet_descriptor_index", ScalarType::UInt8, end);
+    plan.fields.push_back({.kind = LasFieldDecoder::Kind::UInt64ToDouble, .offset = end + 1});
+    plan.columns.emplace_back("wave_packet_offset", ScalarType::Float64);
+    addCopy(plan, "wave_packet_size", ScalarType::UInt32, end + 9);
+    addCopy(plan, "return_point_waveform_location", ScalarType::Float32, end + 13);
+    addCopy(plan, "waveform_dx", ScalarType::Float32, end + 17);
+    addCopy(plan, "waveform_dy", ScalarType::Float32, end + 21);
+    addCopy(plan, "waveform_dz", ScalarType::Float32, end + 25);
+  }
+  for (const LasExtraBytes& extra : header.extra_bytes) {
+    int base = extra.data_type <= 10 ? extra.data_type : (extra.data_type - 1) % 10 + 1;
+    if (extra.scaled) {
+      plan.fields.push_back({.kind = LasFieldDecoder::Kind::Scaled,
+                             .offset = extra.record_offset,
+                             .data_type = base,
+                             .scale = extra.scale,
+                             .add = extra.offset});
+      plan.columns.emplace_back(extra.name, ScalarType::Float64);
+    } else if (extra.is_64bit_int) {
+      plan.fields.push_back({.kind = base == 7 ? LasFieldDecoder::Kind::UInt64ToDouble
+                                               : LasFieldDecoder::Kind::Int64ToDouble,
+                             .offset = extra.record_offset});
+      plan.columns.emplace_back(extra.name, ScalarType::Float64);
+    } else {
+      addCopy(plan, extra.name, extra.type, extra.record_offset);
+    }
+  }
+  return plan;
+}
+
+template <class F>
+void withExtraType(int data_type, F f) {
+  switch (data_type) {
+    case 1:
+      f(std::uint8_t{});
+      break;
+    case 2:
+      f(std::int8_t{});
+      break;
+    case 3:
+      f(std::uint16_t{});
+      break;
+    case 4:
+      f(std::int16_t{});
+      break;
+    case 5:
+      f(std::uint32_t{});
+      break;
+    case 6:
+      f(std::int32_t{});
+      break;
+    case 7:
+      f(std::uint64_t{});
+      break;
+    case 8:
+      f(std::int64_t{});
+      break;
+    case 9:
+      f(float{});
+      break;
+    default:
+      f(double{});
+      break;
+  }
+}
+
+template <std::size_t kSize>
+void copyField(const std::byte* src, std::size_t stride, std::size_t n, std::byte* dst) {
+  for (std::size_t i = 0; i < n; ++i) std::memcpy(dst + i * kSize, src + i * stride, kSize);
+}
+
+void storeColors(const std::byte* c, std::size_t stride, std::size_t m, bool colors_8bit,
+                 Rgba8* rgba) {
+  if (colors_8bit) {
+    for (std::size_t i = 0; i < m; ++i) {
+      const std::byte* p = c + i * stride;
+      rgba[i] = {std::uint8_t(load<std::uint16_t>(p)), std::uint8_t(load<std::uint16_t>(p + 2)),
+                 std::uint8_t(load<std::uint16_t>(p + 4)), 255};
+    }
+  } else {
+    auto to8 = [](std::uint16_t v) { return std::uint8_t((unsigned(v) + 128) / 257); };
+    for (std::size_t i = 0; i < m; ++i) {
+      const std::byte* p = c + i * stride;
+      rgba[i] = {to8(load<std::uint16_t>(p)), to8(load<std::uint16_t>(p + 2)),
+                 to8(load<std::uint16_t>(p + 4)), 255};
+    }
+  }
+}
+
+bool anyAbove255(const std::byte* c, std::size_t stride, std::size_t m) {
+  unsigned all = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    const std::byte* p = c + i * stride;
+    all |=
+        unsigned(load<std::uint16_t>(p)) | load<std::uint16_t>(p + 2) | load<std::uint16_t>(p + 4);
+  }
+  return all > 255;
+}
+
+}  // namespace
+
+LasDecodePlan makeLasDecodePlan(const LasHeader& header) {
+  return makePlanImpl(header);
+}
+
+void LasDecodeStats::merge(const LasDecodeStats& b) {
+  lo = {std::min(lo.x, b.lo.x), std::min(lo.y, b.lo.y), std::min(lo.z, b.lo.z)};
+  hi = {std::max(hi.x, b.hi.x), std::max(hi.y, b.hi.y), std::max(hi.z, b.hi.z)};
+  color_above_255 = color_above_255 || b.color_above_255;
+}
+
+Bounds3 LasDecodeStats::world(const Quantization& q) const {
+  Bounds3 bounds;
+  if (lo.x > hi.x) return bounds;
+  bounds.extend(q.toWorld(0, lo.x), q.toWorld(1, lo.y), q.toWorld(2, lo.z));
+  bounds.extend(q.toWorld(0, hi.x), q.toWorld(1, hi.y), q.toWorld(2, hi.z));
+  return bounds;
+}
+
+// Decodes records [0, n) at `records` into `out` from index `at`. Column by column over blocks
+// that stay in cache: each loop is a plain strided gather the compiler keeps tight.
+void decodeLasRecords(const std::byte* records, std::size_t n, const LasDecodePlan& plan,
+                      PointCloud& out, std::size_t at, LasDecodeStats& box) {
+  // Small enough that a block of records (up to 67 bytes each) stays in L1 while every column
+  // gathers from it.
+  constexpr std::size_t kBlock = 512;
+  const std::size_t stride = plan.record_length;
+  for (std::size_t b = 0; b < n; b += kBlock) {
+    const std::size_t m = std::min(kBlock, n - b);
+    const std::byte* r = records + b * stride;
+    const std::size_t o = at + b;
+    copyField<12>(r, stride, m, reinterpret_cast<std::byte*>(out.positions.data() + o));
+    {
+      const Int3* p = out.positions.data() + o;
+      Int3 lo = box.lo, hi = box.hi;
+      for (std::size_t i = 0; i < m; ++i) {
+        lo = {std::min(lo.x, p[i].x), std::min(lo.y, p[i].y), std::min(lo.z, p[i].z)};
+        hi = {std::max(hi.x, p[i].x), std::max(hi.y, p[i].y), std::max(hi.z, p[i].z)};
+      }
+      box.lo = lo, box.hi = hi;
+    }
+    float* intensity = out.intensity.data() + o;
+    for (std::size_t i = 0; i < m; ++i)
+      intensity[i] = float(load<std::uint16_t>(r + i * stride + 12));
+    std::uint8_t* cls = out.classification.data() + o;
+    if (plan.extended) {
+      for (std::size_t i = 0; i < m; ++i) cls[i] = std::uint8_t(r[i * stride + 16]);
+    } else {
+      for (std::size_t i = 0; i < m; ++i) cls[i] = std::uint8_t(r[i * stride + 15]) & 31;
+    }
+    if (plan.color_offset) {
+      const std::byte* c = r + *plan.color_offset;
+      if (!box.color_above_255) box.color_above_255 = anyAbove255(c, stride, m);
+      storeColors(c, stride, m, plan.colors_8bit, out.colors.data() + o);
+    }
+    for (std::size_t f = 0; f < plan.fields.size(); ++f) {
+      const LasFieldDecoder& field = plan.fields[f];
+      ScalarColumn& column = out.scalars[f];
+      const std::byte* src = r + field.offset;
+      switch (field.kind) {
+        case LasFieldDecoder::Kind::Bits: {
+          // Locals, so that the stores through `dst` (a uint8_t*, which may alias anything) do
+          // not force a reload of the shift and mask each point.
+          const unsigned shift = unsigned(field.shift), mask = unsigned(field.mask);
+          std::uint8_t* dst = column.as<std::uint8_t>() + o;
+          for (std::size_t i = 0; i < m; ++i) {
+            dst[i] = std::uint8_t((unsigned(src[i * stride]) >> shift) & mask);
+          }
+          break;
+        }
+        case LasFieldDecoder::Kind::Copy: {
+          std::byte* dst = column.data.data() + o * field.size;
+          switch (field.size) {
+            case 1:
+              copyField<1>(src, stride, m, dst);
+              break;
+            case 2:
+              copyField<2>(src, stride, m, dst);
+              break;
+            case 4:
+              copyField<4>(src, stride, m, dst);
+              break;
+            default:
+              copyField<8>(src, stride, m, dst);
+              break;
+          }
+          break;
+        }
+        case LasFieldDecoder::Kind::Int64ToDouble: {
+          double* dst = column.as<double>() + o;
+          for (std::size_t i = 0; i < m; ++i) dst[i] = double(load<std::int64_t>(src + i * stride));
+          break;
+        }
+        case LasFieldDecoder::Kind::UInt64ToDouble: {
+          double* dst = column.as<double>() + o;
+          for (std::size_t i = 0; i < m; ++i)
+            dst[i] = double(load<std::uint64_t>(src + i * stride));
+          break;
+        }
+        case LasFieldDecoder::Kind::Scaled: {
+          double* dst = column.as<double>() + o;
+          const double scale = field.scale, add = field.add;
+          withExtraType(field.data_type, [&](auto zero) {
+            using T = decltype(zero);
+            for (std::size_t i = 0; i < m; ++i) {
+              dst[i] = double(load<T>(src + i * stride)) * scale + add;
+            }
+          });
+          break;
+        }
+      }
+    }
+  }
+}
+
+void decodeLasColors(const std::byte* records, std::size_t n, const LasDecodePlan& plan,
+                     PointCloud& out, std::size_t at) {
+  if (!plan.color_offset) return;
+  storeColors(records + *plan.color_offset, plan.record_length, n, plan.colors_8bit,
+              out.colors.data() + at);
+}
+
+bool lasColorsAbove255(const std::byte* records, std::size_t n, const LasDecodePlan& plan) {
+  return plan.color_offset && anyAbove255(records + *plan.color_offset, plan.record_length, n);
+}
+
+// A cloud with every column of the plan allocated (untouched) for `count` points.
+PointCloud allocateLasCloud(const LasHeader& header, const LasDecodePlan& plan, std::size_t count) {
+  PointCloud cloud;
+  cloud.count = count;
+  cloud.quantization = header.quantization;
+  cloud.positions = Column<Int3>(count);
+  cloud.intensity = Column<float>(count);
+  cloud.classification = Column<std::uint8_t>(count);
+  if (plan.color_offset) cloud.colors = Column<Rgba8>(count);
+  for (const auto& [name, type] : plan.columns) {
+    cloud.scalars.push_back({name, type, ByteBuffer(count * scalarSize(type))});
+  }
+  cloud.source.position = ScalarType::Float64;
+  cloud.source.intensity = ScalarType::UInt16;
+  cloud.source.classification = ScalarType::UInt8;
+  cloud.source.color = plan.colors_8bit ? ScalarType::UInt8 : ScalarType::UInt16;
+  return cloud;
+}
+
+}  // namespace parallax

@@ -1,0 +1,121 @@
+#include "io/laz/laz_layout.h"
+
+#include <cstring>
+
+#include "io/laz/arithmetic_decoder.h"
+#include "io/laz/arithmetic_encoder.h"
+#include "io/laz/integer_codec.h"
+
+namespace parallax::laz {
+namespace {
+
+template <class T>
+T load(const std::byte* p) {
+  T value;
+  std::memcpy(&value, p, sizeof value);
+  return value;
+}
+template <class T>
+void store(std::byte* p, T value) {
+  std::memcpy(p, &value, sizeof value);
+}
+
+// The chunk table's integer coder: 32 bits, context 0 for point counts, 1 for byte sizes.
+const IntegerCodecShape kTableShape{.bits = 32, .contexts = 2};
+
+}  // namespace
+
+LaszipVlr parseLaszipVlr(std::span<const std::byte> payload) {
+  const std::size_t size = payload.size();
+  if (size < kLaszipVlrFixedSize + 6 || (size - kLaszipVlrFixedSize) % 6 != 0) {
+    throw UnsupportedItems("the laszip VLR has " + std::to_string(size) +
+                           " bytes; expected 34 + 6 per item");
+  }
+  const std::byte* p = payload.data();
+  LaszipVlr vlr;
+  vlr.compressor = load<std::uint16_t>(p);
+  vlr.coder = load<std::uint16_t>(p + 2);
+  vlr.version_major = load<std::uint8_t>(p + 4);
+  vlr.version_minor = load<std::uint8_t>(p + 5);
+  vlr.version_revision = load<std::uint16_t>(p + 6);
+  vlr.options = load<std::uint32_t>(p + 8);
+  vlr.chunk_size = load<std::uint32_t>(p + 12);
+  vlr.special_evlr_count = load<std::int64_t>(p + 16);
+  vlr.special_evlr_offset = load<std::int64_t>(p + 24);
+  const std::size_t count = load<std::uint16_t>(p + 32);
+  if (count != (size - kLaszipVlrFixedSize) / 6) {
+    throw UnsupportedItems("the laszip VLR lists " + std::to_string(count) + " items in room for " +
+                           std::to_string((size - kLaszipVlrFixedSize) / 6));
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::byte* item = p + kLaszipVlrFixedSize + 6 * i;
+    vlr.items.push_back({ItemType(load<std::uint16_t>(item)), load<std::uint16_t>(item + 2),
+                         load<std::uint16_t>(item + 4)});
+  }
+  return vlr;
+}
+
+std::vector<std::byte> laszipVlrPayload(const LaszipVlr& vlr) {
+  std::vector<std::byte> out(kLaszipVlrFixedSize + 6 * vlr.items.size());
+  std::byte* p = out.data();
+  store(p, vlr.compressor);
+  store(p + 2, vlr.coder);
+  store(p + 4, vlr.version_major);
+  store(p + 5, vlr.version_minor);
+  store(p + 6, vlr.version_revision);
+  store(p + 8, vlr.options);
+  store(p + 12, vlr.chunk_size);
+  store(p + 16, vlr.special_evlr_count);
+  store(p + 24, vlr.special_evlr_offset);
+  store(p + 32, std::uint16_t(vlr.items.size()));
+  for (std::size_t i = 0; i < vlr.items.size(); ++i) {
+    std::byte* item = p + kLaszipVlrFixedSize + 6 * i;
+    store(item, std::uint16_t(vlr.items[i].type));
+    store(item + 2, vlr.items[i].size);
+    store(item + 4, vlr.items[i].version);
+  }
+  return out;
+}
+
+std::vector<std::uint8_t> encodeChunkTable(std::span<const LazChunk> chunks, bool variable) {
+  std::vector<std::uint8_t> out;
+  if (chunks.empty()) return out;
+  ArithmeticEncoder enc(out);
+  IntegerEncoder ic(kTableShape);
+  std::uint32_t last_points = 0, last_bytes = 0;
+  for (const LazChunk& chunk : chunks) {
+    if (variable) {
+      ic.encode(enc, std::int32_t(last_points), std::int32_t(chunk.points), 0);
+      last_points = std::uint32_t(chunk.points);
+    }
+    ic.encode(enc, std::int32_t(last_bytes), std::int32_t(chunk.bytes), 1);
+    last_bytes = std::uint32_t(chunk.bytes);
+  }
+  enc.finish();
+  return out;
+}
+
+bool decodeChunkTable(std::span<const std::byte> stream, std::uint32_t count, bool variable,
+                      std::vector<std::uint32_t>& points, std::vector<std::uint32_t>& bytes) {
+  points.clear();
+  bytes.clear();
+  if (count == 0) return true;
+  ArithmeticDecoder dec;
+  dec.start(stream);
+  IntegerDecoder ic(kTableShape);
+  std::uint32_t last_points = 0, last_bytes = 0;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    if (variable) {
+      last_points = std::uint32_t(ic.decode(dec, std::int32_t(last_points), 0));
+      points.push_back(last_points);
+    }
+    last_bytes = std::uint32_t(ic.decode(dec, std::int32_t(last_bytes), 1));
+    bytes.push_back(last_bytes);
+    // Every entry costs some bits: a stream that ran out cannot hold the rest (this also bounds
+    // the work a lying count can ask for).
+    if (!dec.ok()) return false;
+  }
+  return true;
+}
+
+}  // namespace parallax::laz

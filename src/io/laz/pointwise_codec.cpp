@@ -1,0 +1,262 @@
+// The point-wise chunk codec: a chunk is its first record raw, then one arithmetic stream in
+// which every following record's items are coded in record order (LAZ specification; Isenburg
+// 2013). The items' coders (pointwise_*.cpp) keep their state from point to point; the chunk
+// restarts them from the raw record.
+#include "io/laz/pointwise_codec.h"
+
+#include <string>
+
+#include "io/laz/pointwise_items.h"
+
+namespace parallax::laz {
+namespace {
+
+const char* itemName(ItemType type) {
+  switch (type) {
+    case ItemType::Byte:
+      return "BYTE";
+    case ItemType::Short:
+      return "SHORT";
+    case ItemType::Integer:
+      return "INTEGER";
+    case ItemType::Long:
+      return "LONG";
+    case ItemType::Float:
+      return "FLOAT";
+    case ItemType::Double:
+      return "DOUBLE";
+    case ItemType::Point10:
+      return "POINT10";
+    case ItemType::GpsTime11:
+      return "GPSTIME11";
+    case ItemType::Rgb12:
+      return "RGB12";
+    case ItemType::Wavepacket13:
+      return "WAVEPACKET13";
+    case ItemType::Point14:
+      return "POINT14";
+    case ItemType::Rgb14:
+      return "RGB14";
+    case ItemType::RgbNir14:
+      return "RGBNIR14";
+    case ItemType::Wavepacket14:
+      return "WAVEPACKET14";
+    case ItemType::Byte14:
+      return "BYTE14";
+  }
+  return "an unknown item";
+}
+
+// Checks one item against what the point-wise codec defines; throws UnsupportedItems saying
+// which item and why.
+void checkItem(const LazItem& item, std::size_t index, std::size_t count) {
+  const std::string where = "LAZ item " + std::to_string(index + 1) + " of " +
+                            std::to_string(count) + " (" + itemName(item.type) + ", type " +
+                            std::to_string(unsigned(item.type)) + ", " + std::to_string(item.size) +
+                            " bytes, version " + std::to_string(item.version) + ")";
+  std::size_t size = 0;
+  int max_version = 2;
+  switch (item.type) {
+    case ItemType::Point10:
+      size = 20;
+      break;
+    case ItemType::GpsTime11:
+      size = 8;
+      break;
+    case ItemType::Rgb12:
+      size = 6;
+      break;
+    case ItemType::Wavepacket13:
+      size = 29;
+      max_version = 1;
+      break;
+    case ItemType::Byte:
+      if (item.size == 0) throw UnsupportedItems(where + ": a BYTE item needs at least one byte");
+      size = item.size;
+      break;
+    case ItemType::Point14:
+    case ItemType::Rgb14:
+    case ItemType::RgbNir14:
+    case ItemType::Wavepacket14:
+    case ItemType::Byte14:
+      throw UnsupportedItems(where +
+                             ": a layered item (compressor 3) in a point-wise compressed file");
+    default:
+      throw UnsupportedItems(where + ": not an item LASzip's point-wise compressor defines");
+  }
+  if (item.size != size) {
+    throw UnsupportedItems(where + ": expected " + std::to_string(size) + " bytes");
+  }
+  if (item.version < 1 || item.version > max_version) {
+    throw UnsupportedItems(where + ": the point-wise codec defines versions 1" +
+                           (max_version > 1 ? std::string(" and 2") : std::string(" only")));
+  }
+}
+
+struct Layout {
+  std::vector<std::size_t> offsets;
+  std::size_t record_length = 0;
+};
+
+Layout checkItems(std::span<const LazItem> items) {
+  if (items.empty()) throw UnsupportedItems("the LAZ item list is empty");
+  Layout layout;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    checkItem(items[i], i, items.size());
+    layout.offsets.push_back(layout.record_length);
+    layout.record_length += items[i].size;
+  }
+  return layout;
+}
+
+class PointwiseDecoder final : public ChunkDecoder {
+ public:
+  explicit PointwiseDecoder(std::span<const LazItem> items) {
+    Layout layout = checkItems(items);
+    record_length_ = layout.record_length;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      const LazItem& item = items[i];
+      std::unique_ptr<pointwise::ItemDecoder> coder;
+      switch (item.type) {
+        case ItemType::Point10:
+          coder = pointwise::makePoint10Decoder(item.version);
+          break;
+        case ItemType::GpsTime11:
+          coder = pointwise::makeGpsTimeDecoder(item.version);
+          break;
+        case ItemType::Rgb12:
+          coder = pointwise::makeRgbDecoder(item.version);
+          break;
+        case ItemType::Wavepacket13:
+          coder = pointwise::makeWavepacketDecoder();
+          break;
+        default:
+          coder = pointwise::makeBytesDecoder(item.version, item.size);
+          break;
+      }
+      items_.push_back({std::move(coder), layout.offsets[i]});
+    }
+  }
+
+  void decode(std::span<const std::byte> chunk, std::size_t point_count,
+              std::byte* records) override {
+    if (point_count == 0) return;
+    const std::size_t used = decodePoints(chunk, point_count, records);
+    // A valid stream ends exactly where the chunk does (the writer pads it for the decoder's
+    // look-ahead); anything else means the chunk table and the data disagree.
+    if (chunk.size() > record_length_ && used != chunk.size()) {
+      throw ChunkCorrupt(0, "the compressed stream of " + std::to_string(point_count) +
+                                " points ends after " + std::to_string(used) + " of the chunk's " +
+                                std::to_string(chunk.size()) + " bytes");
+    }
+  }
+
+  std::size_t decodeUnsized(std::span<const std::byte> bytes, std::size_t point_count,
+                            std::byte* records) override {
+    if (point_count == 0) return 0;
+    return decodePoints(bytes, point_count, records);
+  }
+
+  std::size_t recordLength() const override { return record_length_; }
+
+ private:
+  // Decodes the records and returns the bytes of `chunk` they took.
+  std::size_t decodePoints(std::span<const std::byte> chunk, std::size_t point_count,
+                           std::byte* records) {
+    const std::size_t length = record_length_;
+    if (chunk.size() < length) {
+      throw ChunkCorrupt(0, "the chunk has " + std::to_string(chunk.size()) +
+                                " bytes, fewer than its first point's raw record of " +
+                                std::to_string(length));
+    }
+    std::memcpy(records, chunk.data(), length);
+    for (Slot& slot : items_) slot.coder->start(records + slot.offset);
+    const std::span<const std::byte> stream = chunk.subspan(length);
+    dec_.start(stream);
+    std::byte* out = records + length;
+    for (std::size_t i = 1; i < point_count; ++i, out += length) {
+      for (Slot& slot : items_) slot.coder->decode(dec_, out + slot.offset);
+      if (!dec_.ok()) {
+        throw ChunkCorrupt(i, dec_.overran() ? "the compressed stream runs past the chunk's " +
+                                                   std::to_string(chunk.size()) + " bytes"
+                                             : "the compressed stream holds an impossible value");
+      }
+    }
+    return length + dec_.consumed(stream);
+  }
+
+  struct Slot {
+    std::unique_ptr<pointwise::ItemDecoder> coder;
+    std::size_t offset;
+  };
+  std::vector<Slot> items_;
+  std::size_t record_length_ = 0;
+  ArithmeticDecoder dec_;
+};
+
+class PointwiseEncoder final : public ChunkEncoder {
+ public:
+  explicit PointwiseEncoder(std::span<const LazItem> items) {
+    Layout layout = checkItems(items);
+    record_length_ = layout.record_length;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      const LazItem& item = items[i];
+      std::unique_ptr<pointwise::ItemEncoder> coder;
+      switch (item.type) {
+        case ItemType::Point10:
+          coder = pointwise::makePoint10Encoder(item.version);
+          break;
+        case ItemType::GpsTime11:
+          coder = pointwise::makeGpsTimeEncoder(item.version);
+          break;
+        case ItemType::Rgb12:
+          coder = pointwise::makeRgbEncoder(item.version);
+          break;
+        case ItemType::Wavepacket13:
+          coder = pointwise::makeWavepacketEncoder();
+          break;
+        default:
+          coder = pointwise::makeBytesEncoder(item.version, item.size);
+          break;
+      }
+      items_.push_back({std::move(coder), layout.offsets[i]});
+    }
+  }
+
+  void encode(const std::byte* records, std::size_t point_count,
+              std::vector<std::uint8_t>& out) override {
+    if (point_count == 0) return;
+    const std::size_t length = record_length_;
+    const auto* first = reinterpret_cast<const std::uint8_t*>(records);
+    out.insert(out.end(), first, first + length);
+    for (Slot& slot : items_) slot.coder->start(records + slot.offset);
+    ArithmeticEncoder enc(out);
+    const std::byte* in = records + length;
+    for (std::size_t i = 1; i < point_count; ++i, in += length) {
+      for (Slot& slot : items_) slot.coder->encode(enc, in + slot.offset);
+    }
+    enc.finish();
+  }
+
+  std::size_t recordLength() const override { return record_length_; }
+
+ private:
+  struct Slot {
+    std::unique_ptr<pointwise::ItemEncoder> coder;
+    std::size_t offset;
+  };
+  std::vector<Slot> items_;
+  std::size_t record_length_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<ChunkDecoder> makePointwiseDecoder(std::span<const LazItem> items) {
+  return std::make_unique<PointwiseDecoder>(items);
+}
+
+std::unique_ptr<ChunkEncoder> makePointwiseEncoder(std::span<const LazItem> items) {
+  return std::make_unique<PointwiseEncoder>(items);
+}
+
+}  // namespace parallax::laz

@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# ctest driver of the laz-perf checks (laz_oracle.cjs). Fails (never skips) when node or the npm
+# packages are missing.
+#
+#   run_laz_oracle.sh writer PARALLAX WORKDIR DATA
+#       LAZ written by `parallax convert` must decode in laz-perf to exactly the records of
+#       Parallax's LAS output of the same input: a generated scan (point format 2 with extra
+#       bytes), in one chunk and in many, and the LAS files of DATA (formats 0-3, extra bytes).
+#   run_laz_oracle.sh files TOOL WORKDIR FILE...
+#       laz-perf and Parallax (TOOL: laz_test_tool) must decode each FILE to the same records.
+# WORKDIR is emptied first.
+set -euo pipefail
+
+here=$(cd "$(dirname "$0")" && pwd)
+mode=${1:?mode}
+
+if ! command -v node >/dev/null 2>&1; then
+  echo "FAILED: node not found: install Debian's nodejs and npm (scripts/install-deps.sh)" >&2
+  exit 1
+fi
+if [[ ! -f "$here/node_modules/laz-perf/package.json" ]]; then
+  echo "FAILED: laz-perf is not installed: run 'npm ci' in $here (scripts/install-deps.sh does)" >&2
+  exit 1
+fi
+
+case $mode in
+  writer)
+    parallax=${2:?parallax} work=${3:?work dir} data=${4:?data dir}
+    rm -rf "$work" && mkdir -p "$work"
+    "$parallax" generate -o "$work/scan.ply" --points 60000 --seed 3
+    "$parallax" convert "$work/scan.ply" -o "$work/scan.las" -q
+    "$parallax" convert "$work/scan.ply" -o "$work/scan.laz" -q
+    "$parallax" convert "$work/scan.ply" -o "$work/scan-small.laz" --laz-chunk 7001 -q
+    node "$here/laz_oracle.cjs" compare "$work/scan.laz" "$work/scan.las"
+    node "$here/laz_oracle.cjs" compare "$work/scan-small.laz" "$work/scan.las"
+    # LAZ to LAZ too: the twin read from its LAZ, written again.
+    for name in point10 point-time point-color point-color-time extrabytes 1815; do
+      input="$data/$name.las"
+      "$parallax" convert "$input" -o "$work/$name.las" -q
+      "$parallax" convert "$input" -o "$work/$name.laz" -q
+      node "$here/laz_oracle.cjs" compare "$work/$name.laz" "$work/$name.las"
+    done
+    "$parallax" convert "$data/point-color-time.las.laz" -o "$work/again.laz" --laz-chunk 100 -q
+    node "$here/laz_oracle.cjs" compare "$work/again.laz" "$work/point-color-time.las"
+    ;;
+  files)
+    tool=${2:?tool} work=${3:?work dir}
+    shift 3
+    rm -rf "$work" && mkdir -p "$work"
+    for file in "$@"; do
+      name=$(basename "$file")
+      node "$here/laz_oracle.cjs" dump "$file" "$work/$name.laz-perf"
+      "$tool" records "$file" "$work/$name.parallax"
+      if ! cmp "$work/$name.laz-perf" "$work/$name.parallax"; then
+        echo "FAILED: $file: Parallax's records differ from laz-perf's" >&2
+        exit 1
+      fi
+      echo "$file: Parallax's records equal laz-perf's"
+    done
+    ;;
+  *)
+    echo "run_laz_oracle.sh: unknown mode '$mode'" >&2
+    exit 2
+    ;;
+esac
