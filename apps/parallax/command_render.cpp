@@ -4,10 +4,11 @@
 // With --stereo MODE, each picture is a stereo frame (render/stereo.h) of the whole --width x
 // --height. quad-buffer needs a stereo window: headless, it falls back to sbs with a message.
 //
-// INPUT may be a Potree 2.0 directory: its octree is streamed through a LodScene (render/
-// lod_scene.h) within --budget points, and each picture waits for every node it selects. A PLY or
-// LAS file with more points than --budget is converted to such an octree first (kept in the
-// user's cache, or --cache-dir, for the next run; --no-cache: a temporary folder), unless
+// INPUT may be a Potree 2.0 directory or a COPC file (told by its content): its octree is
+// streamed through a LodScene (render/lod_scene.h) within --budget points, and each picture
+// waits for every node it selects. A PLY or LAS file with more points than --budget is converted
+// to such an octree first (kept in the user's cache, or --cache-dir, for the next run;
+// --no-cache: a temporary folder), unless
 // --preview asks for a picture of an even sample at once (PLY, LAS, LAZ; the budget's worth of
 // points, at most kPreviewPoints).
 //
@@ -29,6 +30,7 @@
 #include "core/progress.h"
 #include "io/ply_preview.h"
 #include "io/point_file.h"
+#include "lod/octree_open.h"
 #include "lod/potree_reader.h"
 #include "render/camera_path.h"
 #include "render/gl_context.h"
@@ -95,9 +97,9 @@ struct RenderSource {
 
 RenderSource openSource(const RenderCommandOptions& o) {
   RenderSource source;
-  if (isPotreeDirectory(o.input)) {
+  if (isOctreePath(o.input)) {  // a Potree directory or a COPC file
     source.octree_dir = o.input;
-    source.octree = openPotree(o.input);
+    source.octree = openOctree(o.input);
     return source;
   }
   const std::optional<std::uint64_t> points = headerPointCount(o.input);
@@ -252,8 +254,10 @@ Command addRenderCommand(CLI::App& app) {
   auto options = std::make_shared<RenderCommandOptions>();
   Command command;
   CLI::App* sub = app.add_subcommand("render", "Render a point file to a PNG, headless");
-  sub->add_option("input", options->input,
-                  "Point file (PLY, LAS or text), or a Potree 2.0 directory (parallax convert)")
+  sub->add_option(
+         "input", options->input,
+         "Point file (PLY, LAS, LAZ or text), or an octree: a Potree 2.0 directory or a COPC "
+         "file (parallax convert)")
       ->required();
   sub->add_option("-o,--output", options->output,
                   "Output PNG (with --path: a pattern such as DIR/frame_%04d.png)")

@@ -112,8 +112,9 @@ Bounds3 copcNodeBox(const Bounds3& root, const CopcKey& key) {
     const double size = (root.max[axis] - root.min[axis]) / cells;
     box.min[axis] = root.min[axis] + size * index[axis];
     // The last cube ends exactly on the root's face (no rounding gap at the border).
-    box.max[axis] = index[axis] + 1 == std::int64_t(cells) ? root.max[axis]
-                                                           : root.min[axis] + size * (index[axis] + 1);
+    box.max[axis] = index[axis] + 1 == std::int64_t(cells)
+                        ? root.max[axis]
+                        : root.min[axis] + size * (index[axis] + 1);
   }
   return box;
 }

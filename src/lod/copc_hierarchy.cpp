@@ -72,11 +72,10 @@ void CopcHierarchy::addPageRange(std::uint64_t offset, std::uint64_t size,
     auto before = std::prev(next);
     if (before->second > offset) {
       const bool same = before->first == offset;
-      fail(limits_.file, entry_offset, element,
-           "a hierarchy page no other entry names",
+      fail(limits_.file, entry_offset, element, "a hierarchy page no other entry names",
            same ? range + ", a page already named (a loop)"
-                : range + ", overlapping the page at bytes " + std::to_string(before->first) +
-                      "-" + std::to_string(before->second));
+                : range + ", overlapping the page at bytes " + std::to_string(before->first) + "-" +
+                      std::to_string(before->second));
     }
   }
   if (next != pages_.end() && next->first < end) {
@@ -179,7 +178,8 @@ void CopcHierarchy::readPage(std::span<const std::byte> page, std::int32_t top,
            "key " + e.key.text());
     }
     if (!e.key.within(page_key)) {
-      fail(limits_.file, at, element, "a key at or below the page's node (key " + page_key.text() + ")",
+      fail(limits_.file, at, element,
+           "a key at or below the page's node (key " + page_key.text() + ")",
            "key " + e.key.text());
     }
     if (!in_page.emplace(copcNodeName(e.key), i).second) {
@@ -243,7 +243,8 @@ void CopcHierarchy::readPage(std::span<const std::byte> page, std::int32_t top,
     const auto parent = by_name_.find(parent_name);
     if (parent == by_name_.end() ||
         (parent_in_page != in_page.end() && entries[parent_in_page->second].point_count == -1)) {
-      fail(limits_.file, at, element, "the parent's entry (key " + e.key.parent().text() + ") in the page",
+      fail(limits_.file, at, element,
+           "the parent's entry (key " + e.key.parent().text() + ") in the page",
            parent == by_name_.end() ? "none: a node without a parent"
                                     : "a child page (-1 points) for the parent");
     }
@@ -274,13 +275,13 @@ void CopcHierarchy::readPage(std::span<const std::byte> page, std::int32_t top,
   }
   ++pages_read_;
   if (pending_ == 0 && points_ != limits_.header_points) {
-    throw InputError({.file = limits_.file,
-                      .element = "COPC hierarchy (" + std::to_string(pages_read_) + " pages)",
-                      .expected = "nodes holding the header's " +
-                                  std::to_string(limits_.header_points) + " points",
-                      .found = std::to_string(points_) + " points in " +
-                               std::to_string(nodes.size()) + " nodes",
-                      .hint = kHierarchyHint});
+    throw InputError(
+        {.file = limits_.file,
+         .element = "COPC hierarchy (" + std::to_string(pages_read_) + " pages)",
+         .expected =
+             "nodes holding the header's " + std::to_string(limits_.header_points) + " points",
+         .found = std::to_string(points_) + " points in " + std::to_string(nodes.size()) + " nodes",
+         .hint = kHierarchyHint});
   }
 }
 

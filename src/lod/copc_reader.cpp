@@ -9,8 +9,8 @@
 
 #include "core/error.h"
 #include "io/las_record_decoder.h"
-#include "io/laz/laz_layout.h"
 #include "io/laz/layered_codec.h"
+#include "io/laz/laz_layout.h"
 #include "lod/copc_hierarchy.h"
 
 namespace parallax {
@@ -101,14 +101,13 @@ void checkHeader(const LasHeader& header, const std::string& file) {
 }
 
 CopcInfo checkInfo(const LasHeader& header, const std::string& file) {
-  const CopcInfo info = parseCopcInfo(std::span<const std::byte, kCopcInfoSize>(
-      header.vlrs[0].data.data(), kCopcInfoSize));
+  const CopcInfo info = parseCopcInfo(
+      std::span<const std::byte, kCopcInfoSize>(header.vlrs[0].data.data(), kCopcInfoSize));
   const bool finite = std::isfinite(info.center[0]) && std::isfinite(info.center[1]) &&
                       std::isfinite(info.center[2]);
   if (!finite || !std::isfinite(info.halfsize) || !(info.halfsize > 0.0)) {
     failFile(file, kCopcInfoPayloadOffset, "COPC info VLR center and halfsize",
-             "a finite center and a halfsize above 0",
-             "halfsize " + std::to_string(info.halfsize));
+             "a finite center and a halfsize above 0", "halfsize " + std::to_string(info.halfsize));
   }
   if (!std::isfinite(info.spacing) || !(info.spacing > 0.0)) {
     failFile(file, kCopcInfoPayloadOffset + 32, "COPC info VLR spacing", "a spacing above 0",
@@ -151,8 +150,8 @@ CopcLimits readChunkTable(const CopcRangeSource& in, const LasHeader& header) {
              "version 0 and at most one chunk per point and byte of chunk data",
              "version " + std::to_string(version) + ", " + std::to_string(count) + " chunks");
   }
-  std::vector<std::byte> stream(std::size_t(std::min<std::uint64_t>(end - table - 8,
-                                                                    16ull * count + 64)));
+  std::vector<std::byte> stream(
+      std::size_t(std::min<std::uint64_t>(end - table - 8, 16ull * count + 64)));
   in.read(table + 8, stream, "LAZ chunk table");
   std::vector<std::uint32_t> points, bytes;
   if (!laz::decodeChunkTable(stream, count, true, points, bytes)) {
@@ -317,10 +316,10 @@ class CopcOctree final : public Octree {
     info_.point_count = header_.point_count;
     info_.cube = info_vlr_.cube();
     info_.bounds = header_.bounds;
-    const bool bounds_ok = std::isfinite(info_.bounds.min[0]) && std::isfinite(info_.bounds.max[0]) &&
-                           info_.bounds.min[0] <= info_.bounds.max[0] &&
-                           info_.bounds.min[1] <= info_.bounds.max[1] &&
-                           info_.bounds.min[2] <= info_.bounds.max[2];
+    const bool bounds_ok =
+        std::isfinite(info_.bounds.min[0]) && std::isfinite(info_.bounds.max[0]) &&
+        info_.bounds.min[0] <= info_.bounds.max[0] && info_.bounds.min[1] <= info_.bounds.max[1] &&
+        info_.bounds.min[2] <= info_.bounds.max[2];
     if (!bounds_ok) info_.bounds = info_.cube;  // a header without bounds: the cube will do
     info_.quantization = header_.quantization;
     info_.spacing = info_vlr_.spacing;
