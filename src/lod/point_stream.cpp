@@ -10,6 +10,8 @@
 #include "io/text_reader.h"
 #include "lod/convert_stages.h"
 #include "lod/in_memory_octree.h"
+#include "lod/octree_node_batches.h"
+#include "lod/potree_reader.h"
 
 namespace parallax {
 
@@ -18,13 +20,27 @@ struct PointStream::State {
     PointCloud cloud;
     std::uint64_t next = 0;
   };
-  std::variant<PlyChunkReader, LasChunkReader, LazChunkReader, WholeCloud> reader;
+  // A Potree directory as an input of the builder (an octree rebuilt: another cube or
+  // spacing): its nodes one after the other, each handed out whole or in slices.
+  struct OctreeNodes {
+    std::unique_ptr<Octree> octree;
+    std::size_t next_node = 0;
+    PointCloud node;
+    std::uint64_t next_point = 0;
+  };
+  std::variant<PlyChunkReader, LasChunkReader, LazChunkReader, WholeCloud, OctreeNodes> reader;
 };
 
 namespace {
 
 PointStream::State openStream(const std::filesystem::path& path,
                               const std::vector<std::string>& text_columns) {
+  if (isPotreeDirectory(path)) {
+    PointStream::State::OctreeNodes nodes;
+    nodes.octree = openPotree(path);
+    expandWholeOctree(*nodes.octree);
+    return {std::move(nodes)};
+  }
   switch (detectPointFormat(path)) {
     case PointFormat::Ply:
       return {PlyChunkReader(path)};
@@ -56,6 +72,8 @@ std::uint64_t PointStream::pointCount() const {
       [](const auto& r) -> std::uint64_t {
         if constexpr (std::is_same_v<std::decay_t<decltype(r)>, State::WholeCloud>) {
           return r.cloud.count;
+        } else if constexpr (std::is_same_v<std::decay_t<decltype(r)>, State::OctreeNodes>) {
+          return r.octree->info().point_count;
         } else {
           return r.pointCount();
         }
@@ -68,6 +86,8 @@ const Quantization& PointStream::quantization() const {
       [](const auto& r) -> const Quantization& {
         if constexpr (std::is_same_v<std::decay_t<decltype(r)>, State::WholeCloud>) {
           return r.cloud.quantization;
+        } else if constexpr (std::is_same_v<std::decay_t<decltype(r)>, State::OctreeNodes>) {
+          return r.octree->info().quantization;
         } else {
           return r.quantization();
         }
@@ -86,6 +106,25 @@ bool PointStream::next(PointCloud& batch, std::size_t max_points) {
           }
           batch = slicePoints(r.cloud, r.next, n);
           r.next += n;
+          return true;
+        } else if constexpr (std::is_same_v<std::decay_t<decltype(r)>, State::OctreeNodes>) {
+          const auto nodes = r.octree->nodes();
+          while (r.next_point >= r.node.count) {
+            if (r.next_node >= nodes.size()) {
+              batch = PointCloud{};
+              return false;
+            }
+            r.node = r.octree->loadNode(nodes[r.next_node++]);
+            r.next_point = 0;
+          }
+          const std::uint64_t n = std::min<std::uint64_t>(max_points, r.node.count - r.next_point);
+          if (r.next_point == 0 && n == r.node.count) {
+            batch = std::move(r.node);
+            r.node = PointCloud{};
+          } else {
+            batch = slicePoints(r.node, r.next_point, n);
+            r.next_point += n;
+          }
           return true;
         } else {
           return r.next(batch, max_points);

@@ -19,27 +19,6 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Removes the temporary directory unless the conversion got to the rename.
-class TemporaryDirectory {
- public:
-  explicit TemporaryDirectory(std::filesystem::path path) : path_(std::move(path)) {
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TemporaryDirectory() {
-    if (!released_) {
-      std::error_code ignored;
-      std::filesystem::remove_all(path_, ignored);
-    }
-  }
-  const std::filesystem::path& path() const { return path_; }
-  void release() { released_ = true; }
-
- private:
-  std::filesystem::path path_;
-  bool released_ = false;
-};
-
 void writeFile(const std::filesystem::path& path, const void* data, std::size_t size) {
   std::ofstream out(path, std::ios::binary);
   out.write(static_cast<const char*>(data), std::streamsize(size));
@@ -47,26 +26,21 @@ void writeFile(const std::filesystem::path& path, const void* data, std::size_t 
   if (!out) throw std::runtime_error(path.string() + ": cannot write");
 }
 
-nlohmann::json metadataJson(const ConvertPlan& plan, const EncodedHierarchy& hierarchy,
-                            const std::string& name) {
-  return {{"version", "2.0"},
-          {"name", name},
-          {"description", ""},
-          {"points", plan.points},
-          {"projection", ""},
-          {"hierarchy",
-           {{"firstChunkSize", hierarchy.first_chunk_size},
-            {"stepSize", 4},
-            {"depth", hierarchy.depth}}},
-          {"offset", plan.quantization.offset},
-          {"scale", plan.quantization.scale},
-          {"spacing", plan.spacing},
-          {"boundingBox", {{"min", plan.cube.min}, {"max", plan.cube.max}}},
-          {"encoding", "DEFAULT"},
-          {"attributes", plan.layout.toJson(plan.stats)}};
+}  // namespace
+
+TemporaryDirectory::TemporaryDirectory(std::filesystem::path path) : path_(std::move(path)) {
+  std::filesystem::remove_all(path_);
+  std::filesystem::create_directories(path_);
 }
 
-void checkOutput(const std::filesystem::path& output) {
+TemporaryDirectory::~TemporaryDirectory() {
+  if (!released_) {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+}
+
+void checkPotreeOutput(const std::filesystem::path& output) {
   if (!std::filesystem::exists(output)) return;
   const bool potree =
       std::filesystem::is_directory(output) && std::filesystem::exists(output / "metadata.json");
@@ -80,7 +54,31 @@ void checkOutput(const std::filesystem::path& output) {
   }
 }
 
-}  // namespace
+std::filesystem::path partialPathFor(const std::filesystem::path& target) {
+  // Built piece by piece: g++ 12 warns (-Wrestrict, falsely) on a chain of string additions.
+  std::string temp_name = ".";
+  temp_name += target.filename().string();
+  temp_name += ".partial-";
+  temp_name += std::to_string(::getpid());
+  return target.parent_path() / temp_name;
+}
+
+std::string potreeMetadataText(const PotreeMetadataFields& f) {
+  const nlohmann::json json = {
+      {"version", "2.0"},
+      {"name", f.name},
+      {"description", ""},
+      {"points", f.points},
+      {"projection", ""},
+      {"hierarchy", {{"firstChunkSize", f.first_chunk_size}, {"stepSize", 4}, {"depth", f.depth}}},
+      {"offset", f.quantization.offset},
+      {"scale", f.quantization.scale},
+      {"spacing", f.spacing},
+      {"boundingBox", {{"min", f.cube.min}, {"max", f.cube.max}}},
+      {"encoding", "DEFAULT"},
+      {"attributes", f.layout->toJson(*f.stats)}};
+  return json.dump(2);
+}
 
 PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
                                     const std::filesystem::path& output,
@@ -93,14 +91,9 @@ PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
   }
   std::filesystem::path target = std::filesystem::absolute(output).lexically_normal();
   if (!target.has_filename()) target = target.parent_path();
-  checkOutput(target);
+  checkPotreeOutput(target);
   std::filesystem::create_directories(target.parent_path());
-  // Built piece by piece: g++ 12 warns (-Wrestrict, falsely) on a chain of string additions.
-  std::string temp_name = ".";
-  temp_name += target.filename().string();
-  temp_name += ".partial-";
-  temp_name += std::to_string(::getpid());
-  TemporaryDirectory temp(target.parent_path() / temp_name);
+  TemporaryDirectory temp(partialPathFor(target));
   PotreeConvertResult result;
 
   auto mark = Clock::now();
@@ -130,7 +123,15 @@ PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
   const EncodedHierarchy hierarchy = encodePotreeHierarchy(entries, root);
   writeFile(temp.path() / "hierarchy.bin", hierarchy.bytes.data(), hierarchy.bytes.size());
   const std::string name = options.name.empty() ? target.filename().string() : options.name;
-  const std::string metadata = metadataJson(plan, hierarchy, name).dump(2);
+  const std::string metadata = potreeMetadataText({.points = plan.points,
+                                                   .quantization = plan.quantization,
+                                                   .spacing = plan.spacing,
+                                                   .cube = plan.cube,
+                                                   .layout = &plan.layout,
+                                                   .stats = &plan.stats,
+                                                   .first_chunk_size = hierarchy.first_chunk_size,
+                                                   .depth = hierarchy.depth,
+                                                   .name = name});
   // metadata.json last: a directory without it is never taken for a finished octree.
   writeFile(temp.path() / "metadata.json", metadata.data(), metadata.size());
 
