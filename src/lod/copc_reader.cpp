@@ -47,8 +47,20 @@ LasHeader readHeader(const CopcRangeSource& in) {
     failFile(file, 0, "LAS header", "a COPC file (at least 589 bytes: header and info VLR)",
              std::to_string(in.size()) + " bytes");
   }
-  std::array<std::byte, kLasHeaderSize14> head;
+  std::array<std::byte, kCopcInfoPayloadOffset> head;
   in.read(0, head, "LAS header");
+  if (!looksLikeCopc(head)) {
+    const std::byte* vlr = head.data() + kCopcInfoVlrOffset;
+    std::string user(reinterpret_cast<const char*>(vlr + 2), 16);
+    user.resize(std::strlen(user.c_str()));
+    failFile(file, kCopcInfoVlrOffset, "first VLR",
+             "a LAS 1.4 file whose first VLR is the COPC info VLR (user id \"copc\", record 1)",
+             hasLasSignature(head) ? "LAS " + std::to_string(load<std::uint8_t>(head.data() + 24)) +
+                                         "." + std::to_string(load<std::uint8_t>(head.data() + 25)) +
+                                         ", user id " + quoteInput(user) + " there"
+                                   : std::string("no LAS signature"),
+             "this is not a COPC file; open it as a LAZ file");
+  }
   const std::uint32_t data_offset = load<std::uint32_t>(head.data() + 96);
   if (data_offset < kCopcInfoPayloadOffset + kCopcInfoSize || data_offset > in.size() ||
       data_offset > kMaxHeaderRegion) {
