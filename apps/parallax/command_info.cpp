@@ -562,8 +562,9 @@ Command addInfoCommand(CLI::App& app) {
                          "Describe a point file: format, points, bounds, attribute "
                          "ranges, load speed");
   command.subcommand
-      ->add_option("file", options->file,
-                   "Point file (format detected from its content), Potree 2.0 directory or COPC file")
+      ->add_option(
+          "file", options->file,
+          "Point file (format detected from its content), Potree 2.0 directory or COPC file")
       ->required();
   command.subcommand->add_flag("--json", options->json,
                                "Print one JSON object (points, bounds, attributes, ...)");

@@ -19,6 +19,7 @@ namespace {
 // Header and VLRs above this are not a COPC file's (real ones are a few kB; the WKT is the
 // largest part).
 constexpr std::uint64_t kMaxHeaderRegion = 64ull << 20;
+constexpr std::uint64_t kMaxPointsPerByte = 4096;
 
 template <class T>
 T load(const std::byte* p) {
@@ -55,10 +56,11 @@ LasHeader readHeader(const CopcRangeSource& in) {
     user.resize(std::strlen(user.c_str()));
     failFile(file, kCopcInfoVlrOffset, "first VLR",
              "a LAS 1.4 file whose first VLR is the COPC info VLR (user id \"copc\", record 1)",
-             hasLasSignature(head) ? "LAS " + std::to_string(load<std::uint8_t>(head.data() + 24)) +
-                                         "." + std::to_string(load<std::uint8_t>(head.data() + 25)) +
-                                         ", user id " + quoteInput(user) + " there"
-                                   : std::string("no LAS signature"),
+             hasLasSignature(head)
+                 ? "LAS " + std::to_string(load<std::uint8_t>(head.data() + 24)) + "." +
+                       std::to_string(load<std::uint8_t>(head.data() + 25)) + ", user id " +
+                       quoteInput(user) + " there"
+                 : std::string("no LAS signature"),
              "this is not a COPC file; open it as a LAZ file");
   }
   const std::uint32_t data_offset = load<std::uint32_t>(head.data() + 96);
@@ -176,6 +178,14 @@ CopcLimits readChunkTable(const CopcRangeSource& in, const LasHeader& header) {
     if (bytes[i] > table - offset) {
       failFile(file, table, "LAZ chunk table, chunk " + std::to_string(i),
                "a chunk ending before the chunk table at byte " + std::to_string(table),
+               std::to_string(bytes[i]) + " bytes at byte " + std::to_string(offset));
+    }
+    // What a lying count could make a node's load allocate is capped as the LAZ reader caps it
+    // (io/laz_source.cpp: a point costs at least ~0.006 bits, 4096 points a byte is twice that).
+    if (points[i] > 0 && (bytes[i] < header.record_length ||
+                          points[i] > 1 + kMaxPointsPerByte * (bytes[i] - header.record_length))) {
+      failFile(file, table, "LAZ chunk table, chunk " + std::to_string(i),
+               "enough bytes for " + std::to_string(points[i]) + " points",
                std::to_string(bytes[i]) + " bytes at byte " + std::to_string(offset));
     }
     // A chunk of no bytes holds no points and cannot be a node's (two would share an offset).

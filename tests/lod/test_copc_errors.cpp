@@ -82,20 +82,19 @@ TEST(CopcErrors, TheUndamagedFileReadsWhole) {
 TEST(CopcErrors, RootPageOutsideTheFile) {
   CopcBytes c = smallCopc();
   storeAt<std::uint64_t>(c.bytes, kCopcInfoPayloadOffset + 40, c.bytes.size() - 16);
-  expectContains(openAll(c.bytes), {"cloud.copc.laz", "byte offset 469", "root hierarchy page",
-                                    "inside the file"});
+  expectContains(openAll(c.bytes),
+                 {"cloud.copc.laz", "byte offset 469", "root hierarchy page", "inside the file"});
 }
 
 TEST(CopcErrors, ChildPageOutsideTheFile) {
   CopcBytes c = smallCopc();
   const std::size_t i = c.find(-1);
   storeAt<std::uint64_t>(c.bytes, c.entryOffset(i) + 16, c.bytes.size() + 64);
-  expectContains(openAll(c.bytes),
-                 {"cloud.copc.laz", "byte offset " + std::to_string(c.entryOffset(i) + 16),
-                  "hierarchy page at byte " + std::to_string(c.info.root_hierarchy_offset) +
-                      " (of node r)",
-                  "entry " + std::to_string(i) + " (key " + c.root[i].key.text() + ")",
-                  "inside the file"});
+  expectContains(
+      openAll(c.bytes),
+      {"cloud.copc.laz", "byte offset " + std::to_string(c.entryOffset(i) + 16),
+       "hierarchy page at byte " + std::to_string(c.info.root_hierarchy_offset) + " (of node r)",
+       "entry " + std::to_string(i) + " (key " + c.root[i].key.text() + ")", "inside the file"});
 }
 
 TEST(CopcErrors, ChildPagePointingBackAtTheRootPageIsALoop) {
@@ -190,8 +189,8 @@ TEST(CopcErrors, KeysOutOfRangeOrOutOfPlace) {
     storeAt<std::int32_t>(bytes, c.entryOffset(i) + 4, orphan.x);
     storeAt<std::int32_t>(bytes, c.entryOffset(i) + 8, orphan.y);
     storeAt<std::int32_t>(bytes, c.entryOffset(i) + 12, orphan.z);
-    expectContains(openAll(bytes), {"hierarchy page at byte", "the parent's entry",
-                                    "a node without a parent"});
+    expectContains(openAll(bytes),
+                   {"hierarchy page at byte", "the parent's entry", "a node without a parent"});
   }
 }
 
@@ -214,7 +213,8 @@ TEST(CopcErrors, AChildPageWithAKeyOutsideItsSubtree) {
                   "entry 0 (key 0-0-0-0)", "at or below the page's node"});
   // Its points cannot be loaded either while it is pending: its page does not hold its entry
   // any more... or does, elsewhere; either way never points of another node.
-  const std::string load = errorOf([&] { octree->loadNode(octree->nodes()[std::size_t(pending)]); });
+  const std::string load =
+      errorOf([&] { octree->loadNode(octree->nodes()[std::size_t(pending)]); });
   expectContains(load, {"cloud.copc.laz"});
 }
 
@@ -234,17 +234,17 @@ TEST(CopcErrors, AChunkWhoseOwnCountDisagrees) {
   const std::size_t record = loadAt<std::uint16_t>(c.bytes, 105);
   const std::size_t at = std::size_t(c.root[i].offset) + record;
   storeAt<std::uint32_t>(c.bytes, at, loadAt<std::uint32_t>(c.bytes, at) + 1);
-  expectContains(openAll(c.bytes), {"cloud.copc.laz", "byte offset " + std::to_string(c.root[i].offset),
-                                    "node " + copcNodeName(c.root[i].key) + " (its LAZ chunk)",
-                                    "does not decode"});
+  expectContains(openAll(c.bytes),
+                 {"cloud.copc.laz", "byte offset " + std::to_string(c.root[i].offset),
+                  "node " + copcNodeName(c.root[i].key) + " (its LAZ chunk)", "does not decode"});
 }
 
 TEST(CopcErrors, NotACopcFileOrCutShort) {
   expectContains(errorOf([] { openCopc(test::copcData("ellipsoid.laz")); }),
                  {"ellipsoid.laz", "first VLR", "COPC info VLR"});
   const CopcBytes c = smallCopc();
-  for (std::size_t size : {std::size_t(100), std::size_t(600), c.bytes.size() / 2,
-                           c.bytes.size() - 40}) {
+  for (std::size_t size :
+       {std::size_t(100), std::size_t(600), c.bytes.size() / 2, c.bytes.size() - 40}) {
     std::vector<std::byte> cut(c.bytes.begin(), c.bytes.begin() + std::ptrdiff_t(size));
     expectContains(openAll(cut), {"cloud.copc.laz"});
   }
