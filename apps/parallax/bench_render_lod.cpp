@@ -16,7 +16,7 @@
 #include <cstring>
 #include <vector>
 
-#include "lod/potree_reader.h"
+#include "lod/octree_open.h"
 #include "render/gl_context.h"
 #include "render/lod_scene.h"
 #include "render/point_buffers.h"
@@ -114,7 +114,7 @@ void benchFrame(const LodRenderBenchOptions& o, Octree& octree, const Camera& ca
 }  // namespace
 
 int runBenchRenderLod(const LodRenderBenchOptions& o) {
-  auto octree = openPotree(o.directory);
+  auto octree = openOctree(o.directory);
   auto context = GlContext::createHeadless();
   std::printf("bench render: %s, %llu points, budget %llu, %dx%d, median of %d frames, on %s\n",
               o.directory.c_str(), static_cast<unsigned long long>(octree->info().point_count),

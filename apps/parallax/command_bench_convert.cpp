@@ -9,6 +9,10 @@
 // three such passes plus the build. The CPU time (getrusage) gives the work per core however
 // loaded the machine is: points per CPU-second. The machine's load average is printed beside the
 // figures, since these machines are shared.
+//
+// With --copc the same inputs are then converted to a COPC file (lod/copc_converter.h: the same
+// build, then every node encoded as a LAZ chunk) and its throughput is given as a ratio of the
+// Potree conversion's, measured in the same run.
 #include <sys/resource.h>
 #include <tbb/info.h>
 #include <unistd.h>
@@ -22,6 +26,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "lod/copc_converter.h"
 #include "lod/potree_converter.h"
 #include "progress_options.h"
 
@@ -35,6 +40,7 @@ struct BenchConvertOptions {
   int threads = 0;
   std::string work = "";
   bool quiet = false;  // no stage bars (the figures are the result: printed)
+  bool copc = false;
 };
 
 double peakResidentMb() {
@@ -107,6 +113,27 @@ int runBenchConvert(const BenchConvertOptions& args) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("reference one streaming read: %.2f s, %.2f M points/s (convert = %.1f reads)\n",
               seconds, double(read) / seconds / 1e6, result.seconds_total / seconds);
+  if (args.copc) {
+    const auto copc_output =
+        work / ("parallax-bench-convert-" + std::to_string(::getpid()) + ".copc.laz");
+    CopcConvertOptions copc_options;
+    copc_options.potree = options;
+    const double copc_cpu_before = cpuSeconds();
+    const CopcConvertResult copc = convertToCopc(inputs, copc_output, copc_options);
+    const double copc_cpu = cpuSeconds() - copc_cpu_before;
+    const double bytes = double(std::filesystem::file_size(copc_output));
+    std::filesystem::remove(copc_output);
+    const double copc_rate = double(copc.copc.points) / copc.seconds_total;
+    std::printf(
+        "copc      %llu points in %.2f s: %.2f M points/s (build %.2f s, COPC %.2f s), "
+        "%.2f M points per CPU-second; %.1f MB (%.1f bytes a point)\n",
+        static_cast<unsigned long long>(copc.copc.points), copc.seconds_total, copc_rate / 1e6,
+        copc.build.seconds_total, copc.seconds_write, double(copc.copc.points) / copc_cpu / 1e6,
+        bytes / 1e6, bytes / double(std::max<std::uint64_t>(1, copc.copc.points)));
+    std::printf("  ratio   COPC / Potree throughput %.2f wall, %.2f per CPU-second\n",
+                copc_rate / rate,
+                (double(copc.copc.points) / copc_cpu) / (double(result.points) / cpu));
+  }
   std::printf("load average after: %.2f\n", loadAverage());
   return 0;
 }
@@ -128,6 +155,8 @@ Command addBenchConvertCommand(CLI::App& bench) {
   command.subcommand->add_option("--work", options->work,
                                  "Folder for the temporary output (default: the temp folder)");
   addQuietFlag(*command.subcommand, options->quiet);
+  command.subcommand->add_flag("--copc", options->copc,
+                               "Also convert to COPC and compare its throughput with Potree's");
   command.run = [options] { return runBenchConvert(*options); };
   return command;
 }

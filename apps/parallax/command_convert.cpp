@@ -2,6 +2,10 @@
 // LAZ, text), keeping every attribute the target can hold and saying which ones it drops.
 // `parallax convert IN... -o DIR`: builds the level-of-detail octree of one or more point files
 // as a Potree 2.0 directory (lod/potree_converter.h), out of core within --memory.
+// `parallax convert IN... -o OUT.copc.laz`: the same octree as a COPC file (lod/copc_converter.h).
+// Between the two octree formats (`convert X.copc.laz -o DIR`, `convert DIR -o X.copc.laz`) the
+// tree is re-encoded node by node, not rebuilt, unless --spacing asks for another tree or the
+// Potree root box is not a cube (COPC's is).
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
@@ -23,7 +27,12 @@
 #include "io/partial_output.h"
 #include "io/point_file.h"
 #include "io/text_writer.h"
+#include "lod/copc_converter.h"
+#include "lod/copc_reader.h"
+#include "lod/copc_writer.h"
 #include "lod/potree_converter.h"
+#include "lod/potree_octree_writer.h"
+#include "lod/potree_reader.h"
 #include "progress_options.h"
 
 namespace parallax::cli {
@@ -33,7 +42,7 @@ struct ConvertArgs {
   std::vector<std::string> inputs;
   std::string input;  // inputs[0] for the file-to-file conversion
   std::string output;
-  std::string format;  // "potree", or empty: from the output's extension
+  std::string format;  // "potree", "copc", or empty: from the output's extension
   std::uint64_t memory_mb = 2048;
   std::string sampling = "poisson";
   double spacing = 0.0;
@@ -69,18 +78,108 @@ void cleanPartialOutputs(const std::string& output, bool quiet) {
   }
 }
 
-int runPotreeConvert(const ConvertArgs& args) {
-  if (!args.properties.empty()) {
-    throw std::invalid_argument(
-        "--properties: a Potree octree holds every attribute in Potree's order; the option is for "
-        "PLY and text outputs");
-  }
+bool hasCopcName(const std::string& path) {
+  std::string name = std::filesystem::path(path).filename().string();
+  for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return name.size() > 9 && name.ends_with(".copc.laz");
+}
+
+PotreeConvertOptions buildOptions(const ConvertArgs& args) {
   PotreeConvertOptions options;
   parseSamplingMethod(args.sampling, options.build.sampling);
   options.build.spacing = args.spacing;
   options.build.memory_bytes = args.memory_mb << 20;
   options.build.threads = args.threads;
   options.progress = stageBars(args.quiet);
+  return options;
+}
+
+// A COPC file to a Potree directory, node by node (the same tree).
+int runCopcToPotree(const ConvertArgs& args) {
+  const std::string& input = args.inputs.front();
+  std::unique_ptr<Octree> octree = openCopc(input);
+  const auto progress = progressBar(args.quiet, "re-encoding nodes", octree->info().point_count);
+  PotreeWriteOptions options;
+  options.batch_points = copcBatchPoints(args.memory_mb << 20);
+  options.progress = progress.get();
+  const PotreeWriteResult result = writePotree(*octree, args.output, options);
+  if (!args.quiet) {
+    std::fprintf(stderr,
+                 "wrote %s: Potree 2.0, %llu points, %zu nodes (depth %d), the tree of %s "
+                 "re-encoded node by node\n",
+                 args.output.c_str(), static_cast<unsigned long long>(result.points), result.nodes,
+                 result.depth, input.c_str());
+  }
+  return 0;
+}
+
+void reportCopc(const ConvertArgs& args, const CopcWriteResult& result, const std::string& how) {
+  if (args.quiet) return;
+  std::fprintf(stderr,
+               "wrote %s: COPC 1.0, point format %d, %llu points, %zu nodes in %zu hierarchy "
+               "pages, %llu bytes, %s\n",
+               args.output.c_str(), result.point_format,
+               static_cast<unsigned long long>(result.points), result.nodes, result.pages,
+               static_cast<unsigned long long>(result.bytes), how.c_str());
+}
+
+int runCopcConvert(const ConvertArgs& args) {
+  if (!args.properties.empty()) {
+    throw std::invalid_argument(
+        "--properties: a COPC file holds every attribute its point format has; the option is for "
+        "PLY and text outputs");
+  }
+  cleanPartialOutputs(args.output, args.quiet);
+  std::vector<ConvertInput> inputs;
+  for (const std::string& input : args.inputs) inputs.push_back({input, args.columns});
+  // A Potree directory whose layout COPC can hold: node by node.
+  if (inputs.size() == 1 && isPotreeDirectory(inputs[0].path) && args.spacing == 0.0) {
+    std::unique_ptr<Octree> octree = openPotree(inputs[0].path);
+    const std::optional<std::string> problem = copcLayoutProblem(octree->info());
+    if (!problem) {
+      const auto progress = progressBar(args.quiet, "re-encoding nodes", octree->info().point_count);
+      CopcWriteOptions options;
+      options.batch_points = copcBatchPoints(args.memory_mb << 20);
+      options.progress = progress.get();
+      const CopcWriteResult result = writeCopc(*octree, args.output, options);
+      reportCopc(args, result, "the tree of " + args.inputs[0] + " re-encoded node by node");
+      return 0;
+    }
+    if (!args.quiet) {
+      std::fprintf(stderr, "%s: %s: rebuilding the tree\n", args.inputs[0].c_str(),
+                   problem->c_str());
+    }
+  }
+  CopcConvertOptions options;
+  options.potree = buildOptions(args);
+  const CopcConvertResult result = convertToCopc(inputs, args.output, options);
+  if (!args.quiet) {
+    for (const std::string& note : result.notes) {
+      std::fprintf(stderr, "not carried over: %s\n", note.c_str());
+    }
+    char how[256];
+    std::snprintf(how, sizeof how,
+                  "%.2f s (%.2f M points/s; build %.2f s, of which scan %.2f, count %.2f, "
+                  "distribute %.2f, chunks %.2f; COPC %.2f s)",
+                  result.seconds_total, double(result.copc.points) / result.seconds_total / 1e6,
+                  result.build.seconds_total, result.build.seconds_scan, result.build.seconds_count,
+                  result.build.seconds_distribute, result.build.seconds_build,
+                  result.seconds_write);
+    reportCopc(args, result.copc, how);
+  }
+  return 0;
+}
+
+int runPotreeConvert(const ConvertArgs& args) {
+  if (!args.properties.empty()) {
+    throw std::invalid_argument(
+        "--properties: a Potree octree holds every attribute in Potree's order; the option is for "
+        "PLY and text outputs");
+  }
+  if (args.inputs.size() == 1 && isCopcFile(args.inputs[0]) && args.spacing == 0.0) {
+    return runCopcToPotree(args);
+  }
+  const PotreeConvertOptions options = buildOptions(args);
   std::vector<ConvertInput> inputs;
   for (const std::string& input : args.inputs) inputs.push_back({input, args.columns});
   cleanPartialOutputs(args.output, args.quiet);
@@ -107,7 +206,7 @@ int runPotreeConvert(const ConvertArgs& args) {
 // An octree (Potree 2.0 directory) is written for --format potree, for a name ending in '/', for
 // an existing directory, and for a name without extension; a point file for a known extension.
 bool isOctreeOutput(const ConvertArgs& args) {
-  if (!args.format.empty()) return args.format == "potree";
+  if (!args.format.empty()) return args.format == "potree";  // (copc: runCopcConvert)
   const std::filesystem::path output(args.output);
   if (!args.output.empty() && args.output.back() == '/') return true;
   std::error_code ignored;
@@ -122,13 +221,11 @@ bool isOctreeOutput(const ConvertArgs& args) {
   const std::string octree = path.stem().string() + extension + "/";
   throw InputError(
       {.file = output,
-       .expected = "an output name ending in .ply, .las, .xyz, .txt, .csv, .asc or .pts, or a "
-                   "Potree 2.0 octree directory (--format potree, a name ending in '/', an "
-                   "existing directory, or a name without extension)",
+       .expected = "an output name ending in .ply, .las, .laz, .xyz, .txt, .csv, .asc, .pts or "
+                   ".copc.laz, or a Potree 2.0 octree directory (--format potree, a name ending "
+                   "in '/', an existing directory, or a name without extension)",
        .found = "'" + path.extension().string() + "'",
-       .hint = extension == ".laz"
-                   ? "Parallax writes uncompressed LAS: write .las and compress it with `laszip`"
-                   : "for an octree, add --format potree (or write -o " + octree + ")"});
+       .hint = "for an octree, add --format potree (or write -o " + octree + ")"});
 }
 
 int runConvert(ConvertArgs args) {
@@ -138,6 +235,9 @@ int runConvert(ConvertArgs args) {
     }
     cleanPartialOutputs(args.output, args.quiet);
     return 0;
+  }
+  if (args.format == "copc" || (args.format.empty() && hasCopcName(args.output))) {
+    return runCopcConvert(args);
   }
   if (isOctreeOutput(args)) return runPotreeConvert(args);
   if (args.inputs.size() != 1) {
@@ -248,27 +348,30 @@ Command addConvertCommand(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "convert",
       "Convert a point file between PLY, LAS, LAZ and text (xyz, txt, csv, pts), or point files to "
-      "a Potree 2.0 octree directory");
+      "a level-of-detail octree: a Potree 2.0 directory or a COPC file (.copc.laz)");
   sub->add_option("input", args->inputs,
-                  "Input point files (format detected from their content); several only for a "
-                  "Potree directory, where they are merged");
+                  "Input point files (format detected from their content), a Potree directory or a "
+                  "COPC file; several only for an octree, where they are merged");
   sub->add_option("-o,--output", args->output,
                   "Output file, its extension picks the format (.ply .las .laz .xyz .txt .csv "
-                  ".asc .pts), or a Potree 2.0 octree directory: a name ending in '/', an "
-                  "existing directory, a name without extension, or --format potree")
+                  ".asc .pts), .copc.laz: a COPC octree, or a Potree 2.0 octree directory: a name "
+                  "ending in '/', an existing directory, a name without extension, or --format "
+                  "potree")
       ->required();
   sub->add_option("--format", args->format,
-                  "potree: write a Potree 2.0 octree directory whatever the output's name")
-      ->check(CLI::IsMember({"potree"}));
-  sub->add_option("--memory", args->memory_mb, "Potree output: memory budget in MB (default 2048)")
+                  "Force an octree output: potree (a directory) or copc, whatever the output's "
+                  "name")
+      ->check(CLI::IsMember({"potree", "copc"}));
+  sub->add_option("--memory", args->memory_mb, "Octree output: memory budget in MB (default 2048)")
       ->check(CLI::Range(std::uint64_t(16), std::uint64_t(1) << 24));
   sub->add_option("--sampling", args->sampling,
-                  "Potree output: poisson (even, default) or random (faster)")
+                  "Octree output: poisson (even, default) or random (faster)")
       ->check(CLI::IsMember({"poisson", "random"}));
   sub->add_option("--spacing", args->spacing,
-                  "Potree output: root spacing in world units (default: cube edge / 128)")
+                  "Octree output: root spacing in world units (default: cube edge / 128; an octree "
+                  "input is then rebuilt)")
       ->check(CLI::NonNegativeNumber);
-  sub->add_option("--threads", args->threads, "Potree output: worker threads (default: all cores)")
+  sub->add_option("--threads", args->threads, "Octree output: worker threads (default: all cores)")
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--columns", args->columns,
                   "Text input: the columns' names, e.g. x,y,z,r,g,b (_ skips a column)")

@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "command_info_copc.h"
 #include "commands.h"
 #include "core/error.h"
 #include "core/point_cloud.h"
@@ -43,6 +44,7 @@
 #include "io/laz_reader.h"
 #include "io/ply_header.h"
 #include "io/point_file.h"
+#include "lod/copc_reader.h"
 #include "lod/potree_reader.h"
 #include "progress_options.h"
 
@@ -537,6 +539,7 @@ struct InfoOptions {
 int runInfo(const InfoOptions& options) {
   const std::filesystem::path path = options.file;
   if (isPotreeDirectory(path)) return runPotreeInfo(path, options.json);
+  if (isCopcFile(path)) return runCopcInfo(path, options.json);
   // Detection opens the file: a missing or unreadable file is an InputError naming it.
   const PointFormat format = detectPointFormat(path);
 
@@ -576,8 +579,9 @@ Command addInfoCommand(CLI::App& app) {
                          "Describe a point file: format, points, bounds, attribute "
                          "ranges, load speed");
   command.subcommand
-      ->add_option("file", options->file,
-                   "Point file (format detected from its content) or Potree 2.0 directory")
+      ->add_option(
+          "file", options->file,
+          "Point file (format detected from its content), Potree 2.0 directory or COPC file")
       ->required();
   command.subcommand->add_flag("--json", options->json,
                                "Print one JSON object (points, bounds, attributes, ...)");

@@ -4,12 +4,13 @@
 // With --stereo MODE, each picture is a stereo frame (render/stereo.h) of the whole --width x
 // --height. quad-buffer needs a stereo window: headless, it falls back to sbs with a message.
 //
-// INPUT may be a Potree 2.0 directory: its octree is streamed through a LodScene (render/
-// lod_scene.h) within --budget points, and each picture waits for every node it selects. A PLY,
-// LAS, LAZ or text file with more points than --budget (lod/large_file.h) is converted to such
-// an octree first (kept in the user's cache, or --cache-dir, for the next run; --no-cache: a
-// temporary folder), unless --preview asks for a picture of an even sample at once (PLY, LAS,
-// LAZ; the budget's worth of points, at most kPreviewPoints).
+// INPUT may be a Potree 2.0 directory or a COPC file (told by its content): its octree is
+// streamed through a LodScene (render/lod_scene.h) within --budget points, and each picture
+// waits for every node it selects. A PLY, LAS, LAZ or text file with more points than --budget
+// (lod/large_file.h) is converted to such an octree first (kept in the user's cache, or
+// --cache-dir, for the next run; --no-cache: a temporary folder), unless --preview asks for a
+// picture of an even sample at once (PLY, LAS, LAZ; the budget's worth of points, at most
+// kPreviewPoints).
 //
 // Prints the time from start to PNG broken down into load, context, upload, draw and write, on
 // stderr (stdout stays free for scripts).
@@ -31,6 +32,7 @@
 #include "io/point_file.h"
 #include "lod/large_file.h"
 #include "lod/octree_cache.h"
+#include "lod/octree_open.h"
 #include "lod/potree_reader.h"
 #include "progress_options.h"
 #include "render/camera_path.h"
@@ -99,9 +101,9 @@ struct RenderSource {
 
 RenderSource openSource(const RenderCommandOptions& o) {
   RenderSource source;
-  if (isPotreeDirectory(o.input)) {
+  if (isOctreePath(o.input)) {  // a Potree directory or a COPC file
     source.octree_dir = o.input;
-    source.octree = openPotree(o.input);
+    source.octree = openOctree(o.input);
     return source;
   }
   const std::optional<std::uint64_t> points = pointsOverBudget(o.input, o.lod.budget);
@@ -260,8 +262,10 @@ Command addRenderCommand(CLI::App& app) {
   auto options = std::make_shared<RenderCommandOptions>();
   Command command;
   CLI::App* sub = app.add_subcommand("render", "Render a point file to a PNG, headless");
-  sub->add_option("input", options->input,
-                  "Point file (PLY, LAS or text), or a Potree 2.0 directory (parallax convert)")
+  sub->add_option(
+         "input", options->input,
+         "Point file (PLY, LAS, LAZ or text), or an octree: a Potree 2.0 directory or a COPC "
+         "file (parallax convert)")
       ->required();
   sub->add_option("-o,--output", options->output,
                   "Output PNG (with --path: a pattern such as DIR/frame_%04d.png)")

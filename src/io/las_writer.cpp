@@ -468,6 +468,20 @@ LasWritePlan planLasWrite(const PointCloud& cloud, const LasWriteOptions& option
   return makeLayout(cloud, options).plan;
 }
 
+LasWritePlan encodeLasRecords(const PointCloud& cloud, const LasWriteOptions& options,
+                              std::byte* out) {
+  const Layout layout = makeLayout(cloud, options);
+  BlockStats stats;
+  if (cloud.count > 0) encodeBlock(cloud, layout, 0, std::size_t(cloud.count), out, stats);
+  return layout.plan;
+}
+
+std::optional<LasVlr> lasExtraBytesVlr(const PointCloud& cloud, const LasWriteOptions& options) {
+  const Layout layout = makeLayout(cloud, options);
+  if (layout.extra_types.empty()) return std::nullopt;
+  return extraBytesVlr(layout);
+}
+
 void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
               const LasWriteOptions& options) {
   const Layout layout = makeLayout(cloud, options);

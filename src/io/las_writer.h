@@ -58,6 +58,15 @@ struct LasWritePlan {
 // The layout writeLas would use for `cloud`, and what it would drop or change.
 LasWritePlan planLasWrite(const PointCloud& cloud, const LasWriteOptions& options = {});
 
+// The records writeLas would write for the cloud.count points of `cloud` with `options`, into
+// `out` (plan.record_length bytes each); returns the plan. For writers of LAS records of their
+// own (the COPC writer encodes a node at a time): with options.minor_version set, clouds with
+// the same columns get the same plan.
+LasWritePlan encodeLasRecords(const PointCloud& cloud, const LasWriteOptions& options,
+                              std::byte* out);
+// The LASF_Spec record 4 that describes the extra bytes of that plan; nullopt without any.
+std::optional<LasVlr> lasExtraBytesVlr(const PointCloud& cloud, const LasWriteOptions& options);
+
 // Writes to a temporary file beside `path`, renamed at the end. Throws std::runtime_error on I/O
 // failure; asserts nothing about the cloud beyond its own invariants.
 void writeLas(const PointCloud& cloud, const std::filesystem::path& path,

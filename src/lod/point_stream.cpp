@@ -1,4 +1,5 @@
 // PointStream (convert_stages.h): one batch interface over the formats' chunk readers.
+#include <type_traits>
 #include <variant>
 
 #include "core/error.h"
@@ -8,11 +9,22 @@
 #include "io/point_file.h"
 #include "io/text_reader.h"
 #include "lod/convert_stages.h"
+#include "lod/in_memory_octree.h"
+#include "lod/octree_node_batches.h"
+#include "lod/potree_reader.h"
 
 namespace parallax {
 
 struct PointStream::State {
-  std::variant<PlyChunkReader, LasChunkReader, LazChunkReader, TextChunkReader> reader;
+  // A Potree directory as an input of the builder (an octree rebuilt: another cube or
+  // spacing): its nodes one after the other, each handed out whole or in slices.
+  struct OctreeNodes {
+    std::unique_ptr<Octree> octree;
+    std::size_t next_node = 0;
+    PointCloud node;
+    std::uint64_t next_point = 0;
+  };
+  std::variant<PlyChunkReader, LasChunkReader, LazChunkReader, TextChunkReader, OctreeNodes> reader;
   CoordinateSystem crs;
 };
 
@@ -21,6 +33,12 @@ namespace {
 PointStream::State openStream(const std::filesystem::path& path,
                               const std::vector<std::string>& text_columns,
                               const Quantization* quantization) {
+  if (isPotreeDirectory(path)) {
+    PointStream::State::OctreeNodes nodes;
+    nodes.octree = openPotree(path);
+    expandWholeOctree(*nodes.octree);
+    return {std::move(nodes)};
+  }
   switch (detectPointFormat(path)) {
     case PointFormat::Ply: {
       PlyChunkReader reader(path);
@@ -55,12 +73,27 @@ PointStream::PointStream(const std::filesystem::path& path,
 PointStream::~PointStream() = default;
 
 std::uint64_t PointStream::pointCount() const {
-  return std::visit([](const auto& r) { return r.pointCount(); }, state_->reader);
+  return std::visit(
+      [](const auto& r) -> std::uint64_t {
+        if constexpr (std::is_same_v<std::decay_t<decltype(r)>, State::OctreeNodes>) {
+          return r.octree->info().point_count;
+        } else {
+          return r.pointCount();
+        }
+      },
+      state_->reader);
 }
 
 const Quantization& PointStream::quantization() const {
-  return std::visit([](const auto& r) -> const Quantization& { return r.quantization(); },
-                    state_->reader);
+  return std::visit(
+      [](const auto& r) -> const Quantization& {
+        if constexpr (std::is_same_v<std::decay_t<decltype(r)>, State::OctreeNodes>) {
+          return r.octree->info().quantization;
+        } else {
+          return r.quantization();
+        }
+      },
+      state_->reader);
 }
 
 const CoordinateSystem& PointStream::crs() const {
@@ -68,7 +101,32 @@ const CoordinateSystem& PointStream::crs() const {
 }
 
 bool PointStream::next(PointCloud& batch, std::size_t max_points) {
-  return std::visit([&](auto& r) { return r.next(batch, max_points); }, state_->reader);
+  return std::visit(
+      [&](auto& r) -> bool {
+        if constexpr (std::is_same_v<std::decay_t<decltype(r)>, State::OctreeNodes>) {
+          const auto nodes = r.octree->nodes();
+          while (r.next_point >= r.node.count) {
+            if (r.next_node >= nodes.size()) {
+              batch = PointCloud{};
+              return false;
+            }
+            r.node = r.octree->loadNode(nodes[r.next_node++]);
+            r.next_point = 0;
+          }
+          const std::uint64_t n = std::min<std::uint64_t>(max_points, r.node.count - r.next_point);
+          if (r.next_point == 0 && n == r.node.count) {
+            batch = std::move(r.node);
+            r.node = PointCloud{};
+          } else {
+            batch = slicePoints(r.node, r.next_point, n);
+            r.next_point += n;
+          }
+          return true;
+        } else {
+          return r.next(batch, max_points);
+        }
+      },
+      state_->reader);
 }
 
 }  // namespace parallax

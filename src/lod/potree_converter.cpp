@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "core/error.h"
+#include "io/coordinate_system.h"
 #include "io/partial_output.h"
 
 namespace parallax {
@@ -19,27 +20,6 @@ double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Removes the temporary directory unless the conversion got to the rename.
-class TemporaryDirectory {
- public:
-  explicit TemporaryDirectory(std::filesystem::path path) : path_(std::move(path)) {
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TemporaryDirectory() {
-    if (!released_) {
-      std::error_code ignored;
-      std::filesystem::remove_all(path_, ignored);
-    }
-  }
-  const std::filesystem::path& path() const { return path_; }
-  void release() { released_ = true; }
-
- private:
-  std::filesystem::path path_;
-  bool released_ = false;
-};
-
 void writeFile(const std::filesystem::path& path, const void* data, std::size_t size) {
   std::ofstream out(path, std::ios::binary);
   out.write(static_cast<const char*>(data), std::streamsize(size));
@@ -47,26 +27,21 @@ void writeFile(const std::filesystem::path& path, const void* data, std::size_t 
   if (!out) throw std::runtime_error(path.string() + ": cannot write");
 }
 
-nlohmann::json metadataJson(const ConvertPlan& plan, const EncodedHierarchy& hierarchy,
-                            const std::string& name) {
-  return {{"version", "2.0"},
-          {"name", name},
-          {"description", ""},
-          {"points", plan.points},
-          {"projection", potreeProjection(plan.crs.description)},
-          {"hierarchy",
-           {{"firstChunkSize", hierarchy.first_chunk_size},
-            {"stepSize", 4},
-            {"depth", hierarchy.depth}}},
-          {"offset", plan.quantization.offset},
-          {"scale", plan.quantization.scale},
-          {"spacing", plan.spacing},
-          {"boundingBox", {{"min", plan.cube.min}, {"max", plan.cube.max}}},
-          {"encoding", "DEFAULT"},
-          {"attributes", plan.layout.toJson(plan.stats)}};
+}  // namespace
+
+TemporaryDirectory::TemporaryDirectory(std::filesystem::path path) : path_(std::move(path)) {
+  std::filesystem::remove_all(path_);
+  std::filesystem::create_directories(path_);
 }
 
-void checkOutput(const std::filesystem::path& output) {
+TemporaryDirectory::~TemporaryDirectory() {
+  if (!released_) {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+}
+
+void checkPotreeOutput(const std::filesystem::path& output) {
   if (!std::filesystem::exists(output)) return;
   const bool potree =
       std::filesystem::is_directory(output) && std::filesystem::exists(output / "metadata.json");
@@ -80,7 +55,26 @@ void checkOutput(const std::filesystem::path& output) {
   }
 }
 
-}  // namespace
+std::filesystem::path partialPathFor(const std::filesystem::path& target) {
+  return partialOutputPath(target);  // one naming for every writer (io/partial_output.h)
+}
+
+std::string potreeMetadataText(const PotreeMetadataFields& f) {
+  const nlohmann::json json = {
+      {"version", "2.0"},
+      {"name", f.name},
+      {"description", ""},
+      {"points", f.points},
+      {"projection", f.projection},
+      {"hierarchy", {{"firstChunkSize", f.first_chunk_size}, {"stepSize", 4}, {"depth", f.depth}}},
+      {"offset", f.quantization.offset},
+      {"scale", f.quantization.scale},
+      {"spacing", f.spacing},
+      {"boundingBox", {{"min", f.cube.min}, {"max", f.cube.max}}},
+      {"encoding", "DEFAULT"},
+      {"attributes", f.layout->toJson(*f.stats)}};
+  return json.dump(2);
+}
 
 PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
                                     const std::filesystem::path& output,
@@ -93,7 +87,7 @@ PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
   }
   std::filesystem::path target = std::filesystem::absolute(output).lexically_normal();
   if (!target.has_filename()) target = target.parent_path();
-  checkOutput(target);
+  checkPotreeOutput(target);
   std::filesystem::create_directories(target.parent_path());
   PotreeConvertResult result;
   // What killed conversions to the same target left behind (partial_output.h), before this one
@@ -128,7 +122,16 @@ PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
   const EncodedHierarchy hierarchy = encodePotreeHierarchy(entries, root);
   writeFile(temp.path() / "hierarchy.bin", hierarchy.bytes.data(), hierarchy.bytes.size());
   const std::string name = options.name.empty() ? target.filename().string() : options.name;
-  const std::string metadata = metadataJson(plan, hierarchy, name).dump(2);
+  const std::string metadata = potreeMetadataText({.points = plan.points,
+                                                   .quantization = plan.quantization,
+                                                   .spacing = plan.spacing,
+                                                   .cube = plan.cube,
+                                                   .layout = &plan.layout,
+                                                   .stats = &plan.stats,
+                                                   .first_chunk_size = hierarchy.first_chunk_size,
+                                                   .depth = hierarchy.depth,
+                                                   .name = name,
+                                                   .projection = potreeProjection(plan.crs.description)});
   // metadata.json last: a directory without it is never taken for a finished octree.
   writeFile(temp.path() / "metadata.json", metadata.data(), metadata.size());
 

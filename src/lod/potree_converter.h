@@ -51,6 +51,45 @@ struct PotreeConvertResult {
   CoordinateSystem crs;  // the inputs', written as metadata.json "projection" (empty: none)
 };
 
+// metadata.json of a Potree 2.0 directory in the DEFAULT encoding (what convertToPotree writes;
+// potree_octree_writer.h writes it too).
+struct PotreeMetadataFields {
+  std::uint64_t points = 0;
+  Quantization quantization;
+  double spacing = 0.0;
+  Bounds3 cube;
+  const PotreeLayout* layout = nullptr;
+  const AttributeStats* stats = nullptr;
+  std::uint64_t first_chunk_size = 0;
+  int depth = 0;
+  std::string name;
+  std::string projection;  // potreeProjection (io/coordinate_system.h); empty: none
+};
+std::string potreeMetadataText(const PotreeMetadataFields& fields);
+
+// Removes a directory unless released: the temporary directory of a conversion, renamed to its
+// real name at the end (release() then).
+class TemporaryDirectory {
+ public:
+  explicit TemporaryDirectory(std::filesystem::path path);  // created empty
+  ~TemporaryDirectory();
+  TemporaryDirectory(const TemporaryDirectory&) = delete;
+  TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  void release() { released_ = true; }
+
+ private:
+  std::filesystem::path path_;
+  bool released_ = false;
+};
+
+// Throws InputError unless `output` is absent, an empty directory or a Potree directory (to be
+// replaced).
+void checkPotreeOutput(const std::filesystem::path& output);
+
+// ".NAME.partial-PID" beside `target`: where a conversion writes before its rename.
+std::filesystem::path partialPathFor(const std::filesystem::path& target);
+
 // Throws InputError for unreadable or malformed inputs and when `output` exists and is not a
 // Potree directory (one with metadata.json is replaced); std::runtime_error for I/O failures.
 PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,

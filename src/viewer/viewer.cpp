@@ -23,7 +23,7 @@
 #include "core/point_cloud.h"
 #include "io/ply_preview.h"
 #include "io/point_file.h"
-#include "lod/potree_reader.h"
+#include "lod/octree_open.h"
 #include "render/gl_context.h"
 #include "render/image_file.h"
 #include "render/lod_scene.h"
@@ -93,11 +93,12 @@ void showCloud(Session& s, const PointCloud& cloud, bool place_camera, bool firs
   if (s.settings.world_size <= 0) s.settings.world_size = float(2.0 * s.cloud->typicalSpacing());
 }
 
-// Opens a Potree directory as what is shown. With `keep_camera` (the switch from a preview to
-// its octree) the camera stays, and the preview is drawn until the octree draws something.
+// Opens an octree (a Potree directory or a COPC file) as what is shown. With `keep_camera` (the
+// switch from a preview to its octree) the camera stays, and the preview is drawn until the octree
+// draws something.
 void showOctree(Session& s, const std::filesystem::path& directory,
                 std::unique_ptr<OctreeLocation> location, bool keep_camera, bool first) {
-  auto octree = openPotree(directory);
+  auto octree = openOctree(directory);
   s.lod.reset();
   s.octree = std::move(octree);
   s.lod_location = std::move(location);
@@ -182,7 +183,7 @@ void pollBuild(Session& s) {
 
 void openFile(Session& s, const std::filesystem::path& path, bool first) {
   try {
-    if (isPotreeDirectory(path)) {
+    if (isOctreePath(path)) {
       showOctree(s, path, nullptr, false, first);
       s.status = "opened the octree " + path.string() + " (" +
                  std::to_string(s.octree->info().point_count) + " points)";

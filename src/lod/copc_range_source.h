@@ -1,0 +1,36 @@
+// The bytes the COPC reader reads, a range at a time: a local file (pread) or bytes in memory
+// (tests, fuzzing). A reader asks for ranges and never learns which it has.
+//
+// The one call, read(offset, out, element), is core/byte_source.h's ByteSource::read(offset,
+// out, ReadContext{.element = element}) with another name: when the byte-source interface of the
+// HTTP work is merged, this class gives way to it (and a COPC file opens from a URL too).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace parallax {
+
+class CopcRangeSource {
+ public:
+  virtual ~CopcRangeSource() = default;
+  // The path, as messages name it.
+  virtual const std::string& name() const = 0;
+  virtual std::uint64_t size() const = 0;
+  // Reads out.size() bytes at `offset`. Thread-safe. A range past size(), or a failed read, is
+  // an InputError naming the file, the offset and `element` ("hierarchy page at byte 1234").
+  virtual void read(std::uint64_t offset, std::span<std::byte> out,
+                    std::string_view element) const = 0;
+};
+
+// Throws InputError (the path, why) when the file cannot be opened.
+std::unique_ptr<CopcRangeSource> openCopcFileSource(const std::filesystem::path& path);
+std::unique_ptr<CopcRangeSource> makeCopcMemorySource(std::vector<std::byte> bytes,
+                                                      std::string name);
+
+}  // namespace parallax
