@@ -2,6 +2,8 @@
 // text), keeping every attribute the target can hold and saying which ones it drops.
 // `parallax convert IN... -o DIR`: builds the level-of-detail octree of one or more point files
 // as a Potree 2.0 directory (lod/potree_converter.h), out of core within --memory.
+// `parallax convert OCTREE -o OUT`: a Potree 2.0 directory or its http(s) URL copied to a
+// directory, or its points written to a file (octree_export.h).
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -16,7 +18,10 @@
 #include "io/las_header.h"
 #include "io/las_writer.h"
 #include "io/point_file.h"
+#include "lod/octree_url.h"
 #include "lod/potree_converter.h"
+#include "lod/potree_reader.h"
+#include "octree_export.h"
 
 namespace parallax::cli {
 namespace {
@@ -68,6 +73,18 @@ int runConvert(ConvertArgs args) {
       args.format == "potree" ||
       (args.format.empty() && formatForExtension(args.output) == PointFormat::Unknown &&
        !std::filesystem::path(args.output).has_extension());
+  for (const std::string& input : args.inputs) checkOctreeUrl(input);
+  if (args.inputs.size() == 1 && isPotreeDirectory(args.inputs.front())) {
+    // An octree (a Potree directory or its URL) in: copied, or its points written to a file.
+    return runOctreeExport({.input = args.inputs.front(),
+                            .output = args.output,
+                            .to_directory = to_potree,
+                            .ply_ascii = args.ascii,
+                            .las_minor_version = args.las_version == "1.4"   ? 4
+                                                 : args.las_version == "1.2" ? 2
+                                                                             : 0,
+                            .quiet = args.quiet});
+  }
   if (to_potree) return runPotreeConvert(args);
   if (args.inputs.size() != 1) {
     throw InputError({.file = args.output,
@@ -148,7 +165,8 @@ Command addConvertCommand(CLI::App& app) {
       "a Potree 2.0 octree directory");
   sub->add_option("input", args->inputs,
                   "Input point files (format detected from their content); several only for a "
-                  "Potree directory, where they are merged")
+                  "Potree directory, where they are merged; or one Potree 2.0 directory or its "
+                  "http(s) URL (copied, or its points written to a file)")
       ->required();
   sub->add_option("-o,--output", args->output,
                   "Output file, its extension picks the format (.ply .las .xyz .txt .csv .asc "

@@ -4,10 +4,11 @@
 // With --stereo MODE, each picture is a stereo frame (render/stereo.h) of the whole --width x
 // --height. quad-buffer needs a stereo window: headless, it falls back to sbs with a message.
 //
-// INPUT may be a Potree 2.0 directory: its octree is streamed through a LodScene (render/
-// lod_scene.h) within --budget points, and each picture waits for every node it selects. A PLY or
-// LAS file with more points than --budget is converted to such an octree first (kept in the
-// user's cache, or --cache-dir, for the next run; --no-cache: a temporary folder), unless
+// INPUT may be a Potree 2.0 directory, or its http(s) URL: its octree is streamed through a
+// LodScene (render/ lod_scene.h) within --budget points, and each picture waits for every node it
+// selects. A PLY or LAS file with more points than --budget is converted to such an octree first
+// (kept in the user's cache, or --cache-dir, for the next run; --no-cache: a temporary folder),
+// unless
 // --preview asks for a picture of an even sample at once (PLY only; the budget's worth of points,
 // at most kPreviewPoints).
 //
@@ -29,7 +30,9 @@
 #include "core/progress.h"
 #include "io/ply_preview.h"
 #include "io/point_file.h"
+#include "lod/octree_url.h"
 #include "lod/potree_reader.h"
+#include "network_options.h"
 #include "render/camera_path.h"
 #include "render/gl_context.h"
 #include "render/image_file.h"
@@ -139,6 +142,8 @@ RenderSource openSource(const RenderCommandOptions& o) {
 
 int runRender(const RenderCommandOptions& o) {
   const auto start = Clock::now();
+  configureNetworkFrom(o.lod);
+  checkOctreeUrl(o.input);
   RenderSource source = openSource(o);
   const double load_s = secondsSince(start);
 
@@ -229,6 +234,7 @@ int runRender(const RenderCommandOptions& o) {
                  static_cast<unsigned long long>(stats.selected_points), stats.drawn_nodes,
                  static_cast<unsigned long long>(stats.drawn_points),
                  double(stats.gpu_bytes) / 1e6);
+    printNetworkReport("parallax render", *source.octree, stats.drawn_points);
   }
   if (source.file_points) {
     std::fprintf(stderr, "parallax render: preview, a sample of %llu of the file's %llu points\n",
@@ -252,8 +258,10 @@ Command addRenderCommand(CLI::App& app) {
   auto options = std::make_shared<RenderCommandOptions>();
   Command command;
   CLI::App* sub = app.add_subcommand("render", "Render a point file to a PNG, headless");
-  sub->add_option("input", options->input,
-                  "Point file (PLY, LAS or text), or a Potree 2.0 directory (parallax convert)")
+  sub->add_option(
+         "input", options->input,
+         "Point file (PLY, LAS or text), or a Potree 2.0 directory (parallax convert) or its "
+         "http(s) URL")
       ->required();
   sub->add_option("-o,--output", options->output,
                   "Output PNG (with --path: a pattern such as DIR/frame_%04d.png)")

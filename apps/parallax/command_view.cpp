@@ -1,11 +1,12 @@
 // `parallax view [INPUT]`: the interactive viewer (src/viewer) with the same render and level of
-// detail options as `parallax render`. INPUT may be a Potree 2.0 directory; a file with more
-// points than --budget shows a sample at once and its octree once built (viewer/viewer.h).
+// detail options as `parallax render`. INPUT may be a Potree 2.0 directory or its URL; a file with
+// more points than --budget shows a sample at once and its octree once built (viewer/viewer.h).
 #include <chrono>
 #include <memory>
 #include <string>
 
 #include "commands.h"
+#include "network_options.h"
 #include "render_options.h"
 #include "viewer/viewer.h"
 
@@ -22,6 +23,7 @@ struct ViewCommandOptions {
 };
 
 int runView(const ViewCommandOptions& o, std::chrono::steady_clock::time_point start) {
+  configureNetworkFrom(o.lod);
   ViewerOptions viewer;
   viewer.start_time = start;
   viewer.lod = lodFrameSettingsFrom(o.lod);
@@ -49,8 +51,8 @@ Command addViewCommand(CLI::App& app) {
   Command command;
   CLI::App* sub = app.add_subcommand("view", "Open a point file in a window (H in it: keys)");
   sub->add_option("input", options->input,
-                  "Point file (PLY, LAS or text) or Potree 2.0 directory; or drop one on the "
-                  "window");
+                  "Point file (PLY, LAS or text) or Potree 2.0 directory (or its http(s) URL); or "
+                  "drop one on the window");
   sub->add_option("--width", options->width, "Window width")->capture_default_str();
   sub->add_option("--height", options->height, "Window height")->capture_default_str();
   sub->add_flag("--no-vsync", options->no_vsync, "Start with vsync off (V toggles it)");

@@ -81,13 +81,19 @@ std::unique_ptr<Octree> openLocal(const std::filesystem::path& path) {
   return makePotreeOctree(std::move(parsed), std::move(sources));
 }
 
-std::unique_ptr<Octree> openUrl(const std::string& url) {
+// The URL of the directory (ending in '/') and its query.
+UrlParts directoryUrl(const std::string& url) {
   UrlParts parts = splitUrl(url);
   if (parts.base.ends_with("/metadata.json")) {
     parts.base.resize(parts.base.size() - std::string_view("metadata.json").size());
   } else if (!parts.base.ends_with('/')) {
     parts.base += '/';
   }
+  return parts;
+}
+
+std::unique_ptr<Octree> openUrl(const std::string& url) {
+  const UrlParts parts = directoryUrl(url);
   auto file = [&](const char* name) { return parts.base + name + parts.query; };
   const HttpOpenSpec specs[] = {
       {file("metadata.json"), networkSourceOptions(kMaxMetadataBytes)},
@@ -111,6 +117,14 @@ std::unique_ptr<Octree> openUrl(const std::string& url) {
 }
 
 }  // namespace
+
+std::string potreeFileLocation(const std::string& dir, std::string_view file) {
+  if (isHttpUrl(dir)) {
+    const UrlParts parts = directoryUrl(dir);
+    return parts.base + std::string(file) + parts.query;
+  }
+  return (directoryOf(dir) / file).string();
+}
 
 bool isPotreeUrl(std::string_view url) {
   if (!isHttpUrl(url)) return false;

@@ -57,6 +57,11 @@ bool isPotreeDirectory(const std::filesystem::path& path);
 // extension).
 bool isPotreeUrl(std::string_view url);
 
+// Where one of the directory's files is: `file` ("metadata.json", "hierarchy.bin", "octree.bin")
+// beside the metadata.json that `dir` (a path or URL, as openPotree takes) names; a URL keeps its
+// query (a signed container's token).
+std::string potreeFileLocation(const std::string& dir, std::string_view file);
+
 // Opens the Potree 2.0 directory `dir` (or `dir` = its metadata.json; or such a URL). Throws
 // InputError for a missing or malformed file (see above).
 std::unique_ptr<Octree> openPotree(const std::filesystem::path& dir);
