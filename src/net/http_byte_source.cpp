@@ -315,7 +315,13 @@ void HttpByteSource::read(std::uint64_t offset, std::span<std::byte> out,
       return;
     }
   }
-  if (s.cache && s.cache->read(s.url, offset, out)) {
+  // A range fetched or being fetched for a hint is taken from memory; only then the disk.
+  bool fetching = false;
+  {
+    std::lock_guard lock(s.mutex);
+    fetching = s.pieces.count(range) > 0;
+  }
+  if (!fetching && s.cache && s.cache->read(s.url, offset, out)) {
     std::lock_guard lock(s.mutex);
     ++s.stats.cache_hits;
     s.stats.cache_bytes += out.size();

@@ -145,6 +145,15 @@ std::shared_ptr<HttpByteSource::State> probe(const HttpOpenSpec& spec, HttpClien
     r = client.fetch(request);
     ++state->stats.requests;
     state->stats.bytes_received += r.body.size();
+    if (r.transport == TransportError::None && r.status == 206) {
+      // A body shorter than its Content-Range: cut on the way, as a reset connection is.
+      const std::optional<ContentRange> range = parseContentRange(r.content_range);
+      if (range && range->range && range->range->size != r.body.size()) {
+        r.transport = TransportError::Reset;
+        r.transport_message =
+            "a body of " + std::to_string(r.body.size()) + " bytes for " + r.content_range;
+      }
+    }
     if (r.transport == TransportError::None && r.status < 500) break;
     const RetryDecision decision = spec.options.retry.decide(r.transport, r.status, attempt);
     if (decision != RetryDecision::Retry) {
