@@ -32,6 +32,7 @@
 #include "io/point_file.h"
 #include "lod/octree_url.h"
 #include "lod/potree_reader.h"
+#include "net/url.h"
 #include "network_options.h"
 #include "render/camera_path.h"
 #include "render/gl_context.h"
@@ -204,7 +205,7 @@ int runRender(const RenderCommandOptions& o) {
     // The finished picture: finishLoading waits for every node this frame selects.
     const DrawSet& draw_set = lod ? lod->finishLoading(frame.views, lod_settings) : gpu->drawSet();
     if (lod && !lod->firstError().empty()) {
-      throw InputError({.file = source.octree_dir.string(),
+      throw InputError({.file = urlForMessages(source.octree_dir.string()),
                         .expected = "every node the view selects readable",
                         .found = std::to_string(lod->stats().failed_nodes) +
                                  " failed, the first: " + lod->firstError()});

@@ -188,6 +188,10 @@ struct HttpClient::State {
           return 0;  // aborts the transfer
         }
       }
+      // The body's room at once (a range of several MB would otherwise grow in steps).
+      if (r.content_length && *r.content_length <= t->request.max_body) {
+        r.body.reserve(std::size_t(*r.content_length));
+      }
       return bytes;
     }
     const std::size_t colon = line.find(':');
@@ -231,8 +235,6 @@ struct HttpClient::State {
     t->easy = easy;
     HttpRequest& q = t->request;
     if (q.max_body == 0) q.max_body = q.range ? q.range->size : kDefaultMaxBody;
-    if (q.range)
-      t->response.body.reserve(std::size_t(std::min<std::uint64_t>(q.range->size, 64ull << 20)));
     curl_easy_setopt(easy, CURLOPT_URL, q.url.c_str());
     curl_easy_setopt(easy, CURLOPT_PRIVATE, t.get());
     curl_easy_setopt(easy, CURLOPT_NOSIGNAL, 1L);

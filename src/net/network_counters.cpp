@@ -6,8 +6,10 @@
 namespace parallax {
 
 NetworkCounters& networkCounters() {
-  static NetworkCounters counters;
-  return counters;
+  // Never destroyed: the network thread of the process's client, which ends in a static
+  // destructor, still counts its last (cancelled) requests.
+  static NetworkCounters* const counters = new NetworkCounters;
+  return *counters;
 }
 
 NetworkStats networkStats() {

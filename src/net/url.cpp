@@ -45,6 +45,7 @@ std::string urlFileName(std::string_view url) {
 }
 
 std::string urlForMessages(std::string_view url) {
+  if (url.find("://") == std::string_view::npos) return std::string(url);  // a path
   const std::size_t authority = authorityStart(url);
   const std::size_t end = url.find_first_of("/?#", authority);
   const std::string_view host_part = url.substr(

@@ -23,7 +23,7 @@ UrlParts splitUrl(std::string_view url);
 std::string urlFileName(std::string_view url);
 
 // `url` with "user:password@" removed, for messages and logs (a URL with credentials must not
-// end up in a terminal's scroll-back or a bug report).
+// end up in a terminal's scroll-back or a bug report). Anything without "://" comes back as is.
 std::string urlForMessages(std::string_view url);
 
 }  // namespace parallax

@@ -33,6 +33,7 @@ TEST(Url, SplitsTheQueryAndDropsTheFragment) {
 TEST(Url, CredentialsNeverReachAMessage) {
   EXPECT_EQ(urlForMessages("https://user:secret@h:8443/c/?q=1"), "https://h:8443/c/?q=1");
   EXPECT_EQ(urlForMessages("http://h/a@b"), "http://h/a@b");
+  EXPECT_EQ(urlForMessages("me@host/dir"), "me@host/dir") << "a path is not a URL";
 }
 
 TEST(Url, WhatAnOctreeUrlNames) {
