@@ -23,12 +23,15 @@ void printNetworkReport(const char* command, const Octree& octree, std::uint64_t
   const double needed =
       double(drawn_points) * double(metadata->record_size) + double(read->hierarchy_bytes);
   std::fprintf(stderr,
-               "%s: network: %llu requests (%llu retried), %.3f MB received, %llu reads from the "
-               "cache (%.3f MB); the view needed %.3f MB (drawn nodes %.3f MB + hierarchy %.3f "
-               "MB): received / needed = %.3f\n",
+               "%s: network: %llu requests (%llu retried, %llu cancelled), %.3f MB received, %llu "
+               "reads from the "
+               "cache (%.3f MB), %llu node loads (%.3f MB); the view needed %.3f MB (drawn nodes "
+               "%.3f MB + hierarchy %.3f MB): received / needed = %.3f\n",
                command, static_cast<unsigned long long>(net.requests),
-               static_cast<unsigned long long>(net.retries), double(net.bytes_received) / 1e6,
+               static_cast<unsigned long long>(net.retries),
+               static_cast<unsigned long long>(net.cancelled), double(net.bytes_received) / 1e6,
                static_cast<unsigned long long>(net.cache_hits), double(net.cache_bytes) / 1e6,
+               static_cast<unsigned long long>(read->nodes_loaded), double(read->node_bytes) / 1e6,
                needed / 1e6, double(drawn_points) * double(metadata->record_size) / 1e6,
                double(read->hierarchy_bytes) / 1e6,
                needed > 0 ? double(net.bytes_received) / needed : 0.0);

@@ -87,8 +87,33 @@ void HttpByteSource::State::pump() {
   }
 }
 
+void HttpByteSource::State::dropUnwanted() {
+  std::vector<std::pair<std::uint64_t, ByteRange>> spares;  // by arrival
+  std::uint64_t spare_total = 0;
+  for (auto it = pieces.begin(); it != pieces.end();) {
+    const Piece& piece = it->second;
+    if (piece.wanted() || piece.status == Status::InFlight) {
+      ++it;
+    } else if (piece.status == Status::Done) {
+      spares.emplace_back(piece.done_serial, it->first);
+      spare_total += it->first.size;
+      ++it;
+    } else {
+      it = pieces.erase(it);
+    }
+  }
+  std::sort(spares.begin(), spares.end());
+  for (const auto& [serial, range] : spares) {
+    if (spare_total <= options.spare_bytes) break;
+    spare_total -= range.size;
+    pieces.erase(range);
+  }
+}
+
 void HttpByteSource::State::cancelUnwanted() {
-  for (auto& [key, transfer] : transfers) {
+  for (auto& item : transfers) {
+    const std::uint64_t key = item.first;
+    Transfer& transfer = item.second;
     if (transfer.cancelling) continue;
     const bool wanted = std::any_of(transfer.parts.begin(), transfer.parts.end(), [&](auto& r) {
       const auto it = pieces.find(r);
@@ -122,10 +147,7 @@ void HttpByteSource::State::onAnswer(std::uint64_t key, HttpResponse&& response)
       }
     }
     auto settle = [&] {
-      // Done or failed ranges nobody wants any more go; queued ones wait for the scheduler.
-      for (auto it : parts) {
-        if (!it->second.wanted() && it->second.status != Status::InFlight) pieces.erase(it);
-      }
+      dropUnwanted();
       pump();
       changed.notify_all();
     };
@@ -205,6 +227,7 @@ void HttpByteSource::State::onAnswer(std::uint64_t key, HttpResponse&& response)
       for (auto it : parts) {
         Piece& piece = it->second;
         piece.status = Status::Done;
+        piece.done_serial = next_done_serial++;
         piece.body = body;
         piece.body_offset = std::size_t(it->first.offset - span.offset);
         if (validator.usable()) to_store.emplace_back(it->first, piece.body_offset);
@@ -345,7 +368,7 @@ void HttpByteSource::read(std::uint64_t offset, std::span<std::byte> out,
       if (piece.status == Status::InFlight) {
         s.cancelUnwanted();
       } else {
-        s.pieces.erase(it);
+        s.dropUnwanted();
       }
     }
     throw ReadCancelled();
@@ -370,14 +393,14 @@ void HttpByteSource::prefetch(std::span<const ByteRange> ranges) const {
   for (const ByteRange& range : ranges) {
     if (range.size == 0 || range.offset > s.size || range.size > s.size - range.offset) continue;
     if (range.end() <= s.head.size()) continue;
-    if (s.cache && s.cache->contains(s.url, range)) continue;  // the read takes it from disk
-    Piece& piece = s.pieces[range];
-    if (piece.hint_rank < 0) piece.hint_rank = rank++;
+    auto it = s.pieces.find(range);
+    if (it == s.pieces.end()) {
+      if (s.cache && s.cache->contains(s.url, range)) continue;  // the read takes it from disk
+      it = s.pieces.try_emplace(range).first;
+    }
+    if (it->second.hint_rank < 0) it->second.hint_rank = rank++;
   }
-  std::erase_if(s.pieces, [](const auto& item) {
-    const Piece& piece = item.second;
-    return !piece.wanted() && piece.status != Status::InFlight;
-  });
+  s.dropUnwanted();
   s.cancelUnwanted();
   s.pump();
 }

@@ -45,6 +45,9 @@ struct HttpSourceOptions {
   std::uint64_t head_bytes = 0;
   MergeLimits merge;
   int max_transfers = 8;  // requests of this source in flight at once
+  // Fetched ranges that no read or hint wants any more are kept up to this many bytes: a hint
+  // reorders as the view's hierarchy unfolds, and a range dropped from it is often read soon.
+  std::uint64_t spare_bytes = 64ull << 20;
   RetryPolicy retry;
 };
 

@@ -302,6 +302,7 @@ struct HttpClient::State {
       if (t->response.transport != TransportError::None) ++stats.transport_errors;
     }
     networkCounters().bytes_received += t->response.body.size();
+    if (t->response.cancelled) ++networkCounters().cancelled;
     --networkCounters().requests_in_flight;
     Callback callback = std::move(t->callback);
     HttpResponse response = std::move(t->response);

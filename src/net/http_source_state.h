@@ -40,6 +40,7 @@ struct HttpByteSource::State : std::enable_shared_from_this<HttpByteSource::Stat
     int attempts = 0;
     NetClock::time_point not_before{};  // backoff: not requested again before
     std::uint64_t transfer = 0;         // InFlight: its transfer's key
+    std::uint64_t done_serial = 0;      // Done: order of arrival (the oldest spare goes first)
     // Done: the answer's body and where this range starts in it.
     std::shared_ptr<const std::vector<std::byte>> body;
     std::size_t body_offset = 0;
@@ -66,7 +67,7 @@ struct HttpByteSource::State : std::enable_shared_from_this<HttpByteSource::Stat
   mutable std::condition_variable_any changed;  // a piece finished, or no transfer is left
   std::map<ByteRange, Piece> pieces;
   std::unordered_map<std::uint64_t, Transfer> transfers;  // by key
-  std::uint64_t next_transfer = 1, next_wait_serial = 1;
+  std::uint64_t next_transfer = 1, next_wait_serial = 1, next_done_serial = 1;
   std::optional<InputErrorInfo> poisoned;  // the version changed: every read fails
   bool closing = false;
   bool timer_armed = false;
@@ -78,6 +79,9 @@ struct HttpByteSource::State : std::enable_shared_from_this<HttpByteSource::Stat
   void pump();
   // Cancels requests none of whose ranges is wanted. Lock held.
   void cancelUnwanted();
+  // Drops unwanted pieces: queued and failed ones all, fetched ones (spares: a hint that changed
+  // its mind may want them back) beyond options.spare_bytes, the oldest first. Lock held.
+  void dropUnwanted();
   // A request's answer (network thread).
   void onAnswer(std::uint64_t key, HttpResponse&& response);
   // An error about [range] of this file, the element left for the reader to fill in.

@@ -21,6 +21,7 @@ NetworkStats networkStats() {
   stats.cache_hits = c.cache_hits.load();
   stats.cache_bytes = c.cache_bytes.load();
   stats.retries = c.retries.load();
+  stats.cancelled = c.cancelled.load();
   stats.failed_reads = c.failed_reads.load();
 
   // The rate: bytes since the last sample that is at least half a second old.

@@ -56,6 +56,10 @@ void NodeLoader::request(std::span<const OctreeNode> nodes, std::span<const std:
     for (auto& [key, stop] : in_flight_) {
       if (!named.count(key)) stop.request_stop();
     }
+    // The queue only: a load in flight has its bytes or is waiting for them (and a fetched
+    // range that a hint no longer names is kept a while by the source, for a load that took
+    // its node from the queue just before). Naming loads in flight would fetch again the nodes
+    // already read, as long as they are being staged.
     std::uint64_t hinted_bytes = 0;
     for (const Request& r : queue_) {
       if (r.hierarchy) {
@@ -65,8 +69,10 @@ void NodeLoader::request(std::span<const OctreeNode> nodes, std::span<const std:
         hinted_bytes += r.node.byte_size;
       }
     }
+    // Under the lock: a worker that took a node from the old queue and read it must not see
+    // the hint name it again afterwards (the source would fetch it a second time).
+    octree_.prefetch(hint_nodes, hint_hierarchy);
   }
-  octree_.prefetch(hint_nodes, hint_hierarchy);
   wake_.notify_all();
   delivered_.notify_all();  // an emptied queue may end a waitForLoaded()
 }

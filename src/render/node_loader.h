@@ -79,7 +79,9 @@ class NodeLoader {
   std::uint64_t loadsCancelled() const;
 
   // How many queued nodes request() passes to Octree::prefetch, and the most bytes they hold.
-  static constexpr std::size_t kPrefetchNodes = 32;
+  // Most of the queue: a hint that a reordered queue (nodes found below a proxy just read) cuts
+  // short would drop fetches still wanted.
+  static constexpr std::size_t kPrefetchNodes = 256;
   static constexpr std::uint64_t kPrefetchBytes = 64ull << 20;
 
  private:

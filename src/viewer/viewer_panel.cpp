@@ -104,9 +104,10 @@ void drawNetworkPanel(Session& s) {
               static_cast<unsigned long long>(net.requests));
   ImGui::Text("received %.1f MB, %.2f MB/s", double(net.bytes_received) / 1e6,
               net.bytes_per_second / 1e6);
-  ImGui::Text("cache hits %llu (%.1f MB), retries %llu",
+  ImGui::Text("cache hits %llu (%.1f MB), retries %llu, cancelled %llu",
               static_cast<unsigned long long>(net.cache_hits), double(net.cache_bytes) / 1e6,
-              static_cast<unsigned long long>(net.retries));
+              static_cast<unsigned long long>(net.retries),
+              static_cast<unsigned long long>(net.cancelled));
   const std::size_t failed = s.lod ? s.lod_stats.failed_nodes : 0;
   if (failed) {
     ImGui::TextWrapped("failed nodes %zu: %s", failed, s.lod->firstError().c_str());

@@ -118,6 +118,8 @@ def make_handler(faults, args):
             if mode in ("503", "404"):
                 status = int(mode)
                 body = b"fault injected\n"
+                # Logged before the answer goes out: a client that has it finds it in the log.
+                faults.write(index, path, range_header, status, mode)
                 self.send_response(status)
                 self.send_header("Content-Length", str(len(body)))
                 if status == 503:
@@ -125,7 +127,6 @@ def make_handler(faults, args):
                 self.end_headers()
                 if not head:
                     self.wfile.write(body)
-                faults.write(index, path, range_header, status, mode)
                 return
 
             headers = {}
@@ -157,6 +158,7 @@ def make_handler(faults, args):
             if mode == "truncate":
                 send_body = body[: len(body) // 2]
                 declared = len(send_body)
+            faults.write(index, path, range_header, status, mode)
             self.send_response(status)
             for name, value in answer_headers:
                 if name.lower() == "content-length":
@@ -165,12 +167,10 @@ def make_handler(faults, args):
             self.send_header("Content-Length", str(declared))
             self.end_headers()
             if head:
-                faults.write(index, path, range_header, status, mode)
                 return
             if mode == "drop":
                 self.wfile.write(send_body[: len(send_body) // 2])
                 self.wfile.flush()
-                faults.write(index, path, range_header, status, "drop")
                 # An abrupt end: the client sees the connection close mid-body.
                 try:
                     self.connection.shutdown(socket.SHUT_RDWR)
@@ -179,7 +179,6 @@ def make_handler(faults, args):
                 self.close_connection = True
                 return
             self.wfile.write(send_body)
-            faults.write(index, path, range_header, status, mode)
 
     return Handler
 

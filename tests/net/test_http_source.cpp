@@ -265,6 +265,27 @@ TEST(HttpSource, AReplacedHintCancelsItsRequests) {
   EXPECT_EQ(client->stats().in_flight, 1u);
 }
 
+TEST(HttpSource, RangesFetchedForADroppedHintAreKeptForALaterRead) {
+  Served s;
+  auto client = std::make_shared<HttpClient>();
+  const auto source = HttpByteSource::open(s.nginx->url("data.bin"), client, nullptr);
+  source->prefetch(std::vector<ByteRange>{{10000, 300}});
+  ASSERT_TRUE(eventually([&] { return source->stats().bytes_received == 301u; }));
+  source->prefetch({});  // the view changed its mind...
+  EXPECT_EQ(readRange(*source, 10000, 300), slice(s.bytes, 10000, 300));  // ...and back
+  EXPECT_EQ(source->stats().requests, 2u) << "read from memory, not fetched again";
+  // Beyond the spare budget the oldest go.
+  HttpSourceOptions small;
+  small.spare_bytes = 500;
+  const auto tight = HttpByteSource::open(s.nginx->url("data.bin"), client, nullptr, small);
+  tight->prefetch(std::vector<ByteRange>{{0, 400}, {5000, 400}});
+  ASSERT_TRUE(eventually([&] { return tight->stats().bytes_received == 801u; }));
+  tight->prefetch({});
+  EXPECT_EQ(readRange(*tight, 5000, 400), slice(s.bytes, 5000, 400));
+  EXPECT_EQ(readRange(*tight, 0, 400), slice(s.bytes, 0, 400));
+  EXPECT_EQ(tight->stats().requests, 4u) << "one of the two was dropped and fetched again";
+}
+
 TEST(HttpSource, TheCacheServesASecondOpenAfterOneCheck) {
   Served s;
   auto client = std::make_shared<HttpClient>();
