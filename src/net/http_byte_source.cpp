@@ -127,7 +127,7 @@ void HttpByteSource::State::cancelUnwanted() {
 }
 
 void HttpByteSource::State::onAnswer(std::uint64_t key, HttpResponse&& response) {
-  std::vector<std::pair<ByteRange, std::size_t>> to_store;  // ranges and where in the body
+  std::optional<std::uint64_t> store_at;  // where the answer's body goes in the disk cache
   std::shared_ptr<const std::vector<std::byte>> body;
   {
     std::lock_guard lock(mutex);
@@ -224,13 +224,15 @@ void HttpByteSource::State::onAnswer(std::uint64_t key, HttpResponse&& response)
 
     if (!failure) {
       body = std::make_shared<const std::vector<std::byte>>(std::move(response.body));
+      // One file for the whole answer: a merged request's nodes are found inside it, and one
+      // file costs less than one per node (file creation dominates the cache's writes).
+      if (validator.usable()) store_at = span.offset;
       for (auto it : parts) {
         Piece& piece = it->second;
         piece.status = Status::Done;
         piece.done_serial = next_done_serial++;
         piece.body = body;
         piece.body_offset = std::size_t(it->first.offset - span.offset);
-        if (validator.usable()) to_store.emplace_back(it->first, piece.body_offset);
       }
     } else if (poison) {
       poisoned = *failure;
@@ -268,11 +270,7 @@ void HttpByteSource::State::onAnswer(std::uint64_t key, HttpResponse&& response)
     settle();
   }
   // On the disk after the lock: readers never wait for the cache's writes.
-  if (cache && body) {
-    for (const auto& [range, at] : to_store) {
-      cache->store(url, range.offset, std::span(body->data() + at, std::size_t(range.size)));
-    }
-  }
+  if (cache && body && store_at) cache->store(url, *store_at, *body);
 }
 
 // ---------------------------------------------------------------------------------------------
