@@ -14,8 +14,9 @@ Sits between the client and a real server (nginx) and spoils some answers on pur
   stall         sends nothing for --delay-ms, then closes
 
 Which requests: those whose path ends with --path-suffix (default: all), after the first
---after of them, every --every'th (1: each), and the same request (path and Range) at most
---times-per-request times (a flaky network: a retry gets through in the end). Requests in absolute form ("GET http://host/...",
+--after of them, every --every'th (1: each), the same request (path and Range) at most
+--times-per-request times, and at most --max-faults in all (a flaky network: with more attempts
+than faults, every range gets through in the end, however requests are merged). Requests in absolute form ("GET http://host/...",
 as a client sends them to a proxy named by http_proxy) go to the host they name; the others to
 --upstream. Every request is logged to --log: "index path range status action".
 
@@ -46,6 +47,7 @@ def parse_args():
     parser.add_argument("--after", type=int, default=0)
     parser.add_argument("--every", type=int, default=1)
     parser.add_argument("--times-per-request", type=int, default=0, help="0: no limit")
+    parser.add_argument("--max-faults", type=int, default=0, help="0: no limit")
     parser.add_argument("--delay-ms", type=int, default=0)
     parser.add_argument("--log", required=True)
     return parser.parse_args()
@@ -58,6 +60,7 @@ class Faults:
         self.matched = 0
         self.index = 0
         self.faulted = {}  # (path, range) -> times faulted
+        self.faults = 0
         self.log = open(args.log, "a", buffering=1)
 
     def decide(self, path, range_header):
@@ -75,7 +78,10 @@ class Faults:
             limit = self.args.times_per_request
             if limit > 0 and self.faulted.get(key, 0) >= limit:
                 return index, False
+            if self.args.max_faults > 0 and self.faults >= self.args.max_faults:
+                return index, False
             self.faulted[key] = self.faulted.get(key, 0) + 1
+            self.faults += 1
             return index, True
 
     def write(self, index, path, range_header, status, action):

@@ -170,31 +170,34 @@ TEST(HttpOctreeFaults, DelayedAnswersGiveTheSamePicture) {
   EXPECT_GT(r.faults("delay"), 4);
 }
 
+// The recoverable faults hit every second or third request, three times in all: with four
+// attempts per range (the default), every range gets through however the client merges its
+// requests, so the picture must be the local one.
 TEST(HttpOctreeFaults, ConnectionsDroppedMidBodyAreRetried) {
   Served s;
   const ProxiedRun r =
-      renderThroughProxy(s, {"--mode", "drop", "--every", "3", "--times-per-request", "2"});
+      renderThroughProxy(s, {"--mode", "drop", "--every", "3", "--max-faults", "3"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   expectSamePicture(s.dir / "faulty.png");
-  EXPECT_GE(r.faults("drop"), 2);
+  EXPECT_EQ(r.faults("drop"), 3);
 }
 
 TEST(HttpOctreeFaults, ServiceUnavailableIsRetried) {
   Served s;
   const ProxiedRun r =
-      renderThroughProxy(s, {"--mode", "503", "--every", "2", "--times-per-request", "2"});
+      renderThroughProxy(s, {"--mode", "503", "--every", "2", "--max-faults", "3"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   expectSamePicture(s.dir / "faulty.png");
-  EXPECT_GE(r.faults("503"), 3);
+  EXPECT_EQ(r.faults("503"), 3);
 }
 
 TEST(HttpOctreeFaults, TruncatedBodiesAreRetried) {
   Served s;
   const ProxiedRun r =
-      renderThroughProxy(s, {"--mode", "truncate", "--every", "3", "--times-per-request", "2"});
+      renderThroughProxy(s, {"--mode", "truncate", "--every", "3", "--max-faults", "3"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   expectSamePicture(s.dir / "faulty.png");
-  EXPECT_GE(r.faults("truncate"), 2);
+  EXPECT_EQ(r.faults("truncate"), 3);
 }
 
 TEST(HttpOctreeFaults, AServerThatKeepsFailingNamesTheUrlAndTheNode) {
