@@ -20,6 +20,10 @@ parallax_require_package(CLI11_FOUND libcli11-dev "CLI11")
 find_package(nlohmann_json CONFIG QUIET)
 parallax_require_package(nlohmann_json_FOUND nlohmann-json3-dev "nlohmann JSON")
 
+# HTTP(S) byte ranges (src/net): libcurl, OpenSSL flavour (HTTP/2 through nghttp2).
+pkg_check_modules(libcurl QUIET IMPORTED_TARGET libcurl)
+parallax_require_package(libcurl_FOUND libcurl4-openssl-dev "libcurl")
+
 find_path(PARALLAX_FAST_FLOAT_INCLUDE fast_float/fast_float.h)
 parallax_require_package(PARALLAX_FAST_FLOAT_INCLUDE libfast-float-dev "fast_float")
 add_library(parallax_fast_float INTERFACE)

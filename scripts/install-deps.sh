@@ -20,6 +20,9 @@ packages=(
   # the real Potree client test (tests/lod/js) and the LAZ oracles (tests/io/js): Node.js (with
   # npm; see install_npm_packages)
   nodejs
+  # HTTP(S) byte ranges (src/net), and its tests: a real web server on loopback, the
+  # fault-injecting proxy (Python 3 standard library) and a TLS certificate made by openssl
+  libcurl4-openssl-dev nginx python3 openssl
 )
 
 # npm packages of the tests, from their package-lock.json (`npm ci`), only when missing or older

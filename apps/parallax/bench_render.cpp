@@ -313,8 +313,8 @@ Command addBenchRenderCommand(CLI::App& bench) {
       "Also compare mono with this stereo mode (" + stereoModeNames() + "; repeatable)");
   command.subcommand->add_option(
       "directory", options->directory,
-      "A Potree 2.0 directory or a COPC file: time level-of-detail frames against the same points "
-      "drawn plainly");
+      "A Potree 2.0 directory or a COPC file (or its http(s) URL): time level-of-detail frames "
+      "against the same points drawn plainly");
   command.subcommand->add_option("--budget", options->budget, "With a directory: the point budget")
       ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 40))
       ->capture_default_str();

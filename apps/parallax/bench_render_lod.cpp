@@ -17,6 +17,8 @@
 #include <vector>
 
 #include "lod/octree_open.h"
+#include "lod/octree_url.h"
+#include "network_options.h"
 #include "render/gl_context.h"
 #include "render/lod_scene.h"
 #include "render/point_buffers.h"
@@ -73,6 +75,7 @@ void benchFrame(const LodRenderBenchOptions& o, Octree& octree, const Camera& ca
   scene.finishLoading(frame.views, lod_settings);
   const double load_s = secondsSince(start);
   const LodStats loaded = scene.stats();
+  printNetworkReport("bench render", octree, loaded.drawn_points);
 
   std::vector<double> update_times, draw_times, plain_times;
   for (int i = 0; i <= o.repeat; ++i) {  // frame 0: warm-up
@@ -114,6 +117,7 @@ void benchFrame(const LodRenderBenchOptions& o, Octree& octree, const Camera& ca
 }  // namespace
 
 int runBenchRenderLod(const LodRenderBenchOptions& o) {
+  checkOctreeUrl(o.directory);
   auto octree = openOctree(o.directory);
   auto context = GlContext::createHeadless();
   std::printf("bench render: %s, %llu points, budget %llu, %dx%d, median of %d frames, on %s\n",

@@ -109,7 +109,7 @@ struct Times {
 struct LoadOptions {
   std::string file;
   int repeat = 5;
-  int threads = 0;  // 0: every core
+  int threads = 0;     // 0: every core
   bool quiet = false;  // no progress bar (the figures are the result: printed)
 };
 

@@ -6,6 +6,8 @@
 // Between the two octree formats (`convert X.copc.laz -o DIR`, `convert DIR -o X.copc.laz`) the
 // tree is re-encoded node by node, not rebuilt, unless --spacing asks for another tree or the
 // Potree root box is not a cube (COPC's is).
+// `parallax convert OCTREE -o OUT`: a Potree 2.0 directory or its http(s) URL copied to a
+// directory, or its points written to a file (octree_export.h).
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
@@ -30,9 +32,11 @@
 #include "lod/copc_converter.h"
 #include "lod/copc_reader.h"
 #include "lod/copc_writer.h"
+#include "lod/octree_url.h"
 #include "lod/potree_converter.h"
 #include "lod/potree_octree_writer.h"
 #include "lod/potree_reader.h"
+#include "octree_export.h"
 #include "progress_options.h"
 
 namespace parallax::cli {
@@ -137,7 +141,8 @@ int runCopcConvert(const ConvertArgs& args) {
     std::unique_ptr<Octree> octree = openPotree(inputs[0].path);
     const std::optional<std::string> problem = copcLayoutProblem(octree->info());
     if (!problem) {
-      const auto progress = progressBar(args.quiet, "re-encoding nodes", octree->info().point_count);
+      const auto progress =
+          progressBar(args.quiet, "re-encoding nodes", octree->info().point_count);
       CopcWriteOptions options;
       options.batch_points = copcBatchPoints(args.memory_mb << 20);
       options.progress = progress.get();
@@ -236,10 +241,25 @@ int runConvert(ConvertArgs args) {
     cleanPartialOutputs(args.output, args.quiet);
     return 0;
   }
+  for (const std::string& input : args.inputs) checkOctreeUrl(input);
   if (args.format == "copc" || (args.format.empty() && hasCopcName(args.output))) {
     return runCopcConvert(args);
   }
-  if (isOctreeOutput(args)) return runPotreeConvert(args);
+  const bool to_potree = isOctreeOutput(args);
+  const bool one_input = args.inputs.size() == 1;
+  if (one_input && to_potree && isCopcFile(args.inputs.front())) return runPotreeConvert(args);
+  if (one_input && isPotreeDirectory(args.inputs.front()) && !(to_potree && args.spacing != 0.0)) {
+    // An octree (a Potree directory or its URL) in: copied, or its points written to a file.
+    return runOctreeExport({.input = args.inputs.front(),
+                            .output = args.output,
+                            .to_directory = to_potree,
+                            .ply_ascii = args.ascii,
+                            .las_minor_version = args.las_version == "1.4"   ? 4
+                                                 : args.las_version == "1.2" ? 2
+                                                                             : 0,
+                            .quiet = args.quiet});
+  }
+  if (to_potree) return runPotreeConvert(args);
   if (args.inputs.size() != 1) {
     throw InputError({.file = args.output,
                       .expected = "one input when converting to a point file",
@@ -350,8 +370,9 @@ Command addConvertCommand(CLI::App& app) {
       "Convert a point file between PLY, LAS, LAZ and text (xyz, txt, csv, pts), or point files to "
       "a level-of-detail octree: a Potree 2.0 directory or a COPC file (.copc.laz)");
   sub->add_option("input", args->inputs,
-                  "Input point files (format detected from their content), a Potree directory or a "
-                  "COPC file; several only for an octree, where they are merged");
+                  "Input point files (format detected from their content), a Potree directory (or "
+                  "its http(s) URL) or a COPC file; several only for an octree, where they are "
+                  "merged; one octree is copied, or its points written to a file");
   sub->add_option("-o,--output", args->output,
                   "Output file, its extension picks the format (.ply .las .laz .xyz .txt .csv "
                   ".asc .pts), .copc.laz: a COPC octree, or a Potree 2.0 octree directory: a name "

@@ -45,7 +45,10 @@
 #include "io/ply_header.h"
 #include "io/point_file.h"
 #include "lod/copc_reader.h"
+#include "lod/octree_open.h"
+#include "lod/octree_url.h"
 #include "lod/potree_reader.h"
+#include "octree_export.h"
 #include "progress_options.h"
 
 namespace parallax::cli {
@@ -444,19 +447,12 @@ int runPotreeInfo(const std::filesystem::path& path, bool json) {
   const auto start = std::chrono::steady_clock::now();
   std::unique_ptr<Octree> octree = openPotree(path);
   // Every chunk, so that the node count and depth are the whole tree's (expanding appends).
-  for (std::size_t i = 0; i < octree->nodes().size(); ++i) {
-    if (octree->nodes()[i].hierarchy_pending) octree->expandHierarchy(std::int32_t(i));
-  }
+  expandWholeHierarchy(*octree);
   LoadStats load;
   load.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const PotreeMetadata& metadata = *potreeMetadata(*octree);
   const OctreeInfo& info = octree->info();
-  const std::filesystem::path dir = std::filesystem::is_directory(path) ? path : path.parent_path();
-  for (const char* name : {"metadata.json", "hierarchy.bin", "octree.bin"}) {
-    std::error_code error;
-    const auto size = std::filesystem::file_size(dir / name, error);
-    if (!error) load.file_bytes += size;
-  }
+  load.file_bytes = potreeReadStats(*octree)->file_bytes;
   int depth = 0;
   for (const auto& node : octree->nodes()) depth = std::max(depth, node.level);
   const std::size_t node_count = octree->nodes().size();
@@ -538,8 +534,9 @@ struct InfoOptions {
 
 int runInfo(const InfoOptions& options) {
   const std::filesystem::path path = options.file;
+  checkOctreeUrl(options.file);
   if (isPotreeDirectory(path)) return runPotreeInfo(path, options.json);
-  if (isCopcFile(path)) return runCopcInfo(path, options.json);
+  if (detectOctreeFormat(path) == OctreeFormat::Copc) return runCopcInfo(path, options.json);
   // Detection opens the file: a missing or unreadable file is an InputError naming it.
   const PointFormat format = detectPointFormat(path);
 
@@ -579,9 +576,9 @@ Command addInfoCommand(CLI::App& app) {
                          "Describe a point file: format, points, bounds, attribute "
                          "ranges, load speed");
   command.subcommand
-      ->add_option(
-          "file", options->file,
-          "Point file (format detected from its content), Potree 2.0 directory or COPC file")
+      ->add_option("file", options->file,
+                   "Point file (format detected from its content), Potree 2.0 directory or COPC "
+                   "file (or its http(s) URL)")
       ->required();
   command.subcommand->add_flag("--json", options->json,
                                "Print one JSON object (points, bounds, attributes, ...)");

@@ -10,6 +10,7 @@
 
 #include "io/las_header.h"
 #include "lod/copc_reader.h"
+#include "lod/octree_open.h"
 
 namespace parallax::cli {
 namespace {
@@ -39,7 +40,7 @@ struct Level {
 
 int runCopcInfo(const std::filesystem::path& path, bool json) {
   const auto start = std::chrono::steady_clock::now();
-  std::unique_ptr<Octree> octree = openCopc(path);
+  std::unique_ptr<Octree> octree = openOctree(path);  // a file or its URL
   // Every page, so that the counts are the whole tree's (expanding appends).
   for (std::size_t i = 0; i < octree->nodes().size(); ++i) {
     if (octree->nodes()[i].hierarchy_pending) octree->expandHierarchy(std::int32_t(i));

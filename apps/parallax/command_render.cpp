@@ -4,13 +4,13 @@
 // With --stereo MODE, each picture is a stereo frame (render/stereo.h) of the whole --width x
 // --height. quad-buffer needs a stereo window: headless, it falls back to sbs with a message.
 //
-// INPUT may be a Potree 2.0 directory or a COPC file (told by its content): its octree is
-// streamed through a LodScene (render/lod_scene.h) within --budget points, and each picture
-// waits for every node it selects. A PLY, LAS, LAZ or text file with more points than --budget
-// (lod/large_file.h) is converted to such an octree first (kept in the user's cache, or
-// --cache-dir, for the next run; --no-cache: a temporary folder), unless --preview asks for a
-// picture of an even sample at once (PLY, LAS, LAZ; the budget's worth of points, at most
-// kPreviewPoints).
+// INPUT may be a Potree 2.0 directory or a COPC file (told by its content), or its http(s) URL:
+// its octree is streamed through a LodScene (render/lod_scene.h) within --budget points, and
+// each picture waits for every node it selects. A PLY, LAS, LAZ or text file with more points
+// than --budget (lod/large_file.h) is converted to such an octree first (kept in the user's
+// cache, or --cache-dir, for the next run; --no-cache: a temporary folder), unless --preview
+// asks for a picture of an even sample at once (PLY, LAS, LAZ; the budget's worth of points, at
+// most kPreviewPoints).
 //
 // Prints the time from start to PNG broken down into load, context, upload, draw and write, on
 // stderr (stdout stays free for scripts).
@@ -33,7 +33,10 @@
 #include "lod/large_file.h"
 #include "lod/octree_cache.h"
 #include "lod/octree_open.h"
+#include "lod/octree_url.h"
 #include "lod/potree_reader.h"
+#include "net/url.h"
+#include "network_options.h"
 #include "progress_options.h"
 #include "render/camera_path.h"
 #include "render/gl_context.h"
@@ -146,6 +149,8 @@ RenderSource openSource(const RenderCommandOptions& o) {
 
 int runRender(const RenderCommandOptions& o) {
   const auto start = Clock::now();
+  configureNetworkFrom(o.lod);
+  checkOctreeUrl(o.input);
   RenderSource source = openSource(o);
   const double load_s = secondsSince(start);
 
@@ -207,7 +212,7 @@ int runRender(const RenderCommandOptions& o) {
     // The finished picture: finishLoading waits for every node this frame selects.
     const DrawSet& draw_set = lod ? lod->finishLoading(frame.views, lod_settings) : gpu->drawSet();
     if (lod && !lod->firstError().empty()) {
-      throw InputError({.file = source.octree_dir.string(),
+      throw InputError({.file = urlForMessages(source.octree_dir.string()),
                         .expected = "every node the view selects readable",
                         .found = std::to_string(lod->stats().failed_nodes) +
                                  " failed, the first: " + lod->firstError()});
@@ -238,6 +243,7 @@ int runRender(const RenderCommandOptions& o) {
                  static_cast<unsigned long long>(stats.selected_points), stats.drawn_nodes,
                  static_cast<unsigned long long>(stats.drawn_points),
                  double(stats.gpu_bytes) / 1e6);
+    printNetworkReport("parallax render", *source.octree, stats.drawn_points);
   }
   if (source.file_points) {
     std::fprintf(stderr, "parallax render: preview, a sample of %llu of the file's %llu points\n",
@@ -265,7 +271,7 @@ Command addRenderCommand(CLI::App& app) {
   sub->add_option(
          "input", options->input,
          "Point file (PLY, LAS, LAZ or text), or an octree: a Potree 2.0 directory or a COPC "
-         "file (parallax convert)")
+         "file (parallax convert), or its http(s) URL")
       ->required();
   sub->add_option("-o,--output", options->output,
                   "Output PNG (with --path: a pattern such as DIR/frame_%04d.png)")

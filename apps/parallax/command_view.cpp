@@ -1,14 +1,15 @@
 // `parallax view [INPUT]`: the interactive viewer (src/viewer) with the same render and level of
-// detail options as `parallax render`. INPUT may be a Potree 2.0 directory or a COPC file; a file
-// with more points than --budget shows a sample at once and its octree once built
-// (viewer/viewer.h). Defaults that differ from `render`'s: without --size-mode, --point-size or
-// --shape, points are round and sized to the local spacing (adaptive); without --lighting, clouds
-// with normals are lit.
+// detail options as `parallax render`. INPUT may be a Potree 2.0 directory or a COPC file (or its
+// http(s) URL); a file with more points than --budget shows a sample at once and its octree once
+// built (viewer/viewer.h). Defaults that differ from `render`'s: without --size-mode,
+// --point-size or --shape, points are round and sized to the local spacing (adaptive); without
+// --lighting, clouds with normals are lit.
 #include <chrono>
 #include <memory>
 #include <string>
 
 #include "commands.h"
+#include "network_options.h"
 #include "render_options.h"
 #include "viewer/viewer.h"
 
@@ -26,6 +27,7 @@ struct ViewCommandOptions {
 
 int runView(const ViewCommandOptions& o, const CLI::App& command,
             std::chrono::steady_clock::time_point start) {
+  configureNetworkFrom(o.lod);
   ViewerOptions viewer;
   viewer.start_time = start;
   viewer.lod = lodFrameSettingsFrom(o.lod);
@@ -59,8 +61,8 @@ Command addViewCommand(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("view", "Open a point file in a window (H in it: keys)");
   sub->add_option(
       "input", options->input,
-      "Point file (PLY, LAS, LAZ or text), Potree 2.0 directory or COPC file; or drop one on the "
-      "window");
+      "Point file (PLY, LAS, LAZ or text), Potree 2.0 directory or COPC file (or its http(s) "
+      "URL); or drop one on the window");
   sub->add_option("--width", options->width, "Window width")->capture_default_str();
   sub->add_option("--height", options->height, "Window height")->capture_default_str();
   sub->add_flag("--no-vsync", options->no_vsync, "Start with vsync off (V toggles it)");

@@ -99,9 +99,11 @@ void addLodOptions(CLI::App& command, LodOptions& o) {
       ->check(CLI::NonNegativeNumber);
   command.add_option("--cache-dir", o.cache_dir,
                      "Folder for the octrees of large files (default: $XDG_CACHE_HOME/parallax/"
-                     "octrees, else ~/.cache/parallax/octrees)");
+                     "octrees, else ~/.cache/parallax/octrees), and in DIR/http the cache of "
+                     "octrees read from URLs");
   command.add_flag("--no-cache", o.no_cache,
-                   "Build the octree of a large file in a temporary folder removed at exit");
+                   "Build the octree of a large file in a temporary folder removed at exit; "
+                   "keep nothing read from a URL on disk");
   command.add_option("--memory", o.memory_mb, "Memory budget in MB of an octree conversion")
       ->capture_default_str()
       ->check(CLI::Range(std::uint64_t(16), std::uint64_t(1) << 24));

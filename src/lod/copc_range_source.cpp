@@ -42,7 +42,25 @@ class RangeReaderSource final : public CopcRangeSource {
   RangeReader reader_;
 };
 
+class ByteSourceAdapter final : public CopcRangeSource {
+ public:
+  explicit ByteSourceAdapter(std::unique_ptr<ByteSource> source) : source_(std::move(source)) {}
+  const std::string& name() const override { return source_->name(); }
+  std::uint64_t size() const override { return source_->size(); }
+  void read(std::uint64_t offset, std::span<std::byte> out,
+            std::string_view element) const override {
+    source_->read(offset, out, ReadContext{.element = element});
+  }
+
+ private:
+  std::unique_ptr<ByteSource> source_;
+};
+
 }  // namespace
+
+std::unique_ptr<CopcRangeSource> adaptByteSource(std::unique_ptr<ByteSource> source) {
+  return std::make_unique<ByteSourceAdapter>(std::move(source));
+}
 
 std::unique_ptr<CopcRangeSource> openCopcFileSource(const std::filesystem::path& path) {
   return std::make_unique<RangeReaderSource>(path);

@@ -2,8 +2,8 @@
 // (tests, fuzzing). A reader asks for ranges and never learns which it has.
 //
 // The one call, read(offset, out, element), is core/byte_source.h's ByteSource::read(offset,
-// out, ReadContext{.element = element}) with another name: when the byte-source interface of the
-// HTTP work is merged, this class gives way to it (and a COPC file opens from a URL too).
+// out, ReadContext{.element = element}) with another name; adaptByteSource() reads a ByteSource
+// (an http(s) URL's, net/network.h) through it.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +13,8 @@
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include "core/byte_source.h"
 
 namespace parallax {
 
@@ -30,6 +32,8 @@ class CopcRangeSource {
 
 // Throws InputError (the path, why) when the file cannot be opened.
 std::unique_ptr<CopcRangeSource> openCopcFileSource(const std::filesystem::path& path);
+// Reads through a ByteSource (a URL's, or any other).
+std::unique_ptr<CopcRangeSource> adaptByteSource(std::unique_ptr<ByteSource> source);
 std::unique_ptr<CopcRangeSource> makeCopcMemorySource(std::vector<std::byte> bytes,
                                                       std::string name);
 

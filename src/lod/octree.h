@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <stop_token>
 #include <string>
 #include <vector>
 
@@ -54,9 +55,14 @@ struct OctreeInfo {
   bool has_classification = false;
 };
 
-// Read access to an octree. nodes() and expandHierarchy() belong to one thread (the frame loop);
-// loadNode() may be called from any number of threads at once, also while the frame loop
-// expands the hierarchy (it takes the node by value).
+// Read access to an octree. nodes(), expandHierarchy() and hierarchyReady() belong to one thread
+// (the frame loop); loadNode(), loadNodeCancellable(), fetchHierarchy() and prefetch() may be
+// called from any number of threads at once, also while the frame loop expands the hierarchy
+// (they take nodes by value).
+//
+// An octree behind a slow link (a URL) never makes the frame loop wait: hierarchyReady() says
+// whether expandHierarchy() would wait, fetchHierarchy() (on a loader thread) brings what it
+// needs, and prefetch() lets the store fetch what will be loaded next, together.
 class Octree {
  public:
   virtual ~Octree() = default;
@@ -70,6 +76,32 @@ class Octree {
   // The node's points (node.point_count of them) with `info().quantization`. Throws InputError
   // for data that lies (a byte range past the end of the file, a wrong size).
   virtual PointCloud loadNode(const OctreeNode& node) const = 0;
+  // loadNode, given up when `cancel` is requested before the bytes arrive (ReadCancelled,
+  // core/byte_source.h). Default: loadNode(node), never cancelled.
+  virtual PointCloud loadNodeCancellable(const OctreeNode& node, std::stop_token cancel) const {
+    (void)cancel;
+    return loadNode(node);
+  }
+
+  // True when expandHierarchy(node) would not wait on a slow link (its hierarchy is local or
+  // already fetched). Default: true.
+  virtual bool hierarchyReady(std::int32_t node) const {
+    (void)node;
+    return true;
+  }
+  // Fetches what expandHierarchy() needs for `node` (hierarchy_pending set) into memory, so
+  // that the call then does not wait. May wait on the network: for loader threads. Throws
+  // InputError, or ReadCancelled when `cancel` is requested. Default: nothing to do.
+  virtual void fetchHierarchy(const OctreeNode& node, std::stop_token cancel) const {
+    (void)node, (void)cancel;
+  }
+  // Names the nodes whose points (`nodes`) and whose hierarchy (`hierarchy`: nodes with
+  // hierarchy_pending) will be asked for soon, most urgent first; replaces the previous hint.
+  // Never waits. Default: nothing.
+  virtual void prefetch(std::span<const OctreeNode> nodes,
+                        std::span<const OctreeNode> hierarchy) const {
+    (void)nodes, (void)hierarchy;
+  }
 };
 
 }  // namespace parallax

@@ -2,17 +2,29 @@
 
 #include "core/error.h"
 #include "lod/copc_reader.h"
+#include "lod/octree_url.h"
 #include "lod/potree_reader.h"
 
 namespace parallax {
 
 OctreeFormat detectOctreeFormat(const std::filesystem::path& path) {
+  switch (octreeUrlKind(path.string())) {  // a URL: by what it names (no request yet)
+    case OctreeUrlKind::NotUrl:
+      break;
+    case OctreeUrlKind::Potree:
+      return OctreeFormat::Potree;
+    case OctreeUrlKind::Copc:
+      return OctreeFormat::Copc;
+    case OctreeUrlKind::Other:
+      return OctreeFormat::None;
+  }
   if (isPotreeDirectory(path)) return OctreeFormat::Potree;
   if (isCopcFile(path)) return OctreeFormat::Copc;
   return OctreeFormat::None;
 }
 
 std::unique_ptr<Octree> openOctree(const std::filesystem::path& path) {
+  if (octreeUrlKind(path.string()) != OctreeUrlKind::NotUrl) return openOctreeUrl(path.string());
   switch (detectOctreeFormat(path)) {
     case OctreeFormat::Potree:
       return openPotree(path);

@@ -122,16 +122,17 @@ PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
   const EncodedHierarchy hierarchy = encodePotreeHierarchy(entries, root);
   writeFile(temp.path() / "hierarchy.bin", hierarchy.bytes.data(), hierarchy.bytes.size());
   const std::string name = options.name.empty() ? target.filename().string() : options.name;
-  const std::string metadata = potreeMetadataText({.points = plan.points,
-                                                   .quantization = plan.quantization,
-                                                   .spacing = plan.spacing,
-                                                   .cube = plan.cube,
-                                                   .layout = &plan.layout,
-                                                   .stats = &plan.stats,
-                                                   .first_chunk_size = hierarchy.first_chunk_size,
-                                                   .depth = hierarchy.depth,
-                                                   .name = name,
-                                                   .projection = potreeProjection(plan.crs.description)});
+  const std::string metadata =
+      potreeMetadataText({.points = plan.points,
+                          .quantization = plan.quantization,
+                          .spacing = plan.spacing,
+                          .cube = plan.cube,
+                          .layout = &plan.layout,
+                          .stats = &plan.stats,
+                          .first_chunk_size = hierarchy.first_chunk_size,
+                          .depth = hierarchy.depth,
+                          .name = name,
+                          .projection = potreeProjection(plan.crs.description)});
   // metadata.json last: a directory without it is never taken for a finished octree.
   writeFile(temp.path() / "metadata.json", metadata.data(), metadata.size());
 

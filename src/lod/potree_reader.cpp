@@ -1,115 +1,32 @@
 #include "lod/potree_reader.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
+#include <algorithm>
+#include <array>
+#include <atomic>
 #include <cassert>
-#include <cerrno>
-#include <cstring>
+#include <map>
+#include <mutex>
 #include <set>
 
+#include "core/byte_source.h"
 #include "core/error.h"
 #include "lod/potree_hierarchy_reader.h"
 #include "lod/potree_record_reader.h"
+#include "lod/potree_sources.h"
 
 namespace parallax {
 namespace {
 
-// metadata.json of real clouds is a few kB; anything this large is not one.
-constexpr std::uint64_t kMaxMetadataBytes = 64ull << 20;
-
-// Random-access bytes of one of the directory's files.
-class ByteSource {
- public:
-  virtual ~ByteSource() = default;
-  virtual std::uint64_t size() const = 0;
-  // Reads out.size() bytes at `offset`; the caller has checked the range against size().
-  virtual void read(std::uint64_t offset, std::span<std::byte> out) const = 0;
-  const std::string& name() const { return name_; }
-
- protected:
-  explicit ByteSource(std::string name) : name_(std::move(name)) {}
-
- private:
-  std::string name_;
-};
-
-class MemorySource final : public ByteSource {
- public:
-  MemorySource(std::vector<std::byte> bytes, std::string name)
-      : ByteSource(std::move(name)), bytes_(std::move(bytes)) {}
-  std::uint64_t size() const override { return bytes_.size(); }
-  void read(std::uint64_t offset, std::span<std::byte> out) const override {
-    assert(offset <= bytes_.size() && out.size() <= bytes_.size() - offset);
-    if (!out.empty()) std::memcpy(out.data(), bytes_.data() + offset, out.size());
-  }
-
- private:
-  std::vector<std::byte> bytes_;
-};
-
-class FileSource final : public ByteSource {
- public:
-  explicit FileSource(const std::filesystem::path& path) : ByteSource(path.string()) {
-    fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd_ < 0) failSystem("the file", std::nullopt);
-    struct stat st {};
-    if (::fstat(fd_, &st) != 0) failSystem("its size", std::nullopt);
-    if (!S_ISREG(st.st_mode)) {
-      ::close(fd_);
-      throw InputError({.file = name(), .expected = "a regular file", .found = "something else"});
-    }
-    size_ = std::uint64_t(st.st_size);
-  }
-  ~FileSource() override {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  FileSource(const FileSource&) = delete;
-  FileSource& operator=(const FileSource&) = delete;
-
-  std::uint64_t size() const override { return size_; }
-  void read(std::uint64_t offset, std::span<std::byte> out) const override {
-    std::size_t done = 0;
-    while (done < out.size()) {
-      const ssize_t n = ::pread(fd_, out.data() + done, out.size() - done, off_t(offset + done));
-      if (n < 0 && errno == EINTR) continue;
-      if (n < 0) failSystem(std::to_string(out.size()) + " bytes", offset + done);
-      if (n == 0) {
-        throw InputError({.file = name(),
-                          .byte_offset = offset + done,
-                          .expected = std::to_string(out.size() - done) + " more bytes",
-                          .found = "the end of the file",
-                          .hint = "the file shrank while it was read"});
-      }
-      done += std::size_t(n);
-    }
-  }
-
- private:
-  [[noreturn]] void failSystem(const std::string& what, std::optional<std::uint64_t> at) const {
-    const std::string reason = std::strerror(errno);
-    if (fd_ >= 0 && !at) ::close(fd_);
-    throw InputError({.file = name(),
-                      .byte_offset = at,
-                      .expected = "to read " + what,
-                      .found = reason,
-                      .hint = "a Potree 2.0 directory holds metadata.json, hierarchy.bin and "
-                              "octree.bin"});
-  }
-
-  int fd_ = -1;
-  std::uint64_t size_ = 0;
-};
-
 class PotreeOctree final : public Octree {
  public:
-  PotreeOctree(PotreeMetadata metadata, std::unique_ptr<ByteSource> hierarchy,
-               std::unique_ptr<ByteSource> octree)
+  PotreeOctree(PotreeMetadata metadata, PotreeSources sources)
       : metadata_(std::move(metadata)),
         records_(metadata_),
-        hierarchy_(std::move(hierarchy)),
-        octree_(std::move(octree)) {
+        hierarchy_(std::move(sources.hierarchy)),
+        octree_(std::move(sources.octree)) {
+    stats_.location = sources.location;
+    stats_.remote = !hierarchy_->local() || !octree_->local();
+    stats_.file_bytes = sources.metadata_bytes + hierarchy_->size() + octree_->size();
     limits_ = {.hierarchy_file = hierarchy_->name(),
                .octree_file = octree_->name(),
                .hierarchy_size = hierarchy_->size(),
@@ -140,6 +57,13 @@ class PotreeOctree final : public Octree {
   const OctreeInfo& info() const override { return info_; }
   std::span<const OctreeNode> nodes() const override { return nodes_; }
   const PotreeMetadata& metadata() const { return metadata_; }
+  PotreeReadStats readStats() const {
+    PotreeReadStats stats = stats_;
+    stats.hierarchy_bytes = hierarchy_bytes_.load();
+    stats.node_bytes = node_bytes_.load();
+    stats.nodes_loaded = nodes_loaded_.load();
+    return stats;
+  }
 
   void expandHierarchy(std::int32_t index) override {
     assert(index >= 0 && std::size_t(index) < nodes_.size() && "expandHierarchy: no such node");
@@ -151,7 +75,70 @@ class PotreeOctree final : public Octree {
     }
   }
 
+  bool hierarchyReady(std::int32_t index) const override {
+    const OctreeNode& node = nodes_[std::size_t(index)];
+    if (!node.hierarchy_pending || hierarchy_->local()) return true;
+    std::lock_guard lock(fetched_mutex_);
+    return fetched_.count(node.byte_offset) > 0;
+  }
+
+  void fetchHierarchy(const OctreeNode& node, std::stop_token cancel) const override {
+    if (!node.hierarchy_pending) return;
+    const std::string element = "hierarchy chunk of node " + node.name;
+    std::uint64_t offset = node.byte_offset, size = node.byte_size;
+    // The chunk, and the chunks a chain of proxies leads to (a chunk opening with a proxy).
+    for (int step = 0; step <= kPotreeMaxLevel; ++step) {
+      checkPotreeChunkRange(offset, size, node.name, offset, limits_);
+      std::vector<std::byte> bytes;
+      {
+        std::lock_guard lock(fetched_mutex_);
+        const auto it = fetched_.find(offset);
+        if (it != fetched_.end()) bytes = it->second;
+      }
+      if (bytes.size() != size) {
+        bytes.resize(size);
+        hierarchy_->read(offset, bytes, {.cancel = cancel, .element = element});
+        std::lock_guard lock(fetched_mutex_);
+        fetched_[offset] = bytes;
+      }
+      const PotreeEntry first = decodePotreeEntry(
+          std::span<const std::byte, kPotreeEntrySize>(bytes.data(), kPotreeEntrySize));
+      if (first.type != 2) return;
+      offset = first.byte_offset, size = first.byte_size;
+    }
+  }
+
+  void prefetch(std::span<const OctreeNode> nodes,
+                std::span<const OctreeNode> hierarchy) const override {
+    if (!octree_->local()) {
+      std::vector<ByteRange> ranges;
+      for (const OctreeNode& node : nodes) {
+        if (!node.hierarchy_pending && node.byte_size > 0) {
+          ranges.push_back({node.byte_offset, node.byte_size});
+        }
+      }
+      octree_->prefetch(ranges);
+    }
+    if (!hierarchy_->local()) {
+      std::vector<ByteRange> ranges;
+      {
+        std::lock_guard lock(fetched_mutex_);
+        for (const OctreeNode& node : hierarchy) {
+          if (node.hierarchy_pending && !fetched_.count(node.byte_offset)) {
+            ranges.push_back({node.byte_offset, node.byte_size});
+          }
+        }
+      }
+      hierarchy_->prefetch(ranges);
+    }
+  }
+
   PointCloud loadNode(const OctreeNode& node) const override {
+    return loadNodeCancellable(node, {});
+  }
+
+  PointCloud loadNodeCancellable(const OctreeNode& node, std::stop_token cancel) const override {
+    const std::string element = "node " + node.name;
     PotreeEntry entry;
     entry.point_count = node.point_count;
     entry.byte_offset = node.byte_offset;
@@ -163,13 +150,15 @@ class PotreeOctree final : public Octree {
       for (int step = 0;; ++step) {
         checkPotreeChunkRange(chunk, kPotreeEntrySize, node.name, chunk, limits_);
         std::array<std::byte, kPotreeEntrySize> bytes;
-        hierarchy_->read(chunk, bytes);
+        if (!fetchedEntry(chunk, bytes)) {
+          hierarchy_->read(chunk, bytes, {.cancel = cancel, .element = element});
+        }
         entry = decodePotreeEntry(bytes);
         where = chunk;
         if (entry.type > 2) {
           throw InputError({.file = limits_.hierarchy_file,
                             .byte_offset = chunk,
-                            .element = "node " + node.name,
+                            .element = element,
                             .expected = "node type 0, 1 or 2",
                             .found = "type " + std::to_string(entry.type)});
         }
@@ -177,7 +166,7 @@ class PotreeOctree final : public Octree {
         if (step == kPotreeMaxLevel) {
           throw InputError({.file = limits_.hierarchy_file,
                             .byte_offset = chunk,
-                            .element = "node " + node.name,
+                            .element = element,
                             .expected = "a chunk that lists the node",
                             .found = "a chain of proxies that does not end"});
         }
@@ -186,7 +175,7 @@ class PotreeOctree final : public Octree {
       if (entry.point_count != node.point_count) {
         throw InputError({.file = limits_.hierarchy_file,
                           .byte_offset = where,
-                          .element = "node " + node.name,
+                          .element = element,
                           .expected = std::to_string(node.point_count) +
                                       " points, as the proxy entry of the node says",
                           .found = std::to_string(entry.point_count) + " in its chunk's entry"});
@@ -194,7 +183,10 @@ class PotreeOctree final : public Octree {
     }
     checkPotreeDataRange(entry, node.name, where, limits_);
     ByteBuffer bytes(entry.byte_size);
-    octree_->read(entry.byte_offset, {bytes.data(), bytes.size()});
+    octree_->read(entry.byte_offset, {bytes.data(), bytes.size()},
+                  {.cancel = cancel, .element = element});
+    node_bytes_ += entry.byte_size;
+    ++nodes_loaded_;
     return records_.decode({bytes.data(), bytes.size()}, entry.point_count);
   }
 
@@ -215,6 +207,15 @@ class PotreeOctree final : public Octree {
     records_.describe(info_);
   }
 
+  // The first entry of a fetched chunk at `chunk`, when there is one.
+  bool fetchedEntry(std::uint64_t chunk, std::span<std::byte, kPotreeEntrySize> out) const {
+    std::lock_guard lock(fetched_mutex_);
+    const auto it = fetched_.find(chunk);
+    if (it == fetched_.end() || it->second.size() < kPotreeEntrySize) return false;
+    std::copy_n(it->second.begin(), kPotreeEntrySize, out.begin());
+    return true;
+  }
+
   void readChunk(std::int32_t top, std::uint64_t offset, std::uint64_t size) {
     if (!chunks_read_.insert(offset).second) {
       throw InputError({.file = limits_.hierarchy_file,
@@ -223,8 +224,22 @@ class PotreeOctree final : public Octree {
                         .expected = "a proxy pointing at a hierarchy chunk not read yet",
                         .found = "a chunk already read (a cycle)"});
     }
-    std::vector<std::byte> bytes(size);
-    hierarchy_->read(offset, bytes);
+    std::vector<std::byte> bytes;
+    {
+      // Fetched ahead by fetchHierarchy: taken (a chunk is read once).
+      std::lock_guard lock(fetched_mutex_);
+      const auto it = fetched_.find(offset);
+      if (it != fetched_.end() && it->second.size() == size) {
+        bytes = std::move(it->second);
+        fetched_.erase(it);
+      }
+    }
+    if (bytes.size() != size) {
+      bytes.resize(size);
+      hierarchy_->read(offset, bytes,
+                       {.element = "hierarchy chunk of node " + nodes_[std::size_t(top)].name});
+    }
+    hierarchy_bytes_ += size;
     // Running totals over all nodes (a proxy's entry carries its node's count too), updated
     // for the top node and the nodes the chunk appends.
     const std::size_t first_new = nodes_.size();
@@ -264,70 +279,29 @@ class PotreeOctree final : public Octree {
   std::set<std::uint64_t> chunks_read_;
   std::uint64_t total_points_ = 0;  // sum of point_count over nodes_
   std::size_t pending_nodes_ = 0;   // nodes with hierarchy_pending
+  // Hierarchy chunks fetched ahead (by offset in hierarchy.bin), for any thread.
+  mutable std::mutex fetched_mutex_;
+  mutable std::map<std::uint64_t, std::vector<std::byte>> fetched_;
+  PotreeReadStats stats_;
+  std::atomic<std::uint64_t> hierarchy_bytes_{0};
+  mutable std::atomic<std::uint64_t> node_bytes_{0}, nodes_loaded_{0};
 };
-
-std::filesystem::path directoryOf(const std::filesystem::path& path) {
-  std::error_code error;
-  if (path.filename() == "metadata.json" && !std::filesystem::is_directory(path, error)) {
-    return path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
-  }
-  return path;
-}
-
-std::string readMetadataText(const std::filesystem::path& file) {
-  FileSource source(file);
-  if (source.size() > kMaxMetadataBytes) {
-    throw InputError({.file = file.string(),
-                      .expected = "a metadata.json of at most 64 MiB",
-                      .found = std::to_string(source.size()) + " bytes"});
-  }
-  std::string text(source.size(), '\0');
-  source.read(0, std::as_writable_bytes(std::span(text)));
-  return text;
-}
 
 }  // namespace
 
-bool isPotreeDirectory(const std::filesystem::path& path) {
-  std::error_code error;
-  const std::filesystem::path dir = directoryOf(path);
-  return std::filesystem::is_directory(dir, error) &&
-         std::filesystem::is_regular_file(dir / "metadata.json", error);
-}
-
-std::unique_ptr<Octree> openPotree(const std::filesystem::path& path) {
-  const std::filesystem::path dir = directoryOf(path);
-  std::error_code error;
-  if (!std::filesystem::is_directory(dir, error)) {
-    throw InputError({.file = dir.string(),
-                      .expected = "a Potree 2.0 directory",
-                      .found = std::filesystem::exists(dir, error) ? "a file" : "nothing",
-                      .hint = "a Potree 2.0 directory holds metadata.json, hierarchy.bin and "
-                              "octree.bin"});
-  }
-  const std::filesystem::path metadata_file = dir / "metadata.json";
-  PotreeMetadata metadata =
-      parsePotreeMetadata(readMetadataText(metadata_file), metadata_file.string());
-  auto hierarchy = std::make_unique<FileSource>(dir / "hierarchy.bin");
-  auto octree = std::make_unique<FileSource>(dir / "octree.bin");
-  return std::make_unique<PotreeOctree>(std::move(metadata), std::move(hierarchy),
-                                        std::move(octree));
-}
-
-std::unique_ptr<Octree> openPotreeFromMemory(std::string metadata_json,
-                                             std::vector<std::byte> hierarchy,
-                                             std::vector<std::byte> octree,
-                                             const std::string& name) {
-  PotreeMetadata metadata = parsePotreeMetadata(metadata_json, name + "/metadata.json");
-  return std::make_unique<PotreeOctree>(
-      std::move(metadata),
-      std::make_unique<MemorySource>(std::move(hierarchy), name + "/hierarchy.bin"),
-      std::make_unique<MemorySource>(std::move(octree), name + "/octree.bin"));
+std::unique_ptr<Octree> makePotreeOctree(PotreeMetadata metadata, PotreeSources sources) {
+  return std::make_unique<PotreeOctree>(std::move(metadata), std::move(sources));
 }
 
 const PotreeMetadata* potreeMetadata(const Octree& octree) {
   const auto* potree = dynamic_cast<const PotreeOctree*>(&octree);
   return potree ? &potree->metadata() : nullptr;
+}
+
+std::optional<PotreeReadStats> potreeReadStats(const Octree& octree) {
+  const auto* potree = dynamic_cast<const PotreeOctree*>(&octree);
+  if (!potree) return std::nullopt;
+  return potree->readStats();
 }
 
 }  // namespace parallax

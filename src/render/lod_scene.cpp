@@ -45,7 +45,10 @@ const DrawSet& LodScene::update(std::span<const SelectionView> views,
     if (first_error_.empty()) first_error_ = message;
   };
   for (LoadedNode& loaded : loader_.takeLoaded()) {
-    if (!loaded.error.empty()) {
+    if (loaded.hierarchy) {
+      // A chunk fetched (expanded below, once the selection reaches it again) or failed.
+      if (!loaded.error.empty()) fail(hierarchy_failed_, loaded.node, loaded.error);
+    } else if (!loaded.error.empty()) {
       fail(failed_, loaded.node, loaded.error);
     } else if (!cache_.contains(loaded.node)) {
       staged_[loaded.node] = std::move(loaded.staged);
@@ -60,7 +63,8 @@ const DrawSet& LodScene::update(std::span<const SelectionView> views,
     bool expanded = false;
     for (std::int32_t node : selection.expand) {
       if (expansions >= settings.hierarchy_expansions_per_frame) break;
-      if (hierarchy_failed_[std::size_t(node)]) continue;
+      // Not in memory yet (a URL): the loader fetches it; the frame loop never waits for it.
+      if (hierarchy_failed_[std::size_t(node)] || !octree_.hierarchyReady(node)) continue;
       ++expansions;
       try {
         octree_.expandHierarchy(node);
@@ -117,7 +121,14 @@ const DrawSet& LodScene::update(std::span<const SelectionView> views,
     if (!staged_.count(node)) to_load.push_back(node);
   }
   std::erase_if(staged_, [&](const auto& item) { return !wanted.count(item.first); });
-  loader_.request(nodes, to_load);
+  std::vector<std::int32_t> to_fetch;
+  for (std::int32_t node : selection.expand) {
+    if (!blocked[std::size_t(node)] && !hierarchy_failed_[std::size_t(node)] &&
+        !octree_.hierarchyReady(node)) {
+      to_fetch.push_back(node);
+    }
+  }
+  loader_.request(nodes, to_load, to_fetch);
 
   buildDrawSet(selection);
 

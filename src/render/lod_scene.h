@@ -1,8 +1,10 @@
 // The level-of-detail front for the frame loop: one octree, streamed to the GPU as the views
 // need it. Each update() selects nodes for the frame's views, asks the background loader for
 // what is missing, uploads what has arrived within a per-frame budget, evicts what the cache has
-// no room for, and returns the DrawSet to draw. It never waits on the disk: nodes not loaded yet
-// are simply not drawn (their parents are, at a coarser density).
+// no room for, and returns the DrawSet to draw. It never waits on the disk or the network:
+// nodes not loaded yet are simply not drawn (their parents are, at a coarser density), and a
+// proxy whose hierarchy chunk is not in memory (Octree::hierarchyReady) is fetched by the
+// loader and expanded in a later update.
 //
 // What is drawn: the selected nodes that are resident and whose parent is drawn (Potree's rule;
 // with additive LOD a child without its parent is a sparse, misleading picture), in selection

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cassert>
 #include <exception>
+#include <unordered_set>
+
+#include "core/byte_source.h"
 
 namespace parallax {
 
@@ -27,18 +30,48 @@ NodeLoader::~NodeLoader() {
   threads_.clear();
 }
 
-void NodeLoader::request(std::span<const OctreeNode> nodes, std::span<const std::int32_t> wanted) {
+void NodeLoader::request(std::span<const OctreeNode> nodes, std::span<const std::int32_t> wanted,
+                         std::span<const std::int32_t> hierarchy) {
   std::deque<Request> queue;
+  std::vector<OctreeNode> hint_nodes, hint_hierarchy;
   {
     std::lock_guard lock(mutex_);
-    std::unordered_set<std::int32_t> busy(in_flight_);
-    for (const LoadedNode& loaded : done_) busy.insert(loaded.node);
-    for (std::int32_t index : wanted) {
+    std::unordered_set<std::int64_t> busy;
+    for (const auto& [key, stop] : in_flight_) busy.insert(key);
+    for (const LoadedNode& loaded : done_) busy.insert(keyOf(loaded.node, loaded.hierarchy));
+    std::unordered_set<std::int64_t> named;
+    auto enqueue = [&](std::int32_t index, bool is_hierarchy) {
       assert(index >= 0 && std::size_t(index) < nodes.size() &&
              "NodeLoader: node index out of range");
-      if (busy.insert(index).second) queue.push_back({index, nodes[std::size_t(index)]});
-    }
+      const std::int64_t key = keyOf(index, is_hierarchy);
+      named.insert(key);
+      if (busy.insert(key).second) {
+        queue.push_back({index, is_hierarchy, nodes[std::size_t(index)]});
+      }
+    };
+    for (std::int32_t index : hierarchy) enqueue(index, true);
+    for (std::int32_t index : wanted) enqueue(index, false);
     queue_.swap(queue);
+    // Work in flight that nothing names any more: given up where the octree can.
+    for (auto& [key, stop] : in_flight_) {
+      if (!named.count(key)) stop.request_stop();
+    }
+    // The queue only: a load in flight has its bytes or is waiting for them (and a fetched
+    // range that a hint no longer names is kept a while by the source, for a load that took
+    // its node from the queue just before). Naming loads in flight would fetch again the nodes
+    // already read, as long as they are being staged.
+    std::uint64_t hinted_bytes = 0;
+    for (const Request& r : queue_) {
+      if (r.hierarchy) {
+        hint_hierarchy.push_back(r.node);
+      } else if (hint_nodes.size() < kPrefetchNodes && hinted_bytes < kPrefetchBytes) {
+        hint_nodes.push_back(r.node);
+        hinted_bytes += r.node.byte_size;
+      }
+    }
+    // Under the lock: a worker that took a node from the old queue and read it must not see
+    // the hint name it again afterwards (the source would fetch it a second time).
+    octree_.prefetch(hint_nodes, hint_hierarchy);
   }
   wake_.notify_all();
   delivered_.notify_all();  // an emptied queue may end a waitForLoaded()
@@ -75,31 +108,48 @@ std::uint64_t NodeLoader::loadsStarted() const {
   return loads_started_;
 }
 
+std::uint64_t NodeLoader::loadsCancelled() const {
+  std::lock_guard lock(mutex_);
+  return loads_cancelled_;
+}
+
 void NodeLoader::work(std::stop_token stop) {
   while (true) {
     Request request;
+    std::stop_token cancel;
     {
       std::unique_lock lock(mutex_);
       if (!wake_.wait(lock, stop, [&] { return !queue_.empty(); })) return;
       request = std::move(queue_.front());
       queue_.pop_front();
-      in_flight_.insert(request.index);
-      ++loads_started_;
+      std::stop_source& source = in_flight_[keyOf(request.index, request.hierarchy)];
+      source = std::stop_source();
+      cancel = source.get_token();
+      if (!request.hierarchy) ++loads_started_;
     }
-    LoadedNode loaded = load(request);
+    LoadedNode loaded = load(request, cancel);
     {
       std::lock_guard lock(mutex_);
-      in_flight_.erase(request.index);
-      done_.push_back(std::move(loaded));
+      in_flight_.erase(keyOf(request.index, request.hierarchy));
+      if (loaded.node >= 0) {
+        done_.push_back(std::move(loaded));
+      } else {
+        ++loads_cancelled_;
+      }
     }
     delivered_.notify_all();
   }
 }
 
-LoadedNode NodeLoader::load(const Request& request) {
+LoadedNode NodeLoader::load(const Request& request, std::stop_token cancel) {
   LoadedNode loaded;
   loaded.node = request.index;
+  loaded.hierarchy = request.hierarchy;
   try {
+    if (request.hierarchy) {
+      octree_.fetchHierarchy(request.node, cancel);
+      return loaded;
+    }
     if (octree_.info().has_intensity) {
       std::call_once(intensity_once_, [&] {
         const PointCloud root = octree_.loadNode(root_);
@@ -110,10 +160,12 @@ LoadedNode NodeLoader::load(const Request& request) {
         }
       });
     }
-    const PointCloud cloud = octree_.loadNode(request.node);
+    const PointCloud cloud = octree_.loadNodeCancellable(request.node, cancel);
     ChunkLayout layout = layout_;
     layout.uniform_spacing = float(request.node.spacing);
     loaded.staged = stagePointChunk(cloud, mortonOrder(cloud), layout);
+  } catch (const ReadCancelled&) {
+    loaded.node = -1;  // no longer wanted: nothing to deliver
   } catch (const std::exception& error) {
     // InputError's message names the file and the byte range; std::bad_alloc and the like are
     // reported the same way, so one bad node never takes the viewer down.

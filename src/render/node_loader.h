@@ -4,7 +4,14 @@
 //
 // The frame loop hands over the nodes it wants each frame, most urgent first; the queue is
 // replaced, not appended to, so a node the camera has turned away from is dropped before it is
-// read. Loads already in flight finish and are delivered (the cache may still want them).
+// read. A load in flight whose node is no longer wanted is cancelled where the octree can give
+// it up (a read waiting on the network: Octree::loadNodeCancellable); elsewhere it finishes and
+// is delivered (the cache may still want it).
+//
+// For octrees behind a slow link the loader also fetches hierarchy chunks (Octree::
+// fetchHierarchy, before any node: they unlock the selection below a proxy), and after each
+// request() hints the octree with the next nodes of the queue (Octree::prefetch), so that the
+// store fetches them together while the threads stage earlier ones.
 //
 // Why own threads and not TBB tasks: a load mostly waits on the disk, and a TBB worker blocked
 // in read() is a core taken from the parallel loops (staging, conversion) that TBB runs. The
@@ -19,7 +26,7 @@
 #include <span>
 #include <string>
 #include <thread>
-#include <unordered_set>
+#include <unordered_map>
 #include <vector>
 
 #include "lod/octree.h"
@@ -29,6 +36,9 @@ namespace parallax {
 
 struct LoadedNode {
   std::int32_t node = -1;
+  // A hierarchy fetch (request()'s `hierarchy`): nothing staged; on success the octree's
+  // hierarchyReady(node) is now true.
+  bool hierarchy = false;
   StagedChunk staged;  // the node's points in Morton order, ready for uploadStagedChunk()
   std::string error;   // not empty: the load failed (an InputError's message); staged is empty
 };
@@ -45,10 +55,14 @@ class NodeLoader {
   NodeLoader(const NodeLoader&) = delete;
   NodeLoader& operator=(const NodeLoader&) = delete;
 
-  // Replaces the queue by `wanted` (indices into `nodes`, most urgent first). Nodes in flight or
-  // delivered and not yet taken are not queued again. `nodes` is read here only (the loader
-  // keeps copies), so the caller may expand the hierarchy afterwards.
-  void request(std::span<const OctreeNode> nodes, std::span<const std::int32_t> wanted);
+  // Replaces the queue by `hierarchy` (nodes whose hierarchy chunk to fetch, hierarchy_pending
+  // set) and `wanted` (nodes to load), indices into `nodes`, most urgent first; hierarchy
+  // fetches go first. Work in flight or delivered and not yet taken is not queued again; work in
+  // flight that neither list names any more is cancelled (see above). `nodes` is read here only
+  // (the loader keeps copies), so the caller may expand the hierarchy afterwards. Never waits
+  // on the octree.
+  void request(std::span<const OctreeNode> nodes, std::span<const std::int32_t> wanted,
+               std::span<const std::int32_t> hierarchy = {});
   // Nodes finished since the last call, in the order they finished. Never waits for a load.
   std::vector<LoadedNode> takeLoaded();
   // Blocks until a node is ready to take, or nothing is queued or in flight, or `timeout` passes.
@@ -61,14 +75,28 @@ class NodeLoader {
   std::size_t pending() const;
   // How many times loadNode was called (tests check that dropped requests were never read).
   std::uint64_t loadsStarted() const;
+  // Loads in flight that were cancelled (their node no longer wanted) and not delivered.
+  std::uint64_t loadsCancelled() const;
+
+  // How many queued nodes request() passes to Octree::prefetch, and the most bytes they hold.
+  // Most of the queue: a hint that a reordered queue (nodes found below a proxy just read) cuts
+  // short would drop fetches still wanted.
+  static constexpr std::size_t kPrefetchNodes = 256;
+  static constexpr std::uint64_t kPrefetchBytes = 64ull << 20;
 
  private:
   struct Request {
     std::int32_t index;
+    bool hierarchy = false;
     OctreeNode node;
   };
+  // Work is keyed by node and kind: a node's hierarchy fetch and its load are separate.
+  static std::int64_t keyOf(std::int32_t index, bool hierarchy) {
+    return (std::int64_t(index) << 1) | (hierarchy ? 1 : 0);
+  }
   void work(std::stop_token stop);
-  LoadedNode load(const Request& request);
+  // Empty `loaded.node` (-1): cancelled, nothing to deliver.
+  LoadedNode load(const Request& request, std::stop_token cancel);
 
   const Octree& octree_;
   ChunkLayout layout_;
@@ -79,9 +107,9 @@ class NodeLoader {
   std::condition_variable_any wake_;   // workers: a request arrived, or stop
   std::condition_variable delivered_;  // waitForLoaded: a node is ready or the queue is empty
   std::deque<Request> queue_;
-  std::unordered_set<std::int32_t> in_flight_;
+  std::unordered_map<std::int64_t, std::stop_source> in_flight_;  // by keyOf
   std::vector<LoadedNode> done_;
-  std::uint64_t loads_started_ = 0;
+  std::uint64_t loads_started_ = 0, loads_cancelled_ = 0;
   std::vector<std::jthread> threads_;  // last: started after every other member exists
 };
 

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <future>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -24,6 +25,8 @@
 #include "io/ply_preview.h"
 #include "io/point_file.h"
 #include "lod/octree_open.h"
+#include "lod/octree_url.h"
+#include "lod/potree_reader.h"
 #include "render/gl_context.h"
 #include "render/image_file.h"
 #include "render/lod_scene.h"
@@ -96,9 +99,8 @@ void showCloud(Session& s, const PointCloud& cloud, bool place_camera, bool firs
 // Opens an octree (a Potree directory or a COPC file) as what is shown. With `keep_camera` (the
 // switch from a preview to its octree) the camera stays, and the preview is drawn until the octree
 // draws something.
-void showOctree(Session& s, const std::filesystem::path& directory,
-                std::unique_ptr<OctreeLocation> location, bool keep_camera, bool first) {
-  auto octree = openOctree(directory);
+void showOpenedOctree(Session& s, std::unique_ptr<Octree> octree,
+                      std::unique_ptr<OctreeLocation> location, bool keep_camera, bool first) {
   s.lod.reset();
   s.octree = std::move(octree);
   s.lod_location = std::move(location);
@@ -112,6 +114,41 @@ void showOctree(Session& s, const std::filesystem::path& directory,
   }
   // The attenuated size needs a spacing before any node is drawn: about a level-3 node's.
   if (s.settings.world_size <= 0) s.settings.world_size = float(s.octree->info().spacing / 4.0);
+}
+
+void showOctree(Session& s, const std::filesystem::path& directory,
+                std::unique_ptr<OctreeLocation> location, bool keep_camera, bool first) {
+  showOpenedOctree(s, openOctree(directory), std::move(location), keep_camera, first);
+}
+
+// A URL is opened on a thread of its own (a few requests): the window answers meanwhile, and
+// keeps showing what it showed until the octree is there.
+void startOpeningUrl(Session& s, const std::string& url, bool first) {
+  checkOctreeUrl(url);
+  s.opening.reset();  // an earlier open still under way ends first (bounded by its timeouts)
+  s.opening.emplace();
+  s.opening->url = url;
+  s.opening->first = first;
+  s.opening->octree = std::async(std::launch::async, [url] { return openOctreeUrl(url); });
+  s.status = "opening " + url;
+}
+
+void pollOpeningUrl(Session& s) {
+  if (!s.opening ||
+      s.opening->octree.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+    return;
+  }
+  Session::OpeningUrl opening = std::move(*s.opening);
+  s.opening.reset();
+  try {
+    showOpenedOctree(s, opening.octree.get(), nullptr, false, opening.first);
+    s.status = "opened the octree " + opening.url + " (" +
+               std::to_string(s.octree->info().point_count) + " points)";
+    setTitle(s, opening.url);
+  } catch (const std::exception& e) {
+    s.status = "cannot open " + opening.url + ": " + e.what();
+  }
+  std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
 }
 
 // A file over the budget: its cached octree, or a preview while the octree is built.
@@ -183,7 +220,9 @@ void pollBuild(Session& s) {
 
 void openFile(Session& s, const std::filesystem::path& path, bool first) {
   try {
-    if (isOctreePath(path)) {
+    if (octreeUrlKind(path.string()) != OctreeUrlKind::NotUrl) {
+      startOpeningUrl(s, path.string(), first);
+    } else if (isOctreePath(path)) {
       showOctree(s, path, nullptr, false, first);
       s.status = "opened the octree " + path.string() + " (" +
                  std::to_string(s.octree->info().point_count) + " points)";
@@ -501,6 +540,7 @@ int runViewer(const ViewerOptions& options) {
     }
 
     pollBuild(s);
+    pollOpeningUrl(s);
     if (s.cloud || s.lod) {
       const StereoFrame frame = stereoFrame(s.camera, s.stereo, width, height);
       const void* scene = s.lod ? static_cast<const void*>(s.lod.get()) : s.cloud.get();

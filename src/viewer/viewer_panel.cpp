@@ -4,9 +4,12 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <string_view>
 
+#include "lod/potree_reader.h"
+#include "net/network_counters.h"
 #include "viewer/viewer_session.h"
 
 namespace parallax::viewer_internal {
@@ -34,7 +37,8 @@ const char* const kHelp =
     "  X      swap the eyes\n"
     "  , .    point budget halved / doubled (level of detail)\n"
     "  Esc    quit\n"
-    "Drop a point file or a Potree directory on the window to open it.";
+    "Drop a point file or a Potree directory on the window to open it; `parallax view URL`\n"
+    "streams a Potree directory from a web server.";
 
 template <class Enum, std::size_t N>
 bool comboOf(const char* label, Enum& value, const std::array<Enum, N>& values,
@@ -86,6 +90,32 @@ void drawLodPanel(Session& s) {
   }
 }
 
+// The network part, for an octree read over HTTP (or being opened): requests in flight, the
+// rate of received bytes, reads served by the disk cache, retries and nodes that failed.
+void drawNetworkPanel(Session& s) {
+  const std::optional<PotreeReadStats> read = s.octree ? potreeReadStats(*s.octree) : std::nullopt;
+  if (!s.opening && !(read && read->remote)) return;
+  ImGui::Separator();
+  ImGui::TextDisabled("Network");
+  if (s.opening) ImGui::TextWrapped("opening %s", s.opening->url.c_str());
+  const NetworkStats net = networkStats();
+  ImGui::Text("requests in flight %llu (of %llu)",
+              static_cast<unsigned long long>(net.requests_in_flight),
+              static_cast<unsigned long long>(net.requests));
+  ImGui::Text("received %.1f MB, %.2f MB/s", double(net.bytes_received) / 1e6,
+              net.bytes_per_second / 1e6);
+  ImGui::Text("cache hits %llu (%.1f MB), retries %llu, cancelled %llu",
+              static_cast<unsigned long long>(net.cache_hits), double(net.cache_bytes) / 1e6,
+              static_cast<unsigned long long>(net.retries),
+              static_cast<unsigned long long>(net.cancelled));
+  const std::size_t failed = s.lod ? s.lod_stats.failed_nodes : 0;
+  if (failed) {
+    ImGui::TextWrapped("failed nodes %zu: %s", failed, s.lod->firstError().c_str());
+  } else {
+    ImGui::Text("failed nodes 0");
+  }
+}
+
 }  // namespace
 
 void drawPanel(Session& s, double frame_seconds, const FrameStats& stats) {
@@ -104,6 +134,7 @@ void drawPanel(Session& s, double frame_seconds, const FrameStats& stats) {
                                         (s.lod ? double(s.lod_stats.gpu_bytes) / 1e6 : 0.0));
   if (ImGui::Checkbox("vsync (V)", &s.vsync)) glfwSwapInterval(s.vsync ? 1 : 0);
   drawLodPanel(s);
+  drawNetworkPanel(s);
 
   RenderSettings& r = s.settings;
   ImGui::Separator();

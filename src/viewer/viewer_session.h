@@ -7,6 +7,7 @@
 #include <GLFW/glfw3.h>
 
 #include <cstdint>
+#include <future>
 #include <memory>
 #include <optional>
 #include <string>
@@ -43,6 +44,13 @@ struct Session {
   std::unique_ptr<BackgroundOctreeBuild> build;
   // The next build, started once the preview is on screen (the build takes every core it gets).
   std::unique_ptr<OctreeLocation> build_pending;
+  // An octree URL being opened (viewer.cpp: startOpeningUrl), shown once there.
+  struct OpeningUrl {
+    std::string url;
+    bool first = false;
+    std::future<std::unique_ptr<Octree>> octree;
+  };
+  std::optional<OpeningUrl> opening;
   bool build_keeps_camera = false;  // the preview placed the camera
   bool build_first = false;         // the file given on the command line (its camera options)
   bool first_picture_reported = false;

@@ -1,6 +1,6 @@
 // A hand-built Octree for the level-of-detail tests: nodes with known boxes and point counts,
 // points made up on demand, and hooks to hold a load back (a gate), make a load fail, and hide a
-// subtree behind a proxy until expandHierarchy().
+// subtree behind a proxy until expandHierarchy(); and SlowLinkOctree, the same behind a slow link.
 #pragma once
 
 #include <atomic>
@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/byte_source.h"
 #include "core/error.h"
 #include "lod/octree.h"
 
@@ -204,6 +205,91 @@ class FakeOctree : public Octree {
   mutable std::vector<std::string> load_log_;
   bool gate_open_ = true;
   std::atomic<int> expansions_ = 0;
+};
+
+// A FakeOctree behind a slow link, as an octree read over HTTP looks to the renderer: loads wait
+// at a gate of their own and give up when cancelled (ReadCancelled); hierarchyReady() is false
+// for a proxy until fetchHierarchy() has run for it; prefetch hints are recorded.
+class SlowLinkOctree : public FakeOctree {
+ public:
+  using FakeOctree::FakeOctree;
+
+  void closeLink() {
+    std::lock_guard lock(link_mutex_);
+    link_open_ = false;
+  }
+  void openLink() {
+    {
+      std::lock_guard lock(link_mutex_);
+      link_open_ = true;
+    }
+    link_changed_.notify_all();
+  }
+  // Waits until `count` cancellable loads have started.
+  void waitForLinkLoads(std::size_t count) {
+    std::unique_lock lock(link_mutex_);
+    link_changed_.wait(lock, [&] { return link_loads_.size() >= count; });
+  }
+  std::vector<std::string> linkLoads() const {
+    std::lock_guard lock(link_mutex_);
+    return link_loads_;
+  }
+  int cancelledLoads() const { return cancelled_; }
+  // Events in order: "fetch r7" (fetchHierarchy), "expand r7" (expandHierarchy).
+  std::vector<std::string> hierarchyLog() const {
+    std::lock_guard lock(link_mutex_);
+    return hierarchy_log_;
+  }
+  // The last prefetch hint: the nodes' names, then the hierarchy nodes' names after a "|".
+  std::vector<std::string> lastHint() const {
+    std::lock_guard lock(link_mutex_);
+    return last_hint_;
+  }
+
+  PointCloud loadNodeCancellable(const OctreeNode& node, std::stop_token cancel) const override {
+    {
+      std::unique_lock lock(link_mutex_);
+      link_loads_.push_back(node.name);
+      link_changed_.notify_all();
+      if (!link_changed_.wait(lock, cancel, [&] { return link_open_; })) {
+        ++cancelled_;
+        throw ReadCancelled();
+      }
+    }
+    return loadNode(node);
+  }
+  bool hierarchyReady(std::int32_t node) const override {
+    std::lock_guard lock(link_mutex_);
+    return fetched_.count(nodes()[std::size_t(node)].name) > 0;
+  }
+  void fetchHierarchy(const OctreeNode& node, std::stop_token) const override {
+    std::lock_guard lock(link_mutex_);
+    hierarchy_log_.push_back("fetch " + node.name);
+    fetched_.insert(node.name);
+  }
+  void expandHierarchy(std::int32_t node) override {
+    {
+      std::lock_guard lock(link_mutex_);
+      hierarchy_log_.push_back("expand " + nodes()[std::size_t(node)].name);
+    }
+    FakeOctree::expandHierarchy(node);
+  }
+  void prefetch(std::span<const OctreeNode> nodes,
+                std::span<const OctreeNode> hierarchy) const override {
+    std::lock_guard lock(link_mutex_);
+    last_hint_.clear();
+    for (const OctreeNode& n : nodes) last_hint_.push_back(n.name);
+    last_hint_.push_back("|");
+    for (const OctreeNode& n : hierarchy) last_hint_.push_back(n.name);
+  }
+
+ private:
+  mutable std::mutex link_mutex_;
+  mutable std::condition_variable_any link_changed_;
+  bool link_open_ = true;
+  mutable std::vector<std::string> link_loads_, hierarchy_log_, last_hint_;
+  mutable std::set<std::string> fetched_;
+  mutable std::atomic<int> cancelled_ = 0;
 };
 
 }  // namespace parallax::test

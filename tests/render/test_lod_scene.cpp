@@ -101,6 +101,26 @@ TEST(LodScene, ExpandsProxies) {
   EXPECT_EQ(scene.stats().drawn_points, 1480u);
 }
 
+TEST(LodScene, AProxyBehindASlowLinkIsFetchedByTheLoaderNotTheFrame) {
+  ensureContext();
+  Bounds3 cube;
+  cube.extend(0, 0, 0);
+  cube.extend(16, 16, 16);
+  test::SlowLinkOctree octree(cube, 40, 2.0);
+  octree.addFullLevels(2, 20);
+  octree.makeProxy(8);
+  LodScene scene(octree);
+  const View view = overview();
+  // The first frame returns at once: the proxy is not ready, the loader is asked for it.
+  scene.update(std::span(&view, 1), everything());
+  EXPECT_EQ(octree.expansions(), 0);
+  const DrawSet& draw = scene.finishLoading(std::span(&view, 1), everything());
+  EXPECT_TRUE(scene.complete());
+  EXPECT_EQ(octree.hierarchyLog(), (std::vector<std::string>{"fetch r7", "expand r7"}));
+  EXPECT_EQ(draw.items.size(), 73u);
+  EXPECT_EQ(scene.stats().drawn_points, 1480u);
+}
+
 TEST(LodScene, AFailedNodeHidesOnlyItsSubtree) {
   ensureContext();
   auto octree_owner = twoLevels();

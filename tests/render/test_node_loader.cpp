@@ -158,5 +158,57 @@ TEST(NodeLoader, StopsWithWorkQueued) {
   EXPECT_EQ(log.back(), "r0");
 }
 
+TEST(NodeLoader, CancelsLoadsInFlightThatAreNoLongerWanted) {
+  test::SlowLinkOctree octree(cube16(), 10, 2.0);
+  octree.addFullLevels(1, 10);
+  NodeLoader loader(octree, 1);
+  octree.closeLink();
+  const std::vector<std::int32_t> first{1};
+  loader.request(octree.nodes(), first);
+  octree.waitForLinkLoads(1);  // node 1 waits on the link
+  // The camera turned away: node 2 is wanted instead; node 1's read is given up.
+  const std::vector<std::int32_t> second{2};
+  loader.request(octree.nodes(), second);
+  octree.waitForLinkLoads(2);  // the thread is free again: it took node 2
+  EXPECT_EQ(octree.cancelledLoads(), 1);
+  EXPECT_EQ(loader.loadsCancelled(), 1u);
+  octree.openLink();
+  const std::vector<LoadedNode> loaded = takeAll(loader, 1);
+  ASSERT_EQ(loaded.size(), 1u);
+  EXPECT_EQ(loaded[0].node, 2) << "the cancelled node is never delivered";
+  EXPECT_TRUE(loaded[0].error.empty()) << loaded[0].error;
+  loader.waitForLoaded(50ms);
+  EXPECT_TRUE(loader.takeLoaded().empty());
+  EXPECT_EQ(loader.pending(), 0u);
+  EXPECT_EQ(octree.linkLoads(), (std::vector<std::string>{"r0", "r1"}));
+}
+
+TEST(NodeLoader, FetchesHierarchyFirstAndHintsTheQueue) {
+  test::SlowLinkOctree octree(cube16(), 10, 2.0);
+  octree.addFullLevels(1, 10);
+  octree.makeProxy(8);  // r7: a proxy with no children listed, as FakeOctree keeps it
+  NodeLoader loader(octree, 1);
+  octree.closeLink();
+  const std::vector<std::int32_t> wanted{3, 1, 2};
+  const std::vector<std::int32_t> hierarchy{8};
+  loader.request(octree.nodes(), wanted, hierarchy);
+  // The hint names the queue in order, the hierarchy fetch apart.
+  EXPECT_EQ(octree.lastHint(), (std::vector<std::string>{"r2", "r0", "r1", "|", "r7"}));
+  // The hierarchy fetch comes first (it does not wait on the node gate).
+  std::vector<LoadedNode> loaded = takeAll(loader, 1);
+  ASSERT_EQ(loaded.size(), 1u);
+  EXPECT_TRUE(loaded[0].hierarchy);
+  EXPECT_EQ(loaded[0].node, 8);
+  EXPECT_TRUE(loaded[0].error.empty());
+  EXPECT_TRUE(loaded[0].staged.bytes.empty());
+  EXPECT_TRUE(octree.hierarchyReady(8));
+  EXPECT_EQ(octree.hierarchyLog(), (std::vector<std::string>{"fetch r7"}));
+  octree.openLink();
+  loaded = takeAll(loader, 3);
+  std::vector<std::int32_t> order;
+  for (const LoadedNode& node : loaded) order.push_back(node.node);
+  EXPECT_EQ(order, (std::vector<std::int32_t>{3, 1, 2}));
+}
+
 }  // namespace
 }  // namespace parallax

@@ -1,0 +1,40 @@
+#include "network_options.h"
+
+#include <cstdio>
+
+#include "lod/potree_reader.h"
+#include "net/network.h"
+#include "net/network_counters.h"
+
+namespace parallax::cli {
+
+void configureNetworkFrom(const LodOptions& lod) {
+  NetworkSettings settings = networkSettingsFromEnvironment();
+  if (lod.no_cache) settings.use_cache = false;
+  if (!lod.cache_dir.empty()) settings.cache_dir = std::filesystem::path(lod.cache_dir) / "http";
+  configureNetwork(settings);
+}
+
+void printNetworkReport(const char* command, const Octree& octree, std::uint64_t drawn_points) {
+  const std::optional<PotreeReadStats> read = potreeReadStats(octree);
+  const PotreeMetadata* metadata = potreeMetadata(octree);
+  if (!read || !read->remote || !metadata) return;
+  const NetworkStats net = networkStats();
+  const double needed =
+      double(drawn_points) * double(metadata->record_size) + double(read->hierarchy_bytes);
+  std::fprintf(stderr,
+               "%s: network: %llu requests (%llu retried, %llu cancelled), %.3f MB received, %llu "
+               "reads from the "
+               "cache (%.3f MB), %llu node loads (%.3f MB); the view needed %.3f MB (drawn nodes "
+               "%.3f MB + hierarchy %.3f MB): received / needed = %.3f\n",
+               command, static_cast<unsigned long long>(net.requests),
+               static_cast<unsigned long long>(net.retries),
+               static_cast<unsigned long long>(net.cancelled), double(net.bytes_received) / 1e6,
+               static_cast<unsigned long long>(net.cache_hits), double(net.cache_bytes) / 1e6,
+               static_cast<unsigned long long>(read->nodes_loaded), double(read->node_bytes) / 1e6,
+               needed / 1e6, double(drawn_points) * double(metadata->record_size) / 1e6,
+               double(read->hierarchy_bytes) / 1e6,
+               needed > 0 ? double(net.bytes_received) / needed : 0.0);
+}
+
+}  // namespace parallax::cli

@@ -1,0 +1,29 @@
+// `parallax convert OCTREE -o OUT`, where OCTREE is a Potree 2.0 directory or its http(s) URL:
+// - OUT a directory (no extension, or --format potree): a copy of the octree's three files, read
+//   through their byte sources (over HTTP: ranges of 8 MiB, several in flight) and written under
+//   a temporary name beside OUT, renamed to OUT at the end;
+// - OUT a point file (.ply, .las, .xyz, ...): every node's points in one cloud, written as
+//   `convert FILE -o FILE` writes (the whole cloud in memory, as there).
+#pragma once
+
+#include <string>
+
+#include "lod/octree.h"
+
+namespace parallax::cli {
+
+struct OctreeExportOptions {
+  std::string input, output;
+  bool to_directory = false;
+  bool ply_ascii = false;
+  int las_minor_version = 0;
+  bool quiet = false;
+};
+
+int runOctreeExport(const OctreeExportOptions& options);
+
+// Reads every hierarchy chunk (a level of proxies at a time, each level's chunks hinted to the
+// octree together, so that over HTTP they come in few requests).
+void expandWholeHierarchy(Octree& octree);
+
+}  // namespace parallax::cli

@@ -1,0 +1,51 @@
+#include "lod/octree_url.h"
+
+#include <algorithm>
+#include <cctype>
+
+#include "core/error.h"
+#include "lod/copc_range_source.h"
+#include "lod/copc_reader.h"
+#include "lod/potree_reader.h"
+#include "net/network.h"
+#include "net/url.h"
+
+namespace parallax {
+
+OctreeUrlKind octreeUrlKind(std::string_view input) {
+  if (!isHttpUrl(input)) return OctreeUrlKind::NotUrl;
+  std::string name = urlFileName(input);
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  if (name.ends_with(".copc.laz")) return OctreeUrlKind::Copc;
+  return isPotreeUrl(input) ? OctreeUrlKind::Potree : OctreeUrlKind::Other;
+}
+
+void checkOctreeUrl(std::string_view input) {
+  switch (octreeUrlKind(input)) {
+    case OctreeUrlKind::NotUrl:
+    case OctreeUrlKind::Potree:
+    case OctreeUrlKind::Copc:
+      return;
+    case OctreeUrlKind::Other:
+      throw InputError({.file = urlForMessages(input),
+                        .expected = "the URL of a Potree 2.0 directory (.../cloud/ or "
+                                    ".../cloud/metadata.json) or of a .copc.laz file",
+                        .found = "a file '" + urlFileName(input) + "'",
+                        .hint = "only octrees stream over HTTP; download other point files "
+                                "first (a directory whose name has a dot needs its trailing "
+                                "slash)"});
+  }
+}
+
+std::unique_ptr<Octree> openOctreeUrl(const std::string& url) {
+  checkOctreeUrl(url);
+  if (octreeUrlKind(url) == OctreeUrlKind::Copc) {
+    // The header, the VLRs and the root hierarchy page are usually in the first 64 KiB: one
+    // request for all three.
+    return openCopc(adaptByteSource(openByteSource(url, 64 << 10)));
+  }
+  return openPotree(url);
+}
+
+}  // namespace parallax

@@ -1,0 +1,382 @@
+// The HTTP byte source against a real nginx on loopback, directly and through the fault proxy:
+// exact bytes, adjacent prefetches in one request, retries on 5xx, resets and short bodies and
+// never on 4xx, a server that ignores Range, a file that changes while read, a stalled server,
+// cancellation, the on-disk cache across opens, TLS verification, redirects and proxies from the
+// environment.
+#include "net/http_byte_source.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <thread>
+
+#include "core/error.h"
+#include "loopback_servers.h"
+#include "support/temp_dir.h"
+
+namespace parallax {
+namespace {
+
+using namespace std::chrono_literals;
+using test::FaultProxy;
+using test::Nginx;
+
+constexpr std::size_t kFileSize = 1 << 20;
+
+std::vector<std::byte> pattern(std::size_t size, std::uint32_t seed) {
+  std::vector<std::byte> bytes(size);
+  std::uint32_t state = seed;
+  for (auto& b : bytes) {
+    state = state * 1664525u + 1013904223u;
+    b = std::byte(state >> 24);
+  }
+  return bytes;
+}
+
+void writeBytes(const std::filesystem::path& path, const std::vector<std::byte>& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+
+// nginx serving data.bin (1 MiB of known bytes) from a folder of the test's own.
+struct Served {
+  test::TempDir dir;
+  std::vector<std::byte> bytes = pattern(kFileSize, 7);
+  std::unique_ptr<Nginx> nginx;
+  explicit Served(std::string server_config = {}) {
+    std::filesystem::create_directories(dir / "www");
+    writeBytes(dir / "www" / "data.bin", bytes);
+    nginx = std::make_unique<Nginx>(
+        dir / "nginx", Nginx::Options{.root = dir / "www", .server_config = server_config});
+  }
+  std::unique_ptr<FaultProxy> proxy(const std::vector<std::string>& args) {
+    return std::make_unique<FaultProxy>(dir / "proxy", nginx->port(), args);
+  }
+};
+
+HttpSourceOptions fastRetries(int attempts = 4) {
+  HttpSourceOptions options;
+  options.retry.max_attempts = attempts;
+  options.retry.base_delay = 10ms;
+  options.retry.max_delay = 50ms;
+  return options;
+}
+
+std::vector<std::byte> readRange(const ByteSource& source, std::uint64_t offset, std::size_t size,
+                                 std::string_view element = "test range") {
+  std::vector<std::byte> out(size);
+  source.read(offset, out, {.element = element});
+  return out;
+}
+
+std::vector<std::byte> slice(const std::vector<std::byte>& bytes, std::size_t offset,
+                             std::size_t size) {
+  return {bytes.begin() + std::ptrdiff_t(offset), bytes.begin() + std::ptrdiff_t(offset + size)};
+}
+
+std::string errorOf(const std::function<void()>& action) {
+  try {
+    action();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+void expectContains(const std::string& text, std::initializer_list<const char*> parts) {
+  for (const char* part : parts) EXPECT_NE(text.find(part), std::string::npos) << text;
+}
+
+// Polls `condition` for up to 10 s (events of other threads; no timing is asserted).
+bool eventually(const std::function<bool()>& condition) {
+  for (int i = 0; i < 1000; ++i) {
+    if (condition()) return true;
+    std::this_thread::sleep_for(10ms);
+  }
+  return condition();
+}
+
+TEST(HttpSource, ReadsExactRangesFromNginx) {
+  Served s;
+  auto client = std::make_shared<HttpClient>();
+  const auto source = HttpByteSource::open(s.nginx->url("data.bin"), client, nullptr);
+  EXPECT_EQ(source->size(), kFileSize);
+  EXPECT_FALSE(source->version().empty()) << "nginx sends an ETag";
+  EXPECT_FALSE(source->local());
+  EXPECT_EQ(readRange(*source, 0, 100), slice(s.bytes, 0, 100));
+  EXPECT_EQ(readRange(*source, 123457, 5000), slice(s.bytes, 123457, 5000));
+  EXPECT_EQ(readRange(*source, kFileSize - 1, 1), slice(s.bytes, kFileSize - 1, 1));
+  EXPECT_EQ(source->stats().requests, 4u);  // the probe and three reads
+  const std::string past = errorOf([&] { readRange(*source, kFileSize - 1, 2, "node r7"); });
+  expectContains(past, {"data.bin", "node r7", "past its end"});
+}
+
+TEST(HttpSource, AdjacentPrefetchesShareOneRequest) {
+  Served s;
+  auto client = std::make_shared<HttpClient>();
+  const auto source = HttpByteSource::open(s.nginx->url("data.bin"), client, nullptr);
+  // Four neighbours and one apart; hinted together, then read in another order.
+  const std::vector<ByteRange> hint{
+      {8192, 4096}, {4096, 4096}, {12288, 4096}, {16384, 100}, {500000, 10}};
+  source->prefetch(hint);
+  for (const ByteRange& r : {hint[4], hint[2], hint[0], hint[3], hint[1]}) {
+    EXPECT_EQ(readRange(*source, r.offset, std::size_t(r.size)),
+              slice(s.bytes, std::size_t(r.offset), std::size_t(r.size)));
+  }
+  const HttpSourceStats stats = source->stats();
+  EXPECT_EQ(stats.requests, 3u);  // the probe, 4096-16483 merged, 500000-500009
+  EXPECT_EQ(stats.merged_requests, 1u);
+  EXPECT_EQ(stats.bytes_received, 1u + 12388u + 10u);
+  int merged_lines = 0;
+  for (const test::AccessLine& line : s.nginx->accessLog()) {
+    merged_lines += line.range == "\"bytes=4096-16483\"" && line.status == 206;
+  }
+  EXPECT_EQ(merged_lines, 1);
+}
+
+TEST(HttpSource, ServerErrorsResetsAndShortBodiesAreRetried) {
+  for (const char* mode : {"503", "drop", "truncate"}) {
+    SCOPED_TRACE(mode);
+    Served s;
+    // Every second request of data.bin after the probe fails.
+    auto proxy = s.proxy({"--mode", mode, "--path-suffix", "data.bin", "--after", "1", "--every",
+                          "2", "--times-per-request", "2"});
+    auto client = std::make_shared<HttpClient>();
+    const auto source =
+        HttpByteSource::open(proxy->url("data.bin"), client, nullptr, fastRetries());
+    for (std::size_t i = 0; i < 6; ++i) {
+      const std::size_t offset = i * 100000;
+      EXPECT_EQ(readRange(*source, offset, 30000), slice(s.bytes, offset, 30000));
+    }
+    EXPECT_GE(source->stats().retries, 3u);
+    int faults = 0;
+    for (const test::ProxyLine& line : proxy->log()) faults += line.action == mode;
+    EXPECT_GE(faults, 3);
+  }
+}
+
+TEST(HttpSource, ClientErrorsAreNeverRetried) {
+  Served s;
+  auto proxy = s.proxy({"--mode", "404", "--path-suffix", "data.bin", "--after", "1"});
+  auto client = std::make_shared<HttpClient>();
+  const auto source = HttpByteSource::open(proxy->url("data.bin"), client, nullptr, fastRetries());
+  const std::string message = errorOf([&] { readRange(*source, 1000, 10, "node r0"); });
+  expectContains(message, {proxy->url("data.bin").c_str(), "byte offset 1000", "node r0",
+                           "HTTP 404 Not Found"});
+  int asked = 0;
+  for (const test::ProxyLine& line : proxy->log()) asked += line.range == "bytes=1000-1009";
+  EXPECT_EQ(asked, 1) << "a 404 is never asked again";
+  EXPECT_EQ(source->stats().retries, 0u);
+}
+
+TEST(HttpSource, PersistentServerErrorsEndAfterTheLastAttempt) {
+  Served s;
+  auto proxy = s.proxy({"--mode", "503", "--path-suffix", "data.bin", "--after", "1"});
+  auto client = std::make_shared<HttpClient>();
+  const auto source = HttpByteSource::open(proxy->url("data.bin"), client, nullptr, fastRetries(3));
+  const std::string message = errorOf([&] { readRange(*source, 50, 10, "node r12"); });
+  expectContains(message, {"data.bin", "node r12", "HTTP 503", "3 attempts"});
+  int asked = 0;
+  for (const test::ProxyLine& line : proxy->log()) asked += line.range == "bytes=50-59";
+  EXPECT_EQ(asked, 3);
+}
+
+TEST(HttpSource, AServerThatIgnoresRangeIsAnError) {
+  Served s;
+  {
+    // From the first request: the probe says so.
+    auto proxy = s.proxy({"--mode", "ignore-range"});
+    auto client = std::make_shared<HttpClient>();
+    const std::string message = errorOf(
+        [&] { HttpByteSource::open(proxy->url("data.bin"), client, nullptr, fastRetries()); });
+    expectContains(message, {"data.bin", "the server ignores Range requests"});
+  }
+  // From a later request: the read of that range says so, and no byte of the body was taken.
+  auto proxy = std::make_unique<FaultProxy>(
+      s.dir / "proxy2", s.nginx->port(),
+      std::vector<std::string>{"--mode", "ignore-range", "--after", "1"});
+  auto client = std::make_shared<HttpClient>();
+  const auto source = HttpByteSource::open(proxy->url("data.bin"), client, nullptr, fastRetries());
+  const std::string message = errorOf([&] { readRange(*source, 4096, 10, "node r3"); });
+  expectContains(message, {"data.bin", "node r3", "ignores Range"});
+  EXPECT_EQ(source->stats().bytes_received, 1u) << "only the probe's byte";
+}
+
+TEST(HttpSource, AFileChangedWhileReadFailsEveryLaterRead) {
+  Served s;
+  auto proxy = s.proxy({"--mode", "etag", "--path-suffix", "data.bin", "--after", "2"});
+  auto client = std::make_shared<HttpClient>();
+  const auto source = HttpByteSource::open(proxy->url("data.bin"), client, nullptr, fastRetries());
+  EXPECT_EQ(readRange(*source, 0, 10), slice(s.bytes, 0, 10));  // still the first version
+  const std::string message = errorOf([&] { readRange(*source, 2000, 10, "node r5"); });
+  expectContains(message, {"data.bin", "node r5", "changed on the server while it was read"});
+  // Even an answer with the old ETag is not taken now: one version only.
+  const std::string later = errorOf([&] { readRange(*source, 9000, 10, "node r6"); });
+  expectContains(later, {"node r6", "changed on the server"});
+}
+
+TEST(HttpSource, AStalledServerTimesOut) {
+  Served s;
+  auto proxy = s.proxy({"--mode", "stall", "--delay-ms", "60000", "--after", "1"});
+  HttpOptions http;
+  http.stall_timeout = 1s;
+  auto client = std::make_shared<HttpClient>(http);
+  const auto source = HttpByteSource::open(proxy->url("data.bin"), client, nullptr, fastRetries(2));
+  const std::string message = errorOf([&] { readRange(*source, 100, 10, "node r1"); });
+  expectContains(message,
+                 {"data.bin", "node r1", "timed out", "2 attempts", "PARALLAX_HTTP_TIMEOUT"});
+}
+
+TEST(HttpSource, CancelledReadsThrowAndTheirRequestsEnd) {
+  Served s;
+  auto proxy = s.proxy({"--mode", "delay", "--delay-ms", "30000", "--after", "1"});
+  auto client = std::make_shared<HttpClient>();
+  const auto source = HttpByteSource::open(proxy->url("data.bin"), client, nullptr, fastRetries());
+  std::stop_source stop;
+  bool cancelled = false;
+  std::thread reader([&] {
+    std::vector<std::byte> out(100);
+    try {
+      source->read(5000, out, {.cancel = stop.get_token(), .element = "node r"});
+    } catch (const ReadCancelled&) {
+      cancelled = true;
+    }
+  });
+  ASSERT_TRUE(eventually([&] { return client->stats().in_flight == 1; }));
+  stop.request_stop();
+  reader.join();
+  EXPECT_TRUE(cancelled);
+  EXPECT_TRUE(eventually([&] { return source->stats().cancelled_requests == 1; }));
+  EXPECT_EQ(client->stats().in_flight, 0u);
+}
+
+TEST(HttpSource, AReplacedHintCancelsItsRequests) {
+  Served s;
+  auto proxy = s.proxy({"--mode", "delay", "--delay-ms", "30000", "--after", "1"});
+  auto client = std::make_shared<HttpClient>();
+  const auto source = HttpByteSource::open(proxy->url("data.bin"), client, nullptr, fastRetries());
+  source->prefetch(std::vector<ByteRange>{{1000, 100}, {50000, 100}});
+  ASSERT_TRUE(eventually([&] { return client->stats().in_flight == 2; }));
+  // The camera moved: only the second is still wanted.
+  source->prefetch(std::vector<ByteRange>{{50000, 100}});
+  EXPECT_TRUE(eventually([&] { return source->stats().cancelled_requests == 1; }));
+  EXPECT_EQ(client->stats().in_flight, 1u);
+}
+
+TEST(HttpSource, RangesFetchedForADroppedHintAreKeptForALaterRead) {
+  Served s;
+  auto client = std::make_shared<HttpClient>();
+  const auto source = HttpByteSource::open(s.nginx->url("data.bin"), client, nullptr);
+  source->prefetch(std::vector<ByteRange>{{10000, 300}});
+  ASSERT_TRUE(eventually([&] { return source->stats().bytes_received == 301u; }));
+  source->prefetch({});  // the view changed its mind...
+  EXPECT_EQ(readRange(*source, 10000, 300), slice(s.bytes, 10000, 300));  // ...and back
+  EXPECT_EQ(source->stats().requests, 2u) << "read from memory, not fetched again";
+  // Beyond the spare budget the oldest go.
+  HttpSourceOptions small;
+  small.spare_bytes = 500;
+  const auto tight = HttpByteSource::open(s.nginx->url("data.bin"), client, nullptr, small);
+  tight->prefetch(std::vector<ByteRange>{{0, 400}, {5000, 400}});
+  ASSERT_TRUE(eventually([&] { return tight->stats().bytes_received == 801u; }));
+  tight->prefetch({});
+  EXPECT_EQ(readRange(*tight, 5000, 400), slice(s.bytes, 5000, 400));
+  EXPECT_EQ(readRange(*tight, 0, 400), slice(s.bytes, 0, 400));
+  EXPECT_EQ(tight->stats().requests, 4u) << "one of the two was dropped and fetched again";
+}
+
+TEST(HttpSource, TheCacheServesASecondOpenAfterOneCheck) {
+  Served s;
+  auto client = std::make_shared<HttpClient>();
+  auto cache = std::make_shared<RangeCache>(s.dir / "cache", 64 << 20);
+  {
+    const auto source = HttpByteSource::open(s.nginx->url("data.bin"), client, cache);
+    EXPECT_FALSE(source->stats().validated_by_cache);
+    readRange(*source, 1000, 500);
+    readRange(*source, 700000, 5000);
+  }
+  const std::size_t lines_before = s.nginx->accessLog().size();
+  {
+    const auto source = HttpByteSource::open(s.nginx->url("data.bin"), client, cache);
+    EXPECT_TRUE(source->stats().validated_by_cache);
+    EXPECT_EQ(readRange(*source, 1000, 500), slice(s.bytes, 1000, 500));
+    EXPECT_EQ(readRange(*source, 701000, 100), slice(s.bytes, 701000, 100));
+    EXPECT_EQ(source->stats().cache_hits, 2u);
+    EXPECT_EQ(source->stats().requests, 1u);
+  }
+  const std::vector<test::AccessLine> log = s.nginx->accessLog();
+  ASSERT_EQ(log.size(), lines_before + 1);
+  EXPECT_EQ(log.back().status, 304) << "one conditional request, answered Not Modified";
+
+  // The file changes on the server: the next open sees a new ETag and drops what it kept.
+  std::this_thread::sleep_for(1100ms);  // nginx's ETag holds the modification time in seconds
+  const std::vector<std::byte> changed = pattern(kFileSize, 99);
+  writeBytes(s.dir / "www" / "data.bin", changed);
+  const auto source = HttpByteSource::open(s.nginx->url("data.bin"), client, cache);
+  EXPECT_FALSE(source->stats().validated_by_cache);
+  EXPECT_EQ(readRange(*source, 1000, 500), slice(changed, 1000, 500));
+  EXPECT_EQ(source->stats().cache_hits, 0u);
+}
+
+TEST(HttpSource, RedirectsAreFollowed) {
+  Served s("    location = /moved.bin { return 302 /data.bin; }");
+  auto client = std::make_shared<HttpClient>();
+  const auto source = HttpByteSource::open(s.nginx->url("moved.bin"), client, nullptr);
+  EXPECT_EQ(source->size(), kFileSize);
+  EXPECT_EQ(readRange(*source, 77, 7), slice(s.bytes, 77, 7));
+}
+
+TEST(HttpSource, ProxiesComeFromTheEnvironment) {
+  Served s;
+  auto proxy = s.proxy({"--mode", "pass"});
+  ::setenv("http_proxy", ("http://127.0.0.1:" + std::to_string(proxy->port())).c_str(), 1);
+  ::unsetenv("no_proxy");
+  ::unsetenv("NO_PROXY");
+  auto client = std::make_shared<HttpClient>();
+  {
+    const auto source = HttpByteSource::open(s.nginx->url("data.bin"), client, nullptr);
+    EXPECT_EQ(readRange(*source, 300, 30), slice(s.bytes, 300, 30));
+  }
+  ::unsetenv("http_proxy");
+  const std::vector<test::ProxyLine> log = proxy->log();
+  ASSERT_EQ(log.size(), 2u) << "the probe and the read went through the proxy";
+  EXPECT_EQ(log[1].range, "bytes=300-329");
+}
+
+TEST(HttpSource, TlsIsVerifiedByDefault) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "www");
+  const std::vector<std::byte> bytes = pattern(4096, 3);
+  writeBytes(dir / "www" / "data.bin", bytes);
+  const std::string make_certificate =
+      "openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj /CN=127.0.0.1 -addext "
+      "subjectAltName=IP:127.0.0.1 -keyout " +
+      (dir / "key.pem").string() + " -out " + (dir / "cert.pem").string() + " 2>" +
+      (dir / "openssl.txt").string();
+  ASSERT_EQ(std::system(make_certificate.c_str()), 0)
+      << "openssl (Debian package 'openssl') failed: " << test::readWholeFile(dir / "openssl.txt");
+  Nginx nginx(
+      dir / "nginx",
+      {.root = dir / "www", .tls_certificate = dir / "cert.pem", .tls_key = dir / "key.pem"});
+  {
+    auto client = std::make_shared<HttpClient>();
+    const std::string message = errorOf(
+        [&] { HttpByteSource::open(nginx.url("data.bin"), client, nullptr, fastRetries()); });
+    expectContains(message, {"https://127.0.0.1", "data.bin", "certificate", "PARALLAX_CA_FILE"});
+  }
+  HttpOptions trusted;
+  trusted.ca_file = (dir / "cert.pem").string();
+  auto client = std::make_shared<HttpClient>(trusted);
+  const auto source = HttpByteSource::open(nginx.url("data.bin"), client, nullptr);
+  source->prefetch(std::vector<ByteRange>{{0, 100}, {2000, 100}, {4000, 96}});
+  EXPECT_EQ(readRange(*source, 2000, 100), slice(bytes, 2000, 100));
+  EXPECT_EQ(readRange(*source, 0, 100), slice(bytes, 0, 100));
+  EXPECT_EQ(readRange(*source, 4000, 96), slice(bytes, 4000, 96));
+  const std::vector<test::AccessLine> log = nginx.accessLog();
+  ASSERT_FALSE(log.empty());
+  EXPECT_EQ(log.back().protocol, "HTTP/2.0") << "ALPN offered h2, and the client took it";
+}
+
+}  // namespace
+}  // namespace parallax
