@@ -225,8 +225,7 @@ int runRender(const RenderCommandOptions& o) {
   // Which rasterizer drew, and why not compute where it was asked for.
   std::fprintf(stderr, "parallax render: rasterizer %s%s%s\n",
                last_stats.rasterizer == RasterizerKind::Compute ? "compute" : "points (GL_POINTS)",
-               last_stats.fallback_reason.empty() ? "" : ": ",
-               last_stats.fallback_reason.c_str());
+               last_stats.fallback_reason.empty() ? "" : ": ", last_stats.fallback_reason.c_str());
   if (last_stats.fallback_chunks) {
     std::fprintf(stderr,
                  "parallax render: %u chunks with points over %g pixels drawn by GL_POINTS\n",

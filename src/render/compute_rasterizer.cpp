@@ -398,8 +398,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
         mvp[v] = glm::mat4(eyes[v].projection * chunk_to_eye);
       }
       glUniformMatrix4fv(mvp_location, view_count, GL_FALSE, glm::value_ptr(mvp[0]));
-      glUniformMatrix4fv(model_view_location, view_count, GL_FALSE,
-                         glm::value_ptr(model_view[0]));
+      glUniformMatrix4fv(model_view_location, view_count, GL_FALSE, glm::value_ptr(model_view[0]));
       glUniform1ui(view_mask_location, w.visible);
       glUniform2f(elevation_location, float(chunk.origin.z - z_min), float(1.0 / z_extent));
       glUniform1f(node_spacing_location, item.node_spacing);

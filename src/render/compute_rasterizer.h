@@ -52,11 +52,11 @@ struct ComputeRasterizerOptions {
 
 // A point found in the visibility buffer.
 struct PointRef {
-  std::size_t item = 0;                // in the draw set that was drawn
-  const PointChunk* chunk = nullptr;   // that item's chunk
-  std::uint32_t index = 0;             // in the chunk
-  std::uint32_t id = 0;                // in the frame: the item's first id + index
-  float depth = 0.0f;                  // reversed window depth (as the depth buffer holds it)
+  std::size_t item = 0;               // in the draw set that was drawn
+  const PointChunk* chunk = nullptr;  // that item's chunk
+  std::uint32_t index = 0;            // in the chunk
+  std::uint32_t id = 0;               // in the frame: the item's first id + index
+  float depth = 0.0f;                 // reversed window depth (as the depth buffer holds it)
 };
 
 class ComputeRasterizer final : public Rasterizer {

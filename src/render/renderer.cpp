@@ -124,8 +124,7 @@ FrameStats Renderer::render(const DrawSet& draw_set, std::span<const View> views
          "a composed stereo frame has two views, the left eye's first");
   FrameStats stats;
   if (width <= 0 || height <= 0) return stats;
-  stats.rasterizer =
-      chooseRasterizer(settings, width, height, composition, &stats.fallback_reason);
+  stats.rasterizer = chooseRasterizer(settings, width, height, composition, &stats.fallback_reason);
   const bool compute = stats.rasterizer == RasterizerKind::Compute;
   const int samples = compute ? 0 : samplesFor(settings);
   // Composed modes draw both eyes full size side by side; the canvas is then twice as wide.

@@ -47,7 +47,7 @@ struct FramePart {
 
 // A picked point: where it is and, when the compute rasterizer drew it, exactly which point.
 struct PickedPoint {
-  glm::dvec3 position{0.0};      // world coordinates
+  glm::dvec3 position{0.0};       // world coordinates
   std::optional<PointRef> point;  // the point itself (compute only): item, chunk, index, id
   int view = 0;                   // the view the pixel belongs to
 };
@@ -80,8 +80,7 @@ class Renderer {
   FrameStats render(const DrawSet& draw_set, const StereoFrame& frame,
                     const RenderSettings& settings, GLuint target, int width, int height,
                     const FramePart& part = {}) {
-    return render(draw_set, frame.views, settings, target, width, height, frame.composition,
-                  part);
+    return render(draw_set, frame.views, settings, target, width, height, frame.composition, part);
   }
 
   // Who would draw a frame with these settings into a width x height output with this
