@@ -19,7 +19,13 @@ namespace {
 
 enum TextureUnit : int { kPositions = 0, kColors = 1, kNormals = 2, kExtras = 3, kBatches = 4 };
 // SSBO bindings, as in the shaders.
-enum Binding : GLuint { kDepthBinding = 0, kIdBinding = 1, kColorBinding = 2, kSumBinding = 3 };
+enum Binding : GLuint {
+  kDepthBinding = 0,
+  kIdBinding = 1,
+  kColorBinding = 2,
+  kSumBinding = 3,  // to 6
+  kFlagBinding = 7,
+};
 
 constexpr std::uint32_t kEmpty = ~0u;
 
@@ -136,14 +142,16 @@ ComputeRasterizer::ComputeRasterizer(const ComputeRasterizerOptions& options) : 
               hasExtension("GL_ARB_gpu_shader_int64");
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_ssbo_bytes_);
   glCreateTextures(GL_TEXTURE_BUFFER, 5, textures_);
+  glCreateTextures(GL_TEXTURE_BUFFER, 6, views_);
   glCreateVertexArrays(1, &vao_);
 }
 
 ComputeRasterizer::~ComputeRasterizer() {
   glDeleteTextures(5, textures_);
+  glDeleteTextures(6, views_);
   if (vao_) glDeleteVertexArrays(1, &vao_);
-  const GLuint buffers[] = {depths_, ids_, colors_, sums_};
-  glDeleteBuffers(4, buffers);
+  const GLuint buffers[] = {depths_, ids_, colors_, sums_, flags_};
+  glDeleteBuffers(5, buffers);
 }
 
 std::string ComputeRasterizer::unsupported(const RenderSettings& settings, int canvas_width,
@@ -190,13 +198,29 @@ void ComputeRasterizer::ensureBuffers(int width, int height, bool hq) {
     }
     glCreateBuffers(1, &colors_);
     glNamedBufferStorage(colors_, pixels * 4, nullptr, 0);
+    glTextureBufferRange(views_[0], atomic64_ ? GL_RG32UI : GL_R32UI, depths_, 0,
+                         pixels * (atomic64_ ? 8 : 4));
+    glTextureBufferRange(views_[1], GL_R32UI, colors_, 0, pixels * 4);
   }
   if (hq && !has_sums_) {
     // Four planes, each aligned for its own binding range.
     glCreateBuffers(1, &sums_);
     glNamedBufferStorage(sums_, GLsizeiptr(width) * height * 16 + 4 * 256, nullptr, 0);
     has_sums_ = true;
+    const GLsizeiptr pixels = GLsizeiptr(width) * height;
+    const GLsizeiptr plane = (pixels * 4 + 255) & ~GLsizeiptr(255);
+    for (int c = 0; c < 4; ++c) {
+      glTextureBufferRange(views_[2 + c], GL_R32UI, sums_, GLintptr(c) * plane, pixels * 4);
+    }
   }
+}
+
+void ComputeRasterizer::ensureFlags(std::uint32_t batches) {
+  if (batches <= flag_capacity_) return;
+  if (flags_) glDeleteBuffers(1, &flags_);
+  flag_capacity_ = std::max(batches, flag_capacity_ * 2);
+  glCreateBuffers(1, &flags_);
+  glNamedBufferStorage(flags_, GLsizeiptr(flag_capacity_) * 4, nullptr, 0);
 }
 
 void ComputeRasterizer::clearBuffers(bool hq) {
@@ -325,6 +349,20 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     ++stats.chunks_drawn;
   }
 
+  // The batch flags (see the shader): one per batch of the work, cleared per frame.
+  std::vector<std::uint32_t> flag_bases;
+  std::uint32_t batch_total = 0;
+  for (const Work& w : work) {
+    flag_bases.push_back(batch_total);
+    batch_total += draw_set.items[w.item].chunk->batch_count;
+  }
+  ensureFlags(std::max<std::uint32_t>(batch_total, 1));
+  const std::uint32_t zero = 0;
+  glClearNamedBufferSubData(flags_, GL_R32UI, 0, GLsizeiptr(std::max(batch_total, 1u)) * 4,
+                            GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kFlagBinding, flags_, 0,
+                    GLsizeiptr(std::max(batch_total, 1u)) * 4);
+
   // Ranges of whole batches, each section within the binding limit (positions are the widest).
   GLint max_texels = 0;
   glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_texels);
@@ -385,9 +423,12 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     const GLint point_count_location = shader.uniform("u_point_count");
     const GLint batch_base_location = shader.uniform("u_batch_base");
     const GLint id_base_location = shader.uniform("u_id_base");
+    const GLint flag_base_location = shader.uniform("u_flag_base");
     for (int unit = 0; unit < 5; ++unit) glBindTextureUnit(GLuint(unit), textures_[unit]);
+  
 
-    for (const Work& w : work) {
+    for (std::size_t n = 0; n < work.size(); ++n) {
+      const Work& w = work[n];
       const DrawItem& item = draw_set.items[w.item];
       const PointChunk& chunk = *item.chunk;
       glm::mat4 mvp[kMaxViews], model_view[kMaxViews];
@@ -427,11 +468,12 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
         glUniform1ui(point_count_location, GLuint(count));
         glUniform1ui(batch_base_location, GLuint(first / kBatchPoints));
         glUniform1ui(id_base_location, GLuint(item_ids_[w.item] + first));
+        glUniform1ui(flag_base_location, GLuint(flag_bases[n] + first / kBatchPoints));
         glDispatchCompute(GLuint((count + kBatchPoints - 1) / kBatchPoints), 1, 1);
         if (pass == 1) ++stats.draw_calls;
       }
     }
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
   }
 
   // The resolve: the visibility buffer into the bound framebuffer, view by view.
@@ -454,6 +496,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   }
   const ShaderProgram& shader = program(resolve_key, true);
   glUseProgram(shader.id());
+  for (GLuint unit = 0; unit < (hq ? 6u : 2u); ++unit) glBindTextureUnit(unit, views_[unit]);
   glUniform1i(shader.uniform("u_canvas_width"), frame.canvas_width);
   const GLint coeffs_location = shader.uniform("u_depth_coeffs");
   glEnable(GL_DEPTH_TEST);

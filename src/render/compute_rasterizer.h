@@ -92,6 +92,7 @@ class ComputeRasterizer final : public Rasterizer {
   const ShaderProgram& program(std::uint32_t key, bool resolve);
   void ensureBuffers(int width, int height, bool hq);
   void clearBuffers(bool hq);
+  void ensureFlags(std::uint32_t batches);
   void bindBuffers(bool hq) const;
 
   ComputeRasterizerOptions options_;
@@ -99,10 +100,15 @@ class ComputeRasterizer final : public Rasterizer {
   std::map<std::uint32_t, ShaderProgram> programs_, resolve_programs_;
   // Buffer textures re-pointed at each chunk range: positions, colours, normals, extras, batches.
   GLuint textures_[5] = {};
+  // Buffer-texture views of the visibility buffer for plain reads: depth keys (or pairs),
+  // colours, the four sum planes.
+  GLuint views_[6] = {};
   GLuint vao_ = 0;  // empty, for the resolve's full-screen triangle
   // The visibility buffer: depth keys (32-bit path) or (key, id) pairs (64-bit path), ids,
   // packed colours and, for HQ, four planes of colour sums.
   GLuint depths_ = 0, ids_ = 0, colors_ = 0, sums_ = 0;
+  GLuint flags_ = 0;  // one uint per batch of the frame (see the shader)
+  std::uint32_t flag_capacity_ = 0;
   int width_ = 0, height_ = 0;
   bool has_sums_ = false;
   std::int64_t max_ssbo_bytes_ = 0;

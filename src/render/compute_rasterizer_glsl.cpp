@@ -42,6 +42,13 @@ layout(std430, binding = 0) coherent buffer Depths { uint depths[]; };
 layout(std430, binding = 1) coherent buffer Ids { uint ids[]; };
 #endif
 layout(std430, binding = 2) coherent buffer Colors { uint colors[]; };  // packUnorm4x8
+// One flag per batch of the frame: pass 1 sets it when a point of the batch was at or in front of
+// the stored key when it ran. Every point that ends front-most was, so pass 2 skips the batches
+// left unflagged (HQ blends points behind the front too, and reads them all).
+layout(std430, binding = 7) coherent buffer BatchFlags { uint batch_flags[]; };
+uniform uint u_flag_base;  // the range's first batch among the frame's batches
+bool may_win = false;
+
 #if HQ
 // Sums of the blended colours (0-255 a channel) and their count, one plane each.
 layout(std430, binding = 3) coherent buffer SumR { uint sum_r[]; };
@@ -160,13 +167,19 @@ void touchPixel(uint pixel, uint key, uint id, uint i, vec3 p, int v, float eye_
                 inout bool color_ready, inout uint color) {
 #if PASS == 1
 #if ATOMIC64
-  atomicMin(visibility[pixel], uint64_t(key) << 32 | uint64_t(id));
+  uint64_t packed = uint64_t(key) << 32 | uint64_t(id);
+  if (packed <= visibility[pixel]) {
+    may_win = true;
+    atomicMin(visibility[pixel], packed);
+  }
 #else
   // A plain read first: the stored key only decreases, so a point behind it is behind for good,
   // and most points of a dense cloud skip the atomic.
-  if (key < depths[pixel]) {
+  uint stored = depths[pixel];
+  if (key <= stored) {
+    may_win = true;
 #if RESET
-    if (key < atomicMin(depths[pixel], key)) {
+    if (key < stored && key < atomicMin(depths[pixel], key)) {
       ids[pixel] = ~0u;
       colors[pixel] = ~0u;
 #if HQ
@@ -174,7 +187,7 @@ void touchPixel(uint pixel, uint key, uint id, uint i, vec3 p, int v, float eye_
 #endif
     }
 #else
-    atomicMin(depths[pixel], key);
+    if (key < stored) atomicMin(depths[pixel], key);
 #endif
   }
 #endif
@@ -260,6 +273,9 @@ void drawInView(uint i, uint id, vec3 p, int v) {
 }
 
 void main() {
+#if PASS == 2 && !HQ
+  if (batch_flags[u_flag_base + gl_WorkGroupID.x] == 0u) return;
+#endif
   // The batch is culled against every view before any of its points is read.
   uint batch = u_batch_base + gl_WorkGroupID.x;
   vec3 lo = texelFetch(t_batches, int(2u * batch)).xyz;
@@ -282,6 +298,9 @@ void main() {
       if (((views >> v) & 1u) != 0u) drawInView(i, u_id_base + i, p, v);
     }
   }
+#if PASS == 1
+  if (may_win) batch_flags[u_flag_base + gl_WorkGroupID.x] = 1u;
+#endif
 }
 )glsl";
 
@@ -290,17 +309,14 @@ void main() {
 // background stays); the depth test GEQUAL keeps a nearer point the GL_POINTS fall-back drew.
 const char* const kComputeResolve = R"glsl(#version 450 core
 //@DEFINES@
-#if ATOMIC64
-layout(std430, binding = 0) readonly buffer Visibility { uvec2 visibility[]; };  // (id, key)
-#else
-layout(std430, binding = 0) readonly buffer Depths { uint depths[]; };
-#endif
-layout(std430, binding = 2) readonly buffer Colors { uint colors[]; };
+// Read-only views of the visibility buffer (buffer textures: gathers on llvmpipe).
+layout(binding = 0) uniform usamplerBuffer t_depths;  // R32UI keys; 64-bit path: RG32UI (id, key)
+layout(binding = 1) uniform usamplerBuffer t_colors;  // R32UI, packUnorm4x8
 #if HQ
-layout(std430, binding = 3) readonly buffer SumR { uint sum_r[]; };
-layout(std430, binding = 4) readonly buffer SumG { uint sum_g[]; };
-layout(std430, binding = 5) readonly buffer SumB { uint sum_b[]; };
-layout(std430, binding = 6) readonly buffer SumW { uint sum_w[]; };
+layout(binding = 2) uniform usamplerBuffer t_sum_r;
+layout(binding = 3) uniform usamplerBuffer t_sum_g;
+layout(binding = 4) uniform usamplerBuffer t_sum_b;
+layout(binding = 5) uniform usamplerBuffer t_sum_w;
 #endif
 uniform int u_canvas_width;
 uniform vec4 u_depth_coeffs;  // z_clip = x z_eye + y, w_clip = z z_eye + w
@@ -311,24 +327,26 @@ layout(location = 1) out vec2 out_depth;
 
 void main() {
   ivec2 q = ivec2(gl_FragCoord.xy);
-  uint pixel = uint(q.y) * uint(u_canvas_width) + uint(q.x);
+  int pixel = q.y * u_canvas_width + q.x;
 #if ATOMIC64
-  uint key = visibility[pixel].y;
+  uint key = texelFetch(t_depths, pixel).y;
 #else
-  uint key = depths[pixel];
+  uint key = texelFetch(t_depths, pixel).x;
 #endif
   if (key == ~0u) discard;
   float z = uintBitsToFloat(~key);
   gl_FragDepth = z;
 #if HQ
-  float weight = float(max(sum_w[pixel], 1u));
-  vec3 color = vec3(sum_r[pixel], sum_g[pixel], sum_b[pixel]) / (255.0 * weight);
+  float weight = float(max(texelFetch(t_sum_w, pixel).x, 1u));
+  vec3 color = vec3(texelFetch(t_sum_r, pixel).x, texelFetch(t_sum_g, pixel).x,
+                    texelFetch(t_sum_b, pixel).x) / (255.0 * weight);
 #else
-  vec3 color = unpackUnorm4x8(colors[pixel]).rgb;
+  vec3 color = unpackUnorm4x8(texelFetch(t_colors, pixel).x).rgb;
 #endif
   out_color = vec4(color, 1.0);
 #if EYE_DEPTH
-  float eye_z = (u_depth_coeffs.y - z * u_depth_coeffs.w) / (z * u_depth_coeffs.z - u_depth_coeffs.x);
+  float eye_z =
+      (u_depth_coeffs.y - z * u_depth_coeffs.w) / (z * u_depth_coeffs.z - u_depth_coeffs.x);
 #if ORTHOGRAPHIC
   out_depth = vec2(-eye_z, 1.0);
 #else
