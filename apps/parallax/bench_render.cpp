@@ -1,5 +1,16 @@
-// `parallax bench render [--points N] [--width W] [--height H] [--repeat R]`: GL_POINTS
-// throughput of the renderer beside a bare GL_POINTS loop measured in the same run.
+// `parallax bench render [--points N] [--width W] [--height H] [--repeat R]
+//                        [--rasterizer points|compute|auto] [--order morton|random|both]
+//                        [--point-size S] [--shape square|round] [--hq] [--json]`:
+// the renderer's throughput beside a same-run reference.
+//
+// --rasterizer points: the renderer with GL_POINTS beside a bare GL_POINTS loop (below).
+// --rasterizer compute (auto: compute wherever it supports the settings): the renderer with the
+// compute rasterizer beside the renderer with GL_POINTS, frames interleaved one by one so that a
+// change in the machine's load hits both alike; "compute / points" is the speed-up.
+// With --json, one JSON object on stdout (Morton order unless --order says otherwise):
+// points_per_second is the median rate of the chosen rasterizer, `reference` the same-run
+// reference's, `ratio` theirs, `cpu_ms` the process CPU time per frame (what a loaded machine
+// does not distort as much as the wall clock), `load_average` /proc/loadavg before and after.
 //
 // The scene: N random points filling a box that fills the view, with colours. Both sides draw the
 // same points into a framebuffer of the same size (RGBA8 colour, float depth, depth test) and are
@@ -19,14 +30,18 @@
 //
 // `parallax bench render DIR [--budget N]`: level of detail on a Potree directory instead
 // (bench_render_lod.cpp).
+#include <time.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <glm/gtc/type_ptr.hpp>
 #include <memory>
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "bench_render_lod.h"
@@ -37,6 +52,7 @@
 #include "render/renderer.h"
 #include "render/shader_program.h"
 #include "render/stereo.h"
+#include <nlohmann/json.hpp>
 
 namespace parallax::cli {
 namespace {
@@ -49,6 +65,14 @@ struct RenderBenchOptions {
   std::string directory;            // a Potree directory: the level-of-detail benchmark
   std::uint64_t budget = 3'000'000;
   double min_node_size = 30.0;
+  std::string rasterizer = "auto";
+  std::string order;  // morton|random|both; empty: both, or morton with --json
+  float point_size = 1.0f;
+  std::string shape = "square";
+  bool hq = false;
+  bool json = false;
+  int orbit_frames = 0;        // with a directory: an orbit of this many streamed frames
+  double frame_budget_ms = 0;  // with --orbit: progressive refinement's time budget (0: none)
 };
 
 using Clock = std::chrono::steady_clock;
@@ -162,25 +186,51 @@ class BarePoints {
   GLuint buffer_ = 0, vao_ = 0, color_ = 0, depth_ = 0, framebuffer_ = 0;
 };
 
-template <class Draw>
-double medianSeconds(int repeat, Draw draw) {
-  draw();
-  glFinish();  // warm-up: shader compilation, first touch of the framebuffer
-  std::vector<double> times;
+double processCpuSeconds() {
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return double(now.tv_sec) + double(now.tv_nsec) * 1e-9;
+}
+
+std::vector<double> loadAverage() {
+  std::ifstream file("/proc/loadavg");
+  std::vector<double> load(3, 0.0);
+  file >> load[0] >> load[1] >> load[2];
+  return load;
+}
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values[values.size() / 2];
+}
+
+// Wall and CPU time of one frame, median of `repeat`, two sides interleaved frame by frame.
+struct Timing {
+  double wall_s = 0, cpu_s = 0;
+};
+template <class DrawA, class DrawB>
+std::pair<Timing, Timing> interleaved(int repeat, DrawA a, DrawB b) {
+  a(), b(), glFinish();  // warm-up: shaders, buffers, the first touch of the framebuffer
+  std::vector<double> wall[2], cpu[2];
   for (int i = 0; i < repeat; ++i) {
-    const auto start = Clock::now();
-    draw();
-    glFinish();
-    times.push_back(std::chrono::duration<double>(Clock::now() - start).count());
+    for (int side = 0; side < 2; ++side) {
+      const auto start = Clock::now();
+      const double cpu_start = processCpuSeconds();
+      side == 0 ? a() : b();
+      glFinish();
+      wall[side].push_back(std::chrono::duration<double>(Clock::now() - start).count());
+      cpu[side].push_back(processCpuSeconds() - cpu_start);
+    }
   }
-  std::sort(times.begin(), times.end());
-  return times[times.size() / 2];
+  return {{median(wall[0]), median(cpu[0])}, {median(wall[1]), median(cpu[1])}};
 }
 
 // Mono and each stereo mode, interleaved frame by frame so that a change in the machine's load
 // (other processes on a shared machine) hits both sides alike.
-void benchStereo(const RenderBenchOptions& o, const PointCloud& cloud, const Camera& camera,
-                 const RenderSettings& settings, const std::vector<StereoMode>& modes) {
+nlohmann::json benchStereo(const RenderBenchOptions& o, const PointCloud& cloud,
+                           const Camera& camera, const RenderSettings& settings,
+                           const std::vector<StereoMode>& modes) {
+  nlohmann::json results = nlohmann::json::array();
   GpuPointCloud gpu(cloud);
   const DrawSet draw_set = gpu.drawSet();
   RenderTarget target(o.width, o.height);
@@ -208,18 +258,21 @@ void benchStereo(const RenderBenchOptions& o, const PointCloud& cloud, const Cam
       twice_times.push_back(timed(mono, 2));
       stereo_times.push_back(timed(frame, 1));
     }
-    const auto median = [](std::vector<double>& times) {
-      std::sort(times.begin(), times.end());
-      return times[times.size() / 2];
-    };
     const double mono_s = median(mono_times), twice_s = median(twice_times);
     const double stereo_s = median(stereo_times);
+    results.push_back({{"mode", stereoModeName(mode)},
+                       {"mono_ms", mono_s * 1e3},
+                       {"two_mono_ms", twice_s * 1e3},
+                       {"stereo_ms", stereo_s * 1e3},
+                       {"stereo_over_mono", stereo_s / mono_s}});
+    if (o.json) continue;
     std::printf(
         "stereo %-15s mono %6.1f ms  2 x mono %6.1f ms  stereo %6.1f ms  stereo / mono %.2f  "
         "stereo / (2 x mono) %.2f\n",
         std::string(stereoModeName(mode)).c_str(), mono_s * 1e3, twice_s * 1e3, stereo_s * 1e3,
         stereo_s / mono_s, stereo_s / twice_s);
   }
+  return results;
 }
 
 int runBenchRender(const RenderBenchOptions& o) {
@@ -237,6 +290,18 @@ int runBenchRender(const RenderBenchOptions& o) {
       modes.push_back(*mode);
     }
   }
+  RenderSettings settings;
+  settings.color = ColorMode::Rgb;
+  settings.point_size_px = o.point_size;
+  const auto shape = parsePointShape(o.shape);
+  const auto rasterizer = parseRasterizerKind(o.rasterizer);
+  if (!shape) throw std::invalid_argument("--shape: '" + o.shape + "' (use square|round)");
+  if (!rasterizer) {
+    throw std::invalid_argument("--rasterizer: '" + o.rasterizer + "' (use points|compute|auto)");
+  }
+  settings.shape = *shape;
+  settings.rasterizer = *rasterizer;
+  settings.hq = o.hq;
   if (!o.directory.empty()) {
     return runBenchRenderLod({.directory = o.directory,
                               .budget = o.budget,
@@ -244,48 +309,106 @@ int runBenchRender(const RenderBenchOptions& o) {
                               .width = o.width,
                               .height = o.height,
                               .repeat = o.repeat,
-                              .stereo = modes});
+                              .stereo = modes,
+                              .settings = settings,
+                              .orbit_frames = o.orbit_frames,
+                              .frame_budget_ms = o.frame_budget_ms});
   }
+  const std::string order = o.order.empty() ? (o.json ? "morton" : "both") : o.order;
+  if (order != "morton" && order != "random" && order != "both") {
+    throw std::invalid_argument("--order: '" + order + "' (use morton|random|both)");
+  }
+  const std::vector<double> load_before = loadAverage();
   auto context = GlContext::createHeadless();
-  std::printf("bench render: %llu random points, %dx%d, median of %d frames, on %s\n",
-              static_cast<unsigned long long>(o.points), o.width, o.height, o.repeat,
-              context->renderer().c_str());
+  if (!o.json) {
+    std::printf("bench render: %llu random points, %dx%d, median of %d frames, on %s (load %.1f)\n",
+                static_cast<unsigned long long>(o.points), o.width, o.height, o.repeat,
+                context->renderer().c_str(), load_before[0]);
+  }
   const PointCloud cloud = randomCloud(o.points);
-  const std::vector<std::uint32_t> morton = mortonOrder(cloud);
-  std::vector<std::uint32_t> file_order(cloud.count);
-  for (std::size_t i = 0; i < file_order.size(); ++i) file_order[i] = std::uint32_t(i);
-
   Camera camera;
   camera.lookAt({0.0, -80.0, 60.0}, {0.0, 0.0, 0.0}, {0, 0, 1});
   camera.fitToBounds(cloud.bounds, double(o.width) / o.height);
   const View view{camera, {0, 0, o.width, o.height}};
-  RenderSettings settings;
-  settings.color = ColorMode::Rgb;
-
   RenderTarget target(o.width, o.height);
-  Renderer renderer;
+  Renderer renderer, reference_renderer;
+  const RasterizerKind chosen =
+      renderer.chooseRasterizer(settings, o.width, o.height, Composition::Direct);
   const double mpoints = double(o.points) / 1e6;
-  for (const bool sorted : {false, true}) {
-    const auto& order = sorted ? morton : file_order;
-    BarePoints bare(cloud, order, o.width, o.height);
-    const glm::dmat4 world_to_clip =
-        camera.projectionMatrix(view.viewport.aspect(), camera.clipRange(cloud.bounds)) *
-        camera.viewMatrix();
-    const double bare_s = medianSeconds(o.repeat, [&] { bare.draw(world_to_clip); });
 
+  nlohmann::json result;
+  for (const bool sorted : {false, true}) {
+    if ((sorted && order == "random") || (!sorted && order == "morton")) continue;
     PointUploadOptions upload;
     upload.morton_order = sorted;
     GpuPointCloud gpu(cloud, upload);
-    const double ours_s = medianSeconds(o.repeat, [&] {
+    const auto draw_ours = [&] {
       renderer.render(gpu, std::span(&view, 1), settings, target.framebuffer(), o.width, o.height);
-    });
-    std::printf(
-        "%-13s reference %7.2f M points/s (%6.1f ms)  renderer %7.2f M points/s "
-        "(%6.1f ms)  renderer / reference %.2f\n",
-        sorted ? "morton order" : "random order", mpoints / bare_s, bare_s * 1e3, mpoints / ours_s,
-        ours_s * 1e3, bare_s / ours_s);
+    };
+    Timing ours, reference;
+    std::string reference_name;
+    if (chosen == RasterizerKind::Compute) {
+      // The same renderer and cloud with GL_POINTS, frame for frame beside the compute frames.
+      RenderSettings points_settings = settings;
+      points_settings.rasterizer = RasterizerKind::Points;
+      reference_name = "points";
+      std::tie(ours, reference) = interleaved(o.repeat, draw_ours, [&] {
+        reference_renderer.render(gpu, std::span(&view, 1), points_settings,
+                                  target.framebuffer(), o.width, o.height);
+      });
+    } else {
+      // GL_POINTS beside a bare GL_POINTS loop over the same points.
+      const std::vector<std::uint32_t> draw_order =
+          sorted ? mortonOrder(cloud) : std::vector<std::uint32_t>();
+      std::vector<std::uint32_t> file_order;
+      if (!sorted) {
+        file_order.resize(cloud.count);
+        for (std::size_t i = 0; i < file_order.size(); ++i) file_order[i] = std::uint32_t(i);
+      }
+      BarePoints bare(cloud, sorted ? draw_order : file_order, o.width, o.height);
+      const glm::dmat4 world_to_clip =
+          camera.projectionMatrix(view.viewport.aspect(), camera.clipRange(cloud.bounds)) *
+          camera.viewMatrix();
+      reference_name = "bare GL_POINTS loop";
+      std::tie(ours, reference) =
+          interleaved(o.repeat, draw_ours, [&] { bare.draw(world_to_clip); });
+    }
+    const char* ours_name = chosen == RasterizerKind::Compute ? "compute" : "points";
+    if (!o.json) {
+      std::printf(
+          "%-13s %-7s %7.2f M points/s (%6.1f ms, cpu %6.1f ms)  %s %7.2f M points/s (%6.1f ms, "
+          "cpu %6.1f ms)  ratio %.2f (cpu %.2f)\n",
+          sorted ? "morton order" : "random order", ours_name, mpoints / ours.wall_s,
+          ours.wall_s * 1e3, ours.cpu_s * 1e3, reference_name.c_str(), mpoints / reference.wall_s,
+          reference.wall_s * 1e3, reference.cpu_s * 1e3, reference.wall_s / ours.wall_s,
+          reference.cpu_s / ours.cpu_s);
+    }
+    result = {{"bench", "render"},
+              {"renderer", context->renderer()},
+              {"points", o.points},
+              {"width", o.width},
+              {"height", o.height},
+              {"repeat", o.repeat},
+              {"order", sorted ? "morton" : "random"},
+              {"rasterizer", ours_name},
+              {"asked", rasterizerKindName(settings.rasterizer)},
+              {"point_size", o.point_size},
+              {"shape", o.shape},
+              {"hq", o.hq},
+              {"frame_ms", ours.wall_s * 1e3},
+              {"cpu_ms", ours.cpu_s * 1e3},
+              {"points_per_second", double(o.points) / ours.wall_s},
+              {"reference",
+               {{"name", reference_name},
+                {"frame_ms", reference.wall_s * 1e3},
+                {"cpu_ms", reference.cpu_s * 1e3},
+                {"points_per_second", double(o.points) / reference.wall_s}}},
+              {"ratio", reference.wall_s / ours.wall_s},
+              {"cpu_ratio", reference.cpu_s / ours.cpu_s}};
   }
-  if (!modes.empty()) benchStereo(o, cloud, camera, settings, modes);
+  if (!modes.empty()) result["stereo"] = benchStereo(o, cloud, camera, settings, modes);
+  result["load_average"] = {{"before", load_before}, {"after", loadAverage()}};
+  if (o.json) std::printf("%s\n", result.dump().c_str());
   return 0;
 }
 
@@ -295,7 +418,8 @@ Command addBenchRenderCommand(CLI::App& bench) {
   auto options = std::make_shared<RenderBenchOptions>();
   Command command;
   command.subcommand = bench.add_subcommand(
-      "render", "GL_POINTS throughput of the renderer against a bare GL_POINTS loop");
+      "render",
+      "Point throughput of the renderer (compute vs GL_POINTS, or GL_POINTS vs a bare loop)");
   command.subcommand->add_option("--points", options->points, "Random points to draw")
       ->check(CLI::Range(std::uint64_t(1), std::uint64_t(200'000'000)))
       ->capture_default_str();
@@ -323,6 +447,27 @@ Command addBenchRenderCommand(CLI::App& bench) {
                    "With a directory: smallest node drawn, pixels")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  command.subcommand
+      ->add_option("--rasterizer", options->rasterizer,
+                   "points (beside a bare GL_POINTS loop) or compute / auto (beside GL_POINTS)")
+      ->capture_default_str();
+  command.subcommand->add_option("--order", options->order,
+                                 "Point order: morton, random or both (default: both; morton "
+                                 "with --json)");
+  command.subcommand->add_option("--point-size", options->point_size, "Point size in pixels")
+      ->check(CLI::Range(1.0f, 255.0f))
+      ->capture_default_str();
+  command.subcommand->add_option("--shape", options->shape, "square|round")->capture_default_str();
+  command.subcommand->add_flag("--hq", options->hq, "High-quality blending (compute)");
+  command.subcommand->add_flag("--json", options->json,
+                               "Print one JSON object (points_per_second: the median rate)");
+  command.subcommand->add_option(
+      "--orbit", options->orbit_frames,
+      "With a directory: orbit the cloud for this many streamed frames, as the viewer does");
+  command.subcommand
+      ->add_option("--frame-budget", options->frame_budget_ms,
+                   "With --orbit: progressive refinement's time budget per moving frame, ms")
+      ->check(CLI::NonNegativeNumber);
   command.run = [options] { return runBenchRender(*options); };
   return command;
 }

@@ -8,6 +8,12 @@
 // --stereo MODE, that stereo mode: one selection on the union of the eyes' frusta, both eyes
 // drawn. Timed to glFinish, median of --repeat frames after a warm-up frame; update and draw
 // are timed apart.
+//
+// --orbit N: what the viewer does while the user orbits: N frames, the camera turning 2 degrees
+// a frame around the cloud's centre, each frame LodScene::update() (streaming, never waiting)
+// and the renderer, with progressive refinement (render/progressive.h) within --frame-budget ms
+// when given; then, the camera still, the frames until the picture is complete. Prints the
+// frame times (median, 90th percentile, worst) and the points drawn a frame.
 #include "bench_render_lod.h"
 
 #include <algorithm>
@@ -22,6 +28,7 @@
 #include "render/gl_context.h"
 #include "render/lod_scene.h"
 #include "render/point_buffers.h"
+#include "render/progressive.h"
 #include "render/renderer.h"
 #include "render/view_extent.h"
 
@@ -114,6 +121,69 @@ void benchFrame(const LodRenderBenchOptions& o, Octree& octree, const Camera& ca
       draw_s * 1e3, (update_s + draw_s) * 1e3, plain_s * 1e3, (update_s + draw_s) / plain_s);
 }
 
+double percentile(std::vector<double> values, double fraction) {
+  std::sort(values.begin(), values.end());
+  return values[std::min(values.size() - 1, std::size_t(fraction * double(values.size())))];
+}
+
+void benchOrbit(const LodRenderBenchOptions& o, Octree& octree, Camera camera) {
+  LodFrameSettings lod_settings;
+  lod_settings.selection.point_budget = o.budget;
+  lod_settings.selection.min_node_size_px = o.min_node_size;
+  LodScene scene(octree);
+  RenderTarget target(o.width, o.height);
+  Renderer renderer;
+  ProgressiveSettings progressive_settings;
+  if (o.frame_budget_ms > 0) progressive_settings.frame_budget_s = o.frame_budget_ms / 1e3;
+  ProgressiveRefinement progressive(progressive_settings);
+  const bool refine = o.frame_budget_ms > 0;
+  std::vector<double> frame_times, points_drawn;
+  std::string rasterizer;
+  auto frame = [&](bool moving) {
+    const auto start = Clock::now();
+    const StereoFrame views = stereoFrame(camera, {}, o.width, o.height);
+    const DrawSet& draw_set = scene.update(views.views, lod_settings);
+    const FramePart part = refine ? progressive.plan(draw_set, moving) : FramePart{};
+    FrameStats stats;
+    const auto draw_start = Clock::now();
+    if (part.first_item < std::min(part.last_item, draw_set.items.size()) || !part.accumulate) {
+      stats = renderer.render(draw_set, views, o.settings, target.framebuffer(), o.width,
+                              o.height, part);
+    }
+    glFinish();
+    if (refine) progressive.record(stats.points_drawn, secondsSince(draw_start));
+    rasterizer = stats.rasterizer == RasterizerKind::Compute ? "compute" : "points";
+    return std::pair<double, std::uint64_t>(secondsSince(start), stats.points_drawn);
+  };
+  // Warm-up: the first picture of the whole cloud, loaded (what the viewer shows first).
+  scene.finishLoading(stereoFrame(camera, {}, o.width, o.height).views, lod_settings);
+  frame(true);
+  const glm::dvec3 up = camera.world_up;
+  for (int i = 0; i < o.orbit_frames; ++i) {
+    camera.orbit(glm::radians(2.0), 0.0, OrbitMode::Turntable);
+    camera.world_up = up;
+    const auto [seconds, points] = frame(true);
+    frame_times.push_back(seconds);
+    points_drawn.push_back(double(points));
+  }
+  // The camera stops: frames until the picture is complete (and streaming has caught up).
+  const auto stop = Clock::now();
+  int still_frames = 0;
+  while (still_frames < 200 && (!scene.complete() || (refine && !progressive.complete()))) {
+    frame(false);
+    ++still_frames;
+  }
+  const double complete_s = secondsSince(stop);
+  std::printf(
+      "orbit  %d frames (%s%s): frame median %.1f ms, p90 %.1f ms, worst %.1f ms; points a "
+      "frame median %.2f M; still: complete after %d frames, %.0f ms\n",
+      o.orbit_frames, rasterizer.c_str(),
+      refine ? (", budget " + std::to_string(int(o.frame_budget_ms)) + " ms").c_str() : "",
+      percentile(frame_times, 0.5) * 1e3, percentile(frame_times, 0.9) * 1e3,
+      percentile(frame_times, 1.0) * 1e3, percentile(points_drawn, 0.5) / 1e6, still_frames,
+      complete_s * 1e3);
+}
+
 }  // namespace
 
 int runBenchRenderLod(const LodRenderBenchOptions& o) {
@@ -125,8 +195,11 @@ int runBenchRenderLod(const LodRenderBenchOptions& o) {
               static_cast<unsigned long long>(o.budget), o.width, o.height, o.repeat,
               context->renderer().c_str());
   const Camera camera = defaultCameraFor(viewExtentOf(*octree), double(o.width) / o.height);
-  RenderSettings settings;
-  settings.color = ColorMode::Rgb;
+  if (o.orbit_frames > 0) {
+    benchOrbit(o, *octree, camera);
+    return 0;
+  }
+  const RenderSettings& settings = o.settings;
   benchFrame(o, *octree, camera, {}, settings);
   for (const StereoMode mode : o.stereo) {
     StereoSettings stereo;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "render/render_settings.h"
 #include "render/stereo.h"
 
 namespace parallax::cli {
@@ -17,6 +18,12 @@ struct LodRenderBenchOptions {
   int width = 1920, height = 1080;
   int repeat = 5;
   std::vector<StereoMode> stereo;  // measured after mono
+  RenderSettings settings;         // the rasterizer among them
+  // > 0: instead, an orbit of this many frames around the cloud with streaming, as the viewer
+  // draws it (LodScene::update every frame, no waiting), and progressive refinement within
+  // frame_budget_ms per moving frame when that is > 0.
+  int orbit_frames = 0;
+  double frame_budget_ms = 0;
 };
 
 int runBenchRenderLod(const LodRenderBenchOptions& options);

@@ -204,6 +204,7 @@ int runRender(const RenderCommandOptions& o) {
   RenderTarget target(o.width, o.height);
   double draw_s = 0, write_s = 0;
   std::uint64_t drawn = 0;
+  FrameStats last_stats;
   const LodFrameSettings lod_settings = lodFrameSettingsFrom(o.lod);
   std::optional<RenderSettings> settings;
   for (std::size_t i = 0; i < cameras.size(); ++i) {
@@ -218,8 +219,9 @@ int runRender(const RenderCommandOptions& o) {
                                  " failed, the first: " + lod->firstError()});
     }
     if (!settings) settings = renderSettingsFrom(o.render, draw_set.typical_spacing);
-    drawn = renderer.render(draw_set, frame, *settings, target.framebuffer(), o.width, o.height)
-                .points_drawn;
+    last_stats =
+        renderer.render(draw_set, frame, *settings, target.framebuffer(), o.width, o.height);
+    drawn = last_stats.points_drawn;
     glFinish();
     draw_s += secondsSince(phase);
     phase = Clock::now();
@@ -233,6 +235,15 @@ int runRender(const RenderCommandOptions& o) {
     std::fprintf(stderr, "parallax render: stereo %s, eye separation %g, convergence %g%s\n",
                  std::string(stereoModeName(used.mode)).c_str(), used.eye_separation,
                  used.convergence, used.swap_eyes ? ", eyes swapped" : "");
+  }
+  // Which rasterizer drew, and why not compute where it was asked for.
+  std::fprintf(stderr, "parallax render: rasterizer %s%s%s\n",
+               last_stats.rasterizer == RasterizerKind::Compute ? "compute" : "points (GL_POINTS)",
+               last_stats.fallback_reason.empty() ? "" : ": ", last_stats.fallback_reason.c_str());
+  if (last_stats.fallback_chunks) {
+    std::fprintf(stderr,
+                 "parallax render: %u chunks with points over %g pixels drawn by GL_POINTS\n",
+                 last_stats.fallback_chunks, double(ComputeRasterizer::kMaxSplatPx));
   }
   if (lod) {
     const LodStats& stats = lod->stats();

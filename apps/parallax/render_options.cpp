@@ -59,6 +59,14 @@ void addRenderOptions(CLI::App& command, RenderOptions& o) {
                   "what the GPU offers)")
       ->capture_default_str()
       ->check(CLI::IsMember({0, 1, 2, 4, 8}));
+  command
+      .add_option("--rasterizer", o.rasterizer,
+                  "Who draws the points: points (GL_POINTS), compute (an atomic minimum per pixel "
+                  "in compute shaders), auto (compute wherever it supports the settings)")
+      ->capture_default_str();
+  command.add_flag("--hq", o.hq,
+                   "High quality: blend the points within 1% of the front-most depth per pixel "
+                   "(compute rasterizer)");
   command.add_option("--eye", o.eye, "Camera position X,Y,Z (file coordinates)")
       ->delimiter(',')
       ->expected(3);
@@ -165,6 +173,13 @@ RenderSettings renderSettingsFrom(const RenderOptions& o, double typical_spacing
   settings.edl_strength = o.edl_strength;
   settings.edl_radius_px = o.edl_radius;
   settings.samples = o.msaa;
+  const auto rasterizer = parseRasterizerKind(o.rasterizer);
+  if (!rasterizer) {
+    throw std::invalid_argument("--rasterizer: unknown rasterizer '" + o.rasterizer +
+                                "' (use points|compute|auto)");
+  }
+  settings.rasterizer = *rasterizer;
+  settings.hq = o.hq;
   return settings;
 }
 

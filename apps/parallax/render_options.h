@@ -30,6 +30,8 @@ struct RenderOptions {
   float edl_strength = 1.0f;
   float edl_radius = 1.4f;
   int msaa = 0;
+  std::string rasterizer = "auto";
+  bool hq = false;
   std::vector<double> eye, target, up{0.0, 0.0, 1.0};
   double fov = 60.0;
   bool orthographic = false;
@@ -55,7 +57,8 @@ LodFrameSettings lodFrameSettingsFrom(const LodOptions& options);
 OctreeCacheSettings octreeCacheSettingsFrom(const LodOptions& options);
 
 // Registers --color, --point-size, --size-mode, --shape, --world-size, --adaptive-scale,
-// --uniform-color, --background, --lighting, --edl, --edl-strength, --edl-radius, --msaa, --eye,
+// --uniform-color, --background, --lighting, --edl, --edl-strength, --edl-radius, --msaa,
+// --rasterizer, --hq, --eye,
 // --target, --up, --fov, --ortho, --camera, --stereo, --eye-separation, --convergence,
 // --swap-eyes.
 void addRenderOptions(CLI::App& command, RenderOptions& options);

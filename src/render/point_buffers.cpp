@@ -130,6 +130,8 @@ StagedChunk stagePointChunk(const PointCloud& cloud, std::span<const std::uint32
   if (layout.colors) chunk.colors_offset = size, size = alignUp(size + count * 4);
   if (layout.normals) chunk.normals_offset = size, size = alignUp(size + count * 4);
   chunk.extras_offset = size, size = alignUp(size + count * kExtraBytes);
+  chunk.batch_count = std::uint32_t((count + kBatchPoints - 1) / kBatchPoints);
+  chunk.batches_offset = size, size = alignUp(size + std::size_t(chunk.batch_count) * 32);
 
   staged.bytes.resize(size);
   std::byte* base = staged.bytes.data();
@@ -168,6 +170,23 @@ StagedChunk stagePointChunk(const PointCloud& cloud, std::span<const std::uint32
       std::memcpy(extra + 4, &point_spacing, 4);
     }
   });
+  // Batch boxes from the floats the GPU gets, so that culling a batch never drops a point.
+  auto* batches = reinterpret_cast<float*>(base + chunk.batches_offset);
+  tbb::parallel_for(std::uint32_t(0), chunk.batch_count, [&](std::uint32_t b) {
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    const std::size_t end = std::min<std::size_t>(count, std::size_t(b + 1) * kBatchPoints);
+    for (std::size_t i = std::size_t(b) * kBatchPoints; i < end; ++i) {
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = std::min(lo[a], positions[3 * i + a]);
+        hi[a] = std::max(hi[a], positions[3 * i + a]);
+      }
+    }
+    float* box = batches + std::size_t(b) * 8;
+    box[0] = lo[0], box[1] = lo[1], box[2] = lo[2], box[3] = 0.0f;
+    box[4] = hi[0], box[5] = hi[1], box[6] = hi[2], box[7] = 0.0f;
+  });
+  chunk.max_spacing = layout.uniform_spacing;
+  for (const float s : spacing) chunk.max_spacing = std::max(chunk.max_spacing, s);
   return staged;
 }
 

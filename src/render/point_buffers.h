@@ -26,6 +26,10 @@ namespace parallax {
 
 struct DrawSet;  // render/draw_set.h
 
+// Points per batch: the compute rasterizer's unit of work and of culling (one workgroup each).
+// Consecutive points in the chunk's (Morton) order, so a batch is a compact box.
+inline constexpr std::uint32_t kBatchPoints = 2048;
+
 struct PointUploadOptions {
   std::uint32_t max_chunk_points = 1u << 20;
   bool morton_order = true;  // false keeps file order (benchmarks compare both)
@@ -43,6 +47,14 @@ struct PointChunk {
   std::size_t colors_offset = 0;
   std::size_t normals_offset = 0;
   std::size_t extras_offset = 0;
+  // Batches of kBatchPoints consecutive points (the last may be shorter): their boxes, as two
+  // RGBA32F texels each (min xyz, max xyz; w unused) in chunk-relative coordinates, at
+  // `batches_offset`. Only the compute rasterizer reads them (render/compute_rasterizer.h).
+  std::size_t batches_offset = 0;
+  std::uint32_t batch_count = 0;
+  // The largest per-point spacing in the chunk (world units): bounds the adaptive point size of
+  // its points, so that a rasterizer can tell ahead whether they stay small on screen.
+  float max_spacing = 0.0f;
 };
 
 // How a chunk's buffer is laid out and filled; the same for every chunk of one cloud or octree,

@@ -1,5 +1,6 @@
 #include "render/point_pass.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
@@ -59,15 +60,16 @@ std::string withDefines(const char* source, const std::string& defines) {
 }  // namespace
 
 const ShaderProgram& PointPass::program(int color, int size, bool lighting, bool orthographic,
-                                        bool round, bool eye_depth) {
+                                        bool round, bool eye_depth, bool filter) {
   const int key = color | size << 4 | int(lighting) << 8 | int(orthographic) << 9 |
-                  int(round) << 10 | int(eye_depth) << 11;
+                  int(round) << 10 | int(eye_depth) << 11 | int(filter) << 12;
   auto found = programs_.find(key);
   if (found != programs_.end()) return found->second;
   const std::string vertex_defines =
       "#define COLOR_MODE " + std::to_string(color) + "\n#define SIZE_MODE " +
       std::to_string(size) + "\n#define LIGHTING " + std::to_string(int(lighting)) +
-      "\n#define ORTHOGRAPHIC " + std::to_string(int(orthographic)) + "\n";
+      "\n#define ORTHOGRAPHIC " + std::to_string(int(orthographic)) + "\n#define FILTER " +
+      std::to_string(int(filter)) + "\n" + glsl::kPointShadingFunctions;
   const std::string fragment_defines = "#define ROUND " + std::to_string(int(round)) +
                                        "\n#define EYE_DEPTH " + std::to_string(int(eye_depth)) +
                                        "\n";
@@ -102,6 +104,21 @@ PointPass::~PointPass() {
 PointPassStats PointPass::draw(const DrawSet& draw_set, std::span<const View> views,
                                std::span<const ClipRange> ranges, const RenderSettings& settings,
                                bool eye_depth) {
+  RasterFrame frame;
+  frame.draw_set = &draw_set;
+  frame.views = views;
+  frame.ranges = ranges;
+  frame.settings = &settings;
+  frame.eye_depth = eye_depth;
+  return draw(frame);
+}
+
+RasterStats PointPass::draw(const RasterFrame& frame) {
+  const DrawSet& draw_set = *frame.draw_set;
+  const std::span<const View> views = frame.views;
+  const std::span<const ClipRange> ranges = frame.ranges;
+  const RenderSettings& settings = *frame.settings;
+  const bool eye_depth = frame.eye_depth;
   assert(views.size() == ranges.size() && "PointPass::draw needs one clip range per view");
   assert(views.size() <= kMaxViews && "PointPass::draw draws at most kMaxViews views");
   PointPassStats stats;
@@ -140,6 +157,7 @@ PointPassStats PointPass::draw(const DrawSet& draw_set, std::span<const View> vi
   const bool lighting = settings.lighting && draw_set.has_normals;
   const bool orthographic = camera.projection == Projection::Orthographic;
   const bool adaptive = settings.size_mode == PointSizeMode::Adaptive;
+  const bool filter = !settings.filter.keepsAll();
 
   // Only the attributes this picture needs are fetched: vertex fetch is a large part of the cost
   // of a point on llvmpipe. A disabled attribute reads its constant (set below), never memory.
@@ -147,7 +165,7 @@ PointPassStats PointPass::draw(const DrawSet& draw_set, std::span<const View> vi
   setAttribute(vao_, kNormal, draw_set.has_normals && (color == ColorMode::Normal || lighting));
   setAttribute(vao_, kIntensity, color == ColorMode::Intensity && draw_set.has_intensity);
   setAttribute(vao_, kClassification,
-               color == ColorMode::Classification && draw_set.has_classification);
+               (color == ColorMode::Classification || filter) && draw_set.has_classification);
   setAttribute(vao_, kSpacing, adaptive);
   glVertexAttrib4f(kColor, 1, 1, 1, 1);
   glVertexAttrib4f(kNormal, 0, 0, 1, 0);
@@ -157,7 +175,7 @@ PointPassStats PointPass::draw(const DrawSet& draw_set, std::span<const View> vi
 
   const ShaderProgram& shader =
       program(colorModeIndex(color), int(settings.size_mode), lighting, orthographic,
-              settings.shape == PointShape::Round, eye_depth);
+              settings.shape == PointShape::Round, eye_depth, filter);
   glUseProgram(shader.id());
   glBindVertexArray(vao_);
   glEnable(GL_DEPTH_TEST);
@@ -183,13 +201,25 @@ PointPassStats PointPass::draw(const DrawSet& draw_set, std::span<const View> vi
   const GLint model_view_location = shader.uniform("u_model_view");
   const GLint elevation_location = shader.uniform("u_elevation");
   const GLint node_spacing_location = shader.uniform("u_node_spacing");
+  const GLint clip_planes_location = shader.uniform("u_clip_planes");
+  if (filter) {
+    glUniform1uiv(shader.uniform("u_filter_classes"), 8, settings.filter.classes.data());
+    glUniform1i(shader.uniform("u_clip_plane_count"),
+                GLint(std::min(settings.filter.clip_planes.size(), PointFilter::kMaxClipPlanes)));
+  }
   const double z_min = draw_set.bounds.min[2];
   const double z_extent = std::max(draw_set.bounds.size()[2], 1e-12);
   // The per-view state is set only when the view changes: with one view, once per frame.
   int current_eye = -1;
   float current_node_spacing = -1.0f;
 
-  for (const DrawItem& item : draw_set.items) {
+  const std::size_t last_item = std::min(frame.last_item, draw_set.items.size());
+  const std::size_t item_count =
+      frame.items.empty() ? (last_item > frame.first_item ? last_item - frame.first_item : 0)
+                          : frame.items.size();
+  for (std::size_t n = 0; n < item_count; ++n) {
+    const DrawItem& item =
+        draw_set.items[frame.items.empty() ? frame.first_item + n : frame.items[n]];
     const PointChunk& chunk = *item.chunk;
     std::uint32_t visible = 0;  // bit v: view v sees the chunk
     for (std::size_t v = 0; v < eyes.size(); ++v) {
@@ -201,6 +231,10 @@ PointPassStats PointPass::draw(const DrawSet& draw_set, std::span<const View> vi
     }
     // Bound once, drawn for every view that sees the chunk.
     glUniform2f(elevation_location, float(chunk.origin.z - z_min), float(1.0 / z_extent));
+    if (filter) {
+      const auto planes = chunkClipPlanes(settings.filter, chunk.origin);
+      glUniform4fv(clip_planes_location, GLsizei(PointFilter::kMaxClipPlanes), planes.data());
+    }
     if (adaptive && item.node_spacing != current_node_spacing) {
       glUniform1f(node_spacing_location, item.node_spacing);
       current_node_spacing = item.node_spacing;

@@ -9,25 +9,21 @@
 #include <span>
 
 #include "render/draw_set.h"
+#include "render/rasterizer.h"
 #include "render/render_settings.h"
 #include "render/shader_program.h"
 #include "render/view.h"
 
 namespace parallax {
 
-struct PointPassStats {
-  std::uint64_t points_drawn = 0;   // points of the chunks drawn, each chunk counted once
-  std::uint32_t chunks_drawn = 0;   // chunks that at least one view sees
-  std::uint32_t chunks_culled = 0;  // chunks that no view sees
-  std::uint32_t draw_calls = 0;     // one per chunk and view that sees it
-};
+using PointPassStats = RasterStats;
 
-class PointPass {
+class PointPass final : public Rasterizer {
  public:
   static constexpr std::size_t kMaxViews = 32;  // views are a bit mask per chunk
 
   PointPass();  // compiles the shaders; needs a current 4.5 context
-  ~PointPass();
+  ~PointPass() override;
   PointPass(const PointPass&) = delete;
   PointPass& operator=(const PointPass&) = delete;
 
@@ -42,11 +38,18 @@ class PointPass {
                       std::span<const ClipRange> ranges, const RenderSettings& settings,
                       bool eye_depth);
 
+  RasterizerKind kind() const override { return RasterizerKind::Points; }
+  // GL_POINTS draws every setting but --hq (which it ignores: HQ blending needs the compute
+  // rasterizer's visibility buffer).
+  std::string unsupported(const RenderSettings&, int, int) const override { return {}; }
+  // The frame's items (a range or a list), as draw() above.
+  RasterStats draw(const RasterFrame& frame) override;
+
  private:
   // One program per combination of the modes (compiled on first use, then kept): the shaders
   // have no run-time branches on modes (see point_pass_glsl.cpp).
   const ShaderProgram& program(int color, int size, bool lighting, bool orthographic, bool round,
-                               bool eye_depth);
+                               bool eye_depth, bool filter);
 
   std::map<int, ShaderProgram> programs_;
   GLuint vao_ = 0;

@@ -3,33 +3,9 @@
 
 namespace parallax::glsl {
 
-const char* const kPointVertex = R"glsl(#version 450 core
-layout(location = 0) in vec3 a_position;   // relative to the chunk origin
-layout(location = 1) in vec4 a_color;
-layout(location = 2) in vec4 a_normal;
-layout(location = 3) in float a_intensity;  // 0..1 over the cloud's range
-layout(location = 4) in uint a_classification;
-layout(location = 5) in float a_spacing;    // local point spacing, world units
-
-uniform mat4 u_model_view;      // chunk to eye: world-to-eye with the chunk origin folded in
-uniform mat4 u_projection;
-// Variants are compiled per mode (PointPass prepends the #defines): llvmpipe runs every side of a
-// branch on a uniform under a mask, so run-time switches would cost every mode's work per point.
-//   COLOR_MODE  0 rgb, 1 elevation, 2 intensity, 3 normal, 4 classification, 5 uniform
-//   SIZE_MODE   0 fixed, 1 attenuated, 2 adaptive
-//   LIGHTING, ORTHOGRAPHIC  0 or 1
-uniform vec3 u_uniform_color;
-uniform vec2 u_elevation;       // t = (z + x) * y: chunk z to 0..1 over the cloud
-uniform float u_size_px;
-uniform float u_world_size;
-uniform float u_adaptive_scale;
-uniform float u_node_spacing;   // > 0: a level-of-detail node's spacing replaces a_spacing
-uniform vec2 u_size_clamp;
-uniform float u_pixels_per_unit; // perspective: at eye depth 1; orthographic: everywhere
-
-out vec4 v_color;
-out float v_depth;
-
+// Shared by both rasterizers (inserted after the #defines), so that a colour mode looks the same
+// whoever draws it.
+const char* const kPointShadingFunctions = R"glsl(
 // A perceptually ordered ramp (dark blue, cyan, green, yellow, red, white-ish) for elevation.
 vec3 ramp(float t) {
   const vec3 stops[6] = vec3[6](vec3(0.19, 0.07, 0.46), vec3(0.12, 0.56, 0.86),
@@ -53,7 +29,59 @@ vec3 classColor(uint c) {
   return c < 19u ? table[c] : vec3(1.0, 0.0, 1.0);
 }
 
+// The point filter (PointFilter): classes as 8 words of bits, clip planes in chunk-relative
+// coordinates (the chunk origin folded into d in double on the CPU).
+#if FILTER
+uniform uint u_filter_classes[8];
+uniform vec4 u_clip_planes[6];
+uniform int u_clip_plane_count;
+bool keepPoint(vec3 position, uint classification) {
+  if (((u_filter_classes[classification >> 5] >> (classification & 31u)) & 1u) == 0u) return false;
+  for (int i = 0; i < u_clip_plane_count; ++i) {
+    if (dot(u_clip_planes[i].xyz, position) + u_clip_planes[i].w < 0.0) return false;
+  }
+  return true;
+}
+#endif
+)glsl";
+
+const char* const kPointVertex = R"glsl(#version 450 core
+layout(location = 0) in vec3 a_position;   // relative to the chunk origin
+layout(location = 1) in vec4 a_color;
+layout(location = 2) in vec4 a_normal;
+layout(location = 3) in float a_intensity;  // 0..1 over the cloud's range
+layout(location = 4) in uint a_classification;
+layout(location = 5) in float a_spacing;    // local point spacing, world units
+
+uniform mat4 u_model_view;      // chunk to eye: world-to-eye with the chunk origin folded in
+uniform mat4 u_projection;
+// Variants are compiled per mode (PointPass prepends the #defines): llvmpipe runs every side of a
+// branch on a uniform under a mask, so run-time switches would cost every mode's work per point.
+//   COLOR_MODE  0 rgb, 1 elevation, 2 intensity, 3 normal, 4 classification, 5 uniform
+//   SIZE_MODE   0 fixed, 1 attenuated, 2 adaptive
+//   LIGHTING, ORTHOGRAPHIC, FILTER  0 or 1
+uniform vec3 u_uniform_color;
+uniform vec2 u_elevation;       // t = (z + x) * y: chunk z to 0..1 over the cloud
+uniform float u_size_px;
+uniform float u_world_size;
+uniform float u_adaptive_scale;
+uniform float u_node_spacing;   // > 0: a level-of-detail node's spacing replaces a_spacing
+uniform vec2 u_size_clamp;
+uniform float u_pixels_per_unit; // perspective: at eye depth 1; orthographic: everywhere
+
+out vec4 v_color;
+out float v_depth;
+
 void main() {
+#if FILTER
+  if (!keepPoint(a_position, a_classification)) {
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the clip volume: the point is dropped
+    gl_PointSize = 1.0;
+    v_color = vec4(0.0);
+    v_depth = 0.0;
+    return;
+  }
+#endif
   vec4 eye = u_model_view * vec4(a_position, 1.0);
   gl_Position = u_projection * eye;
 #if ORTHOGRAPHIC

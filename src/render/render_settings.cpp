@@ -22,6 +22,12 @@ constexpr std::array<std::pair<PointShape, std::string_view>, 2> kShapes{{
     {PointShape::Round, "round"},
 }};
 
+constexpr std::array<std::pair<RasterizerKind, std::string_view>, 3> kRasterizers{{
+    {RasterizerKind::Points, "points"},
+    {RasterizerKind::Compute, "compute"},
+    {RasterizerKind::Auto, "auto"},
+}};
+
 template <class T, std::size_t N>
 std::optional<T> parse(const std::array<std::pair<T, std::string_view>, N>& table,
                        std::string_view name) {
@@ -58,6 +64,20 @@ std::string_view pointSizeModeName(PointSizeMode mode) {
 }
 std::string_view pointShapeName(PointShape shape) {
   return nameOf(kShapes, shape);
+}
+
+std::optional<RasterizerKind> parseRasterizerKind(std::string_view name) {
+  return parse(kRasterizers, name);
+}
+std::string_view rasterizerKindName(RasterizerKind kind) {
+  return nameOf(kRasterizers, kind);
+}
+
+bool PointFilter::keepsAll() const {
+  for (const std::uint32_t word : classes) {
+    if (word != ~0u) return false;
+  }
+  return clip_planes.empty();
 }
 
 std::string colorModeNames() {

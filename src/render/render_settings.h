@@ -3,9 +3,11 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace parallax {
 
@@ -16,6 +18,25 @@ enum class PointSizeMode {
 };
 enum class PointShape { Square, Round };
 enum class ColorMode { Rgb, Elevation, Intensity, Normal, Classification, Uniform };
+// Who turns points into pixels (render/rasterizer.h). Auto: the compute rasterizer wherever it
+// supports the frame's settings, GL_POINTS elsewhere.
+enum class RasterizerKind { Points, Compute, Auto };
+
+// Which points are drawn at all, tested per point in both rasterizers' shaders (the hook for
+// filters by class, return and attribute ranges, and for clipping). The default keeps every
+// point and compiles to nothing.
+struct PointFilter {
+  // Bit c of word c / 32: keep points of classification c (0-255). All set by default.
+  std::array<std::uint32_t, 8> classes{~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u};
+  // Half-spaces in world coordinates, (a, b, c, d): a point p is kept where a p.x + b p.y +
+  // c p.z + d >= 0 for every plane (a clip box is six). At most kMaxClipPlanes.
+  static constexpr std::size_t kMaxClipPlanes = 6;
+  std::vector<std::array<double, 4>> clip_planes;
+
+  bool keepsAll() const;
+  bool keepsClass(int c) const { return (classes[c / 32] >> (c % 32)) & 1u; }
+  friend bool operator==(const PointFilter&, const PointFilter&) = default;
+};
 
 struct RenderSettings {
   PointSizeMode size_mode = PointSizeMode::Fixed;
@@ -34,6 +55,13 @@ struct RenderSettings {
   // Multisampling: 0 or 1 is off (every pixel is a point's colour or the background, which the
   // exact 1-pixel mode needs); 2, 4 or 8 samples per pixel, clamped to what the GPU offers.
   int samples = 0;
+  RasterizerKind rasterizer = RasterizerKind::Auto;
+  // High quality (compute rasterizer only): each pixel blends the colours of all points within
+  // `hq_depth_range` (relative eye depth) of the front-most one, Potree's HQ splats and
+  // Schuetz's HQS, which removes the shimmer of 1-pixel points in motion.
+  bool hq = false;
+  float hq_depth_range = 0.01f;
+  PointFilter filter;
 
   friend bool operator==(const RenderSettings&, const RenderSettings&) = default;
 };
@@ -45,6 +73,8 @@ std::optional<PointShape> parsePointShape(std::string_view name);
 std::string_view colorModeName(ColorMode mode);
 std::string_view pointSizeModeName(PointSizeMode mode);
 std::string_view pointShapeName(PointShape shape);
+std::optional<RasterizerKind> parseRasterizerKind(std::string_view name);  // points|compute|auto
+std::string_view rasterizerKindName(RasterizerKind kind);
 // "rgb|elevation|intensity|normal|classification|uniform", for help texts and errors.
 std::string colorModeNames();
 

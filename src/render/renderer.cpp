@@ -28,7 +28,28 @@ void checkComplete(GLuint framebuffer, const char* what) {
 
 }  // namespace
 
-Renderer::Renderer() = default;
+Renderer::Renderer(const ComputeRasterizerOptions& compute_options)
+    : compute_options_(compute_options) {}
+
+ComputeRasterizer& Renderer::computeRasterizer() {
+  if (!compute_) compute_ = std::make_unique<ComputeRasterizer>(compute_options_);
+  return *compute_;
+}
+
+RasterizerKind Renderer::chooseRasterizer(const RenderSettings& settings, int width, int height,
+                                          Composition composition, std::string* reason) {
+  std::string why;
+  RasterizerKind kind = RasterizerKind::Points;
+  if (settings.rasterizer != RasterizerKind::Points) {
+    const int canvas_width = composition == Composition::Direct ? width : 2 * width;
+    why = computeRasterizer().unsupported(settings, canvas_width, height);
+    if (why.empty()) kind = RasterizerKind::Compute;
+  } else if (settings.hq) {
+    why = "--hq needs the compute rasterizer: drawn without it";
+  }
+  if (reason) *reason = why;
+  return kind;
+}
 
 Renderer::~Renderer() {
   resize(0, 0, 0);
@@ -98,15 +119,21 @@ FrameStats Renderer::render(const GpuPointCloud& cloud, std::span<const View> vi
 
 FrameStats Renderer::render(const DrawSet& draw_set, std::span<const View> views,
                             const RenderSettings& settings, GLuint target, int width, int height,
-                            Composition composition) {
+                            Composition composition, const FramePart& part) {
   assert((composition == Composition::Direct || views.size() == 2) &&
          "a composed stereo frame has two views, the left eye's first");
-  const int samples = samplesFor(settings);
-  // Composed modes draw both eyes full size side by side; the canvas is then twice as wide.
-  const int canvas_width = composition == Composition::Direct ? width : 2 * width;
-  resize(canvas_width, height, samples);
   FrameStats stats;
   if (width <= 0 || height <= 0) return stats;
+  stats.rasterizer = chooseRasterizer(settings, width, height, composition, &stats.fallback_reason);
+  const bool compute = stats.rasterizer == RasterizerKind::Compute;
+  const int samples = compute ? 0 : samplesFor(settings);
+  // Composed modes draw both eyes full size side by side; the canvas is then twice as wide.
+  const int canvas_width = composition == Composition::Direct ? width : 2 * width;
+  // Drawing on top of the last picture needs that picture: same canvas, same rasterizer.
+  const bool accumulate = part.accumulate && width_ == canvas_width && height_ == height &&
+                          samples_ == samples && last_rasterizer_ == stats.rasterizer &&
+                          last_composition_ == composition;
+  resize(canvas_width, height, samples);
 
   const GLuint draw_framebuffer = samples > 1 ? ms_framebuffer_ : framebuffer_;
   glBindFramebuffer(GL_FRAMEBUFFER, draw_framebuffer);
@@ -119,11 +146,13 @@ FrameStats Renderer::render(const DrawSet& draw_set, std::span<const View> views
                               settings.background[2], 1.0f};
   const float zero[] = {0.0f, 0.0f, 0.0f, 0.0f};
   const float far_depth = 0.0f;  // reversed depth: 0 is infinitely far
-  glClearNamedFramebufferfv(draw_framebuffer, GL_COLOR, 0, background);
-  // Eye depth is read by eye-dome lighting only: clearing 8 bytes a pixel for nothing costs
-  // several milliseconds at 1080p on llvmpipe (twice that for a double-width stereo canvas).
-  if (settings.edl) glClearNamedFramebufferfv(draw_framebuffer, GL_COLOR, 1, zero);
-  glClearNamedFramebufferfv(draw_framebuffer, GL_DEPTH, 0, &far_depth);
+  if (!accumulate) {
+    glClearNamedFramebufferfv(draw_framebuffer, GL_COLOR, 0, background);
+    // Eye depth is read by eye-dome lighting only: clearing 8 bytes a pixel for nothing costs
+    // several milliseconds at 1080p on llvmpipe (twice that for a double-width stereo canvas).
+    if (settings.edl) glClearNamedFramebufferfv(draw_framebuffer, GL_COLOR, 1, zero);
+    glClearNamedFramebufferfv(draw_framebuffer, GL_DEPTH, 0, &far_depth);
+  }
   // Writing eye depth costs a store per fragment: only when eye-dome lighting reads it. Picking
   // reads the depth buffer, which is always written.
   glNamedFramebufferDrawBuffers(draw_framebuffer, settings.edl ? 2 : 1, both);
@@ -143,12 +172,36 @@ FrameStats Renderer::render(const DrawSet& draw_set, std::span<const View> views
     ranges.push_back(range);
     last_views_.push_back({view, range});
   }
-  // One pass over the chunks for all views: culled once, bound once, drawn per view.
-  const PointPassStats pass = point_pass_.draw(draw_set, views, ranges, settings, settings.edl);
+  // One pass over the chunks for all views: culled once, bound once, drawn per view (GL_POINTS)
+  // or read once and projected into every view (compute).
+  RasterFrame raster;
+  raster.draw_set = &draw_set;
+  raster.views = views;
+  raster.ranges = ranges;
+  raster.settings = &settings;
+  raster.eye_depth = settings.edl;
+  raster.canvas_width = canvas_width;
+  raster.canvas_height = height;
+  raster.first_item = part.first_item;
+  raster.last_item = part.last_item;
+  raster.accumulate = accumulate;
+  RasterStats pass = compute ? computeRasterizer().draw(raster) : point_pass_.draw(raster);
+  if (!pass.fallback_items.empty()) {
+    // Chunks whose points may be larger than the compute splats: GL_POINTS, depth-tested against
+    // what the compute rasterizer resolved.
+    RasterFrame rest = raster;
+    rest.items = pass.fallback_items;
+    const RasterStats large = point_pass_.draw(rest);
+    pass.points_drawn += large.points_drawn;
+    pass.chunks_drawn += large.chunks_drawn;
+    pass.draw_calls += large.draw_calls;
+    stats.fallback_chunks = std::uint32_t(pass.fallback_items.size());
+  }
   stats.points_drawn = pass.points_drawn;
   stats.chunks_drawn = pass.chunks_drawn;
   stats.chunks_culled = pass.chunks_culled;
   stats.draw_calls = pass.draw_calls;
+  last_rasterizer_ = stats.rasterizer;
   glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
   if (sample_shading) glDisable(GL_SAMPLE_SHADING);
   if (samples > 1) resolve(settings.edl);
@@ -220,14 +273,36 @@ bool Renderer::composite(std::span<const View> views, const RenderSettings& sett
 }
 
 std::optional<glm::dvec3> Renderer::pick(int x, int y) const {
+  const auto picked = pickPoint(x, y);
+  if (!picked) return std::nullopt;
+  return picked->position;
+}
+
+std::optional<PickedPoint> Renderer::pickPoint(int x, int y) const {
   if (!framebuffer_ || x < 0 || y < 0 || x >= width_ || y >= height_) return std::nullopt;
-  for (const DrawnView& drawn : last_views_) {
+  for (std::size_t v = 0; v < last_views_.size(); ++v) {
+    const DrawnView& drawn = last_views_[v];
     const Viewport& vp = drawn.view.viewport;
     if (x < vp.x || y < vp.y || x >= vp.x + vp.width || y >= vp.y + vp.height) continue;
     float depth = 0.0f;
     glGetTextureSubImage(depth_, 0, x, y, 0, 1, 1, 1, GL_DEPTH_COMPONENT, GL_FLOAT, sizeof depth,
                          &depth);
     if (depth <= 0.0f) return std::nullopt;  // the cleared (infinitely far) value
+    PickedPoint picked;
+    picked.view = int(v);
+    if (last_rasterizer_ == RasterizerKind::Compute && compute_) {
+      // The visibility buffer names the point, unless a GL_POINTS fall-back drew nearer.
+      const auto point = compute_->pointAt(x, y);
+      if (point && point->depth == depth) {
+        float relative[3];
+        glGetNamedBufferSubData(point->chunk->buffer,
+                                GLintptr(point->chunk->positions_offset + 12 * point->index), 12,
+                                relative);
+        picked.point = point;
+        picked.position = point->chunk->origin + glm::dvec3(relative[0], relative[1], relative[2]);
+        return picked;
+      }
+    }
     const Camera& camera = drawn.view.camera;
     const glm::dmat4 inverse =
         glm::inverse(camera.projectionMatrix(drawn.view.aspect(), drawn.range));
@@ -236,7 +311,8 @@ std::optional<glm::dvec3> Renderer::pick(int x, int y) const {
     glm::dvec4 eye = inverse * ndc;
     eye /= eye.w;
     // Eye to world in double: the camera's position may be a UTM coordinate.
-    return camera.position + camera.orientation * glm::dvec3(eye);
+    picked.position = camera.position + camera.orientation * glm::dvec3(eye);
+    return picked;
   }
   return std::nullopt;
 }

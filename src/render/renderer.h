@@ -7,10 +7,14 @@
 #include <epoxy/gl.h>
 
 #include <cstdint>
+#include <limits>
+#include <memory>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
+#include "render/compute_rasterizer.h"
 #include "render/draw_set.h"
 #include "render/edl_pass.h"
 #include "render/point_pass.h"
@@ -24,12 +28,33 @@ struct FrameStats {
   std::uint64_t points_drawn = 0;   // points of the chunks drawn (once, whatever the view count)
   std::uint32_t chunks_drawn = 0;   // chunks some view sees: bound once each
   std::uint32_t chunks_culled = 0;  // chunks no view sees: not touched
-  std::uint32_t draw_calls = 0;     // one per chunk and view that sees it
+  std::uint32_t draw_calls = 0;     // GL_POINTS: per chunk and view; compute: dispatches
+  RasterizerKind rasterizer = RasterizerKind::Points;  // who drew (never Auto)
+  // Why the compute rasterizer did not draw although asked (explicitly or by auto); empty
+  // otherwise. Also says when --hq was ignored.
+  std::string fallback_reason;
+  std::uint32_t fallback_chunks = 0;  // chunks of a compute frame drawn by GL_POINTS (large points)
 };
 
+// Which part of a draw set a frame draws: progressive refinement draws the most important items
+// first, then the rest on top of the same picture (render/progressive.h).
+struct FramePart {
+  std::size_t first_item = 0, last_item = std::numeric_limits<std::size_t>::max();
+  // Draw on top of the last frame's picture (same views, settings, size and composition) instead
+  // of clearing it.
+  bool accumulate = false;
+};
+
+// A picked point: where it is and, when the compute rasterizer drew it, exactly which point.
+struct PickedPoint {
+  glm::dvec3 position{0.0};       // world coordinates
+  std::optional<PointRef> point;  // the point itself (compute only): item, chunk, index, id
+  int view = 0;                   // the view the pixel belongs to
+};
 class Renderer {
  public:
-  Renderer();  // needs a current 4.5 context for its whole life
+  // Needs a current 4.5 context for its whole life. The compute rasterizer is made on first use.
+  explicit Renderer(const ComputeRasterizerOptions& compute_options = {});
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
@@ -40,18 +65,28 @@ class Renderer {
   // 2 * width x height (left eye at x 0, right eye at x width) that the stereo compositor turns
   // into the output. Leaves glClipControl at OpenGL's default so that other drawing (the
   // on-screen panel) is unaffected.
+  //
+  // settings.rasterizer picks who draws: GL_POINTS, the compute rasterizer, or (auto) compute
+  // wherever it supports the settings; where it does not, GL_POINTS draws and
+  // FrameStats::fallback_reason says why. `part` draws some items only (progressive refinement).
   FrameStats render(const DrawSet& draw_set, std::span<const View> views,
                     const RenderSettings& settings, GLuint target, int width, int height,
-                    Composition composition = Composition::Direct);
+                    Composition composition = Composition::Direct, const FramePart& part = {});
   // All chunks of a whole uploaded cloud (GpuPointCloud::drawSet()).
   FrameStats render(const GpuPointCloud& cloud, std::span<const View> views,
                     const RenderSettings& settings, GLuint target, int width, int height,
                     Composition composition = Composition::Direct);
   // One frame of `frame` (stereoFrame's views and composition).
   FrameStats render(const DrawSet& draw_set, const StereoFrame& frame,
-                    const RenderSettings& settings, GLuint target, int width, int height) {
-    return render(draw_set, frame.views, settings, target, width, height, frame.composition);
+                    const RenderSettings& settings, GLuint target, int width, int height,
+                    const FramePart& part = {}) {
+    return render(draw_set, frame.views, settings, target, width, height, frame.composition, part);
   }
+
+  // Who would draw a frame with these settings into a width x height output with this
+  // composition, and why not compute where it was asked for (empty: no fall-back).
+  RasterizerKind chooseRasterizer(const RenderSettings& settings, int width, int height,
+                                  Composition composition, std::string* reason = nullptr);
 
   // Writes the last frame's picture into `target` again (eye-dome lighting, a copy or the stereo
   // composition) without drawing a point: what a window shows while nothing changed. False (and
@@ -63,6 +98,12 @@ class Renderer {
   // the last frame, std::nullopt where no point was drawn or (x, y) is outside every view. In the
   // composed stereo modes (anaglyph, interlaced, quad-buffer) the left eye's picture is read.
   std::optional<glm::dvec3> pick(int x, int y) const;
+  // As pick(), with the point itself where the compute rasterizer drew the pixel: its position
+  // is then the point's own (not the pixel centre at its depth), exactly as the GPU holds it.
+  std::optional<PickedPoint> pickPoint(int x, int y) const;
+
+  // The compute rasterizer, made on first use (needs the current context).
+  ComputeRasterizer& computeRasterizer();
 
  private:
   // (Re)creates the framebuffers for a size and a sample count (0: no multisampled one).
@@ -78,6 +119,9 @@ class Renderer {
   void ensurePostTarget();
 
   PointPass point_pass_;
+  ComputeRasterizerOptions compute_options_;
+  std::unique_ptr<ComputeRasterizer> compute_;
+  RasterizerKind last_rasterizer_ = RasterizerKind::Points;
   EdlPass edl_pass_;
   std::optional<StereoCompositor> compositor_;  // made on the first composed frame
   GLuint post_framebuffer_ = 0, post_color_ = 0;

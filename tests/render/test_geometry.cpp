@@ -61,7 +61,7 @@ std::set<Pixel> litPixels(const RgbaImage& image) {
 }
 
 void checkExactPixels(std::array<double, 3> origin, double extent, const Camera& camera,
-                      std::uint32_t chunk_points) {
+                      std::uint32_t chunk_points, RasterizerKind rasterizer) {
   constexpr int kWidth = 160, kHeight = 120;
   std::mt19937_64 random(42);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
@@ -82,6 +82,7 @@ void checkExactPixels(std::array<double, 3> origin, double extent, const Camera&
   RenderSettings settings;
   settings.color = ColorMode::Uniform;
   settings.point_size_px = 1.0f;
+  settings.rasterizer = rasterizer;
   PointUploadOptions upload;
   upload.max_chunk_points = chunk_points;
   // The camera's clip range comes from the cloud's bounds, as `parallax render` computes it.
@@ -94,6 +95,7 @@ void checkExactPixels(std::array<double, 3> origin, double extent, const Camera&
                       std::back_inserter(missing));
   std::set_difference(lit.begin(), lit.end(), expected.begin(), expected.end(),
                       std::back_inserter(extra));
+  SCOPED_TRACE(rasterizerKindName(rasterizer));
   EXPECT_TRUE(missing.empty()) << missing.size() << " expected pixels not lit, first at column "
                                << missing[0].column << " row " << missing[0].row;
   EXPECT_TRUE(extra.empty()) << extra.size() << " pixels lit that no point projects to, first at "
@@ -104,7 +106,10 @@ TEST(RenderGeometry, EveryPointLightsExactlyItsPixelNearTheOrigin) {
   headlessContext();
   Camera camera;
   camera.lookAt({3.0, -4.0, 2.5}, {0.2, 0.1, -0.1}, {0, 0, 1});
-  checkExactPixels({0.0, 0.0, 0.0}, 1.5, camera, 1u << 20);
+  // Both rasterizers: GL_POINTS and the compute rasterizer light the same, exact pixels.
+  for (const auto kind : {RasterizerKind::Points, RasterizerKind::Compute}) {
+    checkExactPixels({0.0, 0.0, 0.0}, 1.5, camera, 1u << 20, kind);
+  }
 }
 
 TEST(RenderGeometry, EveryPointLightsExactlyItsPixelAtUtmCoordinatesFromAFewMetres) {
@@ -115,7 +120,9 @@ TEST(RenderGeometry, EveryPointLightsExactlyItsPixelAtUtmCoordinatesFromAFewMetr
   camera.lookAt({origin[0] + 2.0, origin[1] - 3.0, origin[2] + 1.5},
                 {origin[0] + 0.1, origin[1], origin[2]}, {0, 0, 1});
   // Small chunks, so that the chunk origins differ and every chunk's offset is exercised.
-  checkExactPixels(origin, 1.2, camera, 500);
+  for (const auto kind : {RasterizerKind::Points, RasterizerKind::Compute}) {
+    checkExactPixels(origin, 1.2, camera, 500, kind);
+  }
 }
 
 TEST(RenderGeometry, EveryPointLightsExactlyItsPixelInOrthographicProjection) {
@@ -126,7 +133,9 @@ TEST(RenderGeometry, EveryPointLightsExactlyItsPixelInOrthographicProjection) {
                 {origin[0], origin[1], origin[2]}, {0, 0, 1});
   camera.projection = Projection::Orthographic;
   camera.ortho_height = 2.5;
-  checkExactPixels(origin, 1.0, camera, 700);
+  for (const auto kind : {RasterizerKind::Points, RasterizerKind::Compute}) {
+    checkExactPixels(origin, 1.0, camera, 700, kind);
+  }
 }
 
 TEST(RenderGeometry, PngFirstRowIsTheTopOfTheImage) {

@@ -1,6 +1,8 @@
 // Golden images: a small scene rendered headless on llvmpipe in every point-size mode, colour
 // mode, with lighting, with eye-dome lighting, with multisampling and in three stereo modes,
-// compared with PNGs in tests/render/golden/.
+// compared with PNGs in tests/render/golden/. Each picture is drawn by both rasterizers (GL_POINTS
+// and compute) and both must match the one golden image; multisampling is GL_POINTS' only, and
+// the high-quality (--hq) blend the compute rasterizer's only.
 //
 // A pixel differs when a channel is off by more than kChannelTolerance; an image passes with at
 // most kDifferingFraction of its pixels differing (room for another Mesa version's rounding,
@@ -49,10 +51,11 @@ RgbaImage renderStereoImage(const PointCloud& cloud, const Camera& camera,
   return {width, kSize, target.readRgba()};
 }
 
-void checkGolden(const std::string& name, const RenderSettings& settings,
-                 const Camera& camera = sceneCamera(), const StereoSettings& stereo = {}) {
+void checkGoldenWith(const std::string& name, const RenderSettings& settings, const Camera& camera,
+                     const StereoSettings& stereo, int sheet_side) {
   headlessContext();
-  const PointCloud cloud = makeWavySheet(32, {0.0, 0.0, 0.0});
+  SCOPED_TRACE(std::string(rasterizerKindName(settings.rasterizer)) + " rasterizer");
+  const PointCloud cloud = makeWavySheet(sheet_side, {0.0, 0.0, 0.0});
   const RgbaImage image = stereo.mode == StereoMode::Mono
                               ? renderImage(cloud, camera, kSize, kSize, settings)
                               : renderStereoImage(cloud, camera, stereo, settings);
@@ -93,6 +96,23 @@ void checkGolden(const std::string& name, const RenderSettings& settings,
     if (image.pixels[p] | image.pixels[p + 1] | image.pixels[p + 2]) ++lit;
   }
   EXPECT_GT(lit, std::size_t(pixel_count / 10)) << name << " is nearly empty";
+}
+
+// The golden images were drawn by GL_POINTS (and the --hq ones by compute); regeneration uses
+// that rasterizer, and the check runs every rasterizer that draws the settings.
+void checkGolden(const std::string& name, RenderSettings settings,
+                 const Camera& camera = sceneCamera(), const StereoSettings& stereo = {},
+                 int sheet_side = 32) {
+  const bool points_only = settings.samples > 1, compute_only = settings.hq;
+  for (const RasterizerKind kind : {RasterizerKind::Points, RasterizerKind::Compute}) {
+    if ((kind == RasterizerKind::Compute && points_only) ||
+        (kind == RasterizerKind::Points && compute_only)) {
+      continue;
+    }
+    if (regenerating() && kind == RasterizerKind::Compute && !compute_only) continue;
+    settings.rasterizer = kind;
+    checkGoldenWith(name, settings, camera, stereo, sheet_side);
+  }
 }
 
 RenderSettings base() {
@@ -236,6 +256,25 @@ TEST(RenderGolden, StereoAnaglyphDuboisWithEyeDomeLighting) {
 
 TEST(RenderGolden, StereoInterlaced) {
   checkGolden("stereo_interlaced", base(), sceneCamera(), stereo(StereoMode::Interlaced));
+}
+
+// High quality: each pixel blends every point within 1 % of the front-most depth. 1-pixel points
+// of a dense sheet (160 x 160), several to a pixel.
+TEST(RenderGolden, HighQualityBlend) {
+  RenderSettings settings = base();
+  settings.point_size_px = 1.0f;
+  settings.hq = true;
+  const Camera camera = sceneCamera();
+  checkGolden("hq_blend", settings, camera, {}, 160);
+}
+
+TEST(RenderGolden, HighQualitySplatsInStereo) {
+  RenderSettings settings = base();
+  settings.point_size_px = 3.0f;
+  settings.shape = PointShape::Round;
+  settings.hq = true;
+  settings.edl = true;
+  checkGolden("hq_splats_sbs", settings, sceneCamera(), stereo(StereoMode::SideBySide));
 }
 
 }  // namespace

@@ -39,7 +39,8 @@ TEST(GpuNodeCache, UploadsAndFindsNodes) {
   ensureContext();
   GpuNodeCache cache(4096);
   StagedChunk staged = stagedPoints(16);
-  ASSERT_EQ(staged.bytes.size(), 512u);
+  // Positions, colours, extras and one batch box, each section rounded up to 256 bytes.
+  ASSERT_EQ(staged.bytes.size(), 768u);
   ASSERT_TRUE(cache.insert(7, 1, staged, 1));
   EXPECT_TRUE(staged.bytes.empty());  // handed to the GPU
   const PointChunk* chunk = cache.find(7);
@@ -48,19 +49,19 @@ TEST(GpuNodeCache, UploadsAndFindsNodes) {
   EXPECT_EQ(chunk->count, 16u);
   GLint64 size = 0;
   glGetNamedBufferParameteri64v(chunk->buffer, GL_BUFFER_SIZE, &size);
-  EXPECT_EQ(size, 512);
-  EXPECT_EQ(cache.bytes(), 512u);
+  EXPECT_EQ(size, 768);
+  EXPECT_EQ(cache.bytes(), 768u);
   EXPECT_EQ(cache.find(8), nullptr);
 }
 
 TEST(GpuNodeCache, EvictsLeastRecentlyUsedUnderItsBudget) {
   ensureContext();
-  GpuNodeCache cache(2048);  // four nodes of 512 bytes
+  GpuNodeCache cache(3072);  // four nodes of 768 bytes
   for (std::int32_t node = 1; node <= 4; ++node) {
     StagedChunk staged = stagedPoints(16);
     ASSERT_TRUE(cache.insert(node, 1, staged, std::uint64_t(node)));
   }
-  EXPECT_EQ(cache.bytes(), 2048u);
+  EXPECT_EQ(cache.bytes(), 3072u);
   // Frame 5: a fifth node pushes out node 1, used longest ago.
   StagedChunk fifth = stagedPoints(16);
   ASSERT_TRUE(cache.insert(5, 1, fifth, 5));
@@ -70,12 +71,12 @@ TEST(GpuNodeCache, EvictsLeastRecentlyUsedUnderItsBudget) {
   StagedChunk sixth = stagedPoints(16);
   ASSERT_TRUE(cache.insert(6, 1, sixth, 6));
   EXPECT_EQ(sorted(cache.residentNodes()), (std::vector<std::int32_t>{2, 4, 5, 6}));
-  EXPECT_EQ(cache.bytes(), 2048u);
+  EXPECT_EQ(cache.bytes(), 3072u);
   EXPECT_EQ(cache.evictions(), 2u);
-  // Frame 6 uses nodes 2, 5 and 6: only node 4 may go, and 1536 + 1280 bytes still exceed the
+  // Frame 6 uses nodes 2, 5 and 6: only node 4 may go, and 2304 + 1536 bytes still exceed the
   // budget, so the insert fails and the staged bytes stay for a later try.
-  StagedChunk big = stagedPoints(64);  // 768 + 512 = 1280 bytes
-  ASSERT_EQ(big.bytes.size(), 1280u);
+  StagedChunk big = stagedPoints(64);  // 768 + 256 + 256 + 256 = 1536 bytes
+  ASSERT_EQ(big.bytes.size(), 1536u);
   cache.touch(5, 6);
   ASSERT_FALSE(cache.insert(9, 1, big, 6));
   EXPECT_FALSE(big.bytes.empty());  // left for a later try
@@ -86,7 +87,7 @@ TEST(GpuNodeCache, EvictsLeastRecentlyUsedUnderItsBudget) {
 
 TEST(GpuNodeCache, EvictsTheDeepestAmongEquallyOldNodes) {
   ensureContext();
-  GpuNodeCache cache(1536);
+  GpuNodeCache cache(2304);  // three nodes of 768 bytes
   StagedChunk parent = stagedPoints(16), child = stagedPoints(16), grandchild = stagedPoints(16);
   ASSERT_TRUE(cache.insert(1, 0, parent, 3));
   ASSERT_TRUE(cache.insert(3, 2, grandchild, 3));
@@ -101,16 +102,16 @@ TEST(GpuNodeCache, EvictsTheDeepestAmongEquallyOldNodes) {
 
 TEST(GpuNodeCache, TrimsToALoweredBudget) {
   ensureContext();
-  GpuNodeCache cache(4096);
+  GpuNodeCache cache(6144);
   for (std::int32_t node = 0; node < 6; ++node) {
     StagedChunk staged = stagedPoints(16);
     ASSERT_TRUE(cache.insert(node, 1, staged, std::uint64_t(node + 1)));
   }
-  EXPECT_EQ(cache.bytes(), 3072u);
-  cache.setBudget(1024);
+  EXPECT_EQ(cache.bytes(), 4608u);
+  cache.setBudget(1536);
   cache.trim(6);  // node 5 was used in frame 6 and stays; 0-3 go first, then 4
   EXPECT_EQ(sorted(cache.residentNodes()), (std::vector<std::int32_t>{4, 5}));
-  EXPECT_EQ(cache.bytes(), 1024u);
+  EXPECT_EQ(cache.bytes(), 1536u);
 }
 
 }  // namespace

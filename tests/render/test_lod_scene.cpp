@@ -81,8 +81,9 @@ TEST(LodScene, ABudgetAboveTheCloudDrawsEveryNodeOnce) {
   EXPECT_EQ(stats.resident_nodes, 73u);
   EXPECT_EQ(stats.pending_loads, 0u);
   EXPECT_EQ(stats.failed_nodes, 0u);
-  // 72 nodes of 20 points (256 + 256 + 256 bytes) and the root (512 + 256 + 512).
-  EXPECT_EQ(stats.gpu_bytes, 72u * 768u + 1280u);
+  // 72 nodes of 20 points (256 + 256 + 256 bytes, and 256 for the batch box) and the root
+  // (512 + 256 + 512 + 256).
+  EXPECT_EQ(stats.gpu_bytes, 72u * 1024u + 1536u);
 }
 
 TEST(LodScene, ExpandsProxies) {
@@ -145,20 +146,20 @@ TEST(LodScene, StaysUnderTheGpuBudget) {
   auto octree_owner = twoLevels();
   FakeOctree& octree = *octree_owner;
   LodSceneOptions options;
-  options.gpu_budget_bytes = 10'000;  // the root (1280 bytes) and 11 nodes of 768
+  options.gpu_budget_bytes = 13'000;  // the root (1536 bytes) and 11 nodes of 1024
   LodScene scene(octree, options);
   const View view = overview();
   const DrawSet& draw = scene.finishLoading(std::span(&view, 1), everything());
   EXPECT_FALSE(scene.complete());
   EXPECT_TRUE(scene.stats().gpu_full);
-  EXPECT_EQ(scene.stats().gpu_bytes, 1280u + 11u * 768u);
+  EXPECT_EQ(scene.stats().gpu_bytes, 1536u + 11u * 1024u);
   EXPECT_EQ(scene.stats().resident_nodes, 12u);
   // Uploads go parent first, so every resident node is drawn.
   EXPECT_EQ(draw.items.size(), 12u);
   // The budget holds frame after frame.
   for (int frame = 0; frame < 5; ++frame) {
     scene.update(std::span(&view, 1), everything());
-    EXPECT_LE(scene.stats().gpu_bytes, 10'000u);
+    EXPECT_LE(scene.stats().gpu_bytes, 13'000u);
   }
 }
 

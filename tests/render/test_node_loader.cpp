@@ -55,9 +55,9 @@ TEST(NodeLoader, DeliversEveryRequestedNodeStaged) {
     EXPECT_TRUE(loaded[i].error.empty());
     EXPECT_EQ(loaded[i].staged.chunk.count, node.point_count);
     EXPECT_EQ(loaded[i].staged.chunk.buffer, 0u);
-    // Positions, colours and extras sections, each rounded up to 256 bytes.
+    // Positions, colours, extras and batch boxes (one batch), each rounded up to 256 bytes.
     EXPECT_EQ(loaded[i].staged.bytes.size(),
-              node.point_count == 50 ? 768u + 256u + 512u : 512u + 256u + 256u);
+              node.point_count == 50 ? 768u + 256u + 512u + 256u : 512u + 256u + 256u + 256u);
     // Every point lies in the node's box, and carries the node's spacing.
     const Bounds3& bounds = loaded[i].staged.chunk.bounds;
     for (int a = 0; a < 3; ++a) {

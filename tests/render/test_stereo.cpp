@@ -315,13 +315,20 @@ TEST(StereoSharedWork, AChunkIsCulledOnceForBothEyesAndDrawnForEachEyeThatSeesIt
       {0.0, 40.0, 0.0}, {-1.0, 1.0, 0.0}, {0.0, -5.0, 0.0}};
   PointUploadOptions upload;
   upload.max_chunk_points = 1;
-  FrameStats stats;
-  renderStereo(makeCloud(points, {0.0, 0.0, 0.0}, 1e-4), camera, stereo, 200, 100,
-               onePixelUniform(), &stats, upload);
-  EXPECT_EQ(stats.chunks_drawn, 2u);
-  EXPECT_EQ(stats.chunks_culled, 1u);
-  EXPECT_EQ(stats.draw_calls, 3u);
-  EXPECT_EQ(stats.points_drawn, 2u);
+  for (const RasterizerKind kind : {RasterizerKind::Points, RasterizerKind::Compute}) {
+    RenderSettings settings = onePixelUniform();
+    settings.rasterizer = kind;
+    FrameStats stats;
+    renderStereo(makeCloud(points, {0.0, 0.0, 0.0}, 1e-4), camera, stereo, 200, 100, settings,
+                 &stats, upload);
+    ASSERT_EQ(stats.rasterizer, kind);
+    EXPECT_EQ(stats.chunks_drawn, 2u);
+    EXPECT_EQ(stats.chunks_culled, 1u);
+    // GL_POINTS: a draw call per chunk and eye that sees it. Compute: one dispatch per chunk,
+    // each point read once and projected into both eyes.
+    EXPECT_EQ(stats.draw_calls, kind == RasterizerKind::Points ? 3u : 2u);
+    EXPECT_EQ(stats.points_drawn, 2u);
+  }
 }
 
 TEST(StereoPicking, APickInEitherEyeFindsThePointDrawnThere) {

@@ -1,0 +1,545 @@
+#include "render/compute_rasterizer.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <cstring>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <string>
+
+#include "render/compute_rasterizer_glsl.h"
+#include "render/frustum.h"
+#include "render/fullscreen_triangle.h"
+#include "render/point_pass_glsl.h"
+
+namespace parallax {
+
+namespace {
+
+enum TextureUnit : int { kPositions = 0, kColors = 1, kNormals = 2, kExtras = 3, kBatches = 4 };
+// SSBO bindings, as in the shaders.
+enum Binding : GLuint {
+  kDepthBinding = 0,
+  kIdBinding = 1,
+  kColorBinding = 2,
+  kSumBinding = 3,  // to 6
+  kFlagBinding = 7,
+};
+
+constexpr std::uint32_t kEmpty = ~0u;
+
+int colorModeIndex(ColorMode mode) {
+  switch (mode) {
+    case ColorMode::Rgb:
+      return 0;
+    case ColorMode::Elevation:
+      return 1;
+    case ColorMode::Intensity:
+      return 2;
+    case ColorMode::Normal:
+      return 3;
+    case ColorMode::Classification:
+      return 4;
+    case ColorMode::Uniform:
+      return 5;
+  }
+  return 5;
+}
+
+bool hasExtension(const char* name) {
+  GLint count = 0;
+  glGetIntegerv(GL_NUM_EXTENSIONS, &count);
+  for (GLint i = 0; i < count; ++i) {
+    const auto* extension = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
+    if (extension && std::strcmp(extension, name) == 0) return true;
+  }
+  return false;
+}
+
+std::string withDefines(const char* source, const std::string& defines) {
+  std::string text(source);
+  const std::string marker = "//@DEFINES@\n";
+  const auto at = text.find(marker);
+  assert(at != std::string::npos && "compute shaders carry a //@DEFINES@ line");
+  return text.replace(at, marker.size(), defines);
+}
+
+// The variant of a pass, packed into a map key.
+struct Variant {
+  int pass = 1;  // 1 depth, 2 attributes
+  bool atomic64 = false;
+  int views = 1;
+  int color = 5, size = 0;
+  bool lighting = false, orthographic = false, round = false, splat = false;
+  bool hq = false, reset = false, filter = false;
+
+  std::uint32_t key() const {
+    return std::uint32_t(pass) | std::uint32_t(atomic64) << 2 | std::uint32_t(views) << 3 |
+           std::uint32_t(color) << 6 | std::uint32_t(size) << 9 | std::uint32_t(lighting) << 11 |
+           std::uint32_t(orthographic) << 12 | std::uint32_t(round) << 13 |
+           std::uint32_t(splat) << 14 | std::uint32_t(hq) << 15 | std::uint32_t(reset) << 16 |
+           std::uint32_t(filter) << 17;
+  }
+  std::string defines() const {
+    auto define = [](const char* name, int value) {
+      return "#define " + std::string(name) + " " + std::to_string(value) + "\n";
+    };
+    return define("PASS", pass) + define("ATOMIC64", atomic64) + define("VIEWS", views) +
+           define("COLOR_MODE", color) + define("SIZE_MODE", size) + define("LIGHTING", lighting) +
+           define("ORTHOGRAPHIC", orthographic) + define("ROUND", round) + define("SPLAT", splat) +
+           define("HQ", hq) + define("RESET", reset) + define("FILTER", filter) +
+           "#define BATCH_POINTS " + std::to_string(kBatchPoints) + "u\n#define MAX_SPLAT " +
+           std::to_string(ComputeRasterizer::kMaxSplatPx) + "\n";
+  }
+};
+
+// Per view, computed once per frame.
+struct Eye {
+  glm::dmat4 world_to_eye;
+  glm::dmat4 projection;
+  Frustum frustum;
+  float pixels_per_unit;
+  Viewport viewport;
+};
+
+// The largest size (pixels) a point of `item` may have in any view that sees it, for the
+// distance-dependent size modes: from the chunk's largest spacing and its box's nearest depth.
+float largestPointSize(const DrawItem& item, const std::vector<Eye>& eyes, std::uint32_t visible,
+                       const RenderSettings& settings, const Camera& camera) {
+  const PointChunk& chunk = *item.chunk;
+  double world = settings.world_size;
+  if (settings.size_mode == PointSizeMode::Adaptive) {
+    world = (item.node_spacing > 0 ? item.node_spacing : chunk.max_spacing) *
+            double(settings.adaptive_scale);
+  }
+  if (world <= 0) return settings.point_size_px;
+  double largest = 0;
+  for (std::size_t v = 0; v < eyes.size(); ++v) {
+    if (!(visible & (1u << v))) continue;
+    double per_unit = eyes[v].pixels_per_unit;
+    if (camera.projection == Projection::Perspective) {
+      double nearest = INFINITY;
+      for (int corner = 0; corner < 8; ++corner) {
+        const glm::dvec3 p(corner & 1 ? chunk.bounds.max[0] : chunk.bounds.min[0],
+                           corner & 2 ? chunk.bounds.max[1] : chunk.bounds.min[1],
+                           corner & 4 ? chunk.bounds.max[2] : chunk.bounds.min[2]);
+        nearest = std::min(nearest, -(eyes[v].world_to_eye * glm::dvec4(p, 1.0)).z);
+      }
+      // The box may reach the eye: then the clamp's maximum is the bound. (A point's depth is
+      // at least the nearest corner's, since depth is linear and the box is convex.)
+      per_unit = nearest > 1e-9 ? per_unit / nearest : INFINITY;
+    }
+    largest = std::max(largest, world * per_unit);
+  }
+  return float(std::clamp(largest, double(settings.min_size_px), double(settings.max_size_px)));
+}
+
+}  // namespace
+
+ComputeRasterizer::ComputeRasterizer(const ComputeRasterizerOptions& options) : options_(options) {
+  atomic64_ = options.allow_64bit_atomics && hasExtension("GL_NV_shader_atomic_int64") &&
+              hasExtension("GL_ARB_gpu_shader_int64");
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_ssbo_bytes_);
+  glCreateTextures(GL_TEXTURE_BUFFER, 5, textures_);
+  glCreateTextures(GL_TEXTURE_BUFFER, 6, views_);
+  glCreateVertexArrays(1, &vao_);
+}
+
+ComputeRasterizer::~ComputeRasterizer() {
+  glDeleteTextures(5, textures_);
+  glDeleteTextures(6, views_);
+  if (vao_) glDeleteVertexArrays(1, &vao_);
+  const GLuint buffers[] = {depths_, ids_, colors_, sums_, flags_};
+  glDeleteBuffers(5, buffers);
+}
+
+std::string ComputeRasterizer::unsupported(const RenderSettings& settings, int canvas_width,
+                                           int canvas_height) const {
+  if (settings.samples > 1) return "multisampling (--msaa) is drawn by GL_POINTS only";
+  if (settings.size_mode == PointSizeMode::Fixed && settings.point_size_px > kMaxSplatPx) {
+    return "points larger than " + std::to_string(int(kMaxSplatPx)) +
+           " pixels are drawn faster by GL_POINTS";
+  }
+  if (settings.size_mode != PointSizeMode::Fixed && settings.min_size_px > kMaxSplatPx) {
+    return "a minimum point size over " + std::to_string(int(kMaxSplatPx)) +
+           " pixels is drawn faster by GL_POINTS";
+  }
+  // One SSBO binding per buffer: 8 bytes a pixel on the 64-bit path, 4 on the other.
+  const std::int64_t pixel_bytes = atomic64_ ? 8 : 4;
+  const std::int64_t limit =
+      std::min<std::int64_t>(max_ssbo_bytes_, std::int64_t(options_.max_range_bytes));
+  if (std::int64_t(canvas_width) * canvas_height * pixel_bytes > limit) {
+    return "a canvas of " + std::to_string(canvas_width) + "x" + std::to_string(canvas_height) +
+           " pixels exceeds one visibility-buffer binding (" + std::to_string(limit >> 20) +
+           " MiB)";
+  }
+  return {};
+}
+
+const ShaderProgram& ComputeRasterizer::program(std::uint32_t key, bool resolve) {
+  auto& programs = resolve ? resolve_programs_ : programs_;
+  return programs.find(key)->second;
+}
+
+void ComputeRasterizer::ensureBuffers(int width, int height, bool hq) {
+  if (width != width_ || height != height_) {
+    const GLuint buffers[] = {depths_, ids_, colors_, sums_};
+    glDeleteBuffers(4, buffers);
+    depths_ = ids_ = colors_ = sums_ = 0;
+    has_sums_ = false;
+    width_ = width, height_ = height;
+    const GLsizeiptr pixels = GLsizeiptr(width) * height;
+    glCreateBuffers(1, &depths_);
+    glNamedBufferStorage(depths_, pixels * (atomic64_ ? 8 : 4), nullptr, 0);
+    if (!atomic64_) {
+      glCreateBuffers(1, &ids_);
+      glNamedBufferStorage(ids_, pixels * 4, nullptr, 0);
+    }
+    glCreateBuffers(1, &colors_);
+    glNamedBufferStorage(colors_, pixels * 4, nullptr, 0);
+    glTextureBufferRange(views_[0], atomic64_ ? GL_RG32UI : GL_R32UI, depths_, 0,
+                         pixels * (atomic64_ ? 8 : 4));
+    glTextureBufferRange(views_[1], GL_R32UI, colors_, 0, pixels * 4);
+  }
+  if (hq && !has_sums_) {
+    // Four planes, each aligned for its own binding range.
+    glCreateBuffers(1, &sums_);
+    glNamedBufferStorage(sums_, GLsizeiptr(width) * height * 16 + 4 * 256, nullptr, 0);
+    has_sums_ = true;
+    const GLsizeiptr pixels = GLsizeiptr(width) * height;
+    const GLsizeiptr plane = (pixels * 4 + 255) & ~GLsizeiptr(255);
+    for (int c = 0; c < 4; ++c) {
+      glTextureBufferRange(views_[2 + c], GL_R32UI, sums_, GLintptr(c) * plane, pixels * 4);
+    }
+  }
+}
+
+void ComputeRasterizer::ensureFlags(std::uint32_t batches) {
+  if (batches <= flag_capacity_) return;
+  if (flags_) glDeleteBuffers(1, &flags_);
+  flag_capacity_ = std::max(batches, flag_capacity_ * 2);
+  glCreateBuffers(1, &flags_);
+  glNamedBufferStorage(flags_, GLsizeiptr(flag_capacity_) * 4, nullptr, 0);
+}
+
+void ComputeRasterizer::clearBuffers(bool hq) {
+  const GLsizeiptr pixels = GLsizeiptr(width_) * height_;
+  const std::uint32_t empty = kEmpty, zero = 0;
+  glClearNamedBufferSubData(depths_, GL_R32UI, 0, pixels * (atomic64_ ? 8 : 4), GL_RED_INTEGER,
+                            GL_UNSIGNED_INT, &empty);
+  if (ids_) {
+    glClearNamedBufferSubData(ids_, GL_R32UI, 0, pixels * 4, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                              &empty);
+  }
+  // The 32-bit path takes the minimum colour of exact ties: start from the largest.
+  glClearNamedBufferSubData(colors_, GL_R32UI, 0, pixels * 4, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                            &empty);
+  if (hq) {
+    glClearNamedBufferSubData(sums_, GL_R32UI, 0, GLsizeiptr(width_) * height_ * 16 + 4 * 256,
+                              GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  }
+}
+
+void ComputeRasterizer::bindBuffers(bool hq) const {
+  const GLsizeiptr pixels = GLsizeiptr(width_) * height_;
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kDepthBinding, depths_, 0,
+                    pixels * (atomic64_ ? 8 : 4));
+  if (ids_) glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kIdBinding, ids_, 0, pixels * 4);
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kColorBinding, colors_, 0, pixels * 4);
+  if (hq) {
+    const GLsizeiptr plane = (pixels * 4 + 255) & ~GLsizeiptr(255);
+    for (GLuint c = 0; c < 4; ++c) {
+      glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kSumBinding + c, sums_, GLintptr(c) * plane,
+                        pixels * 4);
+    }
+  }
+}
+
+RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
+  const DrawSet& draw_set = *frame.draw_set;
+  const RenderSettings& settings = *frame.settings;
+  const std::span<const View> views = frame.views;
+  assert(views.size() == frame.ranges.size() && "one clip range per view");
+  assert(views.size() <= kMaxViews && "ComputeRasterizer draws at most kMaxViews views");
+  assert(unsupported(settings, frame.canvas_width, frame.canvas_height).empty() &&
+         "the renderer asks unsupported() first");
+  RasterStats stats;
+  if (views.empty() || frame.canvas_width <= 0 || frame.canvas_height <= 0) return stats;
+
+  const bool hq = settings.hq;
+  ensureBuffers(frame.canvas_width, frame.canvas_height, hq);
+  if (!frame.accumulate) clearBuffers(hq);
+
+  std::vector<Eye> eyes;
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const Camera& camera = views[v].camera;
+    const glm::dmat4 world_to_eye = camera.viewMatrix();
+    const glm::dmat4 projection = camera.projectionMatrix(views[v].aspect(), frame.ranges[v]);
+    const int height = views[v].viewport.height;
+    const double pixels_per_unit =
+        camera.projection == Projection::Orthographic
+            ? height / camera.ortho_height
+            : height / (2.0 * std::tan(glm::radians(camera.fov_y_deg) / 2));
+    eyes.push_back({world_to_eye, projection, Frustum(projection * world_to_eye),
+                    float(pixels_per_unit), views[v].viewport});
+  }
+  const Camera& camera = views.front().camera;
+
+  // The same fall-backs as the GL_POINTS pass: rgb without colours is white, not black.
+  ColorMode color = settings.color;
+  if ((color == ColorMode::Rgb && !draw_set.has_colors) ||
+      (color == ColorMode::Normal && !draw_set.has_normals)) {
+    color = ColorMode::Uniform;
+  }
+  Variant variant;
+  variant.atomic64 = atomic64_;
+  variant.views = int(views.size());
+  variant.color = colorModeIndex(color);
+  variant.size = int(settings.size_mode);
+  variant.lighting = settings.lighting && draw_set.has_normals;
+  variant.orthographic = camera.projection == Projection::Orthographic;
+  variant.round = settings.shape == PointShape::Round;
+  // 1-pixel points skip the splat loop; so do sizes below 1 (GL_POINTS rounds them up to 1).
+  variant.splat = settings.size_mode != PointSizeMode::Fixed || settings.point_size_px > 1.0f;
+  variant.hq = hq;
+  variant.reset = frame.accumulate && !atomic64_;
+  variant.filter = !settings.filter.keepsAll();
+  const bool needs_extras = variant.color == 2 || variant.color == 4 || variant.filter ||
+                            settings.size_mode == PointSizeMode::Adaptive;
+
+  // Ids: the draw set's points in order, whatever this frame draws of it.
+  item_ids_.assign(draw_set.items.size() + 1, 0);
+  item_chunks_.resize(draw_set.items.size());
+  for (std::size_t i = 0; i < draw_set.items.size(); ++i) {
+    item_ids_[i + 1] = item_ids_[i] + draw_set.items[i].chunk->count;
+    item_chunks_[i] = draw_set.items[i].chunk;
+  }
+  assert(item_ids_.back() < kEmpty && "point ids are 32-bit");
+
+  // The items this frame draws, with the views that see each.
+  struct Work {
+    std::size_t item;
+    std::uint32_t visible;
+  };
+  std::vector<Work> work;
+  const std::size_t last_item = std::min(frame.last_item, draw_set.items.size());
+  const std::size_t item_count =
+      frame.items.empty() ? (last_item > frame.first_item ? last_item - frame.first_item : 0)
+                          : frame.items.size();
+  for (std::size_t n = 0; n < item_count; ++n) {
+    const std::size_t index = frame.items.empty() ? frame.first_item + n : frame.items[n];
+    const DrawItem& item = draw_set.items[index];
+    std::uint32_t visible = 0;
+    for (std::size_t v = 0; v < eyes.size(); ++v) {
+      if (eyes[v].frustum.intersects(item.chunk->bounds)) visible |= 1u << v;
+    }
+    if (!visible) {
+      ++stats.chunks_culled;
+      continue;
+    }
+    if (settings.size_mode != PointSizeMode::Fixed &&
+        largestPointSize(item, eyes, visible, settings, camera) > kMaxSplatPx) {
+      stats.fallback_items.push_back(index);
+      continue;
+    }
+    if (item.chunk->count == 0) continue;
+    work.push_back({index, visible});
+    stats.points_drawn += item.chunk->count;
+    ++stats.chunks_drawn;
+  }
+
+  // The batch flags (see the shader): one per batch of the work, cleared per frame.
+  std::vector<std::uint32_t> flag_bases;
+  std::uint32_t batch_total = 0;
+  for (const Work& w : work) {
+    flag_bases.push_back(batch_total);
+    batch_total += draw_set.items[w.item].chunk->batch_count;
+  }
+  ensureFlags(std::max<std::uint32_t>(batch_total, 1));
+  const std::uint32_t zero = 0;
+  glClearNamedBufferSubData(flags_, GL_R32UI, 0, GLsizeiptr(std::max(batch_total, 1u)) * 4,
+                            GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kFlagBinding, flags_, 0,
+                    GLsizeiptr(std::max(batch_total, 1u)) * 4);
+
+  // Ranges of whole batches, each section within the binding limit (positions are the widest).
+  GLint max_texels = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_texels);
+  const std::size_t range_points =
+      std::max<std::size_t>(
+          std::min<std::size_t>(options_.max_range_bytes / 12, std::size_t(max_texels)) /
+              kBatchPoints,
+          1) *
+      kBatchPoints;
+
+  const double z_min = draw_set.bounds.min[2];
+  const double z_extent = std::max(draw_set.bounds.size()[2], 1e-12);
+  bindBuffers(hq);
+  for (int pass = 1; pass <= 2; ++pass) {
+    variant.pass = pass;
+    const std::uint32_t key = variant.key();
+    if (!programs_.count(key)) {
+      programs_.emplace(
+          key, ShaderProgram({{GL_COMPUTE_SHADER, "compute_rasterizer.comp",
+                               withDefines(glsl::kComputeRasterizer,
+                                           variant.defines() + glsl::kPointShadingFunctions)}}));
+    }
+    const ShaderProgram& shader = program(key, false);
+    glUseProgram(shader.id());
+    glUniform1i(shader.uniform("u_canvas_width"), frame.canvas_width);
+    glUniform3fv(shader.uniform("u_uniform_color"), 1, settings.uniform_color.data());
+    glUniform1f(shader.uniform("u_size_px"), std::max(settings.point_size_px, 1.0f));
+    glUniform1f(shader.uniform("u_world_size"), settings.world_size);
+    glUniform1f(shader.uniform("u_adaptive_scale"), settings.adaptive_scale);
+    glUniform2f(shader.uniform("u_size_clamp"), std::max(settings.min_size_px, 1.0f),
+                settings.max_size_px);
+    glUniform1f(shader.uniform("u_hq_range"), settings.hq_depth_range);
+    if (variant.filter) {
+      glUniform1uiv(shader.uniform("u_filter_classes"), 8, settings.filter.classes.data());
+      glUniform1i(shader.uniform("u_clip_plane_count"),
+                  GLint(std::min(settings.filter.clip_planes.size(), PointFilter::kMaxClipPlanes)));
+    }
+    float viewports[4 * kMaxViews], pixels_per_unit[kMaxViews], coeffs[4 * kMaxViews];
+    for (std::size_t v = 0; v < eyes.size(); ++v) {
+      const Viewport& vp = eyes[v].viewport;
+      viewports[4 * v + 0] = float(vp.x), viewports[4 * v + 1] = float(vp.y);
+      viewports[4 * v + 2] = float(vp.width), viewports[4 * v + 3] = float(vp.height);
+      pixels_per_unit[v] = eyes[v].pixels_per_unit;
+      const glm::dmat4& p = eyes[v].projection;
+      coeffs[4 * v + 0] = float(p[2][2]), coeffs[4 * v + 1] = float(p[3][2]);
+      coeffs[4 * v + 2] = float(p[2][3]), coeffs[4 * v + 3] = float(p[3][3]);
+    }
+    const GLsizei view_count = GLsizei(eyes.size());
+    glUniform4fv(shader.uniform("u_viewport"), view_count, viewports);
+    glUniform1fv(shader.uniform("u_pixels_per_unit"), view_count, pixels_per_unit);
+    glUniform4fv(shader.uniform("u_depth_coeffs"), view_count, coeffs);
+    const GLint mvp_location = shader.uniform("u_mvp");
+    const GLint model_view_location = shader.uniform("u_model_view");
+    const GLint view_mask_location = shader.uniform("u_view_mask");
+    const GLint elevation_location = shader.uniform("u_elevation");
+    const GLint node_spacing_location = shader.uniform("u_node_spacing");
+    const GLint clip_planes_location = shader.uniform("u_clip_planes");
+    const GLint point_count_location = shader.uniform("u_point_count");
+    const GLint batch_base_location = shader.uniform("u_batch_base");
+    const GLint id_base_location = shader.uniform("u_id_base");
+    const GLint flag_base_location = shader.uniform("u_flag_base");
+    for (int unit = 0; unit < 5; ++unit) glBindTextureUnit(GLuint(unit), textures_[unit]);
+  
+
+    for (std::size_t n = 0; n < work.size(); ++n) {
+      const Work& w = work[n];
+      const DrawItem& item = draw_set.items[w.item];
+      const PointChunk& chunk = *item.chunk;
+      glm::mat4 mvp[kMaxViews], model_view[kMaxViews];
+      for (std::size_t v = 0; v < eyes.size(); ++v) {
+        // The chunk origin is folded in in double: the GPU only sees chunk-sized numbers.
+        const glm::dmat4 chunk_to_eye = glm::translate(eyes[v].world_to_eye, chunk.origin);
+        model_view[v] = glm::mat4(chunk_to_eye);
+        mvp[v] = glm::mat4(eyes[v].projection * chunk_to_eye);
+      }
+      glUniformMatrix4fv(mvp_location, view_count, GL_FALSE, glm::value_ptr(mvp[0]));
+      glUniformMatrix4fv(model_view_location, view_count, GL_FALSE, glm::value_ptr(model_view[0]));
+      glUniform1ui(view_mask_location, w.visible);
+      glUniform2f(elevation_location, float(chunk.origin.z - z_min), float(1.0 / z_extent));
+      glUniform1f(node_spacing_location, item.node_spacing);
+      if (variant.filter) {
+        const auto planes = chunkClipPlanes(settings.filter, chunk.origin);
+        glUniform4fv(clip_planes_location, GLsizei(PointFilter::kMaxClipPlanes), planes.data());
+      }
+      glTextureBufferRange(textures_[kBatches], GL_RGBA32F, chunk.buffer,
+                           GLintptr(chunk.batches_offset), GLsizeiptr(chunk.batch_count) * 32);
+      for (std::size_t first = 0; first < chunk.count; first += range_points) {
+        const std::size_t count = std::min<std::size_t>(range_points, chunk.count - first);
+        glTextureBufferRange(textures_[kPositions], GL_RGB32F, chunk.buffer,
+                             GLintptr(chunk.positions_offset + first * 12), GLsizeiptr(count * 12));
+        if (pass == 2 && draw_set.has_colors) {
+          glTextureBufferRange(textures_[kColors], GL_RGBA8, chunk.buffer,
+                               GLintptr(chunk.colors_offset + first * 4), GLsizeiptr(count * 4));
+        }
+        if (pass == 2 && draw_set.has_normals) {
+          glTextureBufferRange(textures_[kNormals], GL_R32UI, chunk.buffer,
+                               GLintptr(chunk.normals_offset + first * 4), GLsizeiptr(count * 4));
+        }
+        if (needs_extras) {
+          glTextureBufferRange(textures_[kExtras], GL_RG32UI, chunk.buffer,
+                               GLintptr(chunk.extras_offset + first * 8), GLsizeiptr(count * 8));
+        }
+        glUniform1ui(point_count_location, GLuint(count));
+        glUniform1ui(batch_base_location, GLuint(first / kBatchPoints));
+        glUniform1ui(id_base_location, GLuint(item_ids_[w.item] + first));
+        glUniform1ui(flag_base_location, GLuint(flag_bases[n] + first / kBatchPoints));
+        glDispatchCompute(GLuint((count + kBatchPoints - 1) / kBatchPoints), 1, 1);
+        if (pass == 1) ++stats.draw_calls;
+      }
+    }
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  }
+
+  // The resolve: the visibility buffer into the bound framebuffer, view by view.
+  Variant resolve;
+  resolve.atomic64 = atomic64_;
+  resolve.hq = hq;
+  resolve.orthographic = variant.orthographic;
+  const std::uint32_t resolve_key = resolve.key() | std::uint32_t(frame.eye_depth) << 20;
+  if (!resolve_programs_.count(resolve_key)) {
+    const std::string defines = "#define ATOMIC64 " + std::to_string(int(atomic64_)) +
+                                "\n#define HQ " + std::to_string(int(hq)) +
+                                "\n#define ORTHOGRAPHIC " +
+                                std::to_string(int(variant.orthographic)) + "\n#define EYE_DEPTH " +
+                                std::to_string(int(frame.eye_depth)) + "\n";
+    resolve_programs_.emplace(
+        resolve_key,
+        ShaderProgram({{GL_VERTEX_SHADER, "compute_resolve.vert", kFullscreenTriangleVertexShader},
+                       {GL_FRAGMENT_SHADER, "compute_resolve.frag",
+                        withDefines(glsl::kComputeResolve, defines)}}));
+  }
+  const ShaderProgram& shader = program(resolve_key, true);
+  glUseProgram(shader.id());
+  for (GLuint unit = 0; unit < (hq ? 6u : 2u); ++unit) glBindTextureUnit(unit, views_[unit]);
+  glUniform1i(shader.uniform("u_canvas_width"), frame.canvas_width);
+  const GLint coeffs_location = shader.uniform("u_depth_coeffs");
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GEQUAL);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glBindVertexArray(vao_);
+  for (const Eye& eye : eyes) {
+    const glm::dmat4& p = eye.projection;
+    glUniform4f(coeffs_location, float(p[2][2]), float(p[3][2]), float(p[2][3]), float(p[3][3]));
+    glViewport(eye.viewport.x, eye.viewport.y, eye.viewport.width, eye.viewport.height);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  }
+  glBindVertexArray(0);
+  glUseProgram(0);
+  return stats;
+}
+
+std::optional<PointRef> ComputeRasterizer::pointAt(int x, int y) const {
+  if (!depths_ || x < 0 || y < 0 || x >= width_ || y >= height_ || item_chunks_.empty()) {
+    return std::nullopt;
+  }
+  const GLintptr pixel = GLintptr(y) * width_ + x;
+  std::uint32_t id = kEmpty, key = kEmpty;
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  if (atomic64_) {
+    std::uint32_t pair[2];
+    glGetNamedBufferSubData(depths_, pixel * 8, 8, pair);
+    id = pair[0], key = pair[1];  // little endian: the low word is the id
+  } else {
+    glGetNamedBufferSubData(depths_, pixel * 4, 4, &key);
+    glGetNamedBufferSubData(ids_, pixel * 4, 4, &id);
+  }
+  if (key == kEmpty || id == kEmpty || id >= item_ids_.back()) return std::nullopt;
+  const auto after = std::upper_bound(item_ids_.begin(), item_ids_.end(), std::uint64_t(id));
+  PointRef ref;
+  ref.item = std::size_t(after - item_ids_.begin()) - 1;
+  ref.chunk = item_chunks_[ref.item];
+  ref.index = std::uint32_t(id - item_ids_[ref.item]);
+  ref.id = id;
+  const std::uint32_t bits = ~key;
+  std::memcpy(&ref.depth, &bits, 4);
+  return ref;
+}
+
+}  // namespace parallax

@@ -1,0 +1,359 @@
+// GLSL of the compute rasterizer, kept beside the pass (compute_rasterizer.cpp) that binds its
+// inputs. See compute_rasterizer.h for the passes and the buffers.
+#include "render/compute_rasterizer_glsl.h"
+
+namespace parallax::glsl {
+
+// Variants (ComputeRasterizer prepends the #defines, then kPointShadingFunctions):
+//   PASS        1: depth (the atomic step), 2: attributes of the front-most point
+//   ATOMIC64    1: one 64-bit atomicMin of (depth key << 32 | id) (GL_NV_shader_atomic_int64);
+//               0: 32-bit atomics, depth first, then the id and colour of the front-most point
+//   VIEWS       1..4, every point is projected into each view that sees its batch
+//   COLOR_MODE, SIZE_MODE, LIGHTING, ORTHOGRAPHIC, FILTER: as in the GL_POINTS pass
+//   SPLAT       0: 1-pixel points; 1: square or (ROUND) round splats up to MAX_SPLAT pixels
+//   HQ          1: pass 2 blends every point within u_hq_range of the front-most one
+//   RESET       1: progressive drawing on top of an earlier part: a point that brings a pixel
+//               nearer clears what the pixel held (32-bit path: its id, colour and sums)
+// No run-time branches on modes: llvmpipe executes both sides of a branch under a mask.
+const char* const kComputeRasterizer = R"glsl(#version 450 core
+#if ATOMIC64
+#extension GL_ARB_gpu_shader_int64 : require
+#extension GL_NV_shader_atomic_int64 : require
+#endif
+// The #defines and the shared colour functions are inserted here.
+//@DEFINES@
+layout(local_size_x = 64) in;
+const uint kPointsPerInvocation = BATCH_POINTS / 64u;
+
+// Point attributes through buffer textures, bound to one range of one chunk: on llvmpipe a
+// texel fetch is a vector gather, an SSBO load a loop over the lanes (1.7x the whole pass).
+layout(binding = 0) uniform samplerBuffer t_positions;  // RGB32F, chunk-relative
+layout(binding = 1) uniform samplerBuffer t_colors;     // RGBA8
+layout(binding = 2) uniform usamplerBuffer t_normals;   // R32UI, int 2_10_10_10 (w unused)
+layout(binding = 3) uniform usamplerBuffer t_extras;    // RG32UI: intensity | class << 16, spacing
+layout(binding = 4) uniform samplerBuffer t_batches;    // RGBA32F, min and max of each batch
+
+// The visibility buffer, one entry per canvas pixel. The depth key is ~bits of the reversed
+// window depth (near 1, far 0): smaller is nearer, and the empty value ~0u is the far plane.
+#if ATOMIC64
+layout(std430, binding = 0) coherent buffer Visibility { uint64_t visibility[]; };
+#else
+layout(std430, binding = 0) coherent buffer Depths { uint depths[]; };
+layout(std430, binding = 1) coherent buffer Ids { uint ids[]; };
+#endif
+layout(std430, binding = 2) coherent buffer Colors { uint colors[]; };  // packUnorm4x8
+// One flag per batch of the frame: pass 1 sets it when a point of the batch was at or in front of
+// the stored key when it ran. Every point that ends front-most was, so pass 2 skips the batches
+// left unflagged (HQ blends points behind the front too, and reads them all).
+layout(std430, binding = 7) coherent buffer BatchFlags { uint batch_flags[]; };
+uniform uint u_flag_base;  // the range's first batch among the frame's batches
+bool may_win = false;
+
+#if HQ
+// Sums of the blended colours (0-255 a channel) and their count, one plane each.
+layout(std430, binding = 3) coherent buffer SumR { uint sum_r[]; };
+layout(std430, binding = 4) coherent buffer SumG { uint sum_g[]; };
+layout(std430, binding = 5) coherent buffer SumB { uint sum_b[]; };
+layout(std430, binding = 6) coherent buffer SumW { uint sum_w[]; };
+#endif
+
+uniform mat4 u_mvp[VIEWS];         // chunk-relative to clip (chunk origin folded in in double)
+uniform mat4 u_model_view[VIEWS];  // chunk-relative to eye
+uniform vec4 u_viewport[VIEWS];    // x, y, width, height in canvas pixels
+uniform float u_pixels_per_unit[VIEWS];
+uniform vec4 u_depth_coeffs[VIEWS];  // eye depth from window depth (HQ)
+uniform uint u_view_mask;          // views whose frustum meets the chunk's box
+uniform int u_canvas_width;
+uniform uint u_point_count;  // points in the bound range
+uniform uint u_batch_base;   // the range's first batch in the chunk
+uniform uint u_id_base;      // the id of the range's first point
+uniform vec3 u_uniform_color;
+uniform vec2 u_elevation;  // t = (z + x) * y: chunk z to 0..1 over the cloud
+uniform float u_size_px;
+uniform float u_world_size;
+uniform float u_adaptive_scale;
+uniform float u_node_spacing;
+uniform vec2 u_size_clamp;
+uniform float u_hq_range;
+
+// False only when all eight corners are outside one plane of the view's clip volume.
+bool boxVisible(mat4 mvp, vec3 lo, vec3 hi) {
+  bvec4 all_left = bvec4(true), all_right = bvec4(true);  // x < -w, x > w, y < -w, y > w
+  bool all_near = true, all_far = true;                   // z > w, z < 0 (reversed depth)
+  for (int c = 0; c < 8; ++c) {
+    vec3 corner = vec3((c & 1) != 0 ? hi.x : lo.x, (c & 2) != 0 ? hi.y : lo.y,
+                       (c & 4) != 0 ? hi.z : lo.z);
+    vec4 q = mvp * vec4(corner, 1.0);
+    all_left = bvec4(all_left.x && q.x < -q.w, all_left.y && q.x > q.w, all_left.z && q.y < -q.w,
+                     all_left.w && q.y > q.w);
+    all_near = all_near && q.z > q.w;
+    all_far = all_far && q.z < 0.0;
+  }
+  return !(any(all_left) || all_near || all_far);
+}
+
+uint extras0(uint i) {
+  return texelFetch(t_extras, int(i)).x;
+}
+
+vec3 normalOf(uint i) {
+  int bits = int(texelFetch(t_normals, int(i)).x);
+  vec3 n = vec3(bitfieldExtract(bits, 0, 10), bitfieldExtract(bits, 10, 10),
+                bitfieldExtract(bits, 20, 10));
+  return max(n / 511.0, vec3(-1.0));  // snorm, as the vertex fetch of GL_INT_2_10_10_10_REV
+}
+
+// The point's colour in view v, as the GL_POINTS vertex shader computes it.
+vec3 pointColor(uint i, vec3 p, int v) {
+#if COLOR_MODE == 0
+  vec3 color = texelFetch(t_colors, int(i)).rgb;
+#elif COLOR_MODE == 1
+  vec3 color = ramp((p.z + u_elevation.x) * u_elevation.y);
+#elif COLOR_MODE == 2
+  vec3 color = vec3(float(extras0(i) & 0xffffu) / 65535.0);
+#elif COLOR_MODE == 3
+  vec3 color = normalize(normalOf(i)) * 0.5 + 0.5;
+#elif COLOR_MODE == 4
+  vec3 color = classColor((extras0(i) >> 16) & 0xffu);
+#else
+  vec3 color = u_uniform_color;
+#endif
+#if LIGHTING
+  vec3 n = normalize(mat3(u_model_view[v]) * normalOf(i));
+#if ORTHOGRAPHIC
+  vec3 to_eye = vec3(0.0, 0.0, 1.0);
+#else
+  vec3 to_eye = normalize(-(u_model_view[v] * vec4(p, 1.0)).xyz);
+#endif
+  color *= 0.2 + 0.8 * abs(dot(n, to_eye));
+#endif
+  return color;
+}
+
+// Point size in pixels in view v, as the GL_POINTS vertex shader computes gl_PointSize.
+float pointSize(uint i, vec3 p, int v) {
+#if SIZE_MODE == 0
+  return u_size_px;
+#else
+#if SIZE_MODE == 1
+  float world = u_world_size;
+#else
+  float world = (u_node_spacing > 0.0 ? u_node_spacing
+                                      : uintBitsToFloat(texelFetch(t_extras, int(i)).y)) *
+                u_adaptive_scale;
+#endif
+#if ORTHOGRAPHIC
+  float per_unit = u_pixels_per_unit[v];
+#else
+  float eye_z = dot(vec4(u_model_view[v][0].z, u_model_view[v][1].z, u_model_view[v][2].z,
+                         u_model_view[v][3].z), vec4(p, 1.0));
+  float per_unit = u_pixels_per_unit[v] / max(-eye_z, 1e-9);
+#endif
+  return world > 0.0 ? clamp(world * per_unit, u_size_clamp.x, u_size_clamp.y) : u_size_px;
+#endif
+}
+
+#if HQ
+float eyeDepthOf(uint key, int v) {
+  float z = uintBitsToFloat(~key);
+  vec4 k = u_depth_coeffs[v];
+  return -(k.y - z * k.w) / (z * k.z - k.x);
+}
+#endif
+
+// What one point does to one pixel it covers. `color_ready` and `color` carry the point's colour,
+// fetched once on first need (most points never need it: they are behind).
+void touchPixel(uint pixel, uint key, uint id, uint i, vec3 p, int v, float eye_depth,
+                inout bool color_ready, inout uint color) {
+#if PASS == 1
+#if ATOMIC64
+  uint64_t packed = uint64_t(key) << 32 | uint64_t(id);
+  if (packed <= visibility[pixel]) {
+    may_win = true;
+    atomicMin(visibility[pixel], packed);
+  }
+#else
+  // A plain read first: the stored key only decreases, so a point behind it is behind for good,
+  // and most points of a dense cloud skip the atomic.
+  uint stored = depths[pixel];
+  if (key <= stored) {
+    may_win = true;
+#if RESET
+    if (key < stored && key < atomicMin(depths[pixel], key)) {
+      ids[pixel] = ~0u;
+      colors[pixel] = ~0u;
+#if HQ
+      sum_r[pixel] = 0u, sum_g[pixel] = 0u, sum_b[pixel] = 0u, sum_w[pixel] = 0u;
+#endif
+    }
+#else
+    if (key < stored) atomicMin(depths[pixel], key);
+#endif
+  }
+#endif
+#else  // PASS == 2
+#if ATOMIC64
+  uint front = uint(visibility[pixel] >> 32);
+#else
+  uint front = depths[pixel];
+#endif
+#if HQ
+  if (eye_depth <= eyeDepthOf(front, v) * (1.0 + u_hq_range)) {
+    if (!color_ready) color = packUnorm4x8(vec4(pointColor(i, p, v), 1.0)), color_ready = true;
+    atomicAdd(sum_r[pixel], color & 0xffu);
+    atomicAdd(sum_g[pixel], (color >> 8) & 0xffu);
+    atomicAdd(sum_b[pixel], (color >> 16) & 0xffu);
+    atomicAdd(sum_w[pixel], 1u);
+#if !ATOMIC64
+    if (key == front) atomicMin(ids[pixel], id);
+#endif
+  }
+#else
+#if ATOMIC64
+  // The one point whose key won writes its colour: no race, no atomic.
+  if (visibility[pixel] == (uint64_t(key) << 32 | uint64_t(id))) {
+    colors[pixel] = packUnorm4x8(vec4(pointColor(i, p, v), 1.0));
+  }
+#else
+  // Exact depth ties: the lowest id and the lowest packed colour win, the same every run.
+  if (key == front) {
+    if (!color_ready) color = packUnorm4x8(vec4(pointColor(i, p, v), 1.0)), color_ready = true;
+    atomicMin(ids[pixel], id);
+    atomicMin(colors[pixel], color);
+  }
+#endif
+#endif
+#endif
+}
+
+void drawInView(uint i, uint id, vec3 p, int v) {
+  vec4 clip = u_mvp[v] * vec4(p, 1.0);
+  // A point is clipped by its centre, as GL_POINTS are.
+  if (!(clip.w > 0.0 && abs(clip.x) <= clip.w && abs(clip.y) <= clip.w && clip.z >= 0.0 &&
+        clip.z <= clip.w)) {
+    return;
+  }
+  // The viewport transform as the GL pipeline does it (a reciprocal of w, then scale and
+  // translate), snapped to llvmpipe's 1/256 pixel, so that both rasterizers light the same pixel.
+  float inv_w = 1.0 / clip.w;
+  vec4 vp = u_viewport[v];
+  vec2 window = clip.xy * inv_w * (0.5 * vp.zw) + (vp.xy + 0.5 * vp.zw);
+  window = floor(window * 256.0 + 0.5) / 256.0;
+  uint key = ~(floatBitsToUint(clip.z * inv_w) & 0x7fffffffu);
+#if HQ
+  vec4 eye = u_model_view[v] * vec4(p, 1.0);
+  float eye_depth = -eye.z;
+#else
+  float eye_depth = 0.0;
+#endif
+  bool color_ready = false;
+  uint color = 0u;
+  ivec2 low = ivec2(vp.xy), high = ivec2(vp.xy + vp.zw) - 1;
+#if SPLAT
+  // The pixels whose centres lie inside the point's square (GL's point rule), within the view.
+  float size = min(pointSize(i, p, v), MAX_SPLAT);
+  vec2 first = ceil(window - 0.5 * size - 0.5), last = ceil(window + 0.5 * size - 0.5) - 1.0;
+  ivec2 from = max(ivec2(first), low), to = min(ivec2(last), high);
+  for (int y = from.y; y <= to.y; ++y) {
+    for (int x = from.x; x <= to.x; ++x) {
+#if ROUND
+      vec2 d = (vec2(x, y) + 0.5 - window) / size;
+      if (dot(d, d) > 0.25) continue;
+#endif
+      touchPixel(uint(y) * uint(u_canvas_width) + uint(x), key, id, i, p, v, eye_depth,
+                 color_ready, color);
+    }
+  }
+#else
+  ivec2 q = ivec2(ceil(window - 1.0));
+  if (any(lessThan(q, low)) || any(greaterThan(q, high))) return;
+  touchPixel(uint(q.y) * uint(u_canvas_width) + uint(q.x), key, id, i, p, v, eye_depth,
+             color_ready, color);
+#endif
+}
+
+void main() {
+#if PASS == 2 && !HQ
+  if (batch_flags[u_flag_base + gl_WorkGroupID.x] == 0u) return;
+#endif
+  // The batch is culled against every view before any of its points is read.
+  uint batch = u_batch_base + gl_WorkGroupID.x;
+  vec3 lo = texelFetch(t_batches, int(2u * batch)).xyz;
+  vec3 hi = texelFetch(t_batches, int(2u * batch + 1u)).xyz;
+  uint views = 0u;
+  for (int v = 0; v < VIEWS; ++v) {
+    if (((u_view_mask >> v) & 1u) != 0u && boxVisible(u_mvp[v], lo, hi)) views |= 1u << v;
+  }
+  if (views == 0u) return;
+  uint first = gl_WorkGroupID.x * BATCH_POINTS + gl_LocalInvocationID.x;
+  for (uint k = 0u; k < kPointsPerInvocation; ++k) {
+    uint i = first + k * 64u;
+    if (i >= u_point_count) break;
+    vec3 p = texelFetch(t_positions, int(i)).xyz;
+#if FILTER
+    if (!keepPoint(p, (extras0(i) >> 16) & 0xffu)) continue;
+#endif
+    // Read once, projected into every view (stereo in one pass).
+    for (int v = 0; v < VIEWS; ++v) {
+      if (((views >> v) & 1u) != 0u) drawInView(i, u_id_base + i, p, v);
+    }
+  }
+#if PASS == 1
+  if (may_win) batch_flags[u_flag_base + gl_WorkGroupID.x] = 1u;
+#endif
+}
+)glsl";
+
+// Writes the visibility buffer into the framebuffer: colour, eye depth for eye-dome lighting,
+// and depth, drawn per view over a full-screen triangle. Empty pixels are discarded (the
+// background stays); the depth test GEQUAL keeps a nearer point the GL_POINTS fall-back drew.
+const char* const kComputeResolve = R"glsl(#version 450 core
+//@DEFINES@
+// Read-only views of the visibility buffer (buffer textures: gathers on llvmpipe).
+layout(binding = 0) uniform usamplerBuffer t_depths;  // R32UI keys; 64-bit path: RG32UI (id, key)
+layout(binding = 1) uniform usamplerBuffer t_colors;  // R32UI, packUnorm4x8
+#if HQ
+layout(binding = 2) uniform usamplerBuffer t_sum_r;
+layout(binding = 3) uniform usamplerBuffer t_sum_g;
+layout(binding = 4) uniform usamplerBuffer t_sum_b;
+layout(binding = 5) uniform usamplerBuffer t_sum_w;
+#endif
+uniform int u_canvas_width;
+uniform vec4 u_depth_coeffs;  // z_clip = x z_eye + y, w_clip = z z_eye + w
+layout(location = 0) out vec4 out_color;
+#if EYE_DEPTH
+layout(location = 1) out vec2 out_depth;
+#endif
+
+void main() {
+  ivec2 q = ivec2(gl_FragCoord.xy);
+  int pixel = q.y * u_canvas_width + q.x;
+#if ATOMIC64
+  uint key = texelFetch(t_depths, pixel).y;
+#else
+  uint key = texelFetch(t_depths, pixel).x;
+#endif
+  if (key == ~0u) discard;
+  float z = uintBitsToFloat(~key);
+  gl_FragDepth = z;
+#if HQ
+  float weight = float(max(texelFetch(t_sum_w, pixel).x, 1u));
+  vec3 color = vec3(texelFetch(t_sum_r, pixel).x, texelFetch(t_sum_g, pixel).x,
+                    texelFetch(t_sum_b, pixel).x) / (255.0 * weight);
+#else
+  vec3 color = unpackUnorm4x8(texelFetch(t_colors, pixel).x).rgb;
+#endif
+  out_color = vec4(color, 1.0);
+#if EYE_DEPTH
+  float eye_z =
+      (u_depth_coeffs.y - z * u_depth_coeffs.w) / (z * u_depth_coeffs.z - u_depth_coeffs.x);
+#if ORTHOGRAPHIC
+  out_depth = vec2(-eye_z, 1.0);
+#else
+  out_depth = vec2(max(-eye_z, 0.0), 1.0);
+#endif
+#endif
+}
+)glsl";
+
+}  // namespace parallax::glsl
