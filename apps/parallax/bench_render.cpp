@@ -44,6 +44,7 @@
 #include <tuple>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include "bench_render_lod.h"
 #include "commands.h"
 #include "core/point_cloud.h"
@@ -52,7 +53,6 @@
 #include "render/renderer.h"
 #include "render/shader_program.h"
 #include "render/stereo.h"
-#include <nlohmann/json.hpp>
 
 namespace parallax::cli {
 namespace {
@@ -353,8 +353,8 @@ int runBenchRender(const RenderBenchOptions& o) {
       points_settings.rasterizer = RasterizerKind::Points;
       reference_name = "points";
       std::tie(ours, reference) = interleaved(o.repeat, draw_ours, [&] {
-        reference_renderer.render(gpu, std::span(&view, 1), points_settings,
-                                  target.framebuffer(), o.width, o.height);
+        reference_renderer.render(gpu, std::span(&view, 1), points_settings, target.framebuffer(),
+                                  o.width, o.height);
       });
     } else {
       // GL_POINTS beside a bare GL_POINTS loop over the same points.

@@ -147,8 +147,8 @@ void benchOrbit(const LodRenderBenchOptions& o, Octree& octree, Camera camera) {
     FrameStats stats;
     const auto draw_start = Clock::now();
     if (part.first_item < std::min(part.last_item, draw_set.items.size()) || !part.accumulate) {
-      stats = renderer.render(draw_set, views, o.settings, target.framebuffer(), o.width,
-                              o.height, part);
+      stats = renderer.render(draw_set, views, o.settings, target.framebuffer(), o.width, o.height,
+                              part);
     }
     glFinish();
     if (refine) progressive.record(stats.points_drawn, secondsSince(draw_start));

@@ -425,7 +425,6 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     const GLint id_base_location = shader.uniform("u_id_base");
     const GLint flag_base_location = shader.uniform("u_flag_base");
     for (int unit = 0; unit < 5; ++unit) glBindTextureUnit(GLuint(unit), textures_[unit]);
-  
 
     for (std::size_t n = 0; n < work.size(); ++n) {
       const Work& w = work[n];

@@ -20,8 +20,8 @@ FramePart ProgressiveRefinement::plan(const DrawSet& draw_set, bool changed) {
   const double budget_points = points_per_second_ * settings_.frame_budget_s;
   double points = 0;
   std::size_t last = part.first_item;
-  while (last < items.size() && (last == part.first_item || points + items[last].chunk->count <=
-                                                                 budget_points)) {
+  while (last < items.size() &&
+         (last == part.first_item || points + items[last].chunk->count <= budget_points)) {
     points += items[last].chunk->count;
     ++last;
   }
