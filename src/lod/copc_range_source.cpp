@@ -51,6 +51,12 @@ class ByteSourceAdapter final : public CopcRangeSource {
             std::string_view element) const override {
     source_->read(offset, out, ReadContext{.element = element});
   }
+  void readCancellable(std::uint64_t offset, std::span<std::byte> out, std::string_view element,
+                       std::stop_token cancel) const override {
+    source_->read(offset, out, ReadContext{.cancel = std::move(cancel), .element = element});
+  }
+  bool local() const override { return source_->local(); }
+  void prefetch(std::span<const ByteRange> ranges) const override { source_->prefetch(ranges); }
 
  private:
   std::unique_ptr<ByteSource> source_;

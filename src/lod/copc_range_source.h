@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <memory>
 #include <span>
+#include <stop_token>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -28,6 +29,18 @@ class CopcRangeSource {
   // an InputError naming the file, the offset and `element` ("hierarchy page at byte 1234").
   virtual void read(std::uint64_t offset, std::span<std::byte> out,
                     std::string_view element) const = 0;
+  // read(), given up with ReadCancelled (core/byte_source.h) when `cancel` is requested before
+  // the bytes arrive. Default: read(), never cancelled (local sources are quick).
+  virtual void readCancellable(std::uint64_t offset, std::span<std::byte> out,
+                               std::string_view element, std::stop_token cancel) const {
+    (void)cancel;
+    read(offset, out, element);
+  }
+  // False when a read may wait on a network (the reader then keeps page reads off the frame
+  // loop and hints what it will read; core/byte_source.h).
+  virtual bool local() const { return true; }
+  // The ranges that will be read soon, most urgent first (ByteSource::prefetch). Never waits.
+  virtual void prefetch(std::span<const ByteRange> ranges) const { (void)ranges; }
 };
 
 // Throws InputError (the path, why) when the file cannot be opened.

@@ -5,6 +5,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <mutex>
 
 #include "core/error.h"
@@ -241,23 +242,67 @@ class CopcOctree final : public Octree {
     assert(index >= 0 && std::size_t(index) < nodes_.size() && "expandHierarchy: no such node");
     const OctreeNode& node = nodes_[std::size_t(index)];
     if (!node.hierarchy_pending) return;
-    std::vector<std::byte> page(node.byte_size);
-    in_->read(node.byte_offset, page, "hierarchy page of node " + node.name);
+    const std::vector<std::byte> page = pageOf(node, {});
+    {
+      const std::lock_guard lock(pages_mutex_);
+      pages_.erase(node.byte_offset);  // read into nodes(): not needed again
+    }
     hierarchy_->readPage(page, index, nodes_);
   }
 
+  // Over a network, a child page is fetched on a loader thread (fetchHierarchy) and kept until
+  // the frame loop's expandHierarchy() takes it, so that the frame loop never waits.
+  bool hierarchyReady(std::int32_t index) const override {
+    const OctreeNode& node = nodes_[std::size_t(index)];
+    if (!node.hierarchy_pending || in_->local()) return true;
+    const std::lock_guard lock(pages_mutex_);
+    return pages_.count(node.byte_offset) > 0;
+  }
+
+  void fetchHierarchy(const OctreeNode& node, std::stop_token cancel) const override {
+    if (!node.hierarchy_pending || in_->local()) return;
+    std::vector<std::byte> page = pageOf(node, std::move(cancel));
+    const std::lock_guard lock(pages_mutex_);
+    pages_[node.byte_offset] = std::move(page);
+  }
+
+  // The chunks of the nodes named, and the pages of the pending ones, as one hint to a source
+  // with latency (which merges adjacent ranges: a level's chunks are written side by side).
+  void prefetch(std::span<const OctreeNode> nodes,
+                std::span<const OctreeNode> hierarchy) const override {
+    if (in_->local()) return;
+    std::vector<ByteRange> ranges;
+    for (const OctreeNode& node : nodes) {
+      if (!node.hierarchy_pending && node.byte_size > 0) {
+        ranges.push_back({node.byte_offset, node.byte_size});
+      }
+    }
+    {
+      const std::lock_guard lock(pages_mutex_);
+      for (const OctreeNode& node : hierarchy) {
+        if (node.hierarchy_pending && !pages_.count(node.byte_offset)) {
+          ranges.push_back({node.byte_offset, node.byte_size});
+        }
+      }
+    }
+    in_->prefetch(ranges);
+  }
+
   PointCloud loadNode(const OctreeNode& node) const override {
+    return loadNodeCancellable(node, {});
+  }
+
+  PointCloud loadNodeCancellable(const OctreeNode& node, std::stop_token cancel) const override {
     std::uint64_t offset = node.byte_offset, bytes = node.byte_size;
     std::uint32_t count = node.point_count;
     if (node.hierarchy_pending) {
-      std::vector<std::byte> page(node.byte_size);
-      in_->read(node.byte_offset, page, "hierarchy page of node " + node.name);
+      const std::vector<std::byte> page = pageOf(node, cancel);
       const CopcEntry entry = hierarchy_->ownEntry(page, node);
       offset = entry.offset;
       bytes = std::uint64_t(entry.byte_size);
       count = std::uint32_t(entry.point_count);
     }
-    return decodeChunk(node.name, offset, bytes, count);
+    return decodeChunk(node.name, offset, bytes, count, cancel);
   }
 
   CopcDetails details() const {
@@ -271,12 +316,25 @@ class CopcOctree final : public Octree {
   }
 
  private:
+  // The hierarchy page a pending node points at: fetched before (fetchHierarchy), or read now.
+  std::vector<std::byte> pageOf(const OctreeNode& node, std::stop_token cancel) const {
+    {
+      const std::lock_guard lock(pages_mutex_);
+      const auto it = pages_.find(node.byte_offset);
+      if (it != pages_.end() && it->second.size() == node.byte_size) return it->second;
+    }
+    std::vector<std::byte> page(node.byte_size);
+    in_->readCancellable(node.byte_offset, page, "hierarchy page of node " + node.name,
+                         std::move(cancel));
+    return page;
+  }
+
   // The raw LAS records of a node's chunk.
   ByteBuffer decodeRecords(const std::string& name, std::uint64_t offset, std::uint64_t bytes,
-                           std::uint32_t count) const {
+                           std::uint32_t count, std::stop_token cancel) const {
     const std::string element = "node " + name + " (its LAZ chunk)";
     std::vector<std::byte> compressed(bytes);
-    in_->read(offset, compressed, element);
+    in_->readCancellable(offset, compressed, element, std::move(cancel));
     ByteBuffer records(std::size_t(count) * header_.record_length);
     std::unique_ptr<laz::ChunkDecoder> decoder = takeDecoder();
     try {
@@ -296,11 +354,11 @@ class CopcOctree final : public Octree {
 
   // A node's points, with `plan_`'s columns.
   PointCloud decodeChunk(const std::string& name, std::uint64_t offset, std::uint64_t bytes,
-                         std::uint32_t count) const {
+                         std::uint32_t count, std::stop_token cancel) const {
     PointCloud cloud = allocateLasCloud(header_, plan_, count);
     cloud.source.color = plan_.colors_8bit ? ScalarType::UInt8 : ScalarType::UInt16;
     if (count == 0) return cloud;
-    const ByteBuffer records = decodeRecords(name, offset, bytes, count);
+    const ByteBuffer records = decodeRecords(name, offset, bytes, count, std::move(cancel));
     LasDecodeStats stats;
     decodeLasRecords(records.data(), count, plan_, cloud, 0, stats);
     cloud.bounds = stats.world(cloud.quantization);
@@ -327,11 +385,11 @@ class CopcOctree final : public Octree {
     // The colour rule, from the root's points (see copc_reader.h).
     if (plan_.color_offset) {
       const OctreeNode& root = nodes_[0];
-      plan_.colors_8bit =
-          root.point_count > 0 &&
-          !lasColorsAbove255(
-              decodeRecords(root.name, root.byte_offset, root.byte_size, root.point_count).data(),
-              root.point_count, plan_);
+      plan_.colors_8bit = root.point_count > 0 &&
+                          !lasColorsAbove255(decodeRecords(root.name, root.byte_offset,
+                                                           root.byte_size, root.point_count, {})
+                                                 .data(),
+                                             root.point_count, plan_);
     }
     // One point: empty columns would read as absent attributes.
     const PointCloud prototype = allocateLasCloud(header_, plan_, 1);
@@ -362,6 +420,9 @@ class CopcOctree final : public Octree {
   std::vector<OctreeNode> nodes_;
   mutable std::mutex decoders_mutex_;
   mutable std::vector<std::unique_ptr<laz::ChunkDecoder>> decoders_;
+  // Hierarchy pages fetched by loader threads for the frame loop (by their byte offset).
+  mutable std::mutex pages_mutex_;
+  mutable std::map<std::uint64_t, std::vector<std::byte>> pages_;
 };
 
 }  // namespace

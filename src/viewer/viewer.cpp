@@ -126,10 +126,12 @@ void showOctree(Session& s, const std::filesystem::path& directory,
 void startOpeningUrl(Session& s, const std::string& url, bool first) {
   checkOctreeUrl(url);
   s.opening.reset();  // an earlier open still under way ends first (bounded by its timeouts)
-  s.opening.emplace();
-  s.opening->url = url;
-  s.opening->first = first;
-  s.opening->octree = std::async(std::launch::async, [url] { return openOctreeUrl(url); });
+  // Assigned, not emplace()d: clang 14 does not see the nested struct with member initializers
+  // as default-constructible inside its enclosing class.
+  s.opening = Session::OpeningUrl{
+      .url = url, .first = first, .octree = std::async(std::launch::async, [url] {
+                                    return openOctreeUrl(url);
+                                  })};
   s.status = "opening " + url;
 }
 

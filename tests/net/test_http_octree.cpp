@@ -362,6 +362,17 @@ TEST(HttpOctree, CopcFilesStreamLikeTheLocalFile) {
   std::size_t lit = 0;
   for (std::size_t i = 0; i < expected.pixels.size(); i += 4) lit += expected.pixels[i + 1] != 0;
   EXPECT_GT(lit, 500u) << "the picture shows the cloud";
+
+  // Again: the header, page and chunks come from the on-disk cache, checked with one request.
+  const std::size_t before = nginx.accessLog().size();
+  const test::RunResult again =
+      run(dir, env,
+          "render " + quoted(url) + " -o " + quoted((dir / "again.png").string()) + " " + view);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_TRUE(readPng(dir / "again.png").pixels == expected.pixels);
+  const std::vector<test::AccessLine> log = nginx.accessLog();
+  ASSERT_EQ(log.size(), before + 1) << "one check of the file";
+  EXPECT_EQ(log.back().status, 304);
 }
 
 TEST(HttpOctree, OtherFilesAreRefusedClearly) {
