@@ -244,6 +244,11 @@ ParseResult parseLines(std::string_view text, std::size_t begin, std::size_t end
   auto skipBlanks = [&] {
     while (p < end && (*p == ' ' || *p == '\t')) ++p;
   };
+  // Before a line's first value, blanks as the line counter sees them (isBlank in text_layout.h:
+  // a CR too), so that a line counted as a point is parsed as one ("\r0 1 2" holds 0 1 2).
+  auto skipLeadingBlanks = [&] {
+    while (p < end && (*p == ' ' || *p == '\t' || *p == '\r')) ++p;
+  };
   auto skipLine = [&] {
     const void* nl = std::memchr(p, '\n', std::size_t(end - p));
     p = nl ? static_cast<const char*>(nl) + 1 : end;
@@ -258,9 +263,8 @@ ParseResult parseLines(std::string_view text, std::size_t begin, std::size_t end
   };
 
   while (p < end && result.points < max_points) {
-    skipBlanks();
-    if (p == end || *p == '\n' || *p == '\r' || *p == '#' ||
-        (*p == '/' && p + 1 < end && p[1] == '/')) {
+    skipLeadingBlanks();
+    if (p == end || *p == '\n' || *p == '#' || (*p == '/' && p + 1 < end && p[1] == '/')) {
       skipLine();
       continue;
     }

@@ -64,6 +64,28 @@ TEST(TextReader, PtsCountLineAndIntensityRgb) {
       readString("1\n9 1 2 3\n7", "scan.pts", {.columns = {"intensity", "x", "y", "z"}}).count, 1u);
 }
 
+// A CR before a line's first value is a blank, for the line counter and the parser alike (found by
+// the fuzzer: the counter took "\r0 1 2" for a point, the parser for a blank line, and the reader
+// stopped on its own consistency check instead of reading the point).
+TEST(TextReader, ACarriageReturnBeforeTheValuesIsABlank) {
+  for (const char* name : {"t.xyz", "scan.pts"}) {
+    SCOPED_TRACE(name);
+    const PointCloud cloud =
+        readString("\r0 1 2\n \r4 5 6\r\n", name, {.columns = {"x", "y", "z"}, .parallel = false});
+    ASSERT_EQ(cloud.count, 2u);
+    EXPECT_EQ(cloud.worldX(0), 0.0);
+    EXPECT_EQ(cloud.worldZ(0), 2.0);
+    EXPECT_EQ(cloud.worldX(1), 4.0);
+    EXPECT_EQ(cloud.worldZ(1), 6.0);
+  }
+  // The fuzzer's input itself (PTS): the point 0 12012 30, then a blank line and a count line.
+  const PointCloud fuzzed =
+      readString("\r0 012012   30\n\n4", "scan.pts", {.parallel = false, .pts = true});
+  ASSERT_EQ(fuzzed.count, 1u);
+  EXPECT_EQ(fuzzed.worldY(0), 12012.0);
+  EXPECT_EQ(fuzzed.worldZ(0), 30.0);
+}
+
 TEST(TextReader, HeaderLineNamesTheColumns) {
   PointCloud cloud = readString(
       "# exported\n// another comment\nX,Y,Z,intensity,gps_time,return_number,confidence\n"
