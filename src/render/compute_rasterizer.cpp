@@ -29,24 +29,6 @@ enum Binding : GLuint {
 
 constexpr std::uint32_t kEmpty = ~0u;
 
-int colorModeIndex(ColorMode mode) {
-  switch (mode) {
-    case ColorMode::Rgb:
-      return 0;
-    case ColorMode::Elevation:
-      return 1;
-    case ColorMode::Intensity:
-      return 2;
-    case ColorMode::Normal:
-      return 3;
-    case ColorMode::Classification:
-      return 4;
-    case ColorMode::Uniform:
-      return 5;
-  }
-  return 5;
-}
-
 bool hasExtension(const char* name) {
   GLint count = 0;
   glGetIntegerv(GL_NUM_EXTENSIONS, &count);
@@ -295,7 +277,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   Variant variant;
   variant.atomic64 = atomic64_;
   variant.views = int(views.size());
-  variant.color = colorModeIndex(color);
+  variant.color = glsl::colorModeDefine(color);
   variant.size = int(settings.size_mode);
   variant.lighting = settings.lighting && draw_set.has_normals;
   variant.orthographic = camera.projection == Projection::Orthographic;

@@ -25,24 +25,6 @@ enum Location : GLuint {
 };
 enum Binding : GLuint { kPositions = 0, kColors = 1, kNormals = 2, kExtras = 3 };
 
-int colorModeIndex(ColorMode mode) {
-  switch (mode) {
-    case ColorMode::Rgb:
-      return 0;
-    case ColorMode::Elevation:
-      return 1;
-    case ColorMode::Intensity:
-      return 2;
-    case ColorMode::Normal:
-      return 3;
-    case ColorMode::Classification:
-      return 4;
-    case ColorMode::Uniform:
-      return 5;
-  }
-  return 5;
-}
-
 void setAttribute(GLuint vao, GLuint location, bool enabled) {
   if (enabled) {
     glEnableVertexArrayAttrib(vao, location);
@@ -174,7 +156,7 @@ RasterStats PointPass::draw(const RasterFrame& frame) {
   glVertexAttrib1f(kSpacing, 0.0f);
 
   const ShaderProgram& shader =
-      program(colorModeIndex(color), int(settings.size_mode), lighting, orthographic,
+      program(glsl::colorModeDefine(color), int(settings.size_mode), lighting, orthographic,
               settings.shape == PointShape::Round, eye_depth, filter);
   glUseProgram(shader.id());
   glBindVertexArray(vao_);

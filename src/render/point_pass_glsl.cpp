@@ -3,6 +3,24 @@
 
 namespace parallax::glsl {
 
+int colorModeDefine(ColorMode mode) {
+  switch (mode) {
+    case ColorMode::Rgb:
+      return 0;
+    case ColorMode::Elevation:
+      return 1;
+    case ColorMode::Intensity:
+      return 2;
+    case ColorMode::Normal:
+      return 3;
+    case ColorMode::Classification:
+      return 4;
+    case ColorMode::Uniform:
+      return 5;
+  }
+  return 5;
+}
+
 // Shared by both rasterizers (inserted after the #defines), so that a colour mode looks the same
 // whoever draws it.
 const char* const kPointShadingFunctions = R"glsl(

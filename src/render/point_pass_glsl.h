@@ -2,7 +2,12 @@
 // compute rasterizer shares with it.
 #pragma once
 
+#include "render/render_settings.h"
+
 namespace parallax::glsl {
+
+// The value of the COLOR_MODE define that both rasterizers' shaders take for `mode`.
+int colorModeDefine(ColorMode mode);
 
 // ramp(), classColor() and, with FILTER, keepPoint(): both rasterizers' colour and filter code.
 extern const char* const kPointShadingFunctions;

@@ -43,6 +43,10 @@ enum class ItemType : std::uint16_t {
   Byte14 = 14,        // extra bytes of formats 6-10
 };
 
+// The item's name as LASzip writes it ("POINT10", "BYTE14"), for messages; "an unknown item"
+// for a type the format does not define.
+const char* itemName(ItemType type);
+
 struct LazItem {
   ItemType type = ItemType::Byte;
   std::uint16_t size = 0;     // bytes of this item in each record

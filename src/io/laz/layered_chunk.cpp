@@ -33,42 +33,6 @@ using layered::kPoint14Size;
 using layered::LayerFailure;
 using layered::loadLE;
 
-const char* itemName(ItemType type) {
-  switch (type) {
-    case ItemType::Byte:
-      return "BYTE";
-    case ItemType::Short:
-      return "SHORT";
-    case ItemType::Integer:
-      return "INTEGER";
-    case ItemType::Long:
-      return "LONG";
-    case ItemType::Float:
-      return "FLOAT";
-    case ItemType::Double:
-      return "DOUBLE";
-    case ItemType::Point10:
-      return "POINT10";
-    case ItemType::GpsTime11:
-      return "GPSTIME11";
-    case ItemType::Rgb12:
-      return "RGB12";
-    case ItemType::Wavepacket13:
-      return "WAVEPACKET13";
-    case ItemType::Point14:
-      return "POINT14";
-    case ItemType::Rgb14:
-      return "RGB14";
-    case ItemType::RgbNir14:
-      return "RGBNIR14";
-    case ItemType::Wavepacket14:
-      return "WAVEPACKET14";
-    case ItemType::Byte14:
-      return "BYTE14";
-  }
-  return "unknown";
-}
-
 std::string describe(const LazItem& item, std::size_t index) {
   return "item " + std::to_string(index + 1) + " (" + itemName(item.type) + ", " +
          std::to_string(item.size) + " bytes, version " + std::to_string(item.version) + ")";

@@ -7,6 +7,43 @@
 #include "io/laz/integer_codec.h"
 
 namespace parallax::laz {
+
+const char* itemName(ItemType type) {
+  switch (type) {
+    case ItemType::Byte:
+      return "BYTE";
+    case ItemType::Short:
+      return "SHORT";
+    case ItemType::Integer:
+      return "INTEGER";
+    case ItemType::Long:
+      return "LONG";
+    case ItemType::Float:
+      return "FLOAT";
+    case ItemType::Double:
+      return "DOUBLE";
+    case ItemType::Point10:
+      return "POINT10";
+    case ItemType::GpsTime11:
+      return "GPSTIME11";
+    case ItemType::Rgb12:
+      return "RGB12";
+    case ItemType::Wavepacket13:
+      return "WAVEPACKET13";
+    case ItemType::Point14:
+      return "POINT14";
+    case ItemType::Rgb14:
+      return "RGB14";
+    case ItemType::RgbNir14:
+      return "RGBNIR14";
+    case ItemType::Wavepacket14:
+      return "WAVEPACKET14";
+    case ItemType::Byte14:
+      return "BYTE14";
+  }
+  return "an unknown item";
+}
+
 namespace {
 
 template <class T>
