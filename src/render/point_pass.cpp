@@ -185,7 +185,9 @@ RasterStats PointPass::draw(const RasterFrame& frame) {
   const GLint node_spacing_location = shader.uniform("u_node_spacing");
   const GLint clip_planes_location = shader.uniform("u_clip_planes");
   if (filter) {
-    glUniform1uiv(shader.uniform("u_filter_classes"), 8, settings.filter.classes.data());
+    const auto class_words = filterClassWords(settings.filter, draw_set.has_classification);
+    glUniform1uiv(shader.uniform("u_filter_classes"), 8, class_words.data());
+    glUniform1i(shader.uniform("u_clip_outside"), GLint(settings.filter.clip_outside));
     glUniform1i(shader.uniform("u_clip_plane_count"),
                 GLint(std::min(settings.filter.clip_planes.size(), PointFilter::kMaxClipPlanes)));
   }

@@ -48,17 +48,23 @@ vec3 classColor(uint c) {
 }
 
 // The point filter (PointFilter): classes as 8 words of bits, clip planes in chunk-relative
-// coordinates (the chunk origin folded into d in double on the CPU).
+// coordinates (the chunk origin folded into d in double on the CPU). The region is the planes'
+// intersection; u_clip_outside keeps its complement instead (a box's content hidden).
 #if FILTER
 uniform uint u_filter_classes[8];
 uniform vec4 u_clip_planes[6];
 uniform int u_clip_plane_count;
+uniform bool u_clip_outside;
 bool keepPoint(vec3 position, uint classification) {
   if (((u_filter_classes[classification >> 5] >> (classification & 31u)) & 1u) == 0u) return false;
+  bool inside = true;
   for (int i = 0; i < u_clip_plane_count; ++i) {
-    if (dot(u_clip_planes[i].xyz, position) + u_clip_planes[i].w < 0.0) return false;
+    if (dot(u_clip_planes[i].xyz, position) + u_clip_planes[i].w < 0.0) {
+      inside = false;
+      break;
+    }
   }
-  return true;
+  return u_clip_plane_count == 0 || inside != u_clip_outside;
 }
 #endif
 )glsl";
