@@ -48,14 +48,21 @@ constexpr const char* kClassesExpected =
 }  // namespace
 
 void addFilterOptions(CLI::App& command, FilterOptions& o, const std::string& what) {
-  command.add_option("--classes", o.classes,
-                     "ASPRS classes (0-255) and ranges, e.g. 2,6,9-12: only points of these are " +
-                         what + " (points without classification are class 0)");
-  CLI::Option* box =
-      command.add_option("--clip-box", o.clip_box,
-                         "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX in world coordinates: only points inside "
-                         "the box are " +
-                             what + " (see --clip-mode)");
+  // An empty value would read as "not given" (keep everything): refused where it is parsed.
+  const auto not_empty = [](const std::string& value) {
+    return value.empty() ? std::string("expected a list, found an empty value") : std::string();
+  };
+  command
+      .add_option("--classes", o.classes,
+                  "ASPRS classes (0-255) and ranges, e.g. 2,6,9-12: only points of these are " +
+                      what + " (points without classification are class 0)")
+      ->check(not_empty);
+  CLI::Option* box = command
+                         .add_option("--clip-box", o.clip_box,
+                                     "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX in world coordinates: only "
+                                     "points inside the box are " +
+                                         what + " (see --clip-mode)")
+                         ->check(not_empty);
   command
       .add_option("--clip-mode", o.clip_mode,
                   "inside: keep the --clip-box's content; outside: hide it, keep the rest")

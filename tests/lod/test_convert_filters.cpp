@@ -223,6 +223,7 @@ TEST_F(ConvertFilters, AFilterThatKeepsNothingIsAClearError) {
 // Each malformed option names the option, the item and what was expected.
 TEST_F(ConvertFilters, MalformedListsAreClearErrors) {
   const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--classes ''", "--classes: expected a list, found an empty value"},
       {"--classes 2,x", "--classes: item 'x' is not a class: expected a class number 0-255"},
       {"--classes 2,,3", "--classes: item '' is not a class"},
       {"--classes 256", "--classes: item '256' is not a class"},
