@@ -40,7 +40,10 @@ void drawClassCheckboxes(Session& s) {
   for (int c = 0; c < 256; ++c) {
     if (!hasBit(e.listed, c)) continue;
     bool keep = filter.keepsClass(c);
-    const std::string label = std::to_string(c) + " " + classLabel(c);
+    // "2 ground", or "class 19" where ASPRS has no name (not "19 class 19").
+    const std::string_view name = asprsClassName(c);
+    const std::string label =
+        name.empty() ? classLabel(c) : std::to_string(c) + " " + std::string(name);
     if (ImGui::Checkbox(label.c_str(), &keep)) filter.setClass(c, keep);
   }
 }
