@@ -144,13 +144,16 @@ class ConvertFilters : public ::testing::Test {
       const long long p[3] = {std::get<0>(k), std::get<1>(k), std::get<2>(k)};
       for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
     }
+    bool found = false;
     for (const auto& attribute : metadata["attributes"]) {
       if (attribute["name"] != "position") continue;
+      found = true;
       for (int a = 0; a < 3; ++a) {
         EXPECT_EQ(std::llround(attribute["min"][a].get<double>() * 1000.0), lo[a]) << a;
         EXPECT_EQ(std::llround(attribute["max"][a].get<double>() * 1000.0), hi[a]) << a;
       }
     }
+    EXPECT_TRUE(found) << "no position attribute in metadata.json";
   }
   TempDir dir_;
   std::filesystem::path las_;
@@ -179,6 +182,18 @@ TEST_F(ConvertFilters, ClipBoxFromLasToPotreeAndCopcInsideAndOutside) {
   const auto copc = openCopc(dir_ / "outside.copc.laz");
   EXPECT_EQ(copc->info().point_count, outside.size());
   EXPECT_EQ(octreeKeys(*copc), outside);
+  // A COPC header's bounds are those of the kept points.
+  convert(las_, dir_ / "inside.copc.laz", kBoxOption);
+  const Bounds3 bounds = openCopc(dir_ / "inside.copc.laz")->info().bounds;
+  for (int a = 0; a < 3; ++a) {
+    long long lo = LLONG_MAX, hi = LLONG_MIN;
+    for (const Key& k : inside) {
+      const long long v = a == 0 ? std::get<0>(k) : a == 1 ? std::get<1>(k) : std::get<2>(k);
+      lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+    EXPECT_EQ(std::llround(bounds.min[std::size_t(a)] * 1000.0), lo) << a;
+    EXPECT_EQ(std::llround(bounds.max[std::size_t(a)] * 1000.0), hi) << a;
+  }
 }
 
 TEST_F(ConvertFilters, LasToLasFileKeepsClassesAndBoxTogether) {
