@@ -365,7 +365,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
       programs_.emplace(
           key, ShaderProgram({{GL_COMPUTE_SHADER, "compute_rasterizer.comp",
                                withDefines(glsl::kComputeRasterizer,
-                                           variant.defines() + glsl::kPointShadingFunctions)}}));
+                                           variant.defines() + glsl::pointShadingFunctions())}}));
     }
     const ShaderProgram& shader = program(key, false);
     glUseProgram(shader.id());

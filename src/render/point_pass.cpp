@@ -51,7 +51,7 @@ const ShaderProgram& PointPass::program(int color, int size, bool lighting, bool
       "#define COLOR_MODE " + std::to_string(color) + "\n#define SIZE_MODE " +
       std::to_string(size) + "\n#define LIGHTING " + std::to_string(int(lighting)) +
       "\n#define ORTHOGRAPHIC " + std::to_string(int(orthographic)) + "\n#define FILTER " +
-      std::to_string(int(filter)) + "\n" + glsl::kPointShadingFunctions;
+      std::to_string(int(filter)) + "\n" + glsl::pointShadingFunctions();
   const std::string fragment_defines = "#define ROUND " + std::to_string(int(round)) +
                                        "\n#define EYE_DEPTH " + std::to_string(int(eye_depth)) +
                                        "\n";

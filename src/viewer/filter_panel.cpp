@@ -1,4 +1,5 @@
-// The viewer panel's "Filters" section: which classes are drawn, and a clip box. Everything
+// The viewer panel's "Filters" section: which classes are drawn (with the classification colour
+// mode's legend), and a clip box. Everything
 // here edits RenderSettings::filter, which the rasterizers read as uniforms: a change redraws
 // the picture (the settings differ from the drawn ones) and uploads nothing.
 #include <imgui.h>
@@ -9,6 +10,7 @@
 #include <utility>
 
 #include "core/classification.h"
+#include "render/class_colors.h"
 #include "viewer/viewer_session.h"
 
 namespace parallax::viewer_internal {
@@ -39,6 +41,13 @@ void drawClassCheckboxes(Session& s) {
   }
   for (int c = 0; c < 256; ++c) {
     if (!hasBit(e.listed, c)) continue;
+    // The legend of the classification colour mode beside each name.
+    const std::array<float, 3> rgb = classColor(c);
+    ImGui::PushID(c);
+    ImGui::ColorButton("##colour", ImVec4(rgb[0], rgb[1], rgb[2], 1.0f),
+                       ImGuiColorEditFlags_NoTooltip | ImGuiColorEditFlags_NoDragDrop);
+    ImGui::PopID();
+    ImGui::SameLine();
     bool keep = filter.keepsClass(c);
     // "2 ground", or "class 19" where ASPRS has no name (not "19 class 19").
     const std::string_view name = asprsClassName(c);
