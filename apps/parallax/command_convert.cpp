@@ -8,6 +8,10 @@
 // Potree root box is not a cube (COPC's is).
 // `parallax convert OCTREE -o OUT`: a Potree 2.0 directory or its http(s) URL copied to a
 // directory, or its points written to a file (octree_export.h).
+// --classes and --clip-box (filter_options.h) keep only the matching points on every path: the
+// octree builds filter where the inputs stream in (lod/convert_stages.h PointStream), so that
+// counts, bounds and spacing are those of the kept points; an octree input is then rebuilt, not
+// copied or re-encoded node by node; the file-to-file path filters the cloud it reads whole.
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
@@ -22,6 +26,7 @@
 #include "commands.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "filter_options.h"
 #include "io/coordinate_system.h"
 #include "io/las_header.h"
 #include "io/las_writer.h"
@@ -59,7 +64,16 @@ struct ConvertArgs {
   bool quiet = false;
   bool clean =
       false;  // --clean: remove the output's stale partial outputs (and stop without inputs)
+  FilterOptions filter_options;
+  PointFilter filter;  // parsed from filter_options by runConvert
 };
+
+// The inputs of an octree build, each with the points to keep.
+std::vector<ConvertInput> convertInputs(const ConvertArgs& args) {
+  std::vector<ConvertInput> inputs;
+  for (const std::string& input : args.inputs) inputs.push_back({input, args.columns, args.filter});
+  return inputs;
+}
 
 // Removes what killed conversions to `output` left (io/partial_output.h) and says so, unless quiet.
 void cleanPartialOutputs(const std::string& output, bool quiet) {
@@ -134,10 +148,10 @@ int runCopcConvert(const ConvertArgs& args) {
         "PLY and text outputs");
   }
   cleanPartialOutputs(args.output, args.quiet);
-  std::vector<ConvertInput> inputs;
-  for (const std::string& input : args.inputs) inputs.push_back({input, args.columns});
-  // A Potree directory whose layout COPC can hold: node by node.
-  if (inputs.size() == 1 && isPotreeDirectory(inputs[0].path) && args.spacing == 0.0) {
+  const std::vector<ConvertInput> inputs = convertInputs(args);
+  // A Potree directory whose layout COPC can hold, all its points kept: node by node.
+  if (inputs.size() == 1 && isPotreeDirectory(inputs[0].path) && args.spacing == 0.0 &&
+      args.filter.keepsAll()) {
     std::unique_ptr<Octree> octree = openPotree(inputs[0].path);
     const std::optional<std::string> problem = copcLayoutProblem(octree->info());
     if (!problem) {
@@ -181,12 +195,12 @@ int runPotreeConvert(const ConvertArgs& args) {
         "--properties: a Potree octree holds every attribute in Potree's order; the option is for "
         "PLY and text outputs");
   }
-  if (args.inputs.size() == 1 && isCopcFile(args.inputs[0]) && args.spacing == 0.0) {
+  if (args.inputs.size() == 1 && isCopcFile(args.inputs[0]) && args.spacing == 0.0 &&
+      args.filter.keepsAll()) {
     return runCopcToPotree(args);
   }
   const PotreeConvertOptions options = buildOptions(args);
-  std::vector<ConvertInput> inputs;
-  for (const std::string& input : args.inputs) inputs.push_back({input, args.columns});
+  const std::vector<ConvertInput> inputs = convertInputs(args);
   cleanPartialOutputs(args.output, args.quiet);
   const PotreeConvertResult result = convertToPotree(inputs, args.output, options);
   if (!args.quiet && !result.crs.empty()) {
@@ -242,13 +256,16 @@ int runConvert(ConvertArgs args) {
     return 0;
   }
   for (const std::string& input : args.inputs) checkOctreeUrl(input);
+  args.filter = pointFilterFrom(args.filter_options);  // before any output is touched
+  const bool filtered = !args.filter.keepsAll();
   if (args.format == "copc" || (args.format.empty() && hasCopcName(args.output))) {
     return runCopcConvert(args);
   }
   const bool to_potree = isOctreeOutput(args);
   const bool one_input = args.inputs.size() == 1;
   if (one_input && to_potree && isCopcFile(args.inputs.front())) return runPotreeConvert(args);
-  if (one_input && isPotreeDirectory(args.inputs.front()) && !(to_potree && args.spacing != 0.0)) {
+  if (one_input && isPotreeDirectory(args.inputs.front()) &&
+      !(to_potree && (args.spacing != 0.0 || filtered))) {
     // An octree (a Potree directory or its URL) in: copied, or its points written to a file.
     return runOctreeExport({.input = args.inputs.front(),
                             .output = args.output,
@@ -257,7 +274,8 @@ int runConvert(ConvertArgs args) {
                             .las_minor_version = args.las_version == "1.4"   ? 4
                                                  : args.las_version == "1.2" ? 2
                                                                              : 0,
-                            .quiet = args.quiet});
+                            .quiet = args.quiet,
+                            .filter = args.filter});
   }
   if (to_potree) return runPotreeConvert(args);
   if (args.inputs.size() != 1) {
@@ -282,6 +300,18 @@ int runConvert(ConvertArgs args) {
   {
     const auto progress = readingBar(args.quiet, "reading", args.input);
     cloud = readPointFile(args.input, {.progress = progress.get(), .text_columns = args.columns});
+  }
+  const std::uint64_t read_points = cloud.count;
+  if (filtered) {
+    cloud = filterPoints(cloud, args.filter);
+    // As the octree builds say (lod/convert_count.cpp): an empty output is a mistake, not a result.
+    if (cloud.count == 0) {
+      throw InputError({.file = args.input,
+                        .expected = "at least one point that the class and clip filters keep",
+                        .found = "none of " + std::to_string(read_points) + " points",
+                        .hint = "check the class list and the clip box against the input's "
+                                "classes and bounds (parallax info)"});
+    }
   }
   int minor = 0;
   if (args.las_version == "1.2") minor = 2;
@@ -327,7 +357,11 @@ int runConvert(ConvertArgs args) {
   }
   if (!args.quiet) {
     std::fprintf(stderr, "%s: %s, %llu points\n", args.input.c_str(), pointFormatName(in_format),
-                 static_cast<unsigned long long>(cloud.count));
+                 static_cast<unsigned long long>(read_points));
+    if (filtered) {
+      std::fprintf(stderr, "kept %llu points (--classes, --clip-box)\n",
+                   static_cast<unsigned long long>(cloud.count));
+    }
     for (const std::string& loss : losses) {
       std::fprintf(stderr, "dropped or changed: %s\n", loss.c_str());
     }
@@ -408,6 +442,7 @@ Command addConvertCommand(CLI::App& app) {
                   "LAZ output: points a chunk (default 50000, LASzip's)")
       ->check(CLI::Range(std::uint32_t(1), std::uint32_t(100'000'000)));
   sub->add_flag("--ascii", args->ascii, "PLY output: ascii instead of binary little endian");
+  addFilterOptions(*sub, args->filter_options, "written");
   addQuietFlag(*sub, args->quiet);
   sub->add_flag("--clean", args->clean,
                 "Remove the partial outputs killed conversions to -o OUTPUT left (hidden "

@@ -151,6 +151,7 @@ int runRender(const RenderCommandOptions& o) {
   const auto start = Clock::now();
   configureNetworkFrom(o.lod);
   checkOctreeUrl(o.input);
+  pointFilterFrom(o.render.filter);  // a malformed list is reported before the file is read
   RenderSource source = openSource(o);
   const double load_s = secondsSince(start);
 

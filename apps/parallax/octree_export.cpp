@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "io/point_file.h"
+#include "lod/in_memory_octree.h"
 #include "lod/potree_reader.h"
 #include "net/network.h"
 
@@ -156,8 +157,10 @@ int writeOctreePoints(const OctreeExportOptions& o) {
       const std::size_t end = std::min(nodes.size(), i + kAhead);
       octree->prefetch(std::span(nodes).subspan(i, end - i), {});
     }
-    const PointCloud part = octree->loadNode(nodes[i]);
+    PointCloud part = octree->loadNode(nodes[i]);
     if (i == 0) all = emptyLike(part, total);
+    const std::uint64_t node_points = part.count;
+    if (!o.filter.keepsAll()) part = filterPoints(part, o.filter);
     if (at + part.count > total) {
       throw InputError({.file = o.input,
                         .element = "node " + nodes[i].name,
@@ -166,9 +169,11 @@ int writeOctreePoints(const OctreeExportOptions& o) {
     }
     appendColumns(part, all, at);
     at += part.count;
-    if (progress) progress->advance(part.count);
+    if (progress) progress->advance(node_points);
   }
   if (progress) progress->finish();
+  // Filtered: the columns were sized for every point, the cloud holds the kept ones.
+  if (at < all.count) all = slicePoints(all, 0, at);
   all.computeBounds();
   const PointWriteOptions options{.ply_ascii = o.ply_ascii,
                                   .las_minor_version = o.las_minor_version};

@@ -3,11 +3,13 @@
 //   through their byte sources (over HTTP: ranges of 8 MiB, several in flight) and written under
 //   a temporary name beside OUT, renamed to OUT at the end;
 // - OUT a point file (.ply, .las, .xyz, ...): every node's points in one cloud, written as
-//   `convert FILE -o FILE` writes (the whole cloud in memory, as there).
+//   `convert FILE -o FILE` writes (the whole cloud in memory, as there), only the points the
+//   filter keeps.
 #pragma once
 
 #include <string>
 
+#include "core/point_filter.h"
 #include "lod/octree.h"
 
 namespace parallax::cli {
@@ -18,6 +20,7 @@ struct OctreeExportOptions {
   bool ply_ascii = false;
   int las_minor_version = 0;
   bool quiet = false;
+  PointFilter filter;  // the points written to a file (a directory copy takes no filter)
 };
 
 int runOctreeExport(const OctreeExportOptions& options);

@@ -91,6 +91,7 @@ void addRenderOptions(CLI::App& command, RenderOptions& o) {
                   "distance to the pivot, the cloud's centre)")
       ->check(CLI::NonNegativeNumber);
   command.add_flag("--swap-eyes", o.swap_eyes, "Swap the left and right eyes' pictures");
+  addFilterOptions(command, o.filter, "drawn");
 }
 
 void addLodOptions(CLI::App& command, LodOptions& o) {
@@ -180,6 +181,7 @@ RenderSettings renderSettingsFrom(const RenderOptions& o, double typical_spacing
   }
   settings.rasterizer = *rasterizer;
   settings.hq = o.hq;
+  settings.filter = pointFilterFrom(o.filter);
   return settings;
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "filter_options.h"
 #include "lod/octree_cache.h"
 #include "render/camera.h"
 #include "render/lod_scene.h"
@@ -40,6 +41,7 @@ struct RenderOptions {
   double eye_separation = 0.0;  // 0: automatic (convergence / 30)
   double convergence = 0.0;     // 0: automatic (the pivot's depth)
   bool swap_eyes = false;
+  FilterOptions filter;  // --classes, --clip-box, --clip-mode
 };
 
 // Level of detail, for a Potree directory and for files with more points than the budget.
@@ -60,7 +62,7 @@ OctreeCacheSettings octreeCacheSettingsFrom(const LodOptions& options);
 // --uniform-color, --background, --lighting, --edl, --edl-strength, --edl-radius, --msaa,
 // --rasterizer, --hq, --eye,
 // --target, --up, --fov, --ortho, --camera, --stereo, --eye-separation, --convergence,
-// --swap-eyes.
+// --swap-eyes, --classes, --clip-box, --clip-mode.
 void addRenderOptions(CLI::App& command, RenderOptions& options);
 
 // Validated settings; throws std::invalid_argument naming the option and its allowed values.

@@ -54,7 +54,8 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
   std::vector<std::unique_ptr<PointStream>> streams;
   std::filesystem::path crs_source;
   for (const ConvertInput& input : inputs) {
-    streams.push_back(std::make_unique<PointStream>(input.path, input.text_columns));
+    streams.push_back(
+        std::make_unique<PointStream>(input.path, input.text_columns, nullptr, &input.filter));
     total += streams.back()->pointCount();
     plan.input_quantizations.push_back(streams.back()->quantization());
     // The CRS travels into the octree; merged inputs must not disagree on it (a file that
@@ -98,6 +99,16 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
       plan.points += batch.count;
       if (bar) bar->advance(batch.count);
     }
+  }
+  const bool filtered = std::any_of(inputs.begin(), inputs.end(), [](const ConvertInput& input) {
+    return !input.filter.keepsAll();
+  });
+  if (filtered && plan.points == 0) {
+    throw InputError({.file = inputs.front().path.string(),
+                      .expected = "at least one point that the class and clip filters keep",
+                      .found = "none of " + std::to_string(total) + " points",
+                      .hint = "check the class list and the clip box against the input's "
+                              "classes and bounds (parallax info)"});
   }
   if (!have_layout) plan.layout = PotreeLayout::fromCloud(PointCloud{});
   plan.cube = octreeCube(plan.bounds);
@@ -148,7 +159,7 @@ void countChunks(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
   };
   for (std::size_t input = 0; input < inputs.size(); ++input) {
     PointStream stream(inputs[input].path, inputs[input].text_columns,
-                       &plan.input_quantizations[input]);
+                       &plan.input_quantizations[input], &inputs[input].filter);
     PointCloud batch;
     while (stream.next(batch, plan.batch_points)) {
       if (unsummed + batch.count > std::numeric_limits<std::uint32_t>::max()) sumLocal();

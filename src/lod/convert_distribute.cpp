@@ -99,7 +99,7 @@ void distributePoints(ConvertPlan& plan, const std::vector<ConvertInput>& inputs
   try {
     for (std::size_t input = 0; input < inputs.size(); ++input) {
       PointStream stream(inputs[input].path, inputs[input].text_columns,
-                         &plan.input_quantizations[input]);
+                         &plan.input_quantizations[input], &inputs[input].filter);
       PointCloud batch;
       while (stream.next(batch, plan.batch_points)) {
         const std::uint64_t n = batch.count;

@@ -27,6 +27,7 @@
 
 #include "core/bounds.h"
 #include "core/point_cloud.h"
+#include "core/point_filter.h"
 #include "core/progress.h"
 #include "io/coordinate_system.h"
 #include "lod/octree_build_options.h"
@@ -42,28 +43,36 @@ namespace parallax {
 // reader's own choice (PLY: from a sample; text: exact, from a first pass over the positions),
 // or `quantization` when given (a later pass over a file whose quantization an earlier pass
 // found: text files are then not read twice).
+//
+// With a `filter`, batches hold only the points it keeps (core/point_filter.h; a file without
+// classification is class 0): this is where every stage of the conversion reads its points, so
+// the scan's bounds, the counts and the spacing describe the kept points only. pointCount()
+// stays the file's count (the scan's progress total), the points of all batches together may be
+// fewer.
 class PointStream {
  public:
   PointStream(const std::filesystem::path& path, const std::vector<std::string>& text_columns,
-              const Quantization* quantization = nullptr);
+              const Quantization* quantization = nullptr, const PointFilter* filter = nullptr);
   ~PointStream();
 
   std::uint64_t pointCount() const;
   const Quantization& quantization() const;
   // The file's coordinate reference system (LAS: its projection records; PLY, text: none).
   const CoordinateSystem& crs() const;
-  // The next at most `max_points` points; false at the end.
+  // The next at most `max_points` points (at least one); false at the end.
   bool next(PointCloud& batch, std::size_t max_points);
 
   struct State;  // opaque (point_stream.cpp)
 
  private:
+  bool nextUnfiltered(PointCloud& batch, std::size_t max_points);
   std::unique_ptr<State> state_;
 };
 
 struct ConvertInput {
   std::filesystem::path path;
   std::vector<std::string> text_columns;  // text files only (see point_file.h)
+  PointFilter filter;                     // the points of this input that are converted
 };
 
 // Creates a progress sink for one stage ("counting", ...) over `total` points; may return null.

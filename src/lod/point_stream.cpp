@@ -1,4 +1,5 @@
 // PointStream (convert_stages.h): one batch interface over the formats' chunk readers.
+#include <optional>
 #include <type_traits>
 #include <variant>
 
@@ -26,6 +27,7 @@ struct PointStream::State {
   };
   std::variant<PlyChunkReader, LasChunkReader, LazChunkReader, TextChunkReader, OctreeNodes> reader;
   CoordinateSystem crs;
+  std::optional<PointFilter> filter;  // absent: every point
 };
 
 namespace {
@@ -62,8 +64,9 @@ PointStream::State openStream(const std::filesystem::path& path,
 
 PointStream::PointStream(const std::filesystem::path& path,
                          const std::vector<std::string>& text_columns,
-                         const Quantization* quantization)
+                         const Quantization* quantization, const PointFilter* filter)
     : state_(std::make_unique<State>(openStream(path, text_columns, quantization))) {
+  if (filter && !filter->keepsAll()) state_->filter = *filter;
   if (const auto* las = std::get_if<LasChunkReader>(&state_->reader)) {
     state_->crs = coordinateSystemOf(las->header());
   } else if (const auto* laz = std::get_if<LazChunkReader>(&state_->reader)) {
@@ -101,6 +104,16 @@ const CoordinateSystem& PointStream::crs() const {
 }
 
 bool PointStream::next(PointCloud& batch, std::size_t max_points) {
+  if (!state_->filter) return nextUnfiltered(batch, max_points);
+  // Batches the filter empties are skipped: a stage never sees an empty batch.
+  while (nextUnfiltered(batch, max_points)) {
+    batch = filterPoints(batch, *state_->filter);
+    if (batch.count > 0) return true;
+  }
+  return false;
+}
+
+bool PointStream::nextUnfiltered(PointCloud& batch, std::size_t max_points) {
   return std::visit(
       [&](auto& r) -> bool {
         if constexpr (std::is_same_v<std::decay_t<decltype(r)>, State::OctreeNodes>) {

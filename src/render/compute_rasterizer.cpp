@@ -365,7 +365,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
       programs_.emplace(
           key, ShaderProgram({{GL_COMPUTE_SHADER, "compute_rasterizer.comp",
                                withDefines(glsl::kComputeRasterizer,
-                                           variant.defines() + glsl::kPointShadingFunctions)}}));
+                                           variant.defines() + glsl::pointShadingFunctions())}}));
     }
     const ShaderProgram& shader = program(key, false);
     glUseProgram(shader.id());
@@ -378,7 +378,9 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
                 settings.max_size_px);
     glUniform1f(shader.uniform("u_hq_range"), settings.hq_depth_range);
     if (variant.filter) {
-      glUniform1uiv(shader.uniform("u_filter_classes"), 8, settings.filter.classes.data());
+      const auto class_words = filterClassWords(settings.filter, draw_set.has_classification);
+      glUniform1uiv(shader.uniform("u_filter_classes"), 8, class_words.data());
+      glUniform1i(shader.uniform("u_clip_outside"), GLint(settings.filter.clip_outside));
       glUniform1i(shader.uniform("u_clip_plane_count"),
                   GLint(std::min(settings.filter.clip_planes.size(), PointFilter::kMaxClipPlanes)));
     }

@@ -4,7 +4,7 @@
 
 namespace parallax::glsl {
 
-// Variants (ComputeRasterizer prepends the #defines, then kPointShadingFunctions):
+// Variants (ComputeRasterizer prepends the #defines, then pointShadingFunctions()):
 //   PASS        1: depth (the atomic step), 2: attributes of the front-most point
 //   ATOMIC64    1: one 64-bit atomicMin of (depth key << 32 | id) (GL_NV_shader_atomic_int64);
 //               0: 32-bit atomics, depth first, then the id and colour of the front-most point

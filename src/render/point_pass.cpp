@@ -51,7 +51,7 @@ const ShaderProgram& PointPass::program(int color, int size, bool lighting, bool
       "#define COLOR_MODE " + std::to_string(color) + "\n#define SIZE_MODE " +
       std::to_string(size) + "\n#define LIGHTING " + std::to_string(int(lighting)) +
       "\n#define ORTHOGRAPHIC " + std::to_string(int(orthographic)) + "\n#define FILTER " +
-      std::to_string(int(filter)) + "\n" + glsl::kPointShadingFunctions;
+      std::to_string(int(filter)) + "\n" + glsl::pointShadingFunctions();
   const std::string fragment_defines = "#define ROUND " + std::to_string(int(round)) +
                                        "\n#define EYE_DEPTH " + std::to_string(int(eye_depth)) +
                                        "\n";
@@ -185,7 +185,9 @@ RasterStats PointPass::draw(const RasterFrame& frame) {
   const GLint node_spacing_location = shader.uniform("u_node_spacing");
   const GLint clip_planes_location = shader.uniform("u_clip_planes");
   if (filter) {
-    glUniform1uiv(shader.uniform("u_filter_classes"), 8, settings.filter.classes.data());
+    const auto class_words = filterClassWords(settings.filter, draw_set.has_classification);
+    glUniform1uiv(shader.uniform("u_filter_classes"), 8, class_words.data());
+    glUniform1i(shader.uniform("u_clip_outside"), GLint(settings.filter.clip_outside));
     glUniform1i(shader.uniform("u_clip_plane_count"),
                 GLint(std::min(settings.filter.clip_planes.size(), PointFilter::kMaxClipPlanes)));
   }

@@ -1,6 +1,12 @@
 // GLSL of the point pass, kept beside the pass (point_pass.cpp) that binds its inputs.
 #include "render/point_pass_glsl.h"
 
+#include <array>
+#include <cstdio>
+#include <string>
+
+#include "render/class_colors.h"
+
 namespace parallax::glsl {
 
 int colorModeDefine(ColorMode mode) {
@@ -21,9 +27,9 @@ int colorModeDefine(ColorMode mode) {
   return 5;
 }
 
-// Shared by both rasterizers (inserted after the #defines), so that a colour mode looks the same
-// whoever draws it.
-const char* const kPointShadingFunctions = R"glsl(
+namespace {
+
+const char* const kRamp = R"glsl(
 // A perceptually ordered ramp (dark blue, cyan, green, yellow, red, white-ish) for elevation.
 vec3 ramp(float t) {
   const vec3 stops[6] = vec3[6](vec3(0.19, 0.07, 0.46), vec3(0.12, 0.56, 0.86),
@@ -33,35 +39,59 @@ vec3 ramp(float t) {
   int i = min(int(x), 4);
   return mix(stops[i], stops[i + 1], x - float(i));
 }
+)glsl";
 
-// ASPRS LAS 1.4 standard classes 0-18; anything else is magenta so that it stands out.
-vec3 classColor(uint c) {
-  const vec3 table[19] = vec3[19](
-      vec3(0.50, 0.50, 0.50), vec3(0.75, 0.75, 0.75), vec3(0.63, 0.45, 0.27),
-      vec3(0.55, 0.85, 0.45), vec3(0.25, 0.70, 0.25), vec3(0.05, 0.45, 0.10),
-      vec3(0.90, 0.40, 0.20), vec3(1.00, 0.40, 0.70), vec3(1.00, 0.90, 0.20),
-      vec3(0.15, 0.45, 0.95), vec3(0.60, 0.35, 0.25), vec3(0.35, 0.35, 0.38),
-      vec3(0.95, 0.95, 0.60), vec3(0.85, 0.85, 0.10), vec3(0.95, 0.75, 0.10),
-      vec3(0.55, 0.25, 0.75), vec3(0.10, 0.80, 0.80), vec3(0.70, 0.70, 0.95),
-      vec3(1.00, 0.10, 0.10));
-  return c < 19u ? table[c] : vec3(1.0, 0.0, 1.0);
-}
-
+const char* const kFilter = R"glsl(
 // The point filter (PointFilter): classes as 8 words of bits, clip planes in chunk-relative
-// coordinates (the chunk origin folded into d in double on the CPU).
+// coordinates (the chunk origin folded into d in double on the CPU). The region is the planes'
+// intersection; u_clip_outside keeps its complement instead (a box's content hidden).
 #if FILTER
 uniform uint u_filter_classes[8];
 uniform vec4 u_clip_planes[6];
 uniform int u_clip_plane_count;
+uniform bool u_clip_outside;
 bool keepPoint(vec3 position, uint classification) {
   if (((u_filter_classes[classification >> 5] >> (classification & 31u)) & 1u) == 0u) return false;
+  bool inside = true;
   for (int i = 0; i < u_clip_plane_count; ++i) {
-    if (dot(u_clip_planes[i].xyz, position) + u_clip_planes[i].w < 0.0) return false;
+    if (dot(u_clip_planes[i].xyz, position) + u_clip_planes[i].w < 0.0) {
+      inside = false;
+      break;
+    }
   }
-  return true;
+  return u_clip_plane_count == 0 || inside != u_clip_outside;
 }
 #endif
 )glsl";
+
+// classColor() with the palette of render/class_colors.h, so that the picture and the viewer's
+// legend cannot disagree.
+std::string classColorFunction() {
+  std::string text = "vec3 classColor(uint c) {\n  const vec3 table[" +
+                     std::to_string(kPaletteClasses) + "] = vec3[" +
+                     std::to_string(kPaletteClasses) + "](";
+  for (std::size_t c = 0; c < kPaletteClasses; ++c) {
+    const std::array<float, 3> rgb = classColor(int(c));
+    char entry[64];
+    // Nine significant digits give back the float exactly; '#' keeps the decimal point.
+    std::snprintf(entry, sizeof entry, "%svec3(%#.9g, %#.9g, %#.9g)", c ? ", " : "", double(rgb[0]),
+                  double(rgb[1]), double(rgb[2]));
+    text += entry;
+  }
+  const std::array<float, 3> other = classColor(int(kPaletteClasses));
+  char fallback[96];
+  std::snprintf(fallback, sizeof fallback,
+                ");\n  return c < %zuu ? table[c] : vec3(%#.9g, %#.9g, %#.9g);\n}\n",
+                kPaletteClasses, double(other[0]), double(other[1]), double(other[2]));
+  return text + fallback;
+}
+
+}  // namespace
+
+const std::string& pointShadingFunctions() {
+  static const std::string text = std::string(kRamp) + classColorFunction() + kFilter;
+  return text;
+}
 
 const char* const kPointVertex = R"glsl(#version 450 core
 layout(location = 0) in vec3 a_position;   // relative to the chunk origin

@@ -4,10 +4,10 @@
 // renderer's framebuffer (RGBA8 colour, RG32F eye depth, 32-bit float reversed depth), so that
 // eye-dome lighting, the stereo compositor, picking and screenshots do not know which one drew.
 //
-// Per-point filters (classes, clip planes; later returns and attribute ranges) are part of the
-// settings (RenderSettings::filter) and are applied in both rasterizers' shaders through
-// keepPoint() (point_pass_glsl.cpp); a new filter adds its uniforms there and its test to
-// PointFilter::keepsAll, and both rasterizers pick it up.
+// Per-point filters (classes, a clip region inside or outside; later returns and attribute
+// ranges) are part of the settings (RenderSettings::filter, core/point_filter.h) and are applied
+// in both rasterizers' shaders through keepPoint() (point_pass_glsl.cpp); a new filter adds its
+// uniforms there and its test to PointFilter::keepsAll, and both rasterizers pick it up.
 #pragma once
 
 #include <algorithm>
@@ -82,6 +82,17 @@ inline std::array<float, 4 * PointFilter::kMaxClipPlanes> chunkClipPlanes(
     planes[4 * i + 3] = float(p[0] * origin.x + p[1] * origin.y + p[2] * origin.z + p[3]);
   }
   return planes;
+}
+
+// The class words the shaders test. Without a classification attribute the buffers hold class 1
+// (what the classification colour shows), but the filter counts such points as class 0
+// (core/point_filter.h): decided here for the whole draw set, all words set or none.
+inline std::array<std::uint32_t, 8> filterClassWords(const PointFilter& filter,
+                                                     bool has_classification) {
+  if (has_classification) return filter.classes;
+  std::array<std::uint32_t, 8> words{};
+  words.fill(filter.keepsClass(0) ? ~0u : 0u);
+  return words;
 }
 
 }  // namespace parallax

@@ -73,13 +73,6 @@ std::string_view rasterizerKindName(RasterizerKind kind) {
   return nameOf(kRasterizers, kind);
 }
 
-bool PointFilter::keepsAll() const {
-  for (const std::uint32_t word : classes) {
-    if (word != ~0u) return false;
-  }
-  return clip_planes.empty();
-}
-
 std::string colorModeNames() {
   // Appended piece by piece: `"|" + std::string(text)` builds a temporary by inserting at its
   // front, which GCC 12 at -O2 misreads as an overlapping memcpy (-Wrestrict, GCC bug 105329).

@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/point_filter.h"
+
 namespace parallax {
 
 enum class PointSizeMode {
@@ -21,22 +23,6 @@ enum class ColorMode { Rgb, Elevation, Intensity, Normal, Classification, Unifor
 // Who turns points into pixels (render/rasterizer.h). Auto: the compute rasterizer wherever it
 // supports the frame's settings, GL_POINTS elsewhere.
 enum class RasterizerKind { Points, Compute, Auto };
-
-// Which points are drawn at all, tested per point in both rasterizers' shaders (the hook for
-// filters by class, return and attribute ranges, and for clipping). The default keeps every
-// point and compiles to nothing.
-struct PointFilter {
-  // Bit c of word c / 32: keep points of classification c (0-255). All set by default.
-  std::array<std::uint32_t, 8> classes{~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u};
-  // Half-spaces in world coordinates, (a, b, c, d): a point p is kept where a p.x + b p.y +
-  // c p.z + d >= 0 for every plane (a clip box is six). At most kMaxClipPlanes.
-  static constexpr std::size_t kMaxClipPlanes = 6;
-  std::vector<std::array<double, 4>> clip_planes;
-
-  bool keepsAll() const;
-  bool keepsClass(int c) const { return (classes[c / 32] >> (c % 32)) & 1u; }
-  friend bool operator==(const PointFilter&, const PointFilter&) = default;
-};
 
 struct RenderSettings {
   PointSizeMode size_mode = PointSizeMode::Fixed;
@@ -61,6 +47,9 @@ struct RenderSettings {
   // Schuetz's HQS, which removes the shimmer of 1-pixel points in motion.
   bool hq = false;
   float hq_depth_range = 0.01f;
+  // Which points are drawn at all (core/point_filter.h), tested per point in both rasterizers'
+  // shaders; changing it changes uniforms only, never the uploaded buffers. The default keeps
+  // every point and compiles to nothing.
   PointFilter filter;
 
   friend bool operator==(const RenderSettings&, const RenderSettings&) = default;

@@ -81,8 +81,8 @@ void setTitle(Session& s, const std::filesystem::path& path) {
   glfwSetWindowTitle(s.window, (s.options->title + " - " + s.loaded_name).c_str());
 }
 
-// Uploads a whole cloud (a file, or a large file's preview) as what is shown.
-void showCloud(Session& s, const PointCloud& cloud, bool place_camera, bool first) {
+// Uploads a whole cloud (a file, or a large file's preview: `whole` false) as what is shown.
+void showCloud(Session& s, const PointCloud& cloud, bool whole, bool place_camera, bool first) {
   auto gpu = std::make_unique<GpuPointCloud>(cloud);
   s.lod.reset();
   s.octree.reset();
@@ -94,6 +94,7 @@ void showCloud(Session& s, const PointCloud& cloud, bool place_camera, bool firs
   if (place_camera) placeCamera(s, first);
   chooseLook(s, s.cloud->typicalSpacing() > 0, s.cloud->hasNormals());
   if (s.settings.world_size <= 0) s.settings.world_size = float(2.0 * s.cloud->typicalSpacing());
+  prepareFilters(s, &cloud, whole, cloud.hasClassification(), first);
 }
 
 // Opens an octree (a Potree directory or a COPC file) as what is shown. With `keep_camera` (the
@@ -111,6 +112,7 @@ void showOpenedOctree(Session& s, std::unique_ptr<Octree> octree,
     s.cloud.reset();
     placeCamera(s, first);
     chooseLook(s, s.octree->info().spacing > 0, s.octree->info().has_normals);
+    prepareFilters(s, nullptr, false, s.octree->info().has_classification, first);
   }
   // The attenuated size needs a spacing before any node is drawn: about a level-3 node's.
   if (s.settings.world_size <= 0) s.settings.world_size = float(s.octree->info().spacing / 4.0);
@@ -169,7 +171,7 @@ void openLargeFile(Session& s, const std::filesystem::path& path, std::uint64_t 
   if (hasPointFilePreview(detectPointFormat(path))) {
     const PointCloud preview = readPointFilePreview(path, std::min(budget, kPreviewPoints));
     shown = preview.count;
-    showCloud(s, preview, true, first);
+    showCloud(s, preview, false, true, first);
   } else {
     // No sample reader for text: nothing is shown until the octree is ready.
     s.cloud.reset();
@@ -234,7 +236,7 @@ void openFile(Session& s, const std::filesystem::path& path, bool first) {
       setTitle(s, path);
     } else {
       PointCloud cloud = readPointFile(path);
-      showCloud(s, cloud, true, first);
+      showCloud(s, cloud, true, true, first);
       s.status =
           "opened " + path.string() + " (" + std::to_string(s.cloud->pointCount()) + " points)";
       setTitle(s, path);

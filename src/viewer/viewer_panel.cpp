@@ -201,6 +201,7 @@ void drawPanel(Session& s, double frame_seconds, const FrameStats& stats) {
     ImGui::SameLine();
     ImGui::Checkbox("swap eyes (X)", &s.stereo.swap_eyes);
   }
+  drawFilterPanel(s);
   ImGui::Separator();
   ImGui::TextDisabled("Camera");
   bool ortho = s.camera.projection == Projection::Orthographic;

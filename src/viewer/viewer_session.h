@@ -6,6 +6,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include <array>
 #include <cstdint>
 #include <future>
 #include <memory>
@@ -82,6 +83,14 @@ struct Session {
     friend bool operator==(const Drawn&, const Drawn&) = default;
   };
   std::optional<Drawn> drawn;
+  // The filter panel's state (filter_panel.cpp); settings.filter is what is drawn.
+  struct FilterEditor {
+    std::array<std::uint32_t, 8> listed{};  // bit c: class c has a checkbox
+    bool classified = false;                // false: no classification, every point is class 0
+    bool box_enabled = false, box_outside = false;
+    Bounds3 box;  // world coordinates; applied to settings.filter while enabled
+  };
+  FilterEditor filter_editor;
 };
 
 // Fits the camera to what is shown (F).
@@ -89,8 +98,17 @@ void fitCamera(Session& s);
 // Quad-buffer only where the window has a stereo visual; elsewhere sbs, and the user is told.
 void setStereoMode(Session& s, StereoMode mode);
 
-// The panel (G): file, frame time, level of detail, every render setting, stereo, camera.
+// The panel (G): file, frame time, level of detail, every render setting, stereo, camera,
+// filters.
 void drawPanel(Session& s, double frame_seconds, const FrameStats& stats);
+// The filter part of the panel: a checkbox per class, the clip box editor.
+void drawFilterPanel(Session& s);
+// Prepares the filter panel for a newly opened cloud (s.extent set): the classes it may have
+// (those of `points` when they are the whole cloud, else ASPRS's named classes and those seen in
+// `points`, a preview or nothing) and a clip box over its bounds, or the command line's box for
+// the first cloud. Classes unchecked earlier stay unchecked.
+void prepareFilters(Session& s, const PointCloud* points, bool whole, bool has_classification,
+                    bool first);
 // The keys and mouse (H).
 void drawHelp();
 

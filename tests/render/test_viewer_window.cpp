@@ -611,5 +611,48 @@ TEST(ViewerWindow, FirstPictureAndTheFKeyFrameTheCloud) {
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
 }
 
+// The command line's filter reaches the viewer, whose panel takes over the first cloud's clip
+// box rather than resetting it: a box around the whole cloud drawn inside keeps the picture,
+// outside hides every point; a class the grid lacks (it has no classification: class 0) too.
+TEST(ViewerWindow, CommandLineFiltersReachTheViewer) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto cloud = dir.write("grid.ply", gridPly());
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  const std::vector<std::string> box = {"--clip-box", "-1,-1,-1,1,1,1"};
+  struct Case {
+    std::vector<std::string> options;
+    bool drawn;
+  };
+  const std::vector<Case> cases = {{box, true},
+                                   {{box[0], box[1], "--clip-mode", "outside"}, false},
+                                   {{"--classes", "5"}, false},
+                                   {{"--classes", "0-4"}, true}};
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    const auto shots = dir.path() / ("shots" + std::to_string(i));
+    std::filesystem::create_directories(shots);
+    std::vector<std::string> args = {
+        cloud.string(), "--width",      "480",         "--height",     "360", "--screenshot-dir",
+        shots.string(), "--background", "255,255,255", "--point-size", "3",   "--no-vsync"};
+    args.insert(args.end(), cases[i].options.begin(), cases[i].options.end());
+    const std::string log = "viewer" + std::to_string(i) + ".log";
+    ViewerProcess viewer(dir, display.name(), args, log);
+    ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+    EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+    viewer.key("g");  // hide the panel
+    std::this_thread::sleep_for(1s);
+    const std::size_t pixels = cloudPixels(viewer.screenshot(shots));
+    if (cases[i].drawn) {
+      EXPECT_GT(pixels, 1000u) << "case " << i;
+    } else {
+      EXPECT_EQ(pixels, 0u) << "case " << i;
+    }
+    EXPECT_EQ(viewer.quit(), 0) << viewer.log();
+  }
+}
+
 }  // namespace
 }  // namespace parallax::test

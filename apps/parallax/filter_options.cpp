@@ -1,0 +1,150 @@
+#include "filter_options.h"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <stdexcept>
+
+namespace parallax::cli {
+namespace {
+
+std::string_view trimmed(std::string_view text) {
+  while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+  while (!text.empty() && text.back() == ' ') text.remove_suffix(1);
+  return text;
+}
+
+// The comma-separated items of a list, without surrounding blanks ("2, 6" as a shell user may
+// quote it), empty ones included (so that "2,,3" is reported, not read as "2,3").
+std::vector<std::string_view> splitItems(std::string_view text) {
+  std::vector<std::string_view> items;
+  for (std::size_t start = 0;;) {
+    const std::size_t comma = text.find(',', start);
+    items.push_back(
+        trimmed(text.substr(start, comma == std::string_view::npos ? comma : comma - start)));
+    if (comma == std::string_view::npos) return items;
+    start = comma + 1;
+  }
+}
+
+std::string quotedItem(std::string_view item) {
+  std::string text = "'";
+  text += item;
+  text += '\'';
+  return text;
+}
+
+// A whole item as a class number, or -1.
+int classNumber(std::string_view text) {
+  int value = -1;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc{} || end != text.data() + text.size() || text.empty()) return -1;
+  return value >= 0 && value <= 255 ? value : -1;
+}
+
+constexpr const char* kClassesExpected =
+    "expected a class number 0-255 or a range N-M such as 9-12 (e.g. --classes 2,6,9-12)";
+
+}  // namespace
+
+void addFilterOptions(CLI::App& command, FilterOptions& o, const std::string& what) {
+  // An empty value would read as "not given" (keep everything): refused where it is parsed.
+  const auto not_empty = [](const std::string& value) {
+    return value.empty() ? std::string("expected a list, found an empty value") : std::string();
+  };
+  command
+      .add_option("--classes", o.classes,
+                  "ASPRS classes (0-255) and ranges, e.g. 2,6,9-12: only points of these are " +
+                      what + " (points without classification are class 0)")
+      ->check(not_empty);
+  CLI::Option* box = command
+                         .add_option("--clip-box", o.clip_box,
+                                     "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX in world coordinates: only "
+                                     "points inside the box are " +
+                                         what + " (see --clip-mode)")
+                         ->check(not_empty);
+  command
+      .add_option("--clip-mode", o.clip_mode,
+                  "inside: keep the --clip-box's content; outside: hide it, keep the rest")
+      ->capture_default_str()
+      ->needs(box);
+}
+
+std::vector<int> parseClassList(std::string_view text) {
+  std::vector<int> classes;
+  for (const std::string_view item : splitItems(text)) {
+    const std::size_t dash = item.find('-', 1);  // not a leading minus: "-3" is no class
+    if (dash == std::string_view::npos) {
+      const int c = classNumber(item);
+      if (c < 0) {
+        throw std::invalid_argument("--classes: item " + quotedItem(item) +
+                                    " is not a class: " + kClassesExpected);
+      }
+      classes.push_back(c);
+      continue;
+    }
+    const int first = classNumber(item.substr(0, dash)), last = classNumber(item.substr(dash + 1));
+    if (first < 0 || last < 0) {
+      throw std::invalid_argument("--classes: item " + quotedItem(item) +
+                                  " is not a range: " + kClassesExpected);
+    }
+    if (first > last) {
+      throw std::invalid_argument("--classes: range " + quotedItem(item) +
+                                  " runs backwards: expected N-M with N <= M (write " +
+                                  std::to_string(last) + "-" + std::to_string(first) + ")");
+    }
+    for (int c = first; c <= last; ++c) classes.push_back(c);
+  }
+  return classes;
+}
+
+Bounds3 parseClipBox(std::string_view text) {
+  static constexpr std::array<const char*, 6> kNames{"XMIN", "YMIN", "ZMIN",
+                                                     "XMAX", "YMAX", "ZMAX"};
+  const std::vector<std::string_view> items = splitItems(text);
+  if (items.size() != 6) {
+    throw std::invalid_argument(
+        "--clip-box: expected six numbers XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX, "
+        "found " +
+        std::to_string(items.size()) + " items in '" + std::string(text) + "'");
+  }
+  std::array<double, 6> values{};
+  for (std::size_t i = 0; i < 6; ++i) {
+    const std::string_view item = items[i];
+    const char* begin = item.data();
+    if (!item.empty() && item.front() == '+') ++begin;  // from_chars takes no plus sign
+    const auto [end, error] = std::from_chars(begin, item.data() + item.size(), values[i]);
+    if (item.empty() || error != std::errc{} || end != item.data() + item.size() ||
+        !std::isfinite(values[i])) {
+      throw std::invalid_argument("--clip-box: " + std::string(kNames[i]) + " " + quotedItem(item) +
+                                  " is not a number: expected a world coordinate such as "
+                                  "500123.25");
+    }
+  }
+  Bounds3 box;
+  for (int axis = 0; axis < 3; ++axis) {
+    box.min[std::size_t(axis)] = values[std::size_t(axis)];
+    box.max[std::size_t(axis)] = values[std::size_t(axis) + 3];
+    if (box.min[std::size_t(axis)] > box.max[std::size_t(axis)]) {
+      throw std::invalid_argument("--clip-box: " + std::string(kNames[std::size_t(axis)]) + " " +
+                                  quotedItem(items[std::size_t(axis)]) + " is greater than " +
+                                  kNames[std::size_t(axis) + 3] + " " +
+                                  quotedItem(items[std::size_t(axis) + 3]) +
+                                  ": expected each minimum at most its maximum");
+    }
+  }
+  return box;
+}
+
+PointFilter pointFilterFrom(const FilterOptions& o) {
+  PointFilter filter;
+  if (!o.classes.empty()) filter.keepOnlyClasses(parseClassList(o.classes));
+  if (o.clip_mode != "inside" && o.clip_mode != "outside") {
+    throw std::invalid_argument("--clip-mode: unknown mode '" + o.clip_mode +
+                                "' (use inside|outside)");
+  }
+  if (!o.clip_box.empty()) filter.setClipBox(parseClipBox(o.clip_box), o.clip_mode == "outside");
+  return filter;
+}
+
+}  // namespace parallax::cli

@@ -1,0 +1,104 @@
+// The point filter on the CPU (what `convert` applies) and the ASPRS class names.
+#include <gtest/gtest.h>
+
+#include "core/classification.h"
+#include "core/point_filter.h"
+
+namespace parallax::test {
+namespace {
+
+// Five points on the x axis at 0..4 m, classes 0..4, with a colour and a scalar to carry.
+PointCloud fivePoints(bool classified) {
+  PointCloud cloud;
+  cloud.count = 5;
+  cloud.quantization.scale = {0.001, 0.001, 0.001};
+  cloud.quantization.offset = {500000.0, 5000000.0, 0.0};
+  cloud.positions = Column<Int3>(5);
+  cloud.colors = Column<Rgba8>(5);
+  if (classified) cloud.classification = Column<std::uint8_t>(5);
+  ScalarColumn gps{.name = "gps_time", .type = ScalarType::Float64, .data = ByteBuffer(5 * 8)};
+  for (int i = 0; i < 5; ++i) {
+    cloud.positions[std::size_t(i)] = {1000 * i, 0, 0};
+    cloud.colors[std::size_t(i)] = {std::uint8_t(i), 0, 0, 255};
+    if (classified) cloud.classification[std::size_t(i)] = std::uint8_t(i);
+    gps.as<double>()[i] = 10.0 + i;
+  }
+  cloud.scalars.push_back(std::move(gps));
+  cloud.computeBounds();
+  return cloud;
+}
+
+TEST(PointFilter, DefaultKeepsAllAndSettingAClassOrBoxDoesNot) {
+  PointFilter filter;
+  EXPECT_TRUE(filter.keepsAll());
+  filter.setClass(200, false);
+  EXPECT_FALSE(filter.keepsAll());
+  EXPECT_FALSE(filter.keepsClass(200));
+  EXPECT_TRUE(filter.keepsClass(199));
+  filter.setClass(200, true);
+  EXPECT_TRUE(filter.keepsAll());
+  Bounds3 box;
+  box.extend(0, 0, 0);
+  filter.setClipBox(box, false);
+  EXPECT_FALSE(filter.keepsAll());
+}
+
+TEST(PointFilter, ClipBoxInsideAndOutsideIncludeTheFaces) {
+  Bounds3 box;
+  box.extend(500001.0, 4999999.0, -1.0);
+  box.extend(500003.0, 5000001.0, 1.0);
+  PointFilter filter;
+  filter.setClipBox(box, false);
+  EXPECT_TRUE(filter.keepsPosition(500001.0, 5000000.0, 0.0));  // on a face
+  EXPECT_TRUE(filter.keepsPosition(500003.0, 5000001.0, 1.0));  // a corner
+  EXPECT_FALSE(filter.keepsPosition(500003.0005, 5000000.0, 0.0));
+  filter.setClipBox(box, true);
+  EXPECT_FALSE(filter.keepsPosition(500002.0, 5000000.0, 0.0));
+  EXPECT_TRUE(filter.keepsPosition(500000.9995, 5000000.0, 0.0));
+  ASSERT_TRUE(filter.clipBox().has_value());
+  EXPECT_EQ(*filter.clipBox(), box);
+  filter.clip_planes.pop_back();
+  EXPECT_FALSE(filter.clipBox().has_value());
+}
+
+TEST(PointFilter, FilterPointsCarriesEveryColumn) {
+  PointFilter filter;
+  filter.keepOnlyClasses({1, 3, 4});
+  Bounds3 box;
+  box.extend(500000.5, -1e9, -1.0);
+  box.extend(500003.5, 1e9, 1.0);
+  filter.setClipBox(box, false);
+  const PointCloud kept = filterPoints(fivePoints(true), filter);
+  ASSERT_EQ(kept.count, 2u);  // classes 1 and 3 (4 is outside the box, 0 and 2 not listed)
+  EXPECT_EQ(kept.positions[0].x, 1000);
+  EXPECT_EQ(kept.positions[1].x, 3000);
+  EXPECT_EQ(kept.colors[1].r, 3);
+  EXPECT_EQ(kept.classification[0], 1);
+  ASSERT_EQ(kept.scalars.size(), 1u);
+  EXPECT_EQ(kept.scalars[0].as<double>()[1], 13.0);
+  EXPECT_EQ(kept.bounds.min[0], 500001.0);
+  EXPECT_EQ(kept.bounds.max[0], 500003.0);
+}
+
+TEST(PointFilter, WithoutClassificationEveryPointIsClassZero) {
+  PointFilter filter;
+  filter.keepOnlyClasses({1, 2});
+  EXPECT_EQ(filterPoints(fivePoints(false), filter).count, 0u);
+  filter.keepOnlyClasses({0});
+  EXPECT_EQ(filterPoints(fivePoints(false), filter).count, 5u);
+}
+
+TEST(Classification, AsprsNamesAndNumbersForTheRest) {
+  EXPECT_EQ(classLabel(0), "never classified");
+  EXPECT_EQ(classLabel(2), "ground");
+  EXPECT_EQ(classLabel(7), "low point (noise)");
+  EXPECT_EQ(classLabel(8), "class 8");
+  EXPECT_EQ(classLabel(9), "water");
+  EXPECT_EQ(classLabel(12), "class 12");
+  EXPECT_EQ(classLabel(18), "high noise");
+  EXPECT_EQ(classLabel(19), "class 19");
+  EXPECT_EQ(classLabel(255), "class 255");
+}
+
+}  // namespace
+}  // namespace parallax::test

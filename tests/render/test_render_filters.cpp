@@ -1,0 +1,265 @@
+// `parallax render --classes / --clip-box / --clip-mode`, with both rasterizers: the picture of a
+// file drawn through the filter equals, pixel for pixel, the picture of the points the filter
+// keeps, chosen on the CPU (by hand, in millimetres) and written to a file first. The points are
+// placed one to a pixel, away from pixel edges, so that every kept point lights exactly one pixel
+// of its own colour: the pictures must be equal, and the lit pixels are counted too. A cloud at
+// UTM coordinates (~500 000, 5 000 000) with box faces half a millimetre from points shows that
+// the clip planes keep double precision (float world coordinates there are good to 0.5 m).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "render/camera.h"
+#include "render/image_file.h"
+#include "support/run_parallax.h"
+#include "support/temp_dir.h"
+
+namespace parallax::test {
+namespace {
+
+constexpr int kWidth = 160, kHeight = 120;
+
+struct Point {
+  long long mm[3];  // world position in millimetres
+  int cls;
+  int r, g, b;
+};
+
+struct Scene {
+  std::array<double, 3> center;  // world, a whole number of millimetres
+  std::array<double, 3> eye;
+  std::vector<Point> points;
+  bool classified = true;
+
+  std::string cameraOptions() const {
+    std::ostringstream o;
+    o << std::fixed << std::setprecision(3) << "--eye " << eye[0] << ',' << eye[1] << ',' << eye[2]
+      << " --target " << center[0] << ',' << center[1] << ',' << center[2]
+      << " --up 0,0,1 --fov 50";
+    return o.str();
+  }
+};
+
+std::string plyOf(const std::vector<Point>& points, bool classified) {
+  std::ostringstream ply;
+  ply << "ply\nformat ascii 1.0\nelement vertex " << points.size()
+      << "\nproperty double x\nproperty double y\nproperty double z\nproperty uchar red\n"
+         "property uchar green\nproperty uchar blue\n"
+      << (classified ? "property uchar classification\n" : "") << "end_header\n";
+  for (const Point& p : points) {
+    // Millimetres printed exactly: the integer metres, then three digits.
+    for (int a = 0; a < 3; ++a) {
+      ply << p.mm[a] / 1000 << '.' << std::setw(3) << std::setfill('0') << p.mm[a] % 1000
+          << std::setfill(' ') << ' ';
+    }
+    ply << p.r << ' ' << p.g << ' ' << p.b;
+    if (classified) ply << ' ' << p.cls;
+    ply << '\n';
+  }
+  return ply.str();
+}
+
+// About 2 000 points in a 4 x 3 x 1 m box around `center` on a millimetre grid, classes 0-12,
+// kept only where they project one to a pixel at least 0.1 pixel from its edges (the same
+// camera as the renders, in double).
+Scene makeScene(std::array<double, 3> center, bool classified) {
+  Scene scene;
+  scene.center = center;
+  scene.eye = {center[0] + 1.0, center[1] - 3.5, center[2] + 3.0};
+  scene.classified = classified;
+  Camera camera;
+  camera.lookAt({scene.eye[0], scene.eye[1], scene.eye[2]}, {center[0], center[1], center[2]},
+                {0, 0, 1});
+  camera.fov_y_deg = 50;
+  Bounds3 bounds;  // (the clip range does not move points across the picture)
+  bounds.extend(center[0] - 2.0, center[1] - 1.5, center[2] - 0.5);
+  bounds.extend(center[0] + 2.0, center[1] + 1.5, center[2] + 0.5);
+  const glm::dmat4 to_clip =
+      camera.projectionMatrix(double(kWidth) / kHeight, camera.clipRange(bounds)) *
+      camera.viewMatrix();
+  std::uint32_t state = 12345;
+  auto next = [&] {  // xorshift32
+    state ^= state << 13;
+    state ^= state >> 17;
+    state ^= state << 5;
+    return state;
+  };
+  std::set<std::pair<int, int>> taken;
+  for (int i = 0; i < 4000; ++i) {
+    Point p{};
+    const long long extent[3] = {4000, 3000, 1000};
+    for (int a = 0; a < 3; ++a) {
+      p.mm[a] = std::llround(center[std::size_t(a)] * 1000.0) - extent[a] / 2 +
+                (long long)(next() % std::uint32_t(extent[a] + 1));
+    }
+    p.cls = classified ? int(next() % 13) : 0;
+    p.r = 40 + i % 200, p.g = 40 + (i / 200) % 200, p.b = 60 + 10 * p.cls;
+    const glm::dvec4 clip =
+        to_clip * glm::dvec4(p.mm[0] / 1000.0, p.mm[1] / 1000.0, p.mm[2] / 1000.0, 1.0);
+    if (clip.w <= 0) continue;
+    const double x = (clip.x / clip.w + 1) * 0.5 * kWidth,
+                 y = (clip.y / clip.w + 1) * 0.5 * kHeight;
+    const double fx = x - std::floor(x), fy = y - std::floor(y);
+    if (x < 1 || y < 1 || x > kWidth - 1 || y > kHeight - 1) continue;
+    if (fx < 0.1 || fx > 0.9 || fy < 0.1 || fy > 0.9) continue;
+    if (!taken.insert({int(x), int(y)}).second) continue;
+    scene.points.push_back(p);
+  }
+  EXPECT_GT(scene.points.size(), 1500u);
+  return scene;
+}
+
+// The filter by hand: classes (empty: all) and a box in millimetres, inclusive.
+struct HandFilter {
+  std::vector<int> classes;
+  bool box = false, outside = false;
+  long long min[3] = {0, 0, 0}, max[3] = {0, 0, 0};
+
+  std::vector<Point> of(const std::vector<Point>& all) const {
+    std::vector<Point> kept;
+    for (const Point& p : all) {
+      if (!classes.empty() && std::find(classes.begin(), classes.end(), p.cls) == classes.end()) {
+        continue;
+      }
+      bool inside = true;
+      for (int a = 0; a < 3; ++a) inside = inside && p.mm[a] >= min[a] && p.mm[a] <= max[a];
+      if (box && inside == outside) continue;
+      kept.push_back(p);
+    }
+    return kept;
+  }
+};
+
+// A box over the middle of the scene whose faces lie half a millimetre off the grid: the
+// option's text and the same box in whole millimetres.
+std::pair<std::string, HandFilter> middleBox(const Scene& scene, bool outside) {
+  HandFilter f;
+  f.box = true, f.outside = outside;
+  const long long lo[3] = {-1200, -700, -300}, hi[3] = {900, 800, 250};
+  std::ostringstream option;
+  option << "--clip-box ";
+  for (int end = 0; end < 2; ++end) {
+    for (int a = 0; a < 3; ++a) {
+      const long long c = std::llround(scene.center[std::size_t(a)] * 1000.0);
+      // The face at c + offset - 0.5 mm (min) or + 0.5 mm (max): the points inside are those
+      // from c + lo to c + hi, whole millimetres.
+      const long long mm = c + (end == 0 ? lo[a] : hi[a]);
+      const long long half_mm_units = mm * 10 + (end == 0 ? -5 : 5);  // tenths of a millimetre
+      option << (end || a ? "," : "") << half_mm_units / 10000 << '.' << std::setw(4)
+             << std::setfill('0') << half_mm_units % 10000 << std::setfill(' ');
+      (end == 0 ? f.min : f.max)[a] = mm;
+    }
+  }
+  if (outside) option << " --clip-mode outside";
+  return {option.str(), f};
+}
+
+class RenderFilters : public ::testing::TestWithParam<std::string> {
+ protected:
+  // Renders `ply` with the scene's camera and `options`; the picture.
+  RgbaImage render(const Scene& scene, const std::filesystem::path& ply, const std::string& options,
+                   const std::string& name) {
+    const auto png = dir_ / (name + ".png");
+    const RunResult r = runParallax(
+        dir_, "render " + quoted(ply.string()) + " -o " + quoted(png.string()) + " --width " +
+                  std::to_string(kWidth) + " --height " + std::to_string(kHeight) +
+                  " --rasterizer " + GetParam() + " " + scene.cameraOptions() + " " + options);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return readPng(png);
+  }
+
+  // The filtered render of the whole scene equals the render of the hand-filtered points, and
+  // lights one pixel per kept point.
+  void expectFilterMatches(const Scene& scene, const std::string& options, const HandFilter& f) {
+    const std::vector<Point> kept = f.of(scene.points);
+    ASSERT_GT(kept.size(), 100u) << options;
+    ASSERT_LT(kept.size(), scene.points.size()) << options;
+    const auto all = dir_.write("all.ply", plyOf(scene.points, scene.classified));
+    const auto cpu = dir_.write("kept.ply", plyOf(kept, scene.classified));
+    const RgbaImage filtered = render(scene, all, options, "filtered");
+    const RgbaImage expected = render(scene, cpu, "", "expected");
+    ASSERT_EQ(filtered.pixels.size(), expected.pixels.size());
+    std::size_t lit = 0, different = 0;
+    for (std::size_t i = 0; i < expected.pixels.size(); i += 4) {
+      lit += (expected.pixels[i] | expected.pixels[i + 1] | expected.pixels[i + 2]) != 0;
+      different += !std::equal(&expected.pixels[i], &expected.pixels[i] + 4, &filtered.pixels[i]);
+    }
+    EXPECT_EQ(lit, kept.size()) << options;
+    EXPECT_EQ(different, 0u) << options << ": pixels that differ from the CPU-filtered render";
+  }
+
+  TempDir dir_;
+};
+
+TEST_P(RenderFilters, ClassesEqualTheCpuFilteredRender) {
+  const Scene scene = makeScene({10.0, 20.0, 5.0}, true);
+  expectFilterMatches(scene, "--classes 2,6,9-12", {.classes = {2, 6, 9, 10, 11, 12}});
+}
+
+TEST_P(RenderFilters, ClassesAtUtmCoordinates) {
+  const Scene scene = makeScene({500123.456, 5000456.789, 250.0}, true);
+  expectFilterMatches(scene, "--classes 0-3,7", {.classes = {0, 1, 2, 3, 7}});
+}
+
+TEST_P(RenderFilters, ClipBoxInsideAtUtmCoordinatesKeepsHalfMillimetrePrecision) {
+  const Scene scene = makeScene({500123.456, 5000456.789, 250.0}, true);
+  const auto [option, filter] = middleBox(scene, false);
+  expectFilterMatches(scene, option, filter);
+}
+
+TEST_P(RenderFilters, ClipBoxOutsideAtUtmCoordinatesHidesTheBoxContent) {
+  const Scene scene = makeScene({500123.456, 5000456.789, 250.0}, true);
+  const auto [option, filter] = middleBox(scene, true);
+  expectFilterMatches(scene, option, filter);
+}
+
+TEST_P(RenderFilters, ClassesAndClipBoxOutsideTogether) {
+  const Scene scene = makeScene({10.0, 20.0, 5.0}, true);
+  auto [option, filter] = middleBox(scene, true);
+  filter.classes = {1, 2, 5};
+  expectFilterMatches(scene, option + " --classes 1,2,5", filter);
+}
+
+// A file without classification is class 0 to the filter (the GPU buffers hold 1 there, what
+// the classification colour shows).
+TEST_P(RenderFilters, WithoutClassificationEveryPointIsClassZero) {
+  const Scene scene = makeScene({10.0, 20.0, 5.0}, false);
+  const auto all = dir_.write("all.ply", plyOf(scene.points, false));
+  const RgbaImage none = render(scene, all, "--classes 1-255", "none");
+  std::size_t lit = 0;
+  for (std::size_t i = 0; i < none.pixels.size(); i += 4) {
+    lit += (none.pixels[i] | none.pixels[i + 1] | none.pixels[i + 2]) != 0;
+  }
+  EXPECT_EQ(lit, 0u);
+  const RgbaImage every = render(scene, all, "--classes 0", "every");
+  const RgbaImage plain = render(scene, all, "", "plain");
+  EXPECT_EQ(every.pixels, plain.pixels);
+}
+
+TEST_P(RenderFilters, MalformedListsAreClearErrors) {
+  const Scene scene = makeScene({10.0, 20.0, 5.0}, true);
+  const auto all = dir_.write("all.ply", plyOf(scene.points, true));
+  for (const auto& [options, message] : std::vector<std::pair<std::string, std::string>>{
+           {"--classes 2,6,x", "--classes: item 'x' is not a class"},
+           {"--classes 12-9", "--classes: range '12-9' runs backwards"},
+           {"--clip-box 1,1,1,0,2,2", "--clip-box: XMIN '1' is greater than XMAX '0'"}}) {
+    const RunResult r = runParallax(dir_, "render " + quoted(all.string()) + " -o " +
+                                              quoted((dir_ / "bad.png").string()) +
+                                              " --rasterizer " + GetParam() + " " + options);
+    EXPECT_NE(r.exit_code, 0) << options;
+    EXPECT_NE(r.err.find(message), std::string::npos) << options << "\n" << r.err;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(BothRasterizers, RenderFilters, ::testing::Values("points", "compute"));
+
+}  // namespace
+}  // namespace parallax::test
