@@ -21,6 +21,7 @@ struct ViewCommandOptions {
   int width = 1280, height = 720;
   bool no_vsync = false;
   std::string screenshot_dir = ".";
+  double frame_budget_ms = 1000.0 / 15.0;
   RenderOptions render;
   LodOptions lod;
 };
@@ -37,6 +38,7 @@ int runView(const ViewCommandOptions& o, const CLI::App& command,
   viewer.height = o.height;
   viewer.vsync = !o.no_vsync;
   viewer.screenshot_dir = o.screenshot_dir;
+  viewer.frame_budget_ms = o.frame_budget_ms;
   // World size and spacing are only known once the cloud is loaded: 0 asks the viewer to choose.
   viewer.settings = renderSettingsFrom(o.render, 0.0);
   if (o.render.world_size <= 0) viewer.settings.world_size = 0.0f;
@@ -69,6 +71,11 @@ Command addViewCommand(CLI::App& app) {
   sub->add_option("--screenshot-dir", options->screenshot_dir,
                   "Folder for screenshots (P) and saved cameras")
       ->capture_default_str();
+  sub->add_option("--frame-budget", options->frame_budget_ms,
+                  "Octrees: milliseconds a frame may draw while the camera moves; the picture is "
+                  "completed once it stops (progressive refinement). 0: always draw everything")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10000.0));
   addRenderOptions(*sub, options->render);
   addLodOptions(*sub, options->lod);
   sub->footer(

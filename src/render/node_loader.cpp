@@ -1,5 +1,10 @@
 #include "render/node_loader.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cassert>
 #include <exception>
@@ -114,6 +119,20 @@ std::uint64_t NodeLoader::loadsCancelled() const {
 }
 
 void NodeLoader::work(std::stop_token stop) {
+  // Loading yields to the frame: on a machine with few cores the loader's decoding (LAZ above
+  // all) would otherwise take the cores the frame loop and a software rasterizer need, and the
+  // first picture would wait for nodes it does not draw yet. A higher nice value for this thread
+  // (Linux: per thread) costs nothing when the frame loop is idle. Failure (another OS) is
+  // harmless: loading then competes as before.
+  setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kNice);
+  // The parallel loops of decoding and staging run on this thread only: TBB's workers are
+  // shared with the rest of the process and keep its priority, so work handed to them would
+  // escape the nice value. Nodes load in parallel across the loader's threads instead.
+  tbb::task_arena serial(1);
+  serial.execute([&] { serve(stop); });
+}
+
+void NodeLoader::serve(std::stop_token stop) {
   while (true) {
     Request request;
     std::stop_token cancel;

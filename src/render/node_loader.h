@@ -94,7 +94,11 @@ class NodeLoader {
   static std::int64_t keyOf(std::int32_t index, bool hierarchy) {
     return (std::int64_t(index) << 1) | (hierarchy ? 1 : 0);
   }
+  // The thread: lowers its priority and runs serve() with its parallel loops kept on itself.
   void work(std::stop_token stop);
+  void serve(std::stop_token stop);
+  // The loader threads' nice value (a quarter of a normal thread's CPU share under contention).
+  static constexpr int kNice = 5;
   // Empty `loaded.node` (-1): cancelled, nothing to deliver.
   LoadedNode load(const Request& request, std::stop_token cancel);
 

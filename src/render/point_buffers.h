@@ -28,7 +28,7 @@ struct DrawSet;  // render/draw_set.h
 
 // Points per batch: the compute rasterizer's unit of work and of culling (one workgroup each).
 // Consecutive points in the chunk's (Morton) order, so a batch is a compact box.
-inline constexpr std::uint32_t kBatchPoints = 2048;
+inline constexpr std::uint32_t kBatchPoints = 4096;
 
 struct PointUploadOptions {
   std::uint32_t max_chunk_points = 1u << 20;

@@ -31,6 +31,7 @@
 #include "render/image_file.h"
 #include "render/lod_scene.h"
 #include "render/point_buffers.h"
+#include "render/progressive.h"
 #include "render/renderer.h"
 #include "viewer/viewer_session.h"
 
@@ -262,6 +263,22 @@ void setStereoMode(Session& s, StereoMode mode) {
   std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
 }
 
+void setRasterizer(Session& s, RasterizerKind kind) {
+  s.settings.rasterizer = kind;
+  int width = 1, height = 1;
+  glfwGetFramebufferSize(s.window, &width, &height);
+  const Composition composition =
+      stereoFrame(s.camera, s.stereo, std::max(width, 1), std::max(height, 1)).composition;
+  std::string reason;
+  const RasterizerKind drawing =
+      s.renderer->chooseRasterizer(s.settings, width, height, composition, &reason);
+  s.status =
+      "rasterizer " + std::string(rasterizerKindName(kind)) + ": " +
+      (drawing == RasterizerKind::Compute ? "the compute rasterizer draws" : "GL_POINTS draws") +
+      (reason.empty() ? "" : " (" + reason + ")");
+  std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
+}
+
 void cycleStereoMode(Session& s) {
   const auto& modes = allStereoModes();
   auto next = std::find(modes.begin(), modes.end(), s.stereo.mode) + 1;
@@ -304,6 +321,14 @@ void onKey(GLFWwindow* window, int key, int, int action, int) {
     case GLFW_KEY_EQUAL:
       scaleStereo(s, 1.0, 1.1);
       break;
+    case GLFW_KEY_R: {
+      const RasterizerKind next =
+          s.settings.rasterizer == RasterizerKind::Auto      ? RasterizerKind::Compute
+          : s.settings.rasterizer == RasterizerKind::Compute ? RasterizerKind::Points
+                                                             : RasterizerKind::Auto;
+      setRasterizer(s, next);
+      break;
+    }
     case GLFW_KEY_X:
       s.stereo.swap_eyes = !s.stereo.swap_eyes;
       s.status = s.stereo.swap_eyes ? "stereo eyes swapped" : "stereo eyes not swapped";
@@ -469,6 +494,7 @@ int runViewer(const ViewerOptions& options) {
   s.settings = options.settings;
   s.stereo = options.stereo;
   s.lod_settings = options.lod;
+  s.frame_budget_ms = options.frame_budget_ms;
   GLboolean stereo_buffers = GL_FALSE;
   glGetBooleanv(GL_STEREO, &stereo_buffers);
   s.quad_buffer = stereo_buffers == GL_TRUE;
@@ -556,12 +582,21 @@ int runViewer(const ViewerOptions& options) {
                                        s.stereo,
                                        width,
                                        height};
-      // A scene still streaming is drawn every frame until it has everything it selected.
+      // A scene still streaming is drawn every frame until it has everything it selected, and
+      // a picture refined progressively until it is complete.
       const bool streaming = s.lod && !s.lod->complete();
-      if (streaming || s.drawn != now_showing ||
+      bool changed = s.drawn != now_showing;
+      const bool refining = s.lod && s.frame_budget_ms > 0 && !s.progressive.complete();
+      bool draw = streaming || changed || refining;
+      if (!draw &&
           !s.renderer->composite(frame.views, s.settings, 0, width, height, frame.composition)) {
+        draw = changed = true;  // (another size or composition: the picture starts again)
+      }
+      if (draw) {
         const auto start = std::chrono::steady_clock::now();
         const DrawSet* draw_set = &s.draw_set;
+        FramePart part;
+        bool refine = false;
         if (s.lod) {
           const DrawSet& streamed = s.lod->update(frame.views, s.lod_settings);
           s.lod_stats = s.lod->stats();
@@ -569,9 +604,36 @@ int runViewer(const ViewerOptions& options) {
           if (!streamed.items.empty() || !s.cloud) {
             draw_set = &streamed;
             s.cloud.reset();
+            refine = s.frame_budget_ms > 0;
           }
         }
-        stats = s.renderer->render(*draw_set, frame, s.settings, 0, width, height);
+        if (refine) {
+          ProgressiveSettings progressive = s.progressive.settings();
+          progressive.frame_budget_s = s.frame_budget_ms / 1e3;
+          s.progressive.setSettings(progressive);
+          part = s.progressive.plan(*draw_set, changed);
+        }
+        const bool nothing_new =
+            part.accumulate && part.first_item >= std::min(part.last_item, draw_set->items.size());
+        if (nothing_new) {
+          // Complete already (a streaming scene whose selection has not changed): show it again.
+          s.renderer->composite(frame.views, s.settings, 0, width, height, frame.composition);
+        } else {
+          stats = s.renderer->render(*draw_set, frame, s.settings, 0, width, height, part);
+          s.picture_parts = part.accumulate ? s.picture_parts + 1 : 1;
+        }
+        if (refine) {
+          // The rate is measured on finished drawing (a GPU queues the work otherwise).
+          glFinish();
+          s.progressive.record(
+              stats.points_drawn,
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+          if (s.progressive.complete() && s.picture_parts > 1 && !s.refined_picture_reported) {
+            s.refined_picture_reported = true;
+            std::fprintf(stderr, "parallax view: first picture refined to completion in %d parts\n",
+                         s.picture_parts);
+          }
+        }
         frame_seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         s.drawn = now_showing;

@@ -39,6 +39,11 @@ struct ViewerOptions {
   // . keys), and where the octrees of files over the budget are built.
   LodFrameSettings lod;
   OctreeCacheSettings cache;
+  // Progressive refinement of level-of-detail frames (render/progressive.h): while the camera
+  // moves, a frame draws the most important nodes that fit this many milliseconds; once it stops,
+  // the rest is drawn on top, a budget at a time. 0: every frame draws everything it selected.
+  // Live in the panel.
+  double frame_budget_ms = 1000.0 / 15.0;
   // When the command started: the time to the first picture is printed from here.
   std::chrono::steady_clock::time_point start_time = std::chrono::steady_clock::now();
 };

@@ -36,6 +36,7 @@ const char* const kHelp =
     "  - =    stereo convergence nearer / farther\n"
     "  X      swap the eyes\n"
     "  , .    point budget halved / doubled (level of detail)\n"
+    "  R      rasterizer: auto, compute, points (cycles)\n"
     "  Esc    quit\n"
     "Drop a point file or a Potree directory on the window to open it; `parallax view URL`\n"
     "streams a Potree directory from a web server.";
@@ -71,6 +72,24 @@ void drawLodPanel(Session& s) {
   if (ImGui::SliderFloat("min node size", &min_size, 0.0f, 200.0f, "%.0f px")) {
     selection.min_node_size_px = min_size;
   }
+  // Progressive refinement: a moving camera draws what fits the frame budget, a still one
+  // completes the picture.
+  bool progressive = s.frame_budget_ms > 0;
+  if (ImGui::Checkbox("progressive refinement", &progressive)) {
+    s.frame_budget_ms = progressive ? std::max(s.options->frame_budget_ms, 1000.0 / 15.0) : 0.0;
+  }
+  if (progressive) {
+    float budget_ms = float(s.frame_budget_ms);
+    if (ImGui::SliderFloat("frame budget", &budget_ms, 5.0f, 500.0f, "%.0f ms",
+                           ImGuiSliderFlags_Logarithmic)) {
+      s.frame_budget_ms = std::max(budget_ms, 1.0f);
+    }
+    if (s.lod) {
+      ImGui::Text("picture %s, %d part%s, %.1f M points/s",
+                  s.progressive.complete() ? "complete" : "refining", s.picture_parts,
+                  s.picture_parts == 1 ? "" : "s", s.progressive.pointsPerSecond() / 1e6);
+    }
+  }
   if (s.lod) {
     const LodStats& l = s.lod_stats;
     ImGui::Text("selected %zu nodes, %llu points", l.selected_nodes,
@@ -88,6 +107,24 @@ void drawLodPanel(Session& s) {
     const float fraction = status.total ? float(double(status.done) / double(status.total)) : 0.0f;
     ImGui::ProgressBar(std::min(fraction, 1.0f));
   }
+}
+
+// Who draws points: the choice (R), who drew the last frame and, where the compute rasterizer
+// was asked for but GL_POINTS drew, why.
+void drawRasterizerPanel(Session& s, const FrameStats& stats) {
+  RasterizerKind kind = s.settings.rasterizer;
+  if (comboOf("rasterizer (R)", kind,
+              std::array{RasterizerKind::Auto, RasterizerKind::Compute, RasterizerKind::Points},
+              rasterizerKindName)) {
+    setRasterizer(s, kind);
+  }
+  ImGui::Text("drawn by %s",
+              stats.rasterizer == RasterizerKind::Compute ? "the compute rasterizer" : "GL_POINTS");
+  if (!stats.fallback_reason.empty()) ImGui::TextWrapped("(%s)", stats.fallback_reason.c_str());
+  if (stats.fallback_chunks) {
+    ImGui::Text("%u chunks of large points by GL_POINTS", stats.fallback_chunks);
+  }
+  if (s.settings.rasterizer != RasterizerKind::Points) ImGui::Checkbox("HQ splats", &s.settings.hq);
 }
 
 // The network part, for an octree read over HTTP (or being opened): requests in flight, the
@@ -133,6 +170,7 @@ void drawPanel(Session& s, double frame_seconds, const FrameStats& stats) {
   ImGui::Text("GPU memory %.1f MB", (s.cloud ? double(s.cloud->gpuBytes()) / 1e6 : 0.0) +
                                         (s.lod ? double(s.lod_stats.gpu_bytes) / 1e6 : 0.0));
   if (ImGui::Checkbox("vsync (V)", &s.vsync)) glfwSwapInterval(s.vsync ? 1 : 0);
+  drawRasterizerPanel(s, stats);
   drawLodPanel(s);
   drawNetworkPanel(s);
 

@@ -21,6 +21,7 @@
 #include "render/camera.h"
 #include "render/lod_scene.h"
 #include "render/point_buffers.h"
+#include "render/progressive.h"
 #include "render/renderer.h"
 #include "viewer/camera_controller.h"
 #include "viewer/viewer.h"
@@ -55,6 +56,13 @@ struct Session {
   bool build_keeps_camera = false;  // the preview placed the camera
   bool build_first = false;         // the file given on the command line (its camera options)
   bool first_picture_reported = false;
+  // Progressive refinement of octree frames (frame_budget_ms 0: off). `picture_parts`: the frames
+  // that drew the picture now shown (1 unless refined); reported once for the first picture that
+  // needed several.
+  ProgressiveRefinement progressive;
+  double frame_budget_ms = 0;
+  int picture_parts = 0;
+  bool refined_picture_reported = false;
   RenderSettings settings;
   StereoSettings stereo;
   bool quad_buffer = false;  // the window has left and right back buffers
@@ -97,6 +105,9 @@ struct Session {
 void fitCamera(Session& s);
 // Quad-buffer only where the window has a stereo visual; elsewhere sbs, and the user is told.
 void setStereoMode(Session& s, StereoMode mode);
+// Who draws points (R cycles auto, compute, points); the user is told, with the reason where
+// the compute rasterizer cannot draw the frame.
+void setRasterizer(Session& s, RasterizerKind kind);
 
 // The panel (G): file, frame time, level of detail, every render setting, stereo, camera,
 // filters.
