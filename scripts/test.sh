@@ -3,7 +3,8 @@
 #   1. build/       Release: every test (ctest), benchmarks built
 #   2. build-asan/  RelWithDebInfo with AddressSanitizer + UndefinedBehaviorSanitizer: every test
 #                   (LeakSanitizer too; system GL/X11 libraries' leaks: scripts/lsan.supp)
-#   3. build-fuzz/  clang + libFuzzer (every module and the app built, for clang's warnings): each
+#   3. build-fuzz/  clang + libFuzzer: the fuzz targets built, the rest of the product checked by
+#                   clang's front end (scripts/syntax_check.py, for clang's warnings); each
 #                   fuzz target runs for a fixed time from a copy of its seed corpus
 #                   fuzz/corpus/<format>/ (with fuzz/<format>.dict when present)
 # Every tree is built with PARALLAX_WERROR=ON (a compiler warning fails the build) and its build
@@ -18,7 +19,7 @@
 #   scripts/test.sh            everything (about 15-25 minutes on 2 cores from scratch)
 #   scripts/test.sh --quick    stage 1 only
 # Environment: PARALLAX_JOBS (build and test parallelism, default: nproc),
-#              PARALLAX_FUZZ_SECONDS (per fuzz target, default 30),
+#              PARALLAX_FUZZ_SECONDS (per fuzz target, default 20),
 #              PARALLAX_BUILD_DIR (default build; the other trees are its name + -asan, -fuzz),
 #              PARALLAX_ALLOWED_SKIPS (test names or shell patterns, separated by blanks, that may
 #                skip on this machine, e.g. 'ViewerWindow.*' where there is no Xvfb; default none).
@@ -36,7 +37,7 @@ for arg in "$@"; do
 done
 
 jobs=${PARALLAX_JOBS:-$(nproc)}
-fuzz_seconds=${PARALLAX_FUZZ_SECONDS:-30}
+fuzz_seconds=${PARALLAX_FUZZ_SECONDS:-20}
 release_dir=${PARALLAX_BUILD_DIR:-build}
 asan_dir=$release_dir-asan
 fuzz_dir=$release_dir-fuzz
@@ -190,6 +191,9 @@ run_fuzzer() {
 }
 
 total_start=$(now)
+# The sanitizer and fuzz trees: line tables only (-g1) instead of full debug information, which
+# is all a sanitizer's stack trace reads and costs a good part of the compile time.
+debug_info=(-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG")
 
 banner "dependencies"
 start=$(now)
@@ -216,20 +220,29 @@ fi
 if [[ $quick -eq 0 ]]; then
   # 2. Sanitizers: every test under ASan + UBSan; no benchmarks (they would only slow the build).
   if configure_and_build asan "$asan_dir" all -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-       -DPARALLAX_SANITIZE=ON -DPARALLAX_BUILD_BENCH=OFF; then
+       "${debug_info[@]}" -DPARALLAX_SANITIZE=ON -DPARALLAX_BUILD_BENCH=OFF; then
     run_ctest asan "$asan_dir"
   fi
 
-  # 3. Fuzzing: clang. Every module and the `parallax` app are built too (not the tests), so that
-  # clang's warnings are seen in all of the product's code, not only in what the fuzzers link.
+  # 3. Fuzzing: clang. Only the fuzz targets are built (the modules they link, instrumented);
+  # the rest of the product (renderer, viewer, command line) goes through clang's front end only
+  # (scripts/syntax_check.py, -fsyntax-only with the tree's flags), so that clang's warnings are
+  # seen in all of the product's code at a fraction of a full instrumented build's time.
   # A tree configured with another compiler cannot be switched in place.
   if [[ -f "$fuzz_dir/CMakeCache.txt" ]] &&
      ! grep -q '^CMAKE_CXX_COMPILER:[A-Z]*=.*clang++' "$fuzz_dir/CMakeCache.txt"; then
     rm -rf "$fuzz_dir"
   fi
-  if configure_and_build fuzz "$fuzz_dir" all -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-       -DCMAKE_CXX_COMPILER=clang++ -DPARALLAX_BUILD_FUZZ=ON -DPARALLAX_BUILD_TESTS=OFF \
-       -DPARALLAX_BUILD_BENCH=OFF; then
+  if configure_and_build fuzz "$fuzz_dir" parallax_fuzzers -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+       "${debug_info[@]}" -DCMAKE_CXX_COMPILER=clang++ -DPARALLAX_BUILD_FUZZ=ON \
+       -DPARALLAX_BUILD_TESTS=OFF -DPARALLAX_BUILD_BENCH=OFF -DCMAKE_EXPORT_COMPILE_COMMANDS=ON; then
+    banner "clang: syntax check of the units the fuzz build did not compile"
+    start=$(now)
+    if "$root/scripts/syntax_check.py" "$fuzz_dir" --jobs "$jobs"; then
+      record "clang syntax check" ok $(($(now) - start))
+    else
+      record "clang syntax check" FAILED $(($(now) - start))
+    fi
     while read -r target; do
       [[ -n "$target" ]] && run_fuzzer "$fuzz_dir/fuzz/$target"
     done <"$fuzz_dir/fuzz/fuzz_targets.txt"
