@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "lod/octree_url.h"
 #include "network_options.h"
 #include "render/gl_context.h"
 #include "render/point_picker.h"
@@ -77,6 +78,7 @@ nlohmann::ordered_json attributeValue(const PointAttribute& attribute) {
 int runPick(const PickCommandOptions& o) {
   const auto [pixel_x, pixel_y] = parsePixel(o);  // before the file is read
   configureNetworkFrom(o.lod);
+  checkOctreeUrl(o.input);
   pointFilterFrom(o.render.filter);
   // Quiet: stdout carries the answer, and stderr stays free of progress bars.
   RenderSource source = openRenderSource(
