@@ -90,7 +90,8 @@ struct PickRequest {
 // draws them as 1-pixel points: the pick is then the point whose centre is nearest the pixel,
 // front-most first, which is still one exact source point. Chunks that a compute frame leaves to
 // GL_POINTS (large adaptive points) are not pickable. That redraw becomes the renderer's last
-// frame (a caller that composites the last frame again shows its picture).
+// frame: a caller that composites the last frame again (Renderer::composite) must draw its own
+// frame again instead.
 std::optional<PickResult> pickPoint(Renderer& renderer, PickSource& source, const DrawSet& draw_set,
                                     std::span<const View> views, Composition composition,
                                     const RenderSettings& settings, int width, int height,

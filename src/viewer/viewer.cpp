@@ -419,6 +419,9 @@ void pickPointAt(Session& s, int x, int y, int width, int height) {
   const StereoFrame frame = stereoFrame(s.camera, s.stereo, width, height);
   PickRequest request;
   request.x = x, request.y = y;
+  // The pick's offscreen frame (compute, no multisampling or eye-dome lighting) is now the
+  // renderer's last picture: the next frame draws the window's own again rather than reuse it.
+  s.drawn.reset();
   try {
     // The window's picture may be GL_POINTS' or a progressive part: picking draws the whole
     // frame again with the compute rasterizer (render/point_picker.h).
