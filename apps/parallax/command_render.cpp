@@ -47,6 +47,7 @@
 #include "render/stereo.h"
 #include "render/view_extent.h"
 #include "render_options.h"
+#include "render_scene.h"
 
 namespace parallax::cli {
 namespace {
@@ -90,69 +91,13 @@ struct RenderCommandOptions {
   LodOptions lod;
 };
 
-// What the frames draw: a whole cloud uploaded at once (a file within the budget, or --preview's
-// sample of a larger one), or an octree streamed through a LodScene (a Potree directory, or the
-// octree of a file over the budget).
-struct RenderSource {
-  PointCloud cloud;                          // until uploaded
-  std::uint64_t file_points = 0;             // --preview: the file's point count
-  std::unique_ptr<OctreeLocation> location;  // keeps a --no-cache octree until the end
-  std::filesystem::path octree_dir;
-  std::unique_ptr<Octree> octree;
-  bool lod() const { return octree != nullptr; }
-};
-
-RenderSource openSource(const RenderCommandOptions& o) {
-  RenderSource source;
-  if (isOctreePath(o.input)) {  // a Potree directory or a COPC file
-    source.octree_dir = o.input;
-    source.octree = openOctree(o.input);
-    return source;
-  }
-  const std::optional<std::uint64_t> points = pointsOverBudget(o.input, o.lod.budget);
-  if (!points) {
-    const auto progress = readingBar(o.quiet, "loading", o.input);
-    source.cloud = readPointFile(o.input, {.progress = progress.get()});  // every point drawn
-    return source;
-  }
-  if (o.preview) {
-    if (!hasPointFilePreview(detectPointFormat(o.input))) {
-      throw std::invalid_argument("--preview: " + o.input +
-                                  " is a text file (samples are read from PLY, LAS and LAZ files)");
-    }
-    source.cloud = readPointFilePreview(o.input, std::min(o.lod.budget, kPreviewPoints));
-    source.file_points = *points;
-    return source;
-  }
-  const OctreeCacheSettings cache = octreeCacheSettingsFrom(o.lod);
-  source.location = std::make_unique<OctreeLocation>(o.input, cache);
-  const std::string directory = source.location->directory().string();
-  if (source.location->complete()) {
-    if (!o.quiet)
-      std::fprintf(
-          stderr, "parallax render: %llu points, over the budget of %llu: using the octree in %s\n",
-          static_cast<unsigned long long>(*points), static_cast<unsigned long long>(o.lod.budget),
-          directory.c_str());
-  } else {
-    if (!o.quiet)
-      std::fprintf(stderr,
-                   "parallax render: %llu points, over the budget of %llu: converting to an octree "
-                   "in %s\n",
-                   static_cast<unsigned long long>(*points),
-                   static_cast<unsigned long long>(o.lod.budget), directory.c_str());
-    ensureOctree(*source.location, cache.build, stageBars(o.quiet));
-  }
-  source.octree_dir = source.location->directory();
-  source.octree = openPotree(source.octree_dir);
-  return source;
-}
-
 int runRender(const RenderCommandOptions& o) {
   const auto start = Clock::now();
   configureNetworkFrom(o.lod);
   checkOctreeUrl(o.input);
   pointFilterFrom(o.render.filter);  // a malformed list is reported before the file is read
-  RenderSource source = openSource(o);
+  RenderSource source =
+      openRenderSource({.input = o.input, .preview = o.preview, .quiet = o.quiet}, o.lod);
   const double load_s = secondsSince(start);
 
   auto phase = Clock::now();
@@ -160,31 +105,12 @@ int runRender(const RenderCommandOptions& o) {
   const double context_s = secondsSince(phase);
 
   phase = Clock::now();
-  std::unique_ptr<GpuPointCloud> gpu;
-  std::unique_ptr<LodScene> lod;
-  ViewExtent extent;  // what the default camera frames
-  std::uint64_t points = 0;
-  if (source.lod()) {
-    lod = std::make_unique<LodScene>(*source.octree);
-    extent = viewExtentOf(*source.octree);
-    points = source.octree->info().point_count;
-  } else {
-    gpu = std::make_unique<GpuPointCloud>(source.cloud);
-    glFinish();
-    extent = viewExtentOf(source.cloud);
-    points = source.cloud.count;
-    source.cloud = PointCloud();  // the GPU holds the points now
-  }
+  RenderScene scene = uploadRenderSource(source, false);
+  const LodScene* lod = scene.lod.get();
+  const std::uint64_t points = scene.points;
   const double upload_s = secondsSince(phase);
 
-  StereoSettings stereo = stereoSettingsFrom(o.render);
-  if (stereo.mode == StereoMode::QuadBuffer) {
-    if (!o.quiet)
-      std::fprintf(stderr,
-                   "parallax render: quad-buffer stereo needs a window with a stereo (GL_STEREO) "
-                   "visual, and a headless render has none: falling back to sbs (side by side)\n");
-    stereo.mode = StereoMode::SideBySide;
-  }
+  const StereoSettings stereo = headlessStereoSettings(o.render, o.quiet, "render");
   const double aspect = double(o.width) / o.height;
   std::vector<Camera> cameras;
   std::vector<std::string> outputs;
@@ -197,7 +123,7 @@ int runRender(const RenderCommandOptions& o) {
     }
     std::filesystem::create_directories(std::filesystem::path(outputs.front()).parent_path());
   } else {
-    cameras.push_back(cameraFrom(o.render, extent, aspect));
+    cameras.push_back(cameraFrom(o.render, scene.extent, aspect));
     outputs.push_back(o.output);
   }
 
@@ -206,19 +132,12 @@ int runRender(const RenderCommandOptions& o) {
   double draw_s = 0, write_s = 0;
   std::uint64_t drawn = 0;
   FrameStats last_stats;
-  const LodFrameSettings lod_settings = lodFrameSettingsFrom(o.lod);
   std::optional<RenderSettings> settings;
   for (std::size_t i = 0; i < cameras.size(); ++i) {
     phase = Clock::now();
     const StereoFrame frame = stereoFrame(cameras[i], stereo, o.width, o.height);
     // The finished picture: finishLoading waits for every node this frame selects.
-    const DrawSet& draw_set = lod ? lod->finishLoading(frame.views, lod_settings) : gpu->drawSet();
-    if (lod && !lod->firstError().empty()) {
-      throw InputError({.file = urlForMessages(source.octree_dir.string()),
-                        .expected = "every node the view selects readable",
-                        .found = std::to_string(lod->stats().failed_nodes) +
-                                 " failed, the first: " + lod->firstError()});
-    }
+    const DrawSet& draw_set = frameDrawSet(scene, source, frame, o.lod);
     if (!settings) settings = renderSettingsFrom(o.render, draw_set.typical_spacing);
     last_stats =
         renderer.render(draw_set, frame, *settings, target.framebuffer(), o.width, o.height);

@@ -21,6 +21,7 @@ Command addBenchCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
 Command addRenderCommand(CLI::App& app);
 Command addViewCommand(CLI::App& app);
+Command addPickCommand(CLI::App& app);
 // `bench render` (bench_render.cpp), registered by addBenchCommand.
 Command addBenchRenderCommand(CLI::App& bench);
 // `bench convert` (command_bench_convert.cpp), registered by addBenchCommand.

@@ -17,6 +17,9 @@ struct DrawItem {
   // 0 spacing: the chunk carries its own per-point spacing (a GpuPointCloud).
   float node_spacing = 0.0f;
   int node_level = 0;
+  // Level-of-detail nodes: the node's index in Octree::nodes(), whose loadNode() the chunk was
+  // staged from (picking reads points back from it); -1 for a whole uploaded cloud.
+  std::int32_t node = -1;
 };
 
 struct DrawSet {

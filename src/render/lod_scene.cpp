@@ -195,7 +195,7 @@ void LodScene::buildDrawSet(const NodeSelection& selection) {
   for (std::int32_t node : drawn) {
     const PointChunk* chunk = cache_.find(node);
     const OctreeNode& n = nodes[std::size_t(node)];
-    draw_set_.items.push_back({chunk, float(effective[std::size_t(node)]), n.level});
+    draw_set_.items.push_back({chunk, float(effective[std::size_t(node)]), n.level, node});
     stats_.drawn_points += chunk->count;
     deepest = std::max(deepest, n.level);
   }

@@ -84,6 +84,8 @@ class LodScene {
   // True when the last update drew every node it selected (nodes that failed to load count as
   // done) and no hierarchy is left to read for it: a still camera will see nothing new.
   bool complete() const { return complete_; }
+  // The draw set the last update() or finishLoading() returned.
+  const DrawSet& drawSet() const { return draw_set_; }
   // Updates until complete(), or until no progress is possible (the selection does not fit the
   // GPU budget), or `timeout` passes; waits for the loader in between. For `parallax render DIR`,
   // which wants the finished picture; never for the interactive frame loop.

@@ -111,6 +111,8 @@ StagedChunk stagePointChunk(const PointCloud& cloud, std::span<const std::uint32
   StagedChunk staged;
   PointChunk& chunk = staged.chunk;
   chunk.count = std::uint32_t(count);
+  chunk.source_indices =
+      std::make_shared<const std::vector<std::uint32_t>>(indices.begin(), indices.end());
 
   std::vector<glm::dvec3> world(count);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const auto& range) {
@@ -275,7 +277,7 @@ GpuPointCloud& GpuPointCloud::operator=(GpuPointCloud&& other) noexcept {
 DrawSet GpuPointCloud::drawSet() const {
   DrawSet set;
   set.items.reserve(chunks_.size());
-  for (const PointChunk& chunk : chunks_) set.items.push_back({&chunk, 0.0f, 0});
+  for (const PointChunk& chunk : chunks_) set.items.push_back({&chunk, 0.0f, 0, -1});
   set.bounds = bounds_;
   set.has_colors = has_colors_;
   set.has_normals = has_normals_;

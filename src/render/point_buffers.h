@@ -17,6 +17,7 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -55,6 +56,11 @@ struct PointChunk {
   // The largest per-point spacing in the chunk (world units): bounds the adaptive point size of
   // its points, so that a rasterizer can tell ahead whether they stay small on screen.
   float max_spacing = 0.0f;
+  // source_indices[i]: the index, in the PointCloud it was staged from, of the chunk's point i.
+  // The GPU holds Morton-reordered chunk-relative floats, neither the file's order nor its
+  // precision; picking (render/point_picker.h) reads the picked point back from the source
+  // through this. 4 bytes a point on the CPU, shared by the copies of the chunk.
+  std::shared_ptr<const std::vector<std::uint32_t>> source_indices;
 };
 
 // How a chunk's buffer is laid out and filled; the same for every chunk of one cloud or octree,

@@ -317,6 +317,14 @@ std::optional<PickedPoint> Renderer::pickPoint(int x, int y) const {
   return std::nullopt;
 }
 
+int Renderer::viewAt(int x, int y) const {
+  for (std::size_t v = 0; v < last_views_.size(); ++v) {
+    const Viewport& vp = last_views_[v].view.viewport;
+    if (x >= vp.x && y >= vp.y && x < vp.x + vp.width && y < vp.y + vp.height) return int(v);
+  }
+  return -1;
+}
+
 RenderTarget::RenderTarget(int width, int height) : width_(width), height_(height) {
   assert(width > 0 && height > 0 && "RenderTarget needs a positive size");
   glCreateRenderbuffers(1, &color_);

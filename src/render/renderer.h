@@ -101,6 +101,11 @@ class Renderer {
   // As pick(), with the point itself where the compute rasterizer drew the pixel: its position
   // is then the point's own (not the pixel centre at its depth), exactly as the GPU holds it.
   std::optional<PickedPoint> pickPoint(int x, int y) const;
+  // The index of the last frame's view whose viewport holds pixel (x, y) (bottom-left origin),
+  // -1 where none does.
+  int viewAt(int x, int y) const;
+  // Who drew the last frame (Points also when there was none).
+  RasterizerKind lastRasterizer() const { return last_rasterizer_; }
 
   // The compute rasterizer, made on first use (needs the current context).
   ComputeRasterizer& computeRasterizer();

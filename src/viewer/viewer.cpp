@@ -83,8 +83,12 @@ void setTitle(Session& s, const std::filesystem::path& path) {
 }
 
 // Uploads a whole cloud (a file, or a large file's preview: `whole` false) as what is shown.
-void showCloud(Session& s, const PointCloud& cloud, bool whole, bool place_camera, bool first) {
-  auto gpu = std::make_unique<GpuPointCloud>(cloud);
+void showCloud(Session& s, PointCloud cloud_points, bool whole, bool place_camera, bool first) {
+  auto gpu = std::make_unique<GpuPointCloud>(cloud_points);
+  s.cloud_points = std::make_unique<const PointCloud>(std::move(cloud_points));
+  const PointCloud& cloud = *s.cloud_points;
+  s.picked.reset();
+  s.pick_source.reset();
   s.lod.reset();
   s.octree.reset();
   s.lod_location.reset();
@@ -108,9 +112,12 @@ void showOpenedOctree(Session& s, std::unique_ptr<Octree> octree,
   s.lod_location = std::move(location);
   s.lod = std::make_unique<LodScene>(*s.octree);
   s.drawn.reset();
+  s.picked.reset();
+  s.pick_source.reset();
   s.extent = viewExtentOf(*s.octree);
   if (!keep_camera) {  // (a preview's camera and look stay for its octree)
     s.cloud.reset();
+    s.cloud_points.reset();
     placeCamera(s, first);
     chooseLook(s, s.octree->info().spacing > 0, s.octree->info().has_normals);
     prepareFilters(s, nullptr, false, s.octree->info().has_classification, first);
@@ -170,12 +177,13 @@ void openLargeFile(Session& s, const std::filesystem::path& path, std::uint64_t 
   const std::uint64_t budget = s.lod_settings.selection.point_budget;
   std::uint64_t shown = 0;
   if (hasPointFilePreview(detectPointFormat(path))) {
-    const PointCloud preview = readPointFilePreview(path, std::min(budget, kPreviewPoints));
+    PointCloud preview = readPointFilePreview(path, std::min(budget, kPreviewPoints));
     shown = preview.count;
-    showCloud(s, preview, false, true, first);
+    showCloud(s, std::move(preview), false, true, first);
   } else {
     // No sample reader for text: nothing is shown until the octree is ready.
     s.cloud.reset();
+    s.cloud_points.reset();
     s.lod.reset();
     s.octree.reset();
     s.lod_location.reset();
@@ -237,7 +245,7 @@ void openFile(Session& s, const std::filesystem::path& path, bool first) {
       setTitle(s, path);
     } else {
       PointCloud cloud = readPointFile(path);
-      showCloud(s, cloud, true, true, first);
+      showCloud(s, std::move(cloud), true, true, first);
       s.status =
           "opened " + path.string() + " (" + std::to_string(s.cloud->pointCount()) + " points)";
       setTitle(s, path);
@@ -382,14 +390,63 @@ void onScroll(GLFWwindow* window, double, double y) {
   sessionOf(window).scroll_steps += y;
 }
 
-void onMouseButton(GLFWwindow* window, int button, int action, int) {
+void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
   if (ImGui::GetIO().WantCaptureMouse || button != GLFW_MOUSE_BUTTON_LEFT || action != GLFW_PRESS) {
     return;
   }
   Session& s = sessionOf(window);
+  if (mods & GLFW_MOD_CONTROL) {
+    s.point_pick_requested = true;  // not also half of a double-click
+    return;
+  }
   const double now = glfwGetTime();
   if (now - s.last_click_time < 0.35) s.pick_requested = true;
   s.last_click_time = now;
+}
+
+// Ctrl + click: the point under the cursor (bottom-left origin), answered in this frame, after
+// the frame is drawn. The draw set is the one drawn: the cloud (or preview) while there is one,
+// else the octree's last selection.
+void pickPointAt(Session& s, int x, int y, int width, int height) {
+  if (!s.cloud && !s.lod) return;
+  const void* scene = s.cloud ? static_cast<const void*>(s.cloud.get()) : s.lod.get();
+  if (s.pick_scene != scene || !s.pick_source) {
+    s.pick_source = s.cloud ? std::make_unique<PickSource>(*s.cloud_points)
+                            : std::make_unique<PickSource>(*s.octree);
+    s.pick_scene = scene;
+  }
+  const DrawSet& draw_set = s.cloud ? s.draw_set : s.lod->drawSet();
+  const StereoFrame frame = stereoFrame(s.camera, s.stereo, width, height);
+  PickRequest request;
+  request.x = x, request.y = y;
+  // The pick's offscreen frame (compute, no multisampling or eye-dome lighting) is now the
+  // renderer's last picture: the next frame draws the window's own again rather than reuse it.
+  s.drawn.reset();
+  try {
+    // The window's picture may be GL_POINTS' or a progressive part: picking draws the whole
+    // frame again with the compute rasterizer (render/point_picker.h).
+    s.picked = pickPoint(*s.renderer, *s.pick_source, draw_set, frame.views, frame.composition,
+                         s.settings, width, height, request);
+  } catch (const std::exception& e) {  // an octree node that cannot be read again
+    s.picked.reset();
+    s.status = std::string("cannot pick: ") + e.what();
+    std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
+    return;
+  }
+  if (!s.picked) {
+    s.status = "no point under the cursor";
+    std::fprintf(stderr, "parallax view: picked nothing at %d,%d\n", x, height - 1 - y);
+    return;
+  }
+  std::string line = "parallax view: picked";
+  for (const PointAttribute& attribute : s.picked->attributes) {
+    const bool position = attribute.name == "x" || attribute.name == "y" || attribute.name == "z";
+    line += " ";
+    if (!position) line += attribute.name + "=";
+    line += formatAttributeValue(attribute.value);
+  }
+  std::fprintf(stderr, "%s\n", line.c_str());
+  s.status = "picked a point (panel: Picked point)";
 }
 
 void onDrop(GLFWwindow* window, int count, const char** paths) {
@@ -604,6 +661,7 @@ int runViewer(const ViewerOptions& options) {
           if (!streamed.items.empty() || !s.cloud) {
             draw_set = &streamed;
             s.cloud.reset();
+            s.cloud_points.reset();
             refine = s.frame_budget_ms > 0;
           }
         }
@@ -654,6 +712,11 @@ int runViewer(const ViewerOptions& options) {
       glClear(GL_COLOR_BUFFER_BIT);
     }
 
+    if (s.point_pick_requested) {
+      s.point_pick_requested = false;
+      pickPointAt(s, int(input.cursor_x), height - 1 - int(input.cursor_y), width, height);
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);  // picking may have drawn offscreen; the panel may not
+    }
     if (s.show_panel) drawPanel(s, frame_seconds, stats);
     if (s.show_help) drawHelp();
     ImGui::Render();

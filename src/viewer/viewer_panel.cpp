@@ -22,6 +22,8 @@ const char* const kHelp =
     "  right/middle drag  pan (or shift + left drag)\n"
     "  wheel              zoom to the cursor\n"
     "  double-click       new pivot at the point under the cursor\n"
+    "  ctrl + click       pick the point under the cursor (or the nearest within 3 pixels):\n"
+    "                     its coordinates and attributes in the panel and on stderr\n"
     "Keys\n"
     "  H      this help\n"
     "  G      show or hide the panel\n"
@@ -153,6 +155,19 @@ void drawNetworkPanel(Session& s) {
   }
 }
 
+// The last Ctrl + click's point: the source's coordinates and every attribute.
+void drawPickedPanel(const Session& s) {
+  if (!s.picked) return;
+  ImGui::Separator();
+  ImGui::TextDisabled("Picked point (ctrl + click)");
+  if (s.stereo.mode != StereoMode::Mono) {
+    ImGui::Text("%s eye", s.picked->view == 0 ? "left" : "right");
+  }
+  for (const PointAttribute& attribute : s.picked->attributes) {
+    ImGui::Text("%-16s %s", attribute.name.c_str(), formatAttributeValue(attribute.value).c_str());
+  }
+}
+
 }  // namespace
 
 void drawPanel(Session& s, double frame_seconds, const FrameStats& stats) {
@@ -240,6 +255,7 @@ void drawPanel(Session& s, double frame_seconds, const FrameStats& stats) {
     ImGui::Checkbox("swap eyes (X)", &s.stereo.swap_eyes);
   }
   drawFilterPanel(s);
+  drawPickedPanel(s);
   ImGui::Separator();
   ImGui::TextDisabled("Camera");
   bool ortho = s.camera.projection == Projection::Orthographic;

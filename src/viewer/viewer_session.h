@@ -21,6 +21,7 @@
 #include "render/camera.h"
 #include "render/lod_scene.h"
 #include "render/point_buffers.h"
+#include "render/point_picker.h"
 #include "render/progressive.h"
 #include "render/renderer.h"
 #include "viewer/camera_controller.h"
@@ -35,6 +36,9 @@ struct Session {
   std::unique_ptr<Renderer> renderer;
   std::unique_ptr<GpuPointCloud> cloud;  // a whole file, or the preview of a large one
   DrawSet draw_set;                      // all of `cloud`'s chunks
+  // The points `cloud` was uploaded from: picking reads the picked point back from them (the GPU
+  // holds chunk-relative floats, not the file's values).
+  std::unique_ptr<const PointCloud> cloud_points;
   // Level of detail: the octree (and the temporary folder holding it, with --no-cache) and the
   // scene streaming it; declared in this order so that they end in the reverse one.
   std::unique_ptr<OctreeLocation> lod_location;
@@ -77,7 +81,13 @@ struct Session {
   double scroll_steps = 0;
   std::vector<std::string> dropped;
   double last_click_time = -1;
-  bool pick_requested = false;
+  bool pick_requested = false;        // double-click: a new pivot
+  bool point_pick_requested = false;  // Ctrl + click: the point and its attributes
+  std::optional<PickResult> picked;   // shown in the panel's "Picked point" section
+  // What picked points are read from, made for the scene shown (`pick_scene`), so that its last
+  // octree nodes read stay cached between clicks.
+  std::unique_ptr<PickSource> pick_source;
+  const void* pick_scene = nullptr;
   // What the last drawn picture shows: points are drawn again only when one of these changes
   // (on llvmpipe a large cloud takes a good part of a second), otherwise the picture is reused.
   struct Drawn {

@@ -29,6 +29,8 @@
 #include <thread>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "render/camera.h"
 #include "render/image_file.h"
 #include "render/view_extent.h"
@@ -404,6 +406,13 @@ class ViewerProcess {
               0);
     std::this_thread::sleep_for(300ms);
   }
+  // A left click with Ctrl held at (x, y), window coordinates: picks a point.
+  void ctrlClick(int x, int y) {
+    EXPECT_EQ(run(env_ + "xdotool mousemove --window " + window_ + " " + std::to_string(x) + " " +
+                  std::to_string(y) + " keydown ctrl click 1 keyup ctrl > /dev/null 2>&1"),
+              0);
+    std::this_thread::sleep_for(300ms);
+  }
   // `clicks` steps of the wheel forward (towards the cloud) at the window's middle.
   void scroll(int clicks) {
     for (int i = 0; i < clicks; ++i) {
@@ -718,6 +727,48 @@ TEST(ViewerWindow, ProgressiveRefinementCompletesThePictureAndTheRKeyCyclesRaste
   // Points of one depth in two nodes may land in either order: a handful of pixels at most.
   EXPECT_LE(differing, whole.pixels.size() / 4 / 500)
       << differing << " pixels differ between the refined picture and the whole one";
+}
+
+// Ctrl + click picks the point under the cursor: the line on stderr names the same point, with
+// the file's coordinates, that `parallax pick` gives for that pixel of the same picture.
+TEST(ViewerWindow, CtrlClickPrintsThePickedPoint) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto cloud = dir.write("grid.ply", gridPly());
+  const std::vector<std::string> look = {"--width",      "640",   "--height", "400",
+                                         "--point-size", "4",     "--eye",    "0.4,-1.6,1.2",
+                                         "--target",     "0,0,0", "--fov",    "30"};
+  // The pick the command line makes in the upper part of the picture (rows count from the top in
+  // both), and where its point is drawn.
+  std::string args = " pick " + cloud.string() + " --pixel 320,110 --json";
+  for (const std::string& option : look) args += " " + option;
+  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + args + " > " + (dir / "pick.json").string()), 0);
+  const nlohmann::json expected = nlohmann::json::parse(readFile(dir / "pick.json"));
+  ASSERT_TRUE(expected.at("found").get<bool>()) << expected.dump();
+  const int x = expected.at("point_pixel")[0], y = expected.at("point_pixel")[1];
+
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  std::vector<std::string> view_args = {cloud.string(), "--no-vsync"};
+  view_args.insert(view_args.end(), look.begin(), look.end());
+  ViewerProcess viewer(dir, display.name(), view_args, "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+  viewer.key("g");  // the panel off the picture
+  viewer.ctrlClick(x, y);
+  ASSERT_TRUE(viewer.logged("parallax view: picked ")) << viewer.log();
+  const std::string log = viewer.log();
+  std::istringstream line(log.substr(log.find("parallax view: picked ") + 22));
+  double px = 0, py = 0, pz = 0;
+  line >> px >> py >> pz;
+  EXPECT_EQ(px, expected.at("point").at("x").get<double>()) << log;
+  EXPECT_EQ(py, expected.at("point").at("y").get<double>()) << log;
+  EXPECT_EQ(pz, expected.at("point").at("z").get<double>()) << log;
+  const std::string red = "red=" + std::to_string(expected.at("point").at("red").get<int>()) + " ";
+  EXPECT_NE(log.find(red), std::string::npos) << log;
+  EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
 }
 
 }  // namespace

@@ -1,0 +1,109 @@
+#include "render_scene.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <optional>
+#include <stdexcept>
+
+#include "core/error.h"
+#include "io/ply_preview.h"
+#include "io/point_file.h"
+#include "lod/large_file.h"
+#include "lod/octree_open.h"
+#include "lod/potree_reader.h"
+#include "net/url.h"
+#include "progress_options.h"
+
+namespace parallax::cli {
+
+RenderSource openRenderSource(const RenderSourceOptions& o, const LodOptions& lod) {
+  const std::string command(o.command);
+  RenderSource source;
+  if (isOctreePath(o.input)) {  // a Potree directory or a COPC file
+    source.octree_dir = o.input;
+    source.octree = openOctree(o.input);
+    return source;
+  }
+  const std::optional<std::uint64_t> points = pointsOverBudget(o.input, lod.budget);
+  if (!points) {
+    const auto progress = readingBar(o.quiet, "loading", o.input);
+    source.cloud = readPointFile(o.input, {.progress = progress.get()});  // every point drawn
+    return source;
+  }
+  if (o.preview) {
+    if (!hasPointFilePreview(detectPointFormat(o.input))) {
+      throw std::invalid_argument("--preview: " + o.input +
+                                  " is a text file (samples are read from PLY, LAS and LAZ files)");
+    }
+    source.cloud = readPointFilePreview(o.input, std::min(lod.budget, kPreviewPoints));
+    source.file_points = *points;
+    return source;
+  }
+  const OctreeCacheSettings cache = octreeCacheSettingsFrom(lod);
+  source.location = std::make_unique<OctreeLocation>(o.input, cache);
+  const std::string directory = source.location->directory().string();
+  if (source.location->complete()) {
+    if (!o.quiet)
+      std::fprintf(stderr,
+                   "parallax %s: %llu points, over the budget of %llu: using the octree in %s\n",
+                   command.c_str(), static_cast<unsigned long long>(*points),
+                   static_cast<unsigned long long>(lod.budget), directory.c_str());
+  } else {
+    if (!o.quiet)
+      std::fprintf(stderr,
+                   "parallax %s: %llu points, over the budget of %llu: converting to an octree "
+                   "in %s\n",
+                   command.c_str(), static_cast<unsigned long long>(*points),
+                   static_cast<unsigned long long>(lod.budget), directory.c_str());
+    ensureOctree(*source.location, cache.build, stageBars(o.quiet));
+  }
+  source.octree_dir = source.location->directory();
+  source.octree = openPotree(source.octree_dir);
+  return source;
+}
+
+RenderScene uploadRenderSource(RenderSource& source, bool keep_cloud) {
+  RenderScene scene;
+  if (source.lod()) {
+    scene.lod = std::make_unique<LodScene>(*source.octree);
+    scene.extent = viewExtentOf(*source.octree);
+    scene.points = source.octree->info().point_count;
+  } else {
+    scene.gpu = std::make_unique<GpuPointCloud>(source.cloud);
+    scene.whole = scene.gpu->drawSet();
+    glFinish();
+    scene.extent = viewExtentOf(source.cloud);
+    scene.points = source.cloud.count;
+    if (!keep_cloud) source.cloud = PointCloud();  // the GPU holds the points now
+  }
+  return scene;
+}
+
+StereoSettings headlessStereoSettings(const RenderOptions& options, bool quiet,
+                                      std::string_view command) {
+  StereoSettings stereo = stereoSettingsFrom(options);
+  if (stereo.mode == StereoMode::QuadBuffer) {
+    if (!quiet)
+      std::fprintf(stderr,
+                   "parallax %s: quad-buffer stereo needs a window with a stereo (GL_STEREO) "
+                   "visual, and a headless render has none: falling back to sbs (side by side)\n",
+                   std::string(command).c_str());
+    stereo.mode = StereoMode::SideBySide;
+  }
+  return stereo;
+}
+
+const DrawSet& frameDrawSet(RenderScene& scene, const RenderSource& source,
+                            const StereoFrame& frame, const LodOptions& lod) {
+  if (!scene.lod) return scene.whole;
+  const DrawSet& draw_set = scene.lod->finishLoading(frame.views, lodFrameSettingsFrom(lod));
+  if (!scene.lod->firstError().empty()) {
+    throw InputError({.file = urlForMessages(source.octree_dir.string()),
+                      .expected = "every node the view selects readable",
+                      .found = std::to_string(scene.lod->stats().failed_nodes) +
+                               " failed, the first: " + scene.lod->firstError()});
+  }
+  return draw_set;
+}
+
+}  // namespace parallax::cli
