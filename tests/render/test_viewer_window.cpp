@@ -451,18 +451,22 @@ std::size_t cloudPixels(const RgbaImage& image) {
   return count;
 }
 
+// A 60 000-point generated scan converted to a Potree directory at `octree`; false on failure.
+bool writeScanOctree(const TempDir& dir, const std::filesystem::path& octree) {
+  const auto ply = dir / "scan.ply";
+  return run(std::string(PARALLAX_EXECUTABLE) + " generate --points 60000 -o " + ply.string() +
+             " > /dev/null 2>&1") == 0 &&
+         run(std::string(PARALLAX_EXECUTABLE) + " convert -q " + ply.string() + " -o " +
+             octree.string()) == 0;
+}
+
 TEST(ViewerWindow, ShowsAPotreeDirectoryAndTheCommaKeyLowersTheBudget) {
   if (!onPath("Xvfb") || !onPath("xdotool")) {
     GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
   }
   TempDir dir;
-  const auto ply = dir / "scan.ply", octree = dir / "scan_octree";
-  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " generate --points 60000 -o " + ply.string() +
-                " > /dev/null 2>&1"),
-            0);
-  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " convert -q " + ply.string() + " -o " +
-                octree.string()),
-            0);
+  const auto octree = dir / "scan_octree";
+  ASSERT_TRUE(writeScanOctree(dir, octree));
   const auto shots = dir.path() / "shots";
   std::filesystem::create_directories(shots);
   Display display(dir);
@@ -675,13 +679,8 @@ TEST(ViewerWindow, ProgressiveRefinementCompletesThePictureAndTheRKeyCyclesRaste
     GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
   }
   TempDir dir;
-  const auto ply = dir / "scan.ply", octree = dir / "scan_octree";
-  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " generate --points 60000 -o " + ply.string() +
-                " > /dev/null 2>&1"),
-            0);
-  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " convert -q " + ply.string() + " -o " +
-                octree.string()),
-            0);
+  const auto octree = dir / "scan_octree";
+  ASSERT_TRUE(writeScanOctree(dir, octree));
   Display display(dir);
   ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
   auto picture = [&](const std::string& budget_ms, const std::string& name) {
