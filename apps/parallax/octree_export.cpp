@@ -12,6 +12,7 @@
 
 #include "core/byte_source.h"
 #include "core/error.h"
+#include "core/point_gather.h"
 #include "core/progress.h"
 #include "io/point_file.h"
 #include "lod/in_memory_octree.h"

@@ -1,8 +1,8 @@
 #include "core/point_filter.h"
 
 #include <cassert>
-#include <cstring>
-#include <type_traits>
+
+#include "core/point_gather.h"
 
 namespace parallax {
 
@@ -72,29 +72,7 @@ PointCloud filterPoints(const PointCloud& cloud, const PointFilter& filter) {
     if (!filter.keepsPosition(cloud.worldX(i), cloud.worldY(i), cloud.worldZ(i))) continue;
     kept.push_back(i);
   }
-  PointCloud out;
-  out.count = kept.size();
-  out.quantization = cloud.quantization;
-  out.source = cloud.source;
-  auto gather = [&](const auto& from, auto& to) {
-    if (from.empty()) return;
-    to = std::remove_reference_t<decltype(to)>(kept.size());
-    for (std::size_t i = 0; i < kept.size(); ++i) to[i] = from[kept[i]];
-  };
-  gather(cloud.positions, out.positions);
-  gather(cloud.colors, out.colors);
-  gather(cloud.normals, out.normals);
-  gather(cloud.intensity, out.intensity);
-  gather(cloud.classification, out.classification);
-  for (const ScalarColumn& column : cloud.scalars) {
-    const std::size_t size = scalarSize(column.type);
-    ScalarColumn copy{
-        .name = column.name, .type = column.type, .data = ByteBuffer(kept.size() * size)};
-    for (std::size_t i = 0; i < kept.size(); ++i) {
-      std::memcpy(copy.data.data() + i * size, column.data.data() + kept[i] * size, size);
-    }
-    out.scalars.push_back(std::move(copy));
-  }
+  PointCloud out = gatherPoints(cloud, kept);
   out.computeBounds();
   return out;
 }

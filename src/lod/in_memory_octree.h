@@ -44,10 +44,4 @@ class InMemoryOctree final : public Octree {
 std::unique_ptr<InMemoryOctree> buildOctree(const PointCloud& cloud,
                                             const OctreeBuildOptions& options = {});
 
-// The points of `cloud` at `indices`, in that order, with every attribute (parallel).
-PointCloud gatherPoints(const PointCloud& cloud, std::span<const std::uint32_t> indices);
-
-// The records [first, first + count) of `cloud` (bounds left empty).
-PointCloud slicePoints(const PointCloud& cloud, std::uint64_t first, std::uint64_t count);
-
 }  // namespace parallax

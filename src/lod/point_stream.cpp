@@ -4,6 +4,7 @@
 #include <variant>
 
 #include "core/error.h"
+#include "core/point_gather.h"
 #include "io/las_reader.h"
 #include "io/laz_reader.h"
 #include "io/ply_reader.h"
