@@ -6,6 +6,8 @@
 #include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <numeric>
+#include <span>
 #include <string>
 
 #include "render/compute_rasterizer_glsl.h"
@@ -17,7 +19,15 @@ namespace parallax {
 
 namespace {
 
-enum TextureUnit : int { kPositions = 0, kColors = 1, kNormals = 2, kExtras = 3, kBatches = 4 };
+enum TextureUnit : int {
+  kPositions = 0,
+  kColors = 1,
+  kNormals = 2,
+  kExtras = 3,
+  kBatches = 4,
+  kDepthKeys = 5,
+  kBatchOrder = 6
+};
 // SSBO bindings, as in the shaders.
 enum Binding : GLuint {
   kDepthBinding = 0,
@@ -125,15 +135,17 @@ ComputeRasterizer::ComputeRasterizer(const ComputeRasterizerOptions& options) : 
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_ssbo_bytes_);
   glCreateTextures(GL_TEXTURE_BUFFER, 5, textures_);
   glCreateTextures(GL_TEXTURE_BUFFER, 6, views_);
+  glCreateTextures(GL_TEXTURE_BUFFER, 1, &order_view_);
   glCreateVertexArrays(1, &vao_);
 }
 
 ComputeRasterizer::~ComputeRasterizer() {
   glDeleteTextures(5, textures_);
   glDeleteTextures(6, views_);
+  glDeleteTextures(1, &order_view_);
   if (vao_) glDeleteVertexArrays(1, &vao_);
-  const GLuint buffers[] = {depths_, ids_, colors_, sums_, flags_};
-  glDeleteBuffers(5, buffers);
+  const GLuint buffers[] = {depths_, ids_, colors_, sums_, flags_, order_};
+  glDeleteBuffers(6, buffers);
 }
 
 std::string ComputeRasterizer::unsupported(const RenderSettings& settings, int canvas_width,
@@ -200,9 +212,12 @@ void ComputeRasterizer::ensureBuffers(int width, int height, bool hq) {
 void ComputeRasterizer::ensureFlags(std::uint32_t batches) {
   if (batches <= flag_capacity_) return;
   if (flags_) glDeleteBuffers(1, &flags_);
+  if (order_) glDeleteBuffers(1, &order_);
   flag_capacity_ = std::max(batches, flag_capacity_ * 2);
   glCreateBuffers(1, &flags_);
-  glNamedBufferStorage(flags_, GLsizeiptr(flag_capacity_) * 4, nullptr, 0);
+  glNamedBufferStorage(flags_, GLsizeiptr(flag_capacity_) * 8, nullptr, 0);
+  glCreateBuffers(1, &order_);
+  glNamedBufferStorage(order_, GLsizeiptr(flag_capacity_) * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
 void ComputeRasterizer::clearBuffers(bool hq) {
@@ -237,6 +252,32 @@ void ComputeRasterizer::bindBuffers(bool hq) const {
     }
   }
 }
+
+namespace {
+
+// Writes into `order` (a slot per batch of the chunk) each range's batches, as indices in their
+// range, nearest the eye first by the depth of their centres (chunk-relative, `chunk_to_eye`).
+// A chunk without centres keeps its own order.
+void orderBatches(const PointChunk& chunk, const glm::dmat4& chunk_to_eye, std::size_t range_points,
+                  std::span<std::uint32_t> order) {
+  const std::uint32_t range_batches = std::uint32_t(range_points / kBatchPoints);
+  std::vector<float> eye_z(chunk.batch_count);
+  for (std::uint32_t b = 0; b < chunk.batch_count; ++b) {
+    const glm::vec3 c = chunk.batch_centers ? (*chunk.batch_centers)[b] : glm::vec3(0.0f);
+    eye_z[b] = float((chunk_to_eye * glm::dvec4(c, 1.0)).z);
+  }
+  for (std::uint32_t first = 0; first < chunk.batch_count; first += range_batches) {
+    const std::uint32_t count = std::min(range_batches, chunk.batch_count - first);
+    const auto slots = order.subspan(first, count);
+    std::iota(slots.begin(), slots.end(), 0u);
+    if (!chunk.batch_centers) continue;
+    std::stable_sort(slots.begin(), slots.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return eye_z[first + a] > eye_z[first + b];
+    });
+  }
+}
+
+}  // namespace
 
 RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   const DrawSet& draw_set = *frame.draw_set;
@@ -303,6 +344,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   struct Work {
     std::size_t item;
     std::uint32_t visible;
+    double eye_z = 0.0;  // of the chunk's centre in the first view
   };
   std::vector<Work> work;
   const std::size_t last_item = std::min(frame.last_item, draw_set.items.size());
@@ -326,24 +368,20 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
       continue;
     }
     if (item.chunk->count == 0) continue;
-    work.push_back({index, visible});
+    work.push_back({index, visible, 0.0});
     stats.points_drawn += item.chunk->count;
     ++stats.chunks_drawn;
   }
 
-  // The batch flags (see the shader): one per batch of the work, cleared per frame.
-  std::vector<std::uint32_t> flag_bases;
-  std::uint32_t batch_total = 0;
-  for (const Work& w : work) {
-    flag_bases.push_back(batch_total);
-    batch_total += draw_set.items[w.item].chunk->batch_count;
+  // Chunks nearest the (first) eye first, and within each range its batches too (see
+  // t_batch_order in the shader): by the eye-space depth of their centres.
+  const glm::dmat4& world_to_eye = eyes.front().world_to_eye;
+  for (Work& w : work) {
+    const auto center = draw_set.items[w.item].chunk->bounds.center();
+    w.eye_z = (world_to_eye * glm::dvec4(center[0], center[1], center[2], 1.0)).z;
   }
-  ensureFlags(std::max<std::uint32_t>(batch_total, 1));
-  const std::uint32_t zero = 0;
-  glClearNamedBufferSubData(flags_, GL_R32UI, 0, GLsizeiptr(std::max(batch_total, 1u)) * 4,
-                            GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kFlagBinding, flags_, 0,
-                    GLsizeiptr(std::max(batch_total, 1u)) * 4);
+  std::stable_sort(work.begin(), work.end(),
+                   [](const Work& a, const Work& b) { return a.eye_z > b.eye_z; });
 
   // Ranges of whole batches, each section within the binding limit (positions are the widest).
   GLint max_texels = 0;
@@ -354,6 +392,29 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
               kBatchPoints,
           1) *
       kBatchPoints;
+
+  // The batch flags (see the shader): two words per batch of the work, cleared per frame; and
+  // the batches' order, a slot per batch.
+  std::vector<std::uint32_t> flag_bases;
+  std::uint32_t batch_total = 0;
+  for (const Work& w : work) {
+    flag_bases.push_back(batch_total);
+    batch_total += draw_set.items[w.item].chunk->batch_count;
+  }
+  ensureFlags(std::max<std::uint32_t>(batch_total, 1));
+  const std::uint32_t zero = 0;
+  glClearNamedBufferSubData(flags_, GL_R32UI, 0, GLsizeiptr(std::max(batch_total, 1u)) * 8,
+                            GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kFlagBinding, flags_, 0,
+                    GLsizeiptr(std::max(batch_total, 1u)) * 8);
+  std::vector<std::uint32_t> order(std::max(batch_total, 1u), 0);
+  for (std::size_t n = 0; n < work.size(); ++n) {
+    const PointChunk& chunk = *draw_set.items[work[n].item].chunk;
+    orderBatches(chunk, glm::translate(world_to_eye, chunk.origin), range_points,
+                 std::span(order).subspan(flag_bases[n], chunk.batch_count));
+  }
+  glNamedBufferSubData(order_, 0, GLsizeiptr(order.size()) * 4, order.data());
+  glTextureBufferRange(order_view_, GL_R32UI, order_, 0, GLsizeiptr(order.size()) * 4);
 
   const double z_min = draw_set.bounds.min[2];
   const double z_extent = std::max(draw_set.bounds.size()[2], 1e-12);
@@ -409,6 +470,8 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     const GLint id_base_location = shader.uniform("u_id_base");
     const GLint flag_base_location = shader.uniform("u_flag_base");
     for (int unit = 0; unit < 5; ++unit) glBindTextureUnit(GLuint(unit), textures_[unit]);
+    if (!atomic64_) glBindTextureUnit(kDepthKeys, views_[0]);
+    glBindTextureUnit(kBatchOrder, order_view_);
 
     for (std::size_t n = 0; n < work.size(); ++n) {
       const Work& w = work[n];

@@ -32,6 +32,11 @@ layout(binding = 1) uniform samplerBuffer t_colors;     // RGBA8
 layout(binding = 2) uniform usamplerBuffer t_normals;   // R32UI, int 2_10_10_10 (w unused)
 layout(binding = 3) uniform usamplerBuffer t_extras;    // RG32UI: intensity | class << 16, spacing
 layout(binding = 4) uniform samplerBuffer t_batches;    // RGBA32F, min and max of each batch
+// The order the frame's workgroups take the batches of each range in, nearest the eye first
+// (R32UI, the batch's index in the range, at u_flag_base + workgroup): pass 1 then meets the
+// front points early and most points behind them fail the plain depth test, skipping the atomic
+// and leaving their groups unflagged for pass 2.
+layout(binding = 6) uniform usamplerBuffer t_batch_order;
 
 // The visibility buffer, one entry per canvas pixel. The depth key is ~bits of the reversed
 // window depth (near 1, far 0): smaller is nearer, and the empty value ~0u is the far plane.
@@ -40,13 +45,19 @@ layout(std430, binding = 0) coherent buffer Visibility { uint64_t visibility[]; 
 #else
 layout(std430, binding = 0) coherent buffer Depths { uint depths[]; };
 layout(std430, binding = 1) coherent buffer Ids { uint ids[]; };
+// The same depth keys read as a buffer texture: a vector gather on llvmpipe, where an SSBO load
+// is a loop over the lanes. Within pass 1 a fetch may see an older, larger key than the atomics
+// left (no coherence is promised between the two views): the pre-test below then lets a point
+// through to the atomic, which decides, so the result is the same. Pass 2 reads after a barrier.
+layout(binding = 5) uniform usamplerBuffer t_depth_keys;
 #endif
 layout(std430, binding = 2) coherent buffer Colors { uint colors[]; };  // packUnorm4x8
-// One flag per batch of the frame: pass 1 sets it when a point of the batch was at or in front of
-// the stored key when it ran. Every point that ends front-most was, so pass 2 skips the batches
-// left unflagged (HQ blends points behind the front too, and reads them all).
+// Two words of flags per batch of the frame, a bit per group of 64 consecutive points (the points
+// one loop iteration of the workgroup reads): pass 1 sets a group's bit when one of its points
+// was at or in front of the stored key when it ran. Every point that ends front-most was, so
+// pass 2 reads only the flagged groups (HQ blends points behind the front too, and reads all).
 layout(std430, binding = 7) coherent buffer BatchFlags { uint batch_flags[]; };
-uniform uint u_flag_base;  // the range's first batch among the frame's batches
+uniform uint u_flag_base;  // the range's first batch among the frame's batches (its first slot)
 bool may_win = false;
 
 #if HQ
@@ -175,7 +186,7 @@ void touchPixel(uint pixel, uint key, uint id, uint i, vec3 p, int v, float eye_
 #else
   // A plain read first: the stored key only decreases, so a point behind it is behind for good,
   // and most points of a dense cloud skip the atomic.
-  uint stored = depths[pixel];
+  uint stored = texelFetch(t_depth_keys, int(pixel)).x;
   if (key <= stored) {
     may_win = true;
 #if RESET
@@ -195,7 +206,7 @@ void touchPixel(uint pixel, uint key, uint id, uint i, vec3 p, int v, float eye_
 #if ATOMIC64
   uint front = uint(visibility[pixel] >> 32);
 #else
-  uint front = depths[pixel];
+  uint front = texelFetch(t_depth_keys, int(pixel)).x;
 #endif
 #if HQ
   if (eye_depth <= eyeDepthOf(front, v) * (1.0 + u_hq_range)) {
@@ -272,12 +283,32 @@ void drawInView(uint i, uint id, vec3 p, int v) {
 #endif
 }
 
+// Point `i` of the bound range, drawn into every view that sees its batch; true where it was at
+// or in front of a pixel's stored key (pass 1: it may end front-most).
+bool drawPoint(uint i, uint views) {
+  vec3 p = texelFetch(t_positions, int(i)).xyz;
+#if FILTER
+  if (!keepPoint(p, (extras0(i) >> 16) & 0xffu)) return false;
+#endif
+  may_win = false;
+  // Read once, projected into every view (stereo in one pass).
+  for (int v = 0; v < VIEWS; ++v) {
+    if (((views >> v) & 1u) != 0u) drawInView(i, u_id_base + i, p, v);
+  }
+  return may_win;
+}
+
 void main() {
+  uint slot = u_flag_base + gl_WorkGroupID.x;
+  uint range_batch = texelFetch(t_batch_order, int(slot)).x;
+  // The batch's flags (see BatchFlags): 64 groups of 64 consecutive points, one bit each.
+  uint flag_word = 2u * slot;
 #if PASS == 2 && !HQ
-  if (batch_flags[u_flag_base + gl_WorkGroupID.x] == 0u) return;
+  uvec2 todo = uvec2(batch_flags[flag_word], batch_flags[flag_word + 1u]);
+  if (todo == uvec2(0u)) return;
 #endif
   // The batch is culled against every view before any of its points is read.
-  uint batch = u_batch_base + gl_WorkGroupID.x;
+  uint batch = u_batch_base + range_batch;
   vec3 lo = texelFetch(t_batches, int(2u * batch)).xyz;
   vec3 hi = texelFetch(t_batches, int(2u * batch + 1u)).xyz;
   uint views = 0u;
@@ -285,21 +316,34 @@ void main() {
     if (((u_view_mask >> v) & 1u) != 0u && boxVisible(u_mvp[v], lo, hi)) views |= 1u << v;
   }
   if (views == 0u) return;
-  uint first = gl_WorkGroupID.x * BATCH_POINTS + gl_LocalInvocationID.x;
+  uint first = range_batch * BATCH_POINTS + gl_LocalInvocationID.x;
+#if PASS == 2 && !HQ
+  // Only the flagged groups, by a loop over the set bits rather than a test in a loop over all:
+  // llvmpipe runs a masked-off body all the same, but leaves a loop once no lane goes on.
+  while (todo != uvec2(0u)) {
+    uint k;
+    if (todo.x != 0u) {
+      k = uint(findLSB(todo.x));
+      todo.x &= todo.x - 1u;
+    } else {
+      k = 32u + uint(findLSB(todo.y));
+      todo.y &= todo.y - 1u;
+    }
+    uint i = first + k * 64u;
+    if (i >= u_point_count) break;
+    drawPoint(i, views);
+  }
+#else
+  uvec2 won = uvec2(0u);
   for (uint k = 0u; k < kPointsPerInvocation; ++k) {
     uint i = first + k * 64u;
     if (i >= u_point_count) break;
-    vec3 p = texelFetch(t_positions, int(i)).xyz;
-#if FILTER
-    if (!keepPoint(p, (extras0(i) >> 16) & 0xffu)) continue;
-#endif
-    // Read once, projected into every view (stereo in one pass).
-    for (int v = 0; v < VIEWS; ++v) {
-      if (((views >> v) & 1u) != 0u) drawInView(i, u_id_base + i, p, v);
-    }
+    if (drawPoint(i, views)) won |= k < 32u ? uvec2(1u << k, 0u) : uvec2(0u, 1u << (k - 32u));
   }
 #if PASS == 1
-  if (may_win) batch_flags[u_flag_base + gl_WorkGroupID.x] = 1u;
+  if (won.x != 0u) atomicOr(batch_flags[flag_word], won.x);
+  if (won.y != 0u) atomicOr(batch_flags[flag_word + 1u], won.y);
+#endif
 #endif
 }
 )glsl";

@@ -174,6 +174,7 @@ StagedChunk stagePointChunk(const PointCloud& cloud, std::span<const std::uint32
   });
   // Batch boxes from the floats the GPU gets, so that culling a batch never drops a point.
   auto* batches = reinterpret_cast<float*>(base + chunk.batches_offset);
+  std::vector<glm::vec3> centers(chunk.batch_count);
   tbb::parallel_for(std::uint32_t(0), chunk.batch_count, [&](std::uint32_t b) {
     float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     const std::size_t end = std::min<std::size_t>(count, std::size_t(b + 1) * kBatchPoints);
@@ -186,7 +187,9 @@ StagedChunk stagePointChunk(const PointCloud& cloud, std::span<const std::uint32
     float* box = batches + std::size_t(b) * 8;
     box[0] = lo[0], box[1] = lo[1], box[2] = lo[2], box[3] = 0.0f;
     box[4] = hi[0], box[5] = hi[1], box[6] = hi[2], box[7] = 0.0f;
+    centers[b] = 0.5f * (glm::vec3(lo[0], lo[1], lo[2]) + glm::vec3(hi[0], hi[1], hi[2]));
   });
+  chunk.batch_centers = std::make_shared<const std::vector<glm::vec3>>(std::move(centers));
   chunk.max_spacing = layout.uniform_spacing;
   for (const float s : spacing) chunk.max_spacing = std::max(chunk.max_spacing, s);
   return staged;

@@ -53,6 +53,9 @@ struct PointChunk {
   // `batches_offset`. Only the compute rasterizer reads them (render/compute_rasterizer.h).
   std::size_t batches_offset = 0;
   std::uint32_t batch_count = 0;
+  // The batches' box centres, chunk-relative, on the CPU: the compute rasterizer orders batches
+  // by their depth each frame. Shared by the copies of the chunk; may be null (no order).
+  std::shared_ptr<const std::vector<glm::vec3>> batch_centers;
   // The largest per-point spacing in the chunk (world units): bounds the adaptive point size of
   // its points, so that a rasterizer can tell ahead whether they stay small on screen.
   float max_spacing = 0.0f;
