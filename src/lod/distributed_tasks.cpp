@@ -29,6 +29,17 @@ std::uint64_t scanBatchPoints(const DistributedPlan& plan) {
   return std::clamp<std::uint64_t>(plan.build.memory_bytes / 8 / 128, 4096, 4u << 20);
 }
 
+// A folder of the work directory, which must still exist: a task that outlives its run (its
+// driver stopped and removed the work directory) fails instead of creating it again.
+void makeTaskDirectory(const std::filesystem::path& path) {
+  std::error_code error;
+  std::filesystem::create_directory(path, error);
+  if (error) {
+    throw std::runtime_error(path.string() + ": cannot create (" + error.message() +
+                             "): is the work directory still there?");
+  }
+}
+
 std::unique_ptr<PointStream> openRange(const DistributedPlan& plan,
                                        const std::vector<ConvertInput>& inputs, std::size_t range) {
   const InputRange& r = plan.ranges[range];
@@ -57,7 +68,7 @@ std::uint64_t runScan(const DistributedPlan& plan, const std::vector<ConvertInpu
     scan.bounds.extend(batch.bounds);
     scan.points += batch.count;
   }
-  std::filesystem::create_directories(scanFilePath(plan, range).parent_path());
+  makeTaskDirectory(scanFilePath(plan, range).parent_path());
   writeScanSummary(scanFilePath(plan, range), scan);
   return scan.points;
 }
@@ -107,7 +118,7 @@ std::uint64_t runCount(const DistributedPlan& plan, const std::vector<ConvertInp
   auto stream = openRange(plan, inputs, range);
   std::vector<std::uint64_t> counts(ConvertPlan::kGridCells, 0);
   countStream(state, *stream, counts, nullptr);
-  std::filesystem::create_directories(countFilePath(plan, range).parent_path());
+  makeTaskDirectory(countFilePath(plan, range).parent_path());
   writeCounts(countFilePath(plan, range), counts);
   std::uint64_t points = 0;
   for (std::uint64_t count : counts) points += count;
@@ -156,7 +167,7 @@ std::uint64_t runDistribute(const DistributedPlan& plan, const std::vector<Conve
   ConvertPlan state = loadConvertState(plan, true);
   auto stream = openRange(plan, inputs, range);
   const std::filesystem::path target = shardDirPath(plan, range);
-  std::filesystem::create_directories(target.parent_path());
+  makeTaskDirectory(target.parent_path());
   const std::filesystem::path temp = temporaryPathFor(target);
   std::filesystem::remove_all(temp);
   std::uint64_t points = 0;
@@ -224,7 +235,7 @@ std::uint64_t runBuild(const DistributedPlan& plan, std::size_t group) {
   const auto [first, last] = groups.groups[group];
   const auto sampler = makeSampler(plan.build.sampling);
   const std::filesystem::path part_path = groupPartPath(plan, group);
-  std::filesystem::create_directories(part_path.parent_path());
+  makeTaskDirectory(part_path.parent_path());
   const std::filesystem::path temp = temporaryPathFor(part_path);
   GroupNodes nodes;
   try {
