@@ -69,6 +69,7 @@ struct ConvertArgs {
   PointFilter filter;  // parsed from filter_options by runConvert
   bool plan = false;   // --plan: write a distributed conversion's plan (convert_task.h)
   std::size_t tasks = 0;
+  std::size_t build_tasks = 0;
   std::string work_dir;
 };
 
@@ -270,6 +271,7 @@ int runConvert(ConvertArgs args) {
                            .filter_options = args.filter_options,
                            .build = buildOptions(args).build,
                            .tasks = args.tasks,
+                           .build_tasks = args.build_tasks,
                            .quiet = args.quiet});
   }
   if (args.format == "copc" || (args.format.empty() && hasCopcName(args.output))) {
@@ -464,6 +466,9 @@ Command addConvertCommand(CLI::App& app) {
   sub->add_option("--tasks", args->tasks,
                   "--plan: split the inputs into about this many ranges, the chunks into as many "
                   "build groups (default: 4 per core)")
+      ->check(CLI::Range(std::size_t(1), std::size_t(1) << 20));
+  sub->add_option("--build-tasks", args->build_tasks,
+                  "--plan: group the chunks into about this many build tasks (default: --tasks)")
       ->check(CLI::Range(std::size_t(1), std::size_t(1) << 20));
   sub->add_option("--work-dir", args->work_dir,
                   "--plan: the work directory shared by the tasks (default: .OUTPUT.work beside "

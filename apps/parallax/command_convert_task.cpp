@@ -78,6 +78,7 @@ int runConvertPlan(const ConvertPlanRequest& request) {
   const std::size_t tasks =
       request.tasks > 0 ? request.tasks : 4 * std::max(1u, std::thread::hardware_concurrency());
   DistributedPlan plan = makeDistributedPlan(inputs, output, work_dir, request.build, tasks);
+  if (request.build_tasks > 0) plan.build_tasks = request.build_tasks;
   plan.filter = filterJson(request.filter_options);
   writeDistributedPlan(plan);
   std::printf("{\"plan\": %s, \"ranges\": %zu, \"build_tasks\": %zu}\n",
@@ -97,13 +98,15 @@ Command addConvertTaskCommand(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "convert-task",
       "Run one task of a distributed octree conversion (plan.json from parallax convert --plan): "
-      "scan, count and distribute take a range (--part), build a group of chunks, cube, chunks "
-      "and finish merge; each reads files of the plan's work directory and writes its own under "
+      "scan, count and distribute take a range (--part), build and place a group of chunks, "
+      "cube, chunks and finish merge; each reads files of the plan's work directory and writes its "
+      "own under "
       "a temporary name, renamed when complete");
   sub->add_option("stage", args->stage,
-                  "scan, cube, count, chunks, distribute, build or finish (in this order)")
+                  "scan, cube, count, chunks, distribute, build, place or finish (in this order)")
       ->required()
-      ->check(CLI::IsMember({"scan", "cube", "count", "chunks", "distribute", "build", "finish"}));
+      ->check(CLI::IsMember(
+          {"scan", "cube", "count", "chunks", "distribute", "build", "place", "finish"}));
   sub->add_option("plan", args->plan, "The plan (WORK/plan.json)")->required();
   sub->add_option("--part", args->part, "The range or group (from 0; default 0)");
   sub->add_option("--threads", args->threads, "Worker threads (default 1; 0: every core)")

@@ -22,7 +22,8 @@ struct ConvertPlanRequest {
   std::string work_dir;              // empty: ".NAME.work" beside the output
   FilterOptions filter_options;
   OctreeBuildOptions build;
-  std::size_t tasks = 0;  // ranges (and build groups) to aim for; 0: 4 per core of this machine
+  std::size_t tasks = 0;        // ranges to aim for; 0: 4 per core of this machine
+  std::size_t build_tasks = 0;  // groups of chunks to aim for; 0: as many as ranges
   bool quiet = false;
 };
 

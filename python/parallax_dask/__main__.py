@@ -28,6 +28,9 @@ def parse_arguments(argv):
                                            "beside the output); removed at the end")
     parser.add_argument("--tasks", type=int, default=16,
                         help="ranges of the inputs, and groups of chunks to build (default 16)")
+    parser.add_argument("--build-tasks", type=int,
+                        help="groups of chunks to build (default: --tasks); more groups balance "
+                             "the builds better, each costs a task")
     parser.add_argument("--task-threads", type=int, default=1,
                         help="threads of each task (default 1: one task per worker thread)")
     parser.add_argument("--retries", type=int, default=2,

@@ -2,7 +2,7 @@
 
 The stages run in order, each as one task per range or group of chunks:
 
-    scan -> cube -> count -> chunks -> distribute -> build -> finish
+    scan -> cube -> count -> chunks -> distribute -> build -> place -> finish
 
 Every stage needs all of the one before it (the cube needs every range's bounds, a chunk's
 build every range's shard of it), so the graph is a chain of fan-outs and merges, and the
@@ -29,7 +29,7 @@ from . import tasks
 # executable, not this package on their Python path.
 cloudpickle.register_pickle_by_value(tasks)
 
-STAGES = ("scan", "cube", "count", "chunks", "distribute", "build", "finish")
+STAGES = ("scan", "cube", "count", "chunks", "distribute", "build", "place", "finish")
 
 
 class ConversionError(Exception):
@@ -68,7 +68,8 @@ class Progress:
 def write_plan(options, work_dir):
     """`parallax convert --plan` on this machine (headers only); returns the plan's path."""
     command = [options.parallax, "convert", "--plan", *options.inputs, "-o", options.output,
-               "--work-dir", work_dir, "--tasks", str(options.tasks), "-q"]
+               "--work-dir", work_dir, "--tasks", str(options.tasks), "--build-tasks",
+               str(options.build_tasks or options.tasks), "-q"]
     for flag, value in (("--memory", options.memory), ("--sampling", options.sampling),
                         ("--spacing", options.spacing), ("--columns", options.columns),
                         ("--classes", options.classes), ("--clip-box", options.clip_box),
@@ -89,7 +90,7 @@ def stage_parts(stage, work_dir):
     if stage in ("scan", "count", "distribute"):
         with open(os.path.join(work_dir, "plan.json"), encoding="utf-8") as plan:
             return len(json.load(plan)["ranges"])
-    if stage == "build":
+    if stage in ("build", "place"):
         with open(os.path.join(work_dir, "chunks.json"), encoding="utf-8") as chunks:
             return len(json.load(chunks)["groups"])
     return 1
@@ -175,6 +176,10 @@ def convert(options):
             report["stages"].append({"stage": stage, "tasks": len(results),
                                      "seconds": time.monotonic() - stage_start})
             report["tasks"] += results
+            if stage == "build" and not options.keep_work:
+                # The shards are read by the builds only: the disk they hold is free from here
+                # (the work directory's peak is then two copies of the points, not three).
+                shutil.rmtree(os.path.join(work_dir, "shards"), ignore_errors=True)
         report["seconds"] = time.monotonic() - started
         report["workers"] = len(client.scheduler_info()["workers"])
     except BaseException:

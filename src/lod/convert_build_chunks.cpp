@@ -41,10 +41,12 @@ void gatherRecords(const std::byte* records, std::size_t record_size,
 
 }  // namespace
 
-OctreeBinWriter::OctreeBinWriter(const std::filesystem::path& path, std::uint64_t fail_after_bytes)
+OctreeBinWriter::OctreeBinWriter(const std::filesystem::path& path, std::uint64_t fail_after_bytes,
+                                 bool keep_existing)
     : path_(path), fail_after_(fail_after_bytes) {
-  file_ = std::fopen(path.c_str(), "wb");
+  file_ = std::fopen(path.c_str(), keep_existing ? "ab" : "wb");
   if (!file_) throw std::runtime_error(path.string() + ": cannot create: " + std::strerror(errno));
+  if (keep_existing) size_ = std::filesystem::file_size(path);
 }
 
 OctreeBinWriter::~OctreeBinWriter() {

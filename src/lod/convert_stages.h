@@ -128,7 +128,9 @@ struct ConvertPlan {
 // would grow past it, to simulate an interrupted conversion.
 class OctreeBinWriter {
  public:
-  OctreeBinWriter(const std::filesystem::path& path, std::uint64_t fail_after_bytes);
+  // With `keep_existing`, appends to the file already at `path` (size() starts at its size).
+  OctreeBinWriter(const std::filesystem::path& path, std::uint64_t fail_after_bytes,
+                  bool keep_existing = false);
   ~OctreeBinWriter();
   // Appends and returns the offset the bytes were written at.
   std::uint64_t append(const std::byte* data, std::size_t size);

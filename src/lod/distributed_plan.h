@@ -9,9 +9,11 @@
 //   cube            the scans merged: cube, spacing, quantization, layout     cube.json
 //   count RANGE     the count grid of one range (non-empty cells only)        count/range_R.bin
 //   chunks          the counts merged: the chunks, in groups for the builds   chunks.json
-//   distribute RANGE  the range's records, one shard per chunk, its stats     shards/range_R/
+//   distribute RANGE  the range's records, one shard per chunk;              shards/range_R/
+//                   its attributes' ranges                                    stats/range_R.bin
 //   build GROUP     the chunks of one group: octree.bin part, nodes, roots    build/group_G.*
-//   finish          parts concatenated, top levels, hierarchy, metadata       the output
+//   place GROUP     the group's part copied to its offset in octree.bin       build/octree.bin
+//   finish          octree.bin moved, top levels, hierarchy, metadata         the output
 //
 // Every task reads files only and writes its own under a temporary name, renamed when complete:
 // run again (after a crash, or twice at once on two workers) it writes the same bytes. The build

@@ -2,6 +2,7 @@
 #include "lod/distributed_task_files.h"
 
 #include <cstring>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string_view>
@@ -120,14 +121,31 @@ std::filesystem::path chunksFilePath(const DistributedPlan& plan) {
 std::filesystem::path shardDirPath(const DistributedPlan& plan, std::size_t range) {
   return plan.work_dir / "shards" / numbered("range_", range);
 }
-std::filesystem::path statsFilePath(const std::filesystem::path& shard_dir) {
-  return shard_dir / "stats.bin";
+std::filesystem::path statsFilePath(const DistributedPlan& plan, std::size_t range) {
+  return plan.work_dir / "stats" / (numbered("range_", range) + ".bin");
 }
 std::filesystem::path groupPartPath(const DistributedPlan& plan, std::size_t group) {
   return plan.work_dir / "build" / (numbered("group_", group) + ".octree.bin");
 }
 std::filesystem::path groupNodesPath(const DistributedPlan& plan, std::size_t group) {
   return plan.work_dir / "build" / (numbered("group_", group) + ".nodes.bin");
+}
+
+std::filesystem::path assembledOctreePath(const DistributedPlan& plan) {
+  return plan.work_dir / "build" / "octree.bin";
+}
+
+std::uint64_t readGroupPartBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[16];
+  if (!in.read(head, sizeof head) || std::string_view(head, 8) != kGroupTag) {
+    throw std::runtime_error(path.string() +
+                             ": a damaged or missing task file; run the build "
+                             "that writes it again");
+  }
+  std::uint64_t bytes;
+  std::memcpy(&bytes, head + 8, sizeof bytes);
+  return bytes;
 }
 
 void writeCounts(const std::filesystem::path& path, const std::vector<std::uint64_t>& counts) {

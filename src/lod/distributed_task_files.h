@@ -23,9 +23,11 @@ std::filesystem::path cubeFilePath(const DistributedPlan& plan);
 std::filesystem::path countFilePath(const DistributedPlan& plan, std::size_t range);
 std::filesystem::path chunksFilePath(const DistributedPlan& plan);
 std::filesystem::path shardDirPath(const DistributedPlan& plan, std::size_t range);
-std::filesystem::path statsFilePath(const std::filesystem::path& shard_dir);
+std::filesystem::path statsFilePath(const DistributedPlan& plan, std::size_t range);
 std::filesystem::path groupPartPath(const DistributedPlan& plan, std::size_t group);
 std::filesystem::path groupNodesPath(const DistributedPlan& plan, std::size_t group);
+// octree.bin of the chunks, assembled from the groups' parts by the place tasks.
+std::filesystem::path assembledOctreePath(const DistributedPlan& plan);
 
 // Non-empty count grid cells of one range.
 void writeCounts(const std::filesystem::path& path, const std::vector<std::uint64_t>& counts);
@@ -45,6 +47,8 @@ struct GroupNodes {
 };
 void writeGroupNodes(const std::filesystem::path& path, const GroupNodes& nodes);
 GroupNodes readGroupNodes(const std::filesystem::path& path);
+// part_bytes alone (the first bytes of the file).
+std::uint64_t readGroupPartBytes(const std::filesystem::path& path);
 
 // The chunks (and their groups of consecutive chunks, [first, last) each) of chunks.json.
 struct ChunkGroups {

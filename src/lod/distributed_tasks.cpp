@@ -175,7 +175,9 @@ std::uint64_t runDistribute(const DistributedPlan& plan, const std::vector<Conve
     const std::vector<std::uint64_t> delivered =
         distributeStream(state, *stream, inputs[plan.ranges[range].input].path, temp, nullptr);
     for (std::uint64_t n : delivered) points += n;
-    writeStats(statsFilePath(temp), state.stats);
+    // Beside the shards, not among them: the driver removes the shards once the builds ran.
+    makeTaskDirectory(statsFilePath(plan, range).parent_path());
+    writeStats(statsFilePath(plan, range), state.stats);
     renameDirectory(temp, target);
   } catch (...) {
     std::error_code ignored;
@@ -259,37 +261,119 @@ std::uint64_t runBuild(const DistributedPlan& plan, std::size_t group) {
   return points;
 }
 
-// The parts of octree.bin in group order, then the top levels, hierarchy.bin and metadata.json,
-// in a partial directory renamed to the output (potree_converter.cpp does the same locally).
+// Copies `length` bytes of `from` to `to_fd` at `offset` (copy_file_range: in the kernel, or
+// sharing blocks where the file system can; read and written by hand where it cannot).
+void copyInto(const std::filesystem::path& from, std::uint64_t length, int to_fd,
+              std::uint64_t offset, const std::filesystem::path& to) {
+  const int in = ::open(from.c_str(), O_RDONLY | O_CLOEXEC);
+  if (in < 0) throw std::runtime_error(from.string() + ": cannot open: " + std::strerror(errno));
+  std::uint64_t done = 0;
+  std::vector<char> buffer;
+  while (done < length) {
+    ssize_t n = -1;
+    if (buffer.empty()) {
+      loff_t in_at = loff_t(done), out_at = loff_t(offset + done);
+      n = ::copy_file_range(in, &in_at, to_fd, &out_at, std::size_t(length - done), 0);
+      if (n < 0 && (errno == EXDEV || errno == ENOSYS || errno == EINVAL || errno == EOPNOTSUPP)) {
+        buffer.resize(std::size_t(4) << 20);
+        continue;
+      }
+    } else {
+      n = ::pread(in, buffer.data(), std::min<std::uint64_t>(buffer.size(), length - done),
+                  off_t(done));
+      if (n > 0 && ::pwrite(to_fd, buffer.data(), std::size_t(n), off_t(offset + done)) != n) {
+        n = -1;
+      }
+    }
+    if (n <= 0) {
+      const int error = errno;
+      ::close(in);
+      throw std::runtime_error(
+          to.string() + ": cannot copy " + from.string() +
+          " into it: " + (n == 0 ? "the file is shorter than its size" : std::strerror(error)));
+    }
+    done += std::uint64_t(n);
+  }
+  ::close(in);
+}
+
+// Where each group's part of octree.bin starts (the sizes its build stated), and the end.
+std::vector<std::uint64_t> partOffsets(const DistributedPlan& plan, std::size_t groups) {
+  std::vector<std::uint64_t> offsets{0};
+  for (std::size_t g = 0; g < groups; ++g) {
+    const std::filesystem::path part = groupPartPath(plan, g);
+    const std::uint64_t bytes = readGroupPartBytes(groupNodesPath(plan, g));
+    std::error_code error;
+    const std::uint64_t size = std::filesystem::file_size(part, error);
+    if (error || size != bytes) {
+      throw std::runtime_error(part.string() + ": expected " + std::to_string(bytes) + " bytes (" +
+                               groupNodesPath(plan, g).string() + "), found " +
+                               (error ? error.message() : std::to_string(size)) + "; run build " +
+                               std::to_string(g) + " again");
+    }
+    offsets.push_back(offsets.back() + bytes);
+  }
+  return offsets;
+}
+
+// The part of group `group` copied to its place in the work directory's octree.bin: the
+// groups' places are known once every build ran, so the copies run side by side instead of
+// one after the other in the finish task (at 10^11 points, hours of copying on one machine).
+// Written at a fixed offset, a run again writes the same bytes.
+std::uint64_t runPlace(const DistributedPlan& plan, std::size_t group) {
+  const ChunkGroups groups = readChunkGroups(chunksFilePath(plan));
+  const std::vector<std::uint64_t> offsets = partOffsets(plan, groups.groups.size());
+  const std::filesystem::path assembled = assembledOctreePath(plan);
+  const int fd = ::open(assembled.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    throw std::runtime_error(assembled.string() + ": cannot open: " + std::strerror(errno));
+  }
+  try {
+    copyInto(groupPartPath(plan, group), offsets[group + 1] - offsets[group], fd, offsets[group],
+             assembled);
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
+  if (::close(fd) != 0) {
+    throw std::runtime_error(assembled.string() + ": cannot write: " + std::strerror(errno));
+  }
+  return offsets[group + 1] - offsets[group];
+}
+
+// The placed parts (or, when they are not all there, the parts copied now one after the
+// other), then the top levels, hierarchy.bin and metadata.json, in a partial directory renamed
+// to the output (potree_converter.cpp does the same locally).
 std::uint64_t runFinish(const DistributedPlan& plan) {
   ConvertPlan state = loadConvertState(plan, true);
   for (std::size_t r = 0; r < plan.ranges.size(); ++r) {
-    mergeStats(statsFilePath(shardDirPath(plan, r)), state.stats);
+    mergeStats(statsFilePath(plan, r), state.stats);
   }
   const ChunkGroups groups = readChunkGroups(chunksFilePath(plan));
+  const std::vector<std::uint64_t> offsets = partOffsets(plan, groups.groups.size());
   const std::filesystem::path target = plan.output;
   checkPotreeOutput(target);
   std::filesystem::create_directories(target.parent_path());
   removeStalePartialOutputs(target);
   TemporaryDirectory temp(partialOutputPath(target));
-  const auto sampler = makeSampler(plan.build.sampling);
-  OctreeBinWriter octree(temp.path() / "octree.bin", 0);
+  const std::filesystem::path octree_path = temp.path() / "octree.bin";
+  // The placed file moves into the output (a rename: the work directory is on the same file
+  // system by default), cut back to the parts (an earlier finish may have appended to it).
+  std::error_code error;
+  const std::filesystem::path assembled = assembledOctreePath(plan);
+  const bool placed = std::filesystem::exists(assembled, error) &&
+                      std::filesystem::file_size(assembled, error) >= offsets.back() && !error;
+  if (placed) std::filesystem::rename(assembled, octree_path, error);
+  const bool moved = placed && !error;
+  if (moved) std::filesystem::resize_file(octree_path, offsets.back());
+  OctreeBinWriter octree(octree_path, 0, moved);
   std::vector<PotreeNodeEntry> entries;
   std::vector<ChunkRoot> roots;
   for (std::size_t g = 0; g < groups.groups.size(); ++g) {
     GroupNodes nodes = readGroupNodes(groupNodesPath(plan, g));
-    const std::filesystem::path part = groupPartPath(plan, g);
-    std::error_code error;
-    const std::uint64_t part_size = std::filesystem::file_size(part, error);
-    if (error || part_size != nodes.part_bytes) {
-      throw std::runtime_error(part.string() + ": expected " + std::to_string(nodes.part_bytes) +
-                               " bytes (" + groupNodesPath(plan, g).string() + "), found " +
-                               (error ? error.message() : std::to_string(part_size)) +
-                               "; run build " + std::to_string(g) + " again");
-    }
-    const std::uint64_t base = octree.appendFile(part);
+    if (!moved) octree.appendFile(groupPartPath(plan, g));
     for (PotreeNodeEntry& entry : nodes.entries) {
-      entry.byte_offset += base;
+      entry.byte_offset += offsets[g];
       entries.push_back(std::move(entry));
     }
     for (ChunkRoot& root : nodes.roots) roots.push_back(std::move(root));
@@ -299,6 +383,7 @@ std::uint64_t runFinish(const DistributedPlan& plan) {
                              std::to_string(state.chunks.size()) + " chunks, the builds gave " +
                              std::to_string(roots.size()));
   }
+  const auto sampler = makeSampler(plan.build.sampling);
   buildTopLevels(state, roots, *sampler, octree, entries);
   if (entries.empty()) entries.push_back({.name = "r"});  // an empty input: a root, no points
   octree.close();
@@ -310,13 +395,15 @@ std::uint64_t runFinish(const DistributedPlan& plan) {
 
 const std::vector<std::string_view>& distributedStages() {
   static const std::vector<std::string_view> stages = {"scan",       "cube",  "count", "chunks",
-                                                       "distribute", "build", "finish"};
+                                                       "distribute", "build", "place", "finish"};
   return stages;
 }
 
 std::size_t distributedStageParts(const DistributedPlan& plan, std::string_view stage) {
   if (stage == "scan" || stage == "count" || stage == "distribute") return plan.ranges.size();
-  if (stage == "build") return readChunkGroups(chunksFilePath(plan)).groups.size();
+  if (stage == "build" || stage == "place") {
+    return readChunkGroups(chunksFilePath(plan)).groups.size();
+  }
   return 1;
 }
 
@@ -325,7 +412,7 @@ std::string runDistributedTask(const DistributedPlan& plan, const std::vector<Co
   const auto& stages = distributedStages();
   if (std::find(stages.begin(), stages.end(), stage) == stages.end()) {
     throw std::invalid_argument("convert-task: unknown stage '" + std::string(stage) +
-                                "' (scan, cube, count, chunks, distribute, build, finish)");
+                                "' (scan, cube, count, chunks, distribute, build, place, finish)");
   }
   if (inputs.size() != plan.inputs.size()) {
     throw std::invalid_argument("convert-task: the inputs are not the plan's");
@@ -344,6 +431,7 @@ std::string runDistributedTask(const DistributedPlan& plan, const std::vector<Co
   if (stage == "chunks") points = runChunks(plan);
   if (stage == "distribute") points = runDistribute(plan, inputs, part);
   if (stage == "build") points = runBuild(plan, part);
+  if (stage == "place") points = runPlace(plan, part);
   if (stage == "finish") points = runFinish(plan);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return "{\"stage\": \"" + std::string(stage) + "\", \"part\": " + std::to_string(part) +
