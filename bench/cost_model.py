@@ -60,7 +60,9 @@ def measure(tasks, points, stage_wall, workers):
 
 
 def predict(model, n, workers, record_bytes, memory_mb, plan_seconds):
-    tasks = 4 * workers  # ranges and build groups: enough to balance, few enough to start
+    # Ranges and build groups: 4 per worker to balance the waves, but none under 10^6 points
+    # (below that a task's start costs more than its work).
+    tasks = max(workers, min(4 * workers, int(n // 1e6)))
     max_chunk = memory_mb * 2**20 * 3 // 8 // (record_bytes + 44)
     largest_chunk = model["per_point"]["build"] * max_chunk
     seconds = plan_seconds + model["merge_per_range"] * tasks
@@ -97,11 +99,19 @@ def main():
               f"(+ the output, {n * options.record_bytes / 1e12:.2f} TB); memory per worker "
               f"{options.memory_mb} MB budget + 16 MB count grid; finish task "
               f"{model['finish_per_point'] * n / 3600:.2f} h alone")
+        # A chunk is at least one 128^3 count-grid cell; a terrain fills about 128^2 of them.
+        cell = n / 16384
+        max_chunk = options.memory_mb * 2**20 * 3 // 8 // (options.record_bytes + 44)
+        if cell > max_chunk:
+            needed = cell * (options.record_bytes + 44) * 8 / 3 / 2**30
+            print(f"  note: a terrain's count-grid cell holds about {cell / 1e6:.0f} M points, "
+                  f"more than a {max_chunk / 1e6:.1f} M-point chunk: such cells are built whole, "
+                  f"about {needed:.1f} GB per task (a finer grid is the way out)")
         for workers in (int(w) for w in options.workers.split(",")):
             seconds, largest = predict(model, n, workers, options.record_bytes,
                                        options.memory_mb, plan_seconds)
             serial = sum(model["per_point"].values()) * n + model["finish_per_point"] * n
-            print(f"  {workers:5d} workers: {seconds / 3600:8.2f} h "
+            print(f"  {workers:5d} workers: {seconds / 3600:8.2f} h = {seconds:9.0f} s "
                   f"(speed-up {serial / seconds:6.1f}; largest task {largest:.1f} s)")
 
 
