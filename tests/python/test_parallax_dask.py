@@ -12,6 +12,7 @@ PYTHONPATH holds python/ (the driver); the interpreter imports distributed.
 import filecmp
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -193,6 +194,39 @@ exec "{PARALLAX}" "$@"
         self.cluster.start_worker("c")  # its replacement
         stdout, stderr = driver.communicate(timeout=RUN_SECONDS)
         self.assertEqual(driver.returncode, 0, stderr)
+        self.assertIdenticalToLocal(output)
+
+    def test_a_failed_task_runs_again_on_the_other_worker(self):
+        # A wrapper around parallax whose first build task of group 1 fails as an I/O error
+        # would (exit status 1), once.
+        marker = os.path.join(self.directory, "failed-once")
+        wrapper = os.path.join(self.directory, "parallax-fails.sh")
+        with open(wrapper, "w", encoding="utf-8") as script:
+            script.write(f"""#!/bin/sh
+if [ "$2" = build ] && [ "$5" = 1 ] && mkdir "{marker}" 2>/dev/null; then
+  echo "parallax: error: simulated failure of a shared disk" >&2
+  exit 1
+fi
+exec "{PARALLAX}" "$@"
+""")
+        os.chmod(wrapper, 0o755)
+        self.cluster.start_worker("a")
+        self.cluster.start_worker("b")
+        self.cluster.wait_for_workers(2)
+        output = os.path.join(self.directory, "retried", "octree")
+        report = os.path.join(self.directory, "retried.json")
+        done = self.drive([self.ply, self.las], output, "--tasks", "5", "--report", report,
+                          parallax=wrapper)
+        self.assertEqual(done.returncode, 0, done.stderr)
+        self.assertTrue(os.path.isdir(marker), "the failure was not simulated")
+        # Said, with the worker it failed on; then run again on the other one.
+        failed = re.search(r"build task 1 failed on (tcp://127\.0\.0\.1:\d+): exit status 1: "
+                           r"parallax: error: simulated failure", done.stderr)
+        self.assertIsNotNone(failed, done.stderr)
+        with open(report, encoding="utf-8") as f:
+            rerun = [t for t in json.load(f)["tasks"] if t["stage"] == "build" and t["part"] == 1]
+        self.assertEqual(len(rerun), 1)
+        self.assertNotEqual(rerun[0]["worker"], failed.group(1))
         self.assertIdenticalToLocal(output)
 
     def test_malformed_input_stops_the_run_with_its_error(self):
