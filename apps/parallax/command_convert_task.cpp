@@ -10,6 +10,7 @@
 #include "convert_task.h"
 #include "core/error.h"
 #include "lod/distributed_plan.h"
+#include "lod/distributed_task_files.h"
 #include "lod/distributed_tasks.h"
 #include "lod/potree_converter.h"
 
@@ -80,6 +81,7 @@ int runConvertPlan(const ConvertPlanRequest& request) {
   DistributedPlan plan = makeDistributedPlan(inputs, output, work_dir, request.build, tasks);
   if (request.build_tasks > 0) plan.build_tasks = request.build_tasks;
   plan.filter = filterJson(request.filter_options);
+  clearTaskFiles(plan.work_dir);
   writeDistributedPlan(plan);
   std::printf("{\"plan\": %s, \"ranges\": %zu, \"build_tasks\": %zu}\n",
               nlohmann::json(planPath(plan.work_dir).string()).dump().c_str(), plan.ranges.size(),

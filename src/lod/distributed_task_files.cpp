@@ -131,6 +131,13 @@ std::filesystem::path groupNodesPath(const DistributedPlan& plan, std::size_t gr
   return plan.work_dir / "build" / (numbered("group_", group) + ".nodes.bin");
 }
 
+void clearTaskFiles(const std::filesystem::path& work_dir) {
+  for (const char* name :
+       {"scan", "cube.json", "count", "chunks.json", "shards", "stats", "build"}) {
+    std::filesystem::remove_all(work_dir / name);
+  }
+}
+
 std::filesystem::path assembledOctreePath(const DistributedPlan& plan) {
   return plan.work_dir / "build" / "octree.bin";
 }

@@ -29,6 +29,11 @@ std::filesystem::path groupNodesPath(const DistributedPlan& plan, std::size_t gr
 // octree.bin of the chunks, assembled from the groups' parts by the place tasks.
 std::filesystem::path assembledOctreePath(const DistributedPlan& plan);
 
+// Removes the task files an earlier run left in `work_dir` (only the names the tasks write:
+// a work directory given by hand may hold other files), so that a new plan's tasks never read
+// an old run's.
+void clearTaskFiles(const std::filesystem::path& work_dir);
+
 // Non-empty count grid cells of one range.
 void writeCounts(const std::filesystem::path& path, const std::vector<std::uint64_t>& counts);
 // Adds the counts of `path` to `counts` (ConvertPlan::kGridCells entries).
