@@ -23,6 +23,8 @@ packages=(
   # HTTP(S) byte ranges (src/net), and its tests: a real web server on loopback, the
   # fault-injecting proxy (Python 3 standard library) and a TLS certificate made by openssl
   libcurl4-openssl-dev nginx python3 openssl
+  # the distributed conversion's driver (python/parallax_dask) and its tests: Dask distributed
+  python3-distributed
 )
 
 # npm packages of the tests, from their package-lock.json (`npm ci`), only when missing or older

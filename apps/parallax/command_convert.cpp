@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "convert_task.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "filter_options.h"
@@ -66,6 +67,10 @@ struct ConvertArgs {
       false;  // --clean: remove the output's stale partial outputs (and stop without inputs)
   FilterOptions filter_options;
   PointFilter filter;  // parsed from filter_options by runConvert
+  bool plan = false;   // --plan: write a distributed conversion's plan (convert_task.h)
+  std::size_t tasks = 0;
+  std::size_t build_tasks = 0;
+  std::string work_dir;
 };
 
 // The inputs of an octree build, each with the points to keep.
@@ -258,6 +263,17 @@ int runConvert(ConvertArgs args) {
   for (const std::string& input : args.inputs) checkOctreeUrl(input);
   args.filter = pointFilterFrom(args.filter_options);  // before any output is touched
   const bool filtered = !args.filter.keepsAll();
+  if (args.plan) {
+    return runConvertPlan({.inputs = args.inputs,
+                           .columns = args.columns,
+                           .output = args.output,
+                           .work_dir = args.work_dir,
+                           .filter_options = args.filter_options,
+                           .build = buildOptions(args).build,
+                           .tasks = args.tasks,
+                           .build_tasks = args.build_tasks,
+                           .quiet = args.quiet});
+  }
   if (args.format == "copc" || (args.format.empty() && hasCopcName(args.output))) {
     return runCopcConvert(args);
   }
@@ -443,6 +459,20 @@ Command addConvertCommand(CLI::App& app) {
       ->check(CLI::Range(std::uint32_t(1), std::uint32_t(100'000'000)));
   sub->add_flag("--ascii", args->ascii, "PLY output: ascii instead of binary little endian");
   addFilterOptions(*sub, args->filter_options, "written");
+  sub->add_flag("--plan", args->plan,
+                "Octree output: write the plan of a distributed build (WORK/plan.json) instead "
+                "of building; parallax convert-task runs its tasks (python3 -m parallax_dask "
+                "runs them all on a Dask cluster)");
+  sub->add_option("--tasks", args->tasks,
+                  "--plan: split the inputs into about this many ranges, the chunks into as many "
+                  "build groups (default: 4 per core)")
+      ->check(CLI::Range(std::size_t(1), std::size_t(1) << 20));
+  sub->add_option("--build-tasks", args->build_tasks,
+                  "--plan: group the chunks into about this many build tasks (default: --tasks)")
+      ->check(CLI::Range(std::size_t(1), std::size_t(1) << 20));
+  sub->add_option("--work-dir", args->work_dir,
+                  "--plan: the work directory shared by the tasks (default: .OUTPUT.work beside "
+                  "the output)");
   addQuietFlag(*sub, args->quiet);
   sub->add_flag("--clean", args->clean,
                 "Remove the partial outputs killed conversions to -o OUTPUT left (hidden "

@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
       parallax::cli::addInfoCommand(app),   parallax::cli::addGenerateCommand(app),
       parallax::cli::addBenchCommand(app),  parallax::cli::addConvertCommand(app),
       parallax::cli::addRenderCommand(app), parallax::cli::addViewCommand(app),
-      parallax::cli::addPickCommand(app),
+      parallax::cli::addPickCommand(app),   parallax::cli::addConvertTaskCommand(app),
   };
 
   try {

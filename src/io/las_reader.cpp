@@ -229,4 +229,9 @@ bool LasChunkReader::next(PointCloud& chunk, std::size_t max_points) {
   return true;
 }
 
+void LasChunkReader::skip(std::uint64_t count) {
+  State& s = *state_;
+  s.next += std::min(count, s.header.point_count - s.next);
+}
+
 }  // namespace parallax

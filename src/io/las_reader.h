@@ -94,6 +94,9 @@ class LasChunkReader {
   // Replaces `chunk` with the next at most `max_points` points (`max_points` > 0); false (and an
   // empty chunk) at the end.
   bool next(PointCloud& chunk, std::size_t max_points);
+  // Steps over the next `count` points (fewer at the end): records have a fixed size, so the
+  // next chunk starts `count` records later without reading them.
+  void skip(std::uint64_t count);
 
  private:
   struct State;

@@ -344,4 +344,25 @@ bool PlyChunkReader::next(PointCloud& chunk, std::size_t max_points) {
   return true;
 }
 
+void PlyChunkReader::skip(std::uint64_t count) {
+  State& s = *state_;
+  count = std::min(count, pointCount() - s.delivered);
+  // Whole ranges first: each knows its first byte (and line), so nothing is read.
+  while (count > 0 && s.range_index < s.ranges.size()) {
+    const std::uint64_t left = s.ranges[s.range_index].count - s.done_in_range;
+    if (count < left) break;
+    count -= left;
+    s.delivered += left;
+    ++s.range_index;
+    s.done_in_range = 0;
+    if (s.range_index < s.ranges.size()) s.cursor_byte = s.ranges[s.range_index].begin;
+  }
+  // Inside a range the next record's byte is known only by decoding up to it (ascii lines, binary
+  // lists): at most one range is decoded and dropped.
+  if (count > 0) {
+    PointCloud dropped;
+    next(dropped, std::size_t(count));
+  }
+}
+
 }  // namespace parallax

@@ -56,6 +56,10 @@ class PlyChunkReader {
   // Replaces `chunk` with the next at most `max_points` points; false (and an empty chunk) at the
   // end. `max_points` must be positive.
   bool next(PointCloud& chunk, std::size_t max_points);
+  // Steps over the next `count` points (fewer at the end) without handing them out: whole ranges
+  // by their known start, the rest of one range decoded and dropped (a range is about 512 KB), so
+  // a task can read points [first, last) of a large file without reading what comes before.
+  void skip(std::uint64_t count);
 
  private:
   struct State;

@@ -7,6 +7,11 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_group.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cassert>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -36,10 +41,12 @@ void gatherRecords(const std::byte* records, std::size_t record_size,
 
 }  // namespace
 
-OctreeBinWriter::OctreeBinWriter(const std::filesystem::path& path, std::uint64_t fail_after_bytes)
+OctreeBinWriter::OctreeBinWriter(const std::filesystem::path& path, std::uint64_t fail_after_bytes,
+                                 bool keep_existing)
     : path_(path), fail_after_(fail_after_bytes) {
-  file_ = std::fopen(path.c_str(), "wb");
+  file_ = std::fopen(path.c_str(), keep_existing ? "ab" : "wb");
   if (!file_) throw std::runtime_error(path.string() + ": cannot create: " + std::strerror(errno));
+  if (keep_existing) size_ = std::filesystem::file_size(path);
 }
 
 OctreeBinWriter::~OctreeBinWriter() {
@@ -61,6 +68,61 @@ std::uint64_t OctreeBinWriter::append(const std::byte* data, std::size_t size) {
   return offset;
 }
 
+std::uint64_t OctreeBinWriter::appendFile(const std::filesystem::path& path) {
+  const int in = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (in < 0) throw std::runtime_error(path.string() + ": cannot open: " + std::strerror(errno));
+  struct stat info {};
+  if (::fstat(in, &info) != 0) {
+    ::close(in);
+    throw std::runtime_error(path.string() + ": cannot read: " + std::strerror(errno));
+  }
+  const std::uint64_t offset = size_;
+  const std::uint64_t length = std::uint64_t(info.st_size);
+  std::uint64_t copied = 0;
+  bool fallback = false;
+  // What stdio holds goes first; the descriptor's position is then the file's end.
+  if (std::fflush(file_) != 0) fallback = true;
+  const int out = ::fileno(file_);
+  while (!fallback && copied < length) {
+    const ssize_t n = ::copy_file_range(in, nullptr, out, nullptr, length - copied, 0);
+    if (n <= 0) {
+      // Not supported here (another file system, an old kernel): copied by hand from here.
+      if (n < 0 && (errno == EXDEV || errno == ENOSYS || errno == EINVAL || errno == EOPNOTSUPP)) {
+        fallback = true;
+        break;
+      }
+      const int error = errno;
+      ::close(in);
+      throw std::runtime_error(path_.string() + ": cannot append " + path.string() + ": " +
+                               (n == 0 ? "it is shorter than its size" : std::strerror(error)));
+    }
+    copied += std::uint64_t(n);
+  }
+  if (std::fseek(file_, 0, SEEK_END) != 0) {
+    ::close(in);
+    throw std::runtime_error(path_.string() + ": cannot seek: " + std::strerror(errno));
+  }
+  std::vector<std::byte> buffer(fallback ? std::size_t(4) << 20 : 0);
+  while (copied < length) {
+    const ssize_t n = ::pread(
+        in, buffer.data(), std::min<std::uint64_t>(buffer.size(), length - copied), off_t(copied));
+    if (n <= 0) {
+      const int error = errno;
+      ::close(in);
+      throw std::runtime_error(path.string() + ": cannot read: " +
+                               (n == 0 ? "it is shorter than its size" : std::strerror(error)));
+    }
+    if (std::fwrite(buffer.data(), 1, std::size_t(n), file_) != std::size_t(n)) {
+      ::close(in);
+      throw std::runtime_error(path_.string() + ": cannot write: " + std::strerror(errno));
+    }
+    copied += std::uint64_t(n);
+  }
+  ::close(in);
+  size_ += length;
+  return offset;
+}
+
 void OctreeBinWriter::close() {
   if (file_ && std::fclose(file_) != 0) {
     file_ = nullptr;
@@ -77,21 +139,18 @@ struct BuiltChunk {
   std::vector<BuiltNode> nodes;
 };
 
-BuiltChunk buildOneChunk(const ConvertPlan& plan, std::size_t index,
-                         const std::filesystem::path& chunk_dir, const OctreeBuildOptions& options,
-                         const Sampler& sampler) {
+BuiltChunk buildOneChunk(const ConvertPlan& plan, std::size_t index, const ChunkSource& source,
+                         const OctreeBuildOptions& options, const Sampler& sampler) {
   const std::size_t record = plan.layout.recordSize();
   const ChunkPlan& chunk = plan.chunks[index];
-  const auto path = chunkFilePath(chunk_dir, index);
   if (chunk.points == 0) return {.nodes = {BuiltNode{.name = chunk.name}}};
-  // Mapped, not read: the build reads the records straight from the page cache (a read into a
-  // fresh buffer cost a copy and the zeroing of as many new pages).
-  const MappedFile spill(path);
-  if (spill.size() != chunk.points * record) {
-    throw std::runtime_error(path.string() + ": expected " + std::to_string(chunk.points * record) +
-                             " bytes, found " + std::to_string(spill.size()));
+  ChunkRecords spilled = source(index);
+  if (spilled.size != chunk.points * record) {
+    throw std::runtime_error(spilled.origin + ": expected " +
+                             std::to_string(chunk.points * record) + " bytes, found " +
+                             std::to_string(spilled.size));
   }
-  const std::byte* records = spill.bytes().data();
+  const std::byte* records = spilled.data;
   const int level = int(chunk.name.size()) - 1;
   const SubtreeFrame frame{.name = chunk.name,
                            .level = level,
@@ -103,9 +162,12 @@ BuiltChunk buildOneChunk(const ConvertPlan& plan, std::size_t index,
   }();
   // `order` lists the nodes' points one node after the other, breadth-first: one gather gives
   // the whole chunk in the order octree.bin wants it, written later with a single call.
-  BuiltChunk result{.records = ByteBuffer(spill.size()), .nodes = std::move(built.nodes)};
+  BuiltChunk result{.records = ByteBuffer(spilled.size), .nodes = std::move(built.nodes)};
   gatherRecords(records, record, built.order, result.records.data());
-  std::filesystem::remove(path);
+  if (!spilled.remove_after.empty()) {
+    spilled.mapped.reset();
+    std::filesystem::remove(spilled.remove_after);
+  }
   return result;
 }
 
@@ -116,11 +178,13 @@ BuiltChunk buildOneChunk(const ConvertPlan& plan, std::size_t index,
 // finishing.
 class ChunkScheduler {
  public:
-  ChunkScheduler(const ConvertPlan& plan, const std::filesystem::path& chunk_dir,
-                 const OctreeBuildOptions& options, const Sampler& sampler, OctreeBinWriter& octree,
+  ChunkScheduler(const ConvertPlan& plan, std::size_t first, std::size_t last,
+                 const ChunkSource& source, const OctreeBuildOptions& options,
+                 const Sampler& sampler, OctreeBinWriter& octree,
                  std::vector<PotreeNodeEntry>& entries, Progress* bar)
       : plan_(plan),
-        chunk_dir_(chunk_dir),
+        first_(first),
+        source_(source),
         options_(options),
         sampler_(sampler),
         octree_(octree),
@@ -129,8 +193,11 @@ class ChunkScheduler {
         bytes_per_point_(chunkBuildBytesPerPoint(plan.layout.recordSize())),
         // The batch's quarter of the budget is free once distribute is done.
         budget_(options.memory_bytes / 4 * 3),
-        built_(plan.chunks.size()),
-        roots_(plan.chunks.size()) {}
+        next_start_(first),
+        next_write_(first),
+        end_(last),
+        built_(last - first),
+        roots_(last - first) {}
 
   std::vector<ChunkRoot> run() {
     {
@@ -144,7 +211,7 @@ class ChunkScheduler {
  private:
   // Called with mutex_ held.
   void startMore() {
-    while (!failed_ && next_start_ < plan_.chunks.size()) {
+    while (!failed_ && next_start_ < end_) {
       const std::uint64_t cost = plan_.chunks[next_start_].points * bytes_per_point_;
       if (in_flight_bytes_ > 0 && in_flight_bytes_ + cost > budget_) break;
       in_flight_bytes_ += cost;
@@ -155,18 +222,18 @@ class ChunkScheduler {
 
   void buildAndWrite(std::size_t index) {
     try {
-      BuiltChunk chunk = buildOneChunk(plan_, index, chunk_dir_, options_, sampler_);
+      BuiltChunk chunk = buildOneChunk(plan_, index, source_, options_, sampler_);
       std::unique_lock lock(mutex_);
       if (failed_) return;
-      built_[index] = std::move(chunk);
+      built_[index - first_] = std::move(chunk);
       if (writing_) return;  // the thread writing now will get to it
       writing_ = true;
-      while (next_write_ < built_.size() && built_[next_write_]) {
-        BuiltChunk ready = std::move(*built_[next_write_]);
-        built_[next_write_].reset();
+      while (next_write_ < end_ && built_[next_write_ - first_]) {
+        BuiltChunk ready = std::move(*built_[next_write_ - first_]);
+        built_[next_write_ - first_].reset();
         const std::size_t written = next_write_;
         lock.unlock();
-        roots_[written] = writeChunk(written, ready);
+        roots_[written - first_] = writeChunk(written, ready);
         ready = BuiltChunk{};
         lock.lock();
         in_flight_bytes_ -= plan_.chunks[written].points * bytes_per_point_;
@@ -203,7 +270,8 @@ class ChunkScheduler {
   }
 
   const ConvertPlan& plan_;
-  const std::filesystem::path& chunk_dir_;
+  const std::size_t first_;
+  const ChunkSource& source_;
   const OctreeBuildOptions& options_;
   const Sampler& sampler_;
   OctreeBinWriter& octree_;
@@ -213,11 +281,12 @@ class ChunkScheduler {
   const std::uint64_t budget_;
   tbb::task_group group_;
   std::mutex mutex_;
-  std::vector<std::optional<BuiltChunk>> built_;  // finished, not yet written
-  std::vector<ChunkRoot> roots_;
-  std::size_t next_start_ = 0;
-  std::size_t next_write_ = 0;
-  std::uint64_t in_flight_bytes_ = 0;  // chunks started and not yet written
+  std::size_t next_start_;
+  std::size_t next_write_;
+  const std::size_t end_;
+  std::vector<std::optional<BuiltChunk>> built_;  // finished, not yet written (from first_)
+  std::vector<ChunkRoot> roots_;                  // from first_
+  std::uint64_t in_flight_bytes_ = 0;             // chunks started and not yet written
   bool writing_ = false;
   bool failed_ = false;
 };
@@ -229,7 +298,28 @@ std::vector<ChunkRoot> buildChunks(const ConvertPlan& plan, const std::filesyste
                                    OctreeBinWriter& octree, std::vector<PotreeNodeEntry>& entries,
                                    const ProgressFactory& progress) {
   std::unique_ptr<Progress> bar = progress ? progress("indexing", plan.points) : nullptr;
-  ChunkScheduler scheduler(plan, chunk_dir, options, sampler, octree, entries, bar.get());
+  // Mapped, not read: the build reads the records straight from the page cache (a read into a
+  // fresh buffer cost a copy and the zeroing of as many new pages). Each spill file goes once
+  // its chunk is built.
+  const ChunkSource mapped = [&](std::size_t index) {
+    ChunkRecords records;
+    records.origin = chunkFilePath(chunk_dir, index).string();
+    records.mapped = std::make_unique<MappedFile>(chunkFilePath(chunk_dir, index));
+    records.data = records.mapped->bytes().data();
+    records.size = records.mapped->size();
+    records.remove_after = chunkFilePath(chunk_dir, index);
+    return records;
+  };
+  return buildChunkRange(plan, 0, plan.chunks.size(), mapped, options, sampler, octree, entries,
+                         bar.get());
+}
+
+std::vector<ChunkRoot> buildChunkRange(const ConvertPlan& plan, std::size_t first, std::size_t last,
+                                       const ChunkSource& source, const OctreeBuildOptions& options,
+                                       const Sampler& sampler, OctreeBinWriter& octree,
+                                       std::vector<PotreeNodeEntry>& entries, Progress* bar) {
+  assert(first <= last && last <= plan.chunks.size() && "buildChunkRange: chunks of the plan");
+  ChunkScheduler scheduler(plan, first, last, source, options, sampler, octree, entries, bar);
   return scheduler.run();
 }
 

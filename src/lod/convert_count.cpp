@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -111,6 +112,11 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
                               "classes and bounds (parallax info)"});
   }
   if (!have_layout) plan.layout = PotreeLayout::fromCloud(PointCloud{});
+  finishScan(plan, options);
+  return plan;
+}
+
+void finishScan(ConvertPlan& plan, const OctreeBuildOptions& options) {
   plan.cube = octreeCube(plan.bounds);
   plan.spacing = rootSpacing(plan.cube, options);
   plan.quantization = chooseOutputQuantization(plan.input_quantizations, plan.cube);
@@ -130,7 +136,6 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
           ? options.max_chunk_points
           : std::max<std::uint64_t>(options.memory_bytes / 8 * 3 / chunkBuildBytesPerPoint(record),
                                     options.max_node_points);
-  return plan;
 }
 
 // Its record, its position copy, the Morton-sorted (key, index) pairs, the node lists and the
@@ -139,11 +144,10 @@ std::uint64_t chunkBuildBytesPerPoint(std::size_t record_size) {
   return record_size + 12 + 16 + 8 + 8;
 }
 
-void countChunks(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
-                 const ProgressFactory& progress) {
+void countStream(const ConvertPlan& plan, PointStream& stream, std::vector<std::uint64_t>& counts,
+                 Progress* bar) {
   const std::size_t cells = std::size_t(kGrid) * kGrid * kGrid;
-  std::vector<std::uint64_t> counts(cells, 0);
-  std::unique_ptr<Progress> bar = progress ? progress("counting", plan.points) : nullptr;
+  assert(counts.size() == cells && "countStream: counts has one entry per count grid cell");
   // Per-thread counts kept over the batches and summed into `counts` only before they could
   // wrap (summed per batch, the 8 MB per thread were allocated, zeroed and added up 30 times
   // for 100 M points).
@@ -157,33 +161,45 @@ void countChunks(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
     });
     unsummed = 0;
   };
+  PointCloud batch;
+  while (stream.next(batch, plan.batch_points)) {
+    if (unsummed + batch.count > std::numeric_limits<std::uint32_t>::max()) sumLocal();
+    unsummed += batch.count;
+    // Positions in the output quantization, as the chunks will see them.
+    const bool same = batch.quantization == plan.quantization;
+    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, batch.count, 1 << 16),
+                      [&](const auto& range) {
+                        auto& mine = local.local();
+                        for (std::uint64_t i = range.begin(); i != range.end(); ++i) {
+                          Int3 p = batch.positions[i];
+                          if (!same) {
+                            p = {plan.quantization.toQuantized(0, batch.worldX(i)),
+                                 plan.quantization.toQuantized(1, batch.worldY(i)),
+                                 plan.quantization.toQuantized(2, batch.worldZ(i))};
+                          }
+                          ++mine[plan.cellOf(p)];
+                        }
+                      });
+    if (bar) bar->advance(batch.count);
+  }
+  sumLocal();
+}
+
+void countChunks(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
+                 const ProgressFactory& progress) {
+  std::vector<std::uint64_t> counts(ConvertPlan::kGridCells, 0);
+  std::unique_ptr<Progress> bar = progress ? progress("counting", plan.points) : nullptr;
   for (std::size_t input = 0; input < inputs.size(); ++input) {
     PointStream stream(inputs[input].path, inputs[input].text_columns,
                        &plan.input_quantizations[input], &inputs[input].filter);
-    PointCloud batch;
-    while (stream.next(batch, plan.batch_points)) {
-      if (unsummed + batch.count > std::numeric_limits<std::uint32_t>::max()) sumLocal();
-      unsummed += batch.count;
-      // Positions in the output quantization, as the chunks will see them.
-      const bool same = batch.quantization == plan.quantization;
-      tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, batch.count, 1 << 16),
-                        [&](const auto& range) {
-                          auto& mine = local.local();
-                          for (std::uint64_t i = range.begin(); i != range.end(); ++i) {
-                            Int3 p = batch.positions[i];
-                            if (!same) {
-                              p = {plan.quantization.toQuantized(0, batch.worldX(i)),
-                                   plan.quantization.toQuantized(1, batch.worldY(i)),
-                                   plan.quantization.toQuantized(2, batch.worldZ(i))};
-                            }
-                            ++mine[plan.cellOf(p)];
-                          }
-                        });
-      if (bar) bar->advance(batch.count);
-    }
+    countStream(plan, stream, counts, bar.get());
   }
-  sumLocal();
+  planChunks(plan, std::move(counts));
+}
 
+void planChunks(ConvertPlan& plan, std::vector<std::uint64_t> counts) {
+  const std::size_t cells = ConvertPlan::kGridCells;
+  assert(counts.size() == cells && "planChunks: counts has one entry per count grid cell");
   // Count pyramid: level l has 2^l cells a side; level kGridLevel is `counts`.
   std::vector<std::vector<std::uint64_t>> pyramid(ConvertPlan::kGridLevel + 1);
   pyramid[ConvertPlan::kGridLevel] = std::move(counts);

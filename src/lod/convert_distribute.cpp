@@ -74,85 +74,120 @@ std::filesystem::path chunkFilePath(const std::filesystem::path& chunk_dir, std:
   return chunk_dir / ("chunk_" + std::to_string(index) + ".bin");
 }
 
+namespace {
+
+// Appends the records of streams to the spill files of their chunks, widening plan.stats.
+class Distributor {
+ public:
+  Distributor(ConvertPlan& plan, const std::filesystem::path& chunk_dir)
+      : plan_(plan),
+        spill_(chunk_dir, plan.chunks.size()),
+        record_(plan.layout.recordSize()),
+        delivered_(plan.chunks.size(), 0) {}
+
+  // Every point of `stream` (read from `input`, named in errors).
+  void add(PointStream& stream, const std::filesystem::path& input, Progress* bar) {
+    // Two grouped batches: one is written to the spill files (a task) while the next is read,
+    // encoded and grouped into the other, so the writes (the kernel's copies) overlap the reading.
+    GroupedBatch grouped[2];
+    std::size_t slot = 0;
+    tbb::task_group writer;
+    try {
+      PointCloud batch;
+      while (stream.next(batch, plan_.batch_points)) {
+        GroupedBatch& out = grouped[slot];
+        group(batch, input, out);
+        writer.wait();  // the other slot's batch is written (rethrows its error)
+        writer.run([this, &out] { write(out); });
+        slot ^= 1;
+        if (bar) bar->advance(batch.count);
+      }
+      writer.wait();
+    } catch (...) {
+      try {
+        writer.wait();  // never leave the task running on buffers about to go
+      } catch (...) {
+      }
+      throw;
+    }
+  }
+
+  // Closes the spill files; the points each chunk received.
+  const std::vector<std::uint64_t>& finish() {
+    spill_.closeAll();
+    return delivered_;
+  }
+
+ private:
+  // Encodes a batch and sorts its records by chunk (a counting sort) into `out`.
+  void group(const PointCloud& batch, const std::filesystem::path& input, GroupedBatch& out) {
+    const std::uint64_t n = batch.count;
+    const std::size_t record = record_;
+    if (records_.size() < n * record) records_ = ByteBuffer(n * record);
+    chunk_of_.resize(n);
+    tbb::combinable<AttributeStats> stats([&] { return plan_.layout.emptyStats(); });
+    tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, n, 1 << 14), [&](const auto& range) {
+      std::byte* encoded = records_.data() + range.begin() * record;
+      plan_.layout.encode(batch, range.begin(), range.size(), plan_.quantization, encoded,
+                          stats.local());
+      for (std::uint64_t i = range.begin(); i != range.end(); ++i) {
+        Int3 p;
+        std::memcpy(&p, records_.data() + i * record, sizeof p);
+        chunk_of_[i] = plan_.cell_chunk[plan_.cellOf(p)];
+      }
+    });
+    stats.combine_each([&](const AttributeStats& s) { plan_.stats.merge(s); });
+
+    if (out.records.size() < n * record) out.records = ByteBuffer(n * record);
+    out.start.assign(plan_.chunks.size() + 1, 0);
+    for (std::uint64_t i = 0; i < n; ++i) {
+      if (chunk_of_[i] < 0) {
+        // The count pass saw this cell empty: the input changed between the passes.
+        throw InputError({.file = input.string(),
+                          .expected = "the same points in every pass of the conversion",
+                          .found = "a point in a region that was empty when counting",
+                          .hint = "do not modify the input while it is being converted"});
+      }
+      ++out.start[std::size_t(chunk_of_[i]) + 1];
+    }
+    for (std::size_t c = 0; c < plan_.chunks.size(); ++c) out.start[c + 1] += out.start[c];
+    std::vector<std::uint64_t> at(out.start.begin(), out.start.end() - 1);
+    for (std::uint64_t i = 0; i < n; ++i) {
+      std::memcpy(out.records.data() + at[std::size_t(chunk_of_[i])]++ * record,
+                  records_.data() + i * record, record);
+    }
+  }
+
+  void write(const GroupedBatch& batch) {
+    for (std::size_t c = 0; c < plan_.chunks.size(); ++c) {
+      const std::uint64_t count = batch.start[c + 1] - batch.start[c];
+      if (count == 0) continue;
+      spill_.append(c, batch.records.data() + batch.start[c] * record_, count * record_);
+      delivered_[c] += count;
+    }
+  }
+
+  ConvertPlan& plan_;
+  SpillFiles spill_;
+  const std::size_t record_;
+  std::vector<std::uint64_t> delivered_;
+  ByteBuffer records_;
+  std::vector<std::int32_t> chunk_of_;
+};
+
+}  // namespace
+
 void distributePoints(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
                       const std::filesystem::path& chunk_dir, const ProgressFactory& progress) {
   std::filesystem::create_directories(chunk_dir);
-  SpillFiles spill(chunk_dir, plan.chunks.size());
-  const std::size_t record = plan.layout.recordSize();
-  std::vector<std::uint64_t> delivered(plan.chunks.size(), 0);
   std::unique_ptr<Progress> bar = progress ? progress("distributing", plan.points) : nullptr;
-  ByteBuffer records;
-  std::vector<std::int32_t> chunk_of;
-  // Two grouped batches: one is written to the spill files (a task) while the next is read,
-  // encoded and grouped into the other, so the writes (the kernel's copies) overlap the reading.
-  GroupedBatch grouped[2];
-  std::size_t slot = 0;
-  tbb::task_group writer;
-  auto writeBatch = [&](const GroupedBatch& batch) {
-    for (std::size_t c = 0; c < plan.chunks.size(); ++c) {
-      const std::uint64_t count = batch.start[c + 1] - batch.start[c];
-      if (count == 0) continue;
-      spill.append(c, batch.records.data() + batch.start[c] * record, count * record);
-      delivered[c] += count;
-    }
-  };
-  try {
-    for (std::size_t input = 0; input < inputs.size(); ++input) {
-      PointStream stream(inputs[input].path, inputs[input].text_columns,
-                         &plan.input_quantizations[input], &inputs[input].filter);
-      PointCloud batch;
-      while (stream.next(batch, plan.batch_points)) {
-        const std::uint64_t n = batch.count;
-        if (records.size() < n * record) records = ByteBuffer(n * record);
-        chunk_of.resize(n);
-        tbb::combinable<AttributeStats> stats([&] { return plan.layout.emptyStats(); });
-        tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, n, 1 << 14), [&](const auto& range) {
-          std::byte* out = records.data() + range.begin() * record;
-          plan.layout.encode(batch, range.begin(), range.size(), plan.quantization, out,
-                             stats.local());
-          for (std::uint64_t i = range.begin(); i != range.end(); ++i) {
-            Int3 p;
-            std::memcpy(&p, records.data() + i * record, sizeof p);
-            chunk_of[i] = plan.cell_chunk[plan.cellOf(p)];
-          }
-        });
-        stats.combine_each([&](const AttributeStats& s) { plan.stats.merge(s); });
-
-        // Counting sort of the records by chunk, into the slot not being written.
-        GroupedBatch& out = grouped[slot];
-        if (out.records.size() < n * record) out.records = ByteBuffer(n * record);
-        out.start.assign(plan.chunks.size() + 1, 0);
-        for (std::uint64_t i = 0; i < n; ++i) {
-          if (chunk_of[i] < 0) {
-            // The count pass saw this cell empty: the input changed between the passes.
-            throw InputError({.file = inputs[input].path.string(),
-                              .expected = "the same points in every pass of the conversion",
-                              .found = "a point in a region that was empty when counting",
-                              .hint = "do not modify the input while it is being converted"});
-          }
-          ++out.start[std::size_t(chunk_of[i]) + 1];
-        }
-        for (std::size_t c = 0; c < plan.chunks.size(); ++c) out.start[c + 1] += out.start[c];
-        std::vector<std::uint64_t> at(out.start.begin(), out.start.end() - 1);
-        for (std::uint64_t i = 0; i < n; ++i) {
-          std::memcpy(out.records.data() + at[std::size_t(chunk_of[i])]++ * record,
-                      records.data() + i * record, record);
-        }
-        writer.wait();  // the other slot's batch is written (rethrows its error)
-        writer.run([&writeBatch, &out] { writeBatch(out); });
-        slot ^= 1;
-        if (bar) bar->advance(n);
-      }
-    }
-    writer.wait();
-  } catch (...) {
-    try {
-      writer.wait();  // never leave the task running on buffers about to go
-    } catch (...) {
-    }
-    throw;
+  Distributor distributor(plan, chunk_dir);
+  for (std::size_t input = 0; input < inputs.size(); ++input) {
+    PointStream stream(inputs[input].path, inputs[input].text_columns,
+                       &plan.input_quantizations[input], &inputs[input].filter);
+    distributor.add(stream, inputs[input].path, bar.get());
   }
-  spill.closeAll();
+  const std::vector<std::uint64_t>& delivered = distributor.finish();
   for (std::size_t c = 0; c < plan.chunks.size(); ++c) {
     if (delivered[c] != plan.chunks[c].points) {
       throw InputError({.file = inputs.front().path.string(),
@@ -162,6 +197,15 @@ void distributePoints(ConvertPlan& plan, const std::vector<ConvertInput>& inputs
                         .hint = "do not modify the input while it is being converted"});
     }
   }
+}
+
+std::vector<std::uint64_t> distributeStream(ConvertPlan& plan, PointStream& stream,
+                                            const std::filesystem::path& input,
+                                            const std::filesystem::path& shard_dir, Progress* bar) {
+  std::filesystem::create_directories(shard_dir);
+  Distributor distributor(plan, shard_dir);
+  distributor.add(stream, input, bar);
+  return distributor.finish();
 }
 
 }  // namespace parallax

@@ -30,6 +30,7 @@
 #include "core/point_filter.h"
 #include "core/progress.h"
 #include "io/coordinate_system.h"
+#include "io/mapped_file.h"
 #include "lod/octree_build_options.h"
 #include "lod/potree_hierarchy_writer.h"
 #include "lod/potree_layout.h"
@@ -62,10 +63,19 @@ class PointStream {
   // The next at most `max_points` points (at least one); false at the end.
   bool next(PointCloud& batch, std::size_t max_points);
 
+  // Whether restrictTo may start past the first point without reading what comes before: PLY
+  // (ranges of known start) and LAS (fixed-size records). Text, LAZ (whose colour depth may be
+  // settled only by a later batch) and octree inputs are read whole by one task.
+  bool canSkip() const;
+  // Limits the stream to the file's points [first, last) (counted before filtering; last <=
+  // pointCount()), before the first next(). A `first` past 0 needs canSkip().
+  void restrictTo(std::uint64_t first, std::uint64_t last);
+
   struct State;  // opaque (point_stream.cpp)
 
  private:
   bool nextUnfiltered(PointCloud& batch, std::size_t max_points);
+  bool readNext(PointCloud& batch, std::size_t max_points);
   std::unique_ptr<State> state_;
 };
 
@@ -93,10 +103,11 @@ struct ConvertPlan {
   std::vector<Quantization> input_quantizations;  // each input's, as its first stream chose it
   CoordinateSystem crs;  // the inputs' (those that state one must agree); empty: none stated
   PotreeLayout layout;
-  AttributeStats stats;                  // filled by distribute
-  std::uint64_t batch_points = 0;        // points read at a time
-  std::uint64_t max_chunk_points = 0;    // chunk size the memory budget allows
-  static constexpr int kGridLevel = 7;   // the count grid is 2^7 cells a side
+  AttributeStats stats;                 // filled by distribute
+  std::uint64_t batch_points = 0;       // points read at a time
+  std::uint64_t max_chunk_points = 0;   // chunk size the memory budget allows
+  static constexpr int kGridLevel = 7;  // the count grid is 2^7 cells a side
+  static constexpr std::size_t kGridCells = std::size_t(1) << (3 * kGridLevel);
   std::vector<std::int32_t> cell_chunk;  // count grid cell -> index into chunks, -1: empty
   std::vector<ChunkPlan> chunks;
 
@@ -117,10 +128,15 @@ struct ConvertPlan {
 // would grow past it, to simulate an interrupted conversion.
 class OctreeBinWriter {
  public:
-  OctreeBinWriter(const std::filesystem::path& path, std::uint64_t fail_after_bytes);
+  // With `keep_existing`, appends to the file already at `path` (size() starts at its size).
+  OctreeBinWriter(const std::filesystem::path& path, std::uint64_t fail_after_bytes,
+                  bool keep_existing = false);
   ~OctreeBinWriter();
   // Appends and returns the offset the bytes were written at.
   std::uint64_t append(const std::byte* data, std::size_t size);
+  // Appends the whole file `path` (copy_file_range: the kernel copies, or shares the blocks
+  // where the file system can) and returns the offset it starts at.
+  std::uint64_t appendFile(const std::filesystem::path& path);
   void close();
   std::uint64_t size() const { return size_; }
 
@@ -140,16 +156,52 @@ struct ChunkRoot {
 
 ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuildOptions& options,
                        const ProgressFactory& progress);
+// What scanInputs derives once the points, bounds, layout and input quantizations are known:
+// the cube, spacing, output quantization, empty stats, batch and chunk sizes.
+void finishScan(ConvertPlan& plan, const OctreeBuildOptions& options);
 void countChunks(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
                  const ProgressFactory& progress);
+// countChunks in two halves, for a count split over tasks: the points of one stream added to
+// `counts` (kGridCells entries, indexed as cellOf), and the chunks of the summed counts
+// (plan.chunks, plan.cell_chunk). Sums do not depend on the order the streams were counted in.
+void countStream(const ConvertPlan& plan, PointStream& stream, std::vector<std::uint64_t>& counts,
+                 Progress* bar);
+void planChunks(ConvertPlan& plan, std::vector<std::uint64_t> counts);
 void distributePoints(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
                       const std::filesystem::path& chunk_dir, const ProgressFactory& progress);
+// distributePoints for one stream (a range of one input, `input` names it in errors): the
+// spill files of its points in `shard_dir` (chunkFilePath; none for a chunk it has no point
+// of), plan.stats widened by them. Returns the points each chunk received.
+std::vector<std::uint64_t> distributeStream(ConvertPlan& plan, PointStream& stream,
+                                            const std::filesystem::path& input,
+                                            const std::filesystem::path& shard_dir, Progress* bar);
 std::vector<ChunkRoot> buildChunks(const ConvertPlan& plan, const std::filesystem::path& chunk_dir,
                                    const OctreeBuildOptions& options, const Sampler& sampler,
                                    OctreeBinWriter& octree, std::vector<PotreeNodeEntry>& entries,
                                    const ProgressFactory& progress);
 void buildTopLevels(const ConvertPlan& plan, std::vector<ChunkRoot>& roots, const Sampler& sampler,
                     OctreeBinWriter& octree, std::vector<PotreeNodeEntry>& entries);
+
+// The spilled records of one chunk for the build: mapped from its spill file (the local build)
+// or read from the shards of several tasks into one buffer (the distributed build).
+struct ChunkRecords {
+  std::unique_ptr<MappedFile> mapped;  // holds `data` when set
+  ByteBuffer owned;                    // holds `data` otherwise
+  const std::byte* data = nullptr;
+  std::uint64_t size = 0;
+  std::string origin;                  // the file(s) named in errors
+  std::filesystem::path remove_after;  // removed once the chunk is built; empty: kept
+};
+using ChunkSource = std::function<ChunkRecords(std::size_t chunk)>;
+
+// buildChunks for the chunks [first, last) of the plan, their records from `source`: their
+// nodes but the roots appended to `octree` in chunk order (`entries` with offsets into it), the
+// roots returned (index 0: chunk `first`). The same bytes for a chunk whatever range it is
+// built in.
+std::vector<ChunkRoot> buildChunkRange(const ConvertPlan& plan, std::size_t first, std::size_t last,
+                                       const ChunkSource& source, const OctreeBuildOptions& options,
+                                       const Sampler& sampler, OctreeBinWriter& octree,
+                                       std::vector<PotreeNodeEntry>& entries, Progress* bar);
 
 // Memory the build of a chunk takes per point: its record, the positions (twice), the Morton
 // pairs and the index lists. The chunk size (3/8 of the budget) and the number of chunks built

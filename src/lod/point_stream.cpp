@@ -1,4 +1,7 @@
 // PointStream (convert_stages.h): one batch interface over the formats' chunk readers.
+#include <algorithm>
+#include <cassert>
+#include <cstdint>
 #include <optional>
 #include <type_traits>
 #include <variant>
@@ -28,7 +31,8 @@ struct PointStream::State {
   };
   std::variant<PlyChunkReader, LasChunkReader, LazChunkReader, TextChunkReader, OctreeNodes> reader;
   CoordinateSystem crs;
-  std::optional<PointFilter> filter;  // absent: every point
+  std::optional<PointFilter> filter;     // absent: every point
+  std::uint64_t remaining = UINT64_MAX;  // points left before the end of restrictTo's range
 };
 
 namespace {
@@ -104,6 +108,19 @@ const CoordinateSystem& PointStream::crs() const {
   return state_->crs;
 }
 
+bool PointStream::canSkip() const {
+  return std::holds_alternative<PlyChunkReader>(state_->reader) ||
+         std::holds_alternative<LasChunkReader>(state_->reader);
+}
+
+void PointStream::restrictTo(std::uint64_t first, std::uint64_t last) {
+  assert(first <= last && last <= pointCount() && "PointStream::restrictTo: a range of the file");
+  assert((first == 0 || canSkip()) && "PointStream::restrictTo: this format starts at point 0");
+  if (auto* ply = std::get_if<PlyChunkReader>(&state_->reader)) ply->skip(first);
+  if (auto* las = std::get_if<LasChunkReader>(&state_->reader)) las->skip(first);
+  state_->remaining = last - first;
+}
+
 bool PointStream::next(PointCloud& batch, std::size_t max_points) {
   if (!state_->filter) return nextUnfiltered(batch, max_points);
   // Batches the filter empties are skipped: a stage never sees an empty batch.
@@ -115,6 +132,17 @@ bool PointStream::next(PointCloud& batch, std::size_t max_points) {
 }
 
 bool PointStream::nextUnfiltered(PointCloud& batch, std::size_t max_points) {
+  if (state_->remaining == 0) {
+    batch = PointCloud{};
+    return false;
+  }
+  max_points = std::size_t(std::min<std::uint64_t>(max_points, state_->remaining));
+  const bool more = readNext(batch, max_points);
+  if (more) state_->remaining -= std::min<std::uint64_t>(batch.count, state_->remaining);
+  return more;
+}
+
+bool PointStream::readNext(PointCloud& batch, std::size_t max_points) {
   return std::visit(
       [&](auto& r) -> bool {
         if constexpr (std::is_same_v<std::decay_t<decltype(r)>, State::OctreeNodes>) {

@@ -76,6 +76,31 @@ std::string potreeMetadataText(const PotreeMetadataFields& f) {
   return json.dump(2);
 }
 
+EncodedHierarchy writePotreeIndex(const ConvertPlan& plan, std::vector<PotreeNodeEntry>& entries,
+                                  const std::string& name, const std::string& projection,
+                                  TemporaryDirectory& temp, const std::filesystem::path& target) {
+  const std::int32_t root = linkPotreeNodes(entries);
+  EncodedHierarchy hierarchy = encodePotreeHierarchy(entries, root);
+  writeFile(temp.path() / "hierarchy.bin", hierarchy.bytes.data(), hierarchy.bytes.size());
+  const std::string metadata = potreeMetadataText({.points = plan.points,
+                                                   .quantization = plan.quantization,
+                                                   .spacing = plan.spacing,
+                                                   .cube = plan.cube,
+                                                   .layout = &plan.layout,
+                                                   .stats = &plan.stats,
+                                                   .first_chunk_size = hierarchy.first_chunk_size,
+                                                   .depth = hierarchy.depth,
+                                                   .name = name,
+                                                   .projection = projection});
+  // metadata.json last: a directory without it is never taken for a finished octree.
+  writeFile(temp.path() / "metadata.json", metadata.data(), metadata.size());
+
+  if (std::filesystem::exists(target)) std::filesystem::remove_all(target);
+  std::filesystem::rename(temp.path(), target);
+  temp.release();
+  return hierarchy;
+}
+
 PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
                                     const std::filesystem::path& output,
                                     const PotreeConvertOptions& options) {
@@ -118,28 +143,9 @@ PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
   std::filesystem::remove_all(chunk_dir);
   result.seconds_build = secondsSince(mark);
 
-  const std::int32_t root = linkPotreeNodes(entries);
-  const EncodedHierarchy hierarchy = encodePotreeHierarchy(entries, root);
-  writeFile(temp.path() / "hierarchy.bin", hierarchy.bytes.data(), hierarchy.bytes.size());
   const std::string name = options.name.empty() ? target.filename().string() : options.name;
-  const std::string metadata =
-      potreeMetadataText({.points = plan.points,
-                          .quantization = plan.quantization,
-                          .spacing = plan.spacing,
-                          .cube = plan.cube,
-                          .layout = &plan.layout,
-                          .stats = &plan.stats,
-                          .first_chunk_size = hierarchy.first_chunk_size,
-                          .depth = hierarchy.depth,
-                          .name = name,
-                          .projection = potreeProjection(plan.crs.description)});
-  // metadata.json last: a directory without it is never taken for a finished octree.
-  writeFile(temp.path() / "metadata.json", metadata.data(), metadata.size());
-
-  if (std::filesystem::exists(target)) std::filesystem::remove_all(target);
-  std::filesystem::rename(temp.path(), target);
-  temp.release();
-
+  const EncodedHierarchy hierarchy =
+      writePotreeIndex(plan, entries, name, potreeProjection(plan.crs.description), temp, target);
   result.points = plan.points;
   result.crs = plan.crs;
   result.nodes = entries.size();

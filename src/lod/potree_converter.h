@@ -90,6 +90,14 @@ void checkPotreeOutput(const std::filesystem::path& output);
 // ".NAME.partial-PID" beside `target`: where a conversion writes before its rename.
 std::filesystem::path partialPathFor(const std::filesystem::path& target);
 
+// The end of a conversion whose octree.bin is complete in `temp`: hierarchy.bin from `entries`
+// (linked here), metadata.json (last), then `temp` renamed to `target` (a Potree directory
+// there is replaced). Shared by convertToPotree and the distributed build's last task, so both
+// write the same bytes.
+EncodedHierarchy writePotreeIndex(const ConvertPlan& plan, std::vector<PotreeNodeEntry>& entries,
+                                  const std::string& name, const std::string& projection,
+                                  TemporaryDirectory& temp, const std::filesystem::path& target);
+
 // Throws InputError for unreadable or malformed inputs and when `output` exists and is not a
 // Potree directory (one with metadata.json is replaced); std::runtime_error for I/O failures.
 PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,

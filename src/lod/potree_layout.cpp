@@ -321,4 +321,39 @@ nlohmann::json PotreeLayout::toJson(const AttributeStats& stats) const {
   return list;
 }
 
+nlohmann::json PotreeLayout::toPlanJson() const {
+  nlohmann::json list = nlohmann::json::array();
+  for (const PotreeAttribute& a : attributes_) {
+    list.push_back({{"name", a.name},
+                    {"source", int(a.source)},
+                    {"type", int(a.type)},
+                    {"elements", a.num_elements},
+                    {"scalar", a.scalar_name}});
+  }
+  return list;
+}
+
+PotreeLayout PotreeLayout::fromPlanJson(const nlohmann::json& json, const std::string& origin) {
+  PotreeLayout layout;
+  try {
+    for (const nlohmann::json& a : json) {
+      const int source = a.at("source").get<int>();
+      const int type = a.at("type").get<int>();
+      const int elements = a.at("elements").get<int>();
+      if (source < 0 || source > int(PotreeAttributeSource::Scalar) || type < 0 ||
+          type > int(ScalarType::Float64) || elements < 1 || elements > 3) {
+        throw std::runtime_error("an attribute out of range");
+      }
+      layout.add({.name = a.at("name").get<std::string>(),
+                  .source = PotreeAttributeSource(source),
+                  .type = ScalarType(type),
+                  .num_elements = elements,
+                  .scalar_name = a.at("scalar").get<std::string>()});
+    }
+  } catch (const std::exception& e) {
+    throw std::runtime_error(origin + ": not a record layout of a conversion plan: " + e.what());
+  }
+  return layout;
+}
+
 }  // namespace parallax

@@ -79,6 +79,12 @@ class PotreeLayout {
   // metadata.json's "attributes" array.
   nlohmann::json toJson(const AttributeStats& stats) const;
 
+  // The layout as the distributed build's plan keeps it (every field of every attribute, so that
+  // fromPlanJson gives back the same layout); fromPlanJson throws std::runtime_error naming
+  // `origin` for anything else.
+  nlohmann::json toPlanJson() const;
+  static PotreeLayout fromPlanJson(const nlohmann::json& json, const std::string& origin);
+
  private:
   void add(PotreeAttribute attribute);
 

@@ -1,0 +1,201 @@
+"""The distributed octree build: the plan, then its stages as Dask tasks.
+
+The stages run in order, each as one task per range or group of chunks:
+
+    scan -> cube -> count -> chunks -> distribute -> build -> place -> finish
+
+Every stage needs all of the one before it (the cube needs every range's bounds, a chunk's
+build every range's shard of it), so the graph is a chain of fan-outs and merges, and the
+driver submits a stage once the one before it is complete. Tasks run `parallax convert-task`
+on the workers; the files between them are in the plan's work directory, which every worker
+must see at the same path (a shared directory: NFS, Lustre, a POSIX mount of an object store).
+"""
+
+import importlib.util
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+import uuid
+
+import cloudpickle
+from distributed import Client, as_completed
+
+from . import tasks
+
+# The tasks are sent to the workers by value: the workers need Dask and the parallax
+# executable, not this package on their Python path.
+cloudpickle.register_pickle_by_value(tasks)
+
+STAGES = ("scan", "cube", "count", "chunks", "distribute", "build", "place", "finish")
+
+
+class ConversionError(Exception):
+    """A failed conversion; status 2 for bad input (the task's own message), 1 otherwise."""
+
+    def __init__(self, message, status):
+        super().__init__(message)
+        self.status = status
+
+
+class Progress:
+    """One line per stage on stderr: redrawn in place on a terminal, printed once otherwise."""
+
+    def __init__(self, quiet):
+        self.quiet = quiet
+        self.tty = sys.stderr.isatty()
+
+    def update(self, stage, done, total, started):
+        if self.quiet or not self.tty:
+            return
+        width = 30
+        filled = width * done // max(total, 1)
+        sys.stderr.write(f"\r{stage:<10} [{'#' * filled}{'.' * (width - filled)}] "
+                         f"{done}/{total} tasks {time.monotonic() - started:6.1f} s")
+        sys.stderr.flush()
+
+    def finish(self, stage, total, seconds):
+        if self.quiet:
+            return
+        if self.tty:
+            sys.stderr.write("\r\033[K")
+        sys.stderr.write(f"{stage:<10} {total} tasks in {seconds:.2f} s\n")
+        sys.stderr.flush()
+
+
+def write_plan(options, work_dir):
+    """`parallax convert --plan` on this machine (headers only); returns the plan's path."""
+    command = [options.parallax, "convert", "--plan", *options.inputs, "-o", options.output,
+               "--work-dir", work_dir, "--tasks", str(options.tasks), "--build-tasks",
+               str(options.build_tasks or options.tasks), "-q"]
+    for flag, value in (("--memory", options.memory), ("--sampling", options.sampling),
+                        ("--spacing", options.spacing), ("--columns", options.columns),
+                        ("--classes", options.classes), ("--clip-box", options.clip_box),
+                        ("--clip-mode", options.clip_mode)):
+        if value is not None:
+            command += [flag, str(value)]
+    try:
+        done = subprocess.run(command, capture_output=True, text=True, check=False)
+    except OSError as error:
+        raise ConversionError(f"cannot run {options.parallax}: {error}", 1) from error
+    if done.returncode != 0:
+        raise ConversionError(done.stderr.strip(), 2 if done.returncode == 2 else 1)
+    return json.loads(done.stdout.strip().splitlines()[-1])["plan"]
+
+
+def stage_parts(stage, work_dir):
+    """How many tasks a stage has: the plan's ranges, chunks.json's groups, or one."""
+    if stage in ("scan", "count", "distribute"):
+        with open(os.path.join(work_dir, "plan.json"), encoding="utf-8") as plan:
+            return len(json.load(plan)["ranges"])
+    if stage in ("build", "place"):
+        with open(os.path.join(work_dir, "chunks.json"), encoding="utf-8") as chunks:
+            return len(json.load(chunks)["groups"])
+    return 1
+
+
+def run_stage(client, options, plan, stage, parts, progress, run_id):
+    """Runs the tasks of one stage; returns their results. A failed task runs again (on
+    another worker when there is one) up to options.retries times; bad input stops at once."""
+    started = time.monotonic()
+    attempts = {}
+    pending = {}
+
+    def submit(part, avoid=None):
+        attempt = attempts.get(part, 0)
+        attempts[part] = attempt + 1
+        workers = None
+        if avoid:
+            others = [w for w in client.scheduler_info()["workers"] if w != avoid]
+            workers = others or None
+        placement = {"workers": workers, "allow_other_workers": True} if workers else {}
+        future = client.submit(tasks.run_convert_task, options.parallax, stage, plan, part,
+                               options.task_threads,
+                               key=f"parallax-{stage}-{part}-{run_id}-{attempt}", pure=False,
+                               **placement)
+        pending[future] = part
+        return future
+
+    queue = as_completed([submit(part) for part in range(parts)])
+    results = []
+    progress.update(stage, 0, parts, started)
+    for future in queue:
+        part = pending.pop(future)
+        try:
+            result = future.result()
+        except Exception as error:  # the worker died too often with it (KilledWorker), ...
+            result = {"stage": stage, "part": part, "error": f"{type(error).__name__}: {error}"}
+        if "input_error" in result:
+            client.cancel(list(pending))
+            raise ConversionError(result["input_error"], 2)
+        if "error" in result:
+            if attempts[part] > options.retries:
+                client.cancel(list(pending))
+                raise ConversionError(f"{stage} task {part} failed {attempts[part]} times; "
+                                      f"the last time: {result['error']}", 1)
+            if not options.quiet:
+                sys.stderr.write(f"\n{stage} task {part} failed on {result.get('worker')}: "
+                                 f"{result['error']}; running it again\n")
+            queue.add(submit(part, avoid=result.get("worker")))
+            continue
+        results.append(result)
+        progress.update(stage, len(results), parts, started)
+    progress.finish(stage, parts, time.monotonic() - started)
+    return results
+
+
+def convert(options):
+    """The whole conversion; returns the report (stage times, every task's summary)."""
+    output = os.path.abspath(options.output.rstrip("/"))
+    work_dir = os.path.abspath(options.work_dir or os.path.join(
+        os.path.dirname(output), "." + os.path.basename(output) + ".work"))
+    progress = Progress(options.quiet)
+    started = time.monotonic()
+    report = {"output": output, "work_dir": work_dir, "stages": [], "tasks": []}
+    client = None
+    cluster = None
+    try:
+        plan = write_plan(options, work_dir)
+        report["plan_seconds"] = time.monotonic() - started
+        if options.scheduler:
+            client = Client(options.scheduler)
+        else:
+            from distributed import LocalCluster
+            cluster = LocalCluster(n_workers=options.local_workers, threads_per_worker=1,
+                                   processes=True, dashboard_address=dashboard_address())
+            client = Client(cluster)
+        if not options.quiet and client.dashboard_link and dashboard_address() is not None:
+            sys.stderr.write(f"Dask dashboard: {client.dashboard_link}\n")
+        run_id = uuid.uuid4().hex[:8]
+        for stage in STAGES:
+            stage_start = time.monotonic()
+            results = run_stage(client, options, plan, stage, stage_parts(stage, work_dir),
+                                progress, run_id)
+            report["stages"].append({"stage": stage, "tasks": len(results),
+                                     "seconds": time.monotonic() - stage_start})
+            report["tasks"] += results
+            if stage == "build" and not options.keep_work:
+                # The shards are read by the builds only: the disk they hold is free from here
+                # (the work directory's peak is then two copies of the points, not three).
+                shutil.rmtree(os.path.join(work_dir, "shards"), ignore_errors=True)
+        report["seconds"] = time.monotonic() - started
+        report["workers"] = len(client.scheduler_info()["workers"])
+    except BaseException:
+        if not options.keep_work:
+            shutil.rmtree(work_dir, ignore_errors=True)
+        raise
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+    if not options.keep_work:
+        shutil.rmtree(work_dir, ignore_errors=True)
+    return report
+
+
+def dashboard_address():
+    """Dask's dashboard needs bokeh (not packaged by Debian 12): on where it is installed."""
+    return ":0" if importlib.util.find_spec("bokeh") is not None else None

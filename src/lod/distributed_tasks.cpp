@@ -1,0 +1,442 @@
+// The tasks of a distributed conversion (distributed_tasks.h): each stage of convert_stages.h on
+// one range or one group, reading and writing the files of distributed_task_files.h.
+#include "lod/distributed_tasks.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <stdexcept>
+
+#include "core/error.h"
+#include "io/partial_output.h"
+#include "lod/distributed_task_files.h"
+#include "lod/potree_converter.h"
+#include "lod/sampler.h"
+
+namespace parallax {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Points read at a time by the scan: the local scan's first guess (convert_count.cpp), before
+// the record size is known. Batch sizes change no result, only memory.
+std::uint64_t scanBatchPoints(const DistributedPlan& plan) {
+  return std::clamp<std::uint64_t>(plan.build.memory_bytes / 8 / 128, 4096, 4u << 20);
+}
+
+// A folder of the work directory, which must still exist: a task that outlives its run (its
+// driver stopped and removed the work directory) fails instead of creating it again.
+void makeTaskDirectory(const std::filesystem::path& path) {
+  std::error_code error;
+  std::filesystem::create_directory(path, error);
+  if (error) {
+    throw std::runtime_error(path.string() + ": cannot create (" + error.message() +
+                             "): is the work directory still there?");
+  }
+}
+
+std::unique_ptr<PointStream> openRange(const DistributedPlan& plan,
+                                       const std::vector<ConvertInput>& inputs, std::size_t range) {
+  const InputRange& r = plan.ranges[range];
+  const ConvertInput& input = inputs[r.input];
+  auto stream = std::make_unique<PointStream>(input.path, input.text_columns,
+                                              &plan.inputs[r.input].quantization, &input.filter);
+  if (stream->pointCount() != plan.inputs[r.input].points) {
+    throw InputError({.file = input.path.string(),
+                      .expected = std::to_string(plan.inputs[r.input].points) +
+                                  " points, as when the plan was made",
+                      .found = std::to_string(stream->pointCount()),
+                      .hint = "do not modify the inputs while they are being converted; make "
+                              "the plan again"});
+  }
+  stream->restrictTo(r.first, r.last);
+  return stream;
+}
+
+std::uint64_t runScan(const DistributedPlan& plan, const std::vector<ConvertInput>& inputs,
+                      std::size_t range) {
+  auto stream = openRange(plan, inputs, range);
+  ScanSummary scan;
+  PointCloud batch;
+  while (stream->next(batch, scanBatchPoints(plan))) {
+    batch.computeBounds();
+    scan.bounds.extend(batch.bounds);
+    scan.points += batch.count;
+  }
+  makeTaskDirectory(scanFilePath(plan, range).parent_path());
+  writeScanSummary(scanFilePath(plan, range), scan);
+  return scan.points;
+}
+
+// The ranges' scans merged as the local scan merges its inputs (convert_count.cpp scanInputs).
+std::uint64_t runCube(const DistributedPlan& plan, const std::vector<ConvertInput>& inputs) {
+  ScanSummary total;
+  std::vector<std::uint64_t> input_points(plan.inputs.size(), 0);
+  for (std::size_t r = 0; r < plan.ranges.size(); ++r) {
+    const ScanSummary scan = readScanSummary(scanFilePath(plan, r));
+    total.points += scan.points;
+    total.bounds.extend(scan.bounds);
+    input_points[plan.ranges[r].input] += scan.points;
+  }
+  // The layout of every input with a point kept, in input order; with none, positions only.
+  PotreeLayout layout;
+  bool have_layout = false;
+  for (std::size_t i = 0; i < plan.inputs.size(); ++i) {
+    if (input_points[i] == 0) continue;
+    if (!have_layout) {
+      layout = plan.inputs[i].layout;
+      have_layout = true;
+    } else {
+      layout.merge(plan.inputs[i].layout);
+    }
+  }
+  if (!have_layout) layout = PotreeLayout::fromCloud(PointCloud{});
+  const bool filtered = std::any_of(inputs.begin(), inputs.end(), [](const ConvertInput& input) {
+    return !input.filter.keepsAll();
+  });
+  if (filtered && total.points == 0 && !inputs.empty()) {
+    std::uint64_t file_points = 0;
+    for (const PlannedInput& input : plan.inputs) file_points += input.points;
+    throw InputError({.file = inputs.front().path.string(),
+                      .expected = "at least one point that the class and clip filters keep",
+                      .found = "none of " + std::to_string(file_points) + " points",
+                      .hint = "check the class list and the clip box against the input's "
+                              "classes and bounds (parallax info)"});
+  }
+  writeCube(cubeFilePath(plan), total, layout);
+  return total.points;
+}
+
+std::uint64_t runCount(const DistributedPlan& plan, const std::vector<ConvertInput>& inputs,
+                       std::size_t range) {
+  const ConvertPlan state = loadConvertState(plan, false);
+  auto stream = openRange(plan, inputs, range);
+  std::vector<std::uint64_t> counts(ConvertPlan::kGridCells, 0);
+  countStream(state, *stream, counts, nullptr);
+  makeTaskDirectory(countFilePath(plan, range).parent_path());
+  writeCounts(countFilePath(plan, range), counts);
+  std::uint64_t points = 0;
+  for (std::uint64_t count : counts) points += count;
+  return points;
+}
+
+// The counts summed, the chunks planned as the local count plans them, and consecutive groups
+// of chunks of about equal point counts for the build tasks.
+std::uint64_t runChunks(const DistributedPlan& plan) {
+  ConvertPlan state = loadConvertState(plan, false);
+  std::vector<std::uint64_t> counts(ConvertPlan::kGridCells, 0);
+  for (std::size_t r = 0; r < plan.ranges.size(); ++r) addCounts(countFilePath(plan, r), counts);
+  planChunks(state, std::move(counts));
+  ChunkGroups groups{.chunks = state.chunks};
+  std::uint64_t total = 0;
+  for (const ChunkPlan& chunk : state.chunks) total += chunk.points;
+  const std::uint64_t target =
+      std::max<std::uint64_t>(1, (total + plan.build_tasks - 1) / plan.build_tasks);
+  std::size_t first = 0;
+  std::uint64_t in_group = 0;
+  for (std::size_t c = 0; c < state.chunks.size(); ++c) {
+    in_group += state.chunks[c].points;
+    if (in_group >= target || c + 1 == state.chunks.size()) {
+      groups.groups.emplace_back(first, c + 1);
+      first = c + 1;
+      in_group = 0;
+    }
+  }
+  writeChunkGroups(chunksFilePath(plan), groups);
+  return total;
+}
+
+// Replaces `target` by the finished directory `temp`. Another run of the same task may have
+// put an identical one there first: that one is replaced (nothing reads it before this stage
+// ends).
+void renameDirectory(const std::filesystem::path& temp, const std::filesystem::path& target) {
+  std::error_code error;
+  std::filesystem::rename(temp, target, error);
+  if (!error) return;
+  std::filesystem::remove_all(target);
+  std::filesystem::rename(temp, target);
+}
+
+std::uint64_t runDistribute(const DistributedPlan& plan, const std::vector<ConvertInput>& inputs,
+                            std::size_t range) {
+  ConvertPlan state = loadConvertState(plan, true);
+  auto stream = openRange(plan, inputs, range);
+  const std::filesystem::path target = shardDirPath(plan, range);
+  makeTaskDirectory(target.parent_path());
+  const std::filesystem::path temp = temporaryPathFor(target);
+  std::filesystem::remove_all(temp);
+  std::uint64_t points = 0;
+  try {
+    const std::vector<std::uint64_t> delivered =
+        distributeStream(state, *stream, inputs[plan.ranges[range].input].path, temp, nullptr);
+    for (std::uint64_t n : delivered) points += n;
+    // Beside the shards, not among them: the driver removes the shards once the builds ran.
+    makeTaskDirectory(statsFilePath(plan, range).parent_path());
+    writeStats(statsFilePath(plan, range), state.stats);
+    renameDirectory(temp, target);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove_all(temp, ignored);
+    throw;
+  }
+  return points;
+}
+
+// A chunk's records from the shards of every range, in range order: the order the local build
+// spills them in.
+ChunkRecords readShards(const DistributedPlan& plan, const ConvertPlan& state, std::size_t chunk) {
+  const std::uint64_t size = state.chunks[chunk].points * state.layout.recordSize();
+  ChunkRecords records;
+  records.owned = ByteBuffer(std::size_t(size));
+  records.data = records.owned.data();
+  records.size = size;
+  records.origin =
+      "the shards of chunk " + std::to_string(chunk) + " in " + (plan.work_dir / "shards").string();
+  std::uint64_t filled = 0;
+  for (std::size_t r = 0; r < plan.ranges.size(); ++r) {
+    const std::filesystem::path path = chunkFilePath(shardDirPath(plan, r), chunk);
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+      if (errno == ENOENT) continue;  // the range has no point in this chunk
+      throw std::runtime_error(path.string() + ": cannot open: " + std::strerror(errno));
+    }
+    struct stat info {};
+    if (::fstat(fd, &info) != 0 || std::uint64_t(info.st_size) > size - filled) {
+      ::close(fd);
+      throw std::runtime_error(path.string() + ": more records than the count of chunk " +
+                               state.chunks[chunk].name + " (or unreadable)");
+    }
+    std::uint64_t at = 0;
+    while (at < std::uint64_t(info.st_size)) {
+      const ssize_t n = ::pread(fd, records.owned.data() + filled,
+                                std::size_t(std::uint64_t(info.st_size) - at), off_t(at));
+      if (n <= 0) {
+        const int error = errno;
+        ::close(fd);
+        throw std::runtime_error(path.string() + ": cannot read: " +
+                                 (n == 0 ? "shorter than its size" : std::strerror(error)));
+      }
+      filled += std::uint64_t(n);
+      at += std::uint64_t(n);
+    }
+    ::close(fd);
+  }
+  // A short total is reported by the build with the expected and found sizes.
+  records.size = filled;
+  return records;
+}
+
+std::uint64_t runBuild(const DistributedPlan& plan, std::size_t group) {
+  const ConvertPlan state = loadConvertState(plan, true);
+  const ChunkGroups groups = readChunkGroups(chunksFilePath(plan));
+  const auto [first, last] = groups.groups[group];
+  const auto sampler = makeSampler(plan.build.sampling);
+  const std::filesystem::path part_path = groupPartPath(plan, group);
+  makeTaskDirectory(part_path.parent_path());
+  const std::filesystem::path temp = temporaryPathFor(part_path);
+  GroupNodes nodes;
+  try {
+    OctreeBinWriter part(temp, 0);
+    const ChunkSource shards = [&](std::size_t chunk) { return readShards(plan, state, chunk); };
+    nodes.roots = buildChunkRange(state, first, last, shards, plan.build, *sampler, part,
+                                  nodes.entries, nullptr);
+    part.close();
+    nodes.part_bytes = part.size();
+    std::filesystem::rename(temp, part_path);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(temp, ignored);
+    throw;
+  }
+  // Written after the part: the finish task trusts a part only with its nodes file, which
+  // states the part's size.
+  writeGroupNodes(groupNodesPath(plan, group), nodes);
+  std::uint64_t points = 0;
+  for (std::size_t c = first; c < last; ++c) points += state.chunks[c].points;
+  return points;
+}
+
+// Copies `length` bytes of `from` to `to_fd` at `offset` (copy_file_range: in the kernel, or
+// sharing blocks where the file system can; read and written by hand where it cannot).
+void copyInto(const std::filesystem::path& from, std::uint64_t length, int to_fd,
+              std::uint64_t offset, const std::filesystem::path& to) {
+  const int in = ::open(from.c_str(), O_RDONLY | O_CLOEXEC);
+  if (in < 0) throw std::runtime_error(from.string() + ": cannot open: " + std::strerror(errno));
+  std::uint64_t done = 0;
+  std::vector<char> buffer;
+  while (done < length) {
+    ssize_t n = -1;
+    if (buffer.empty()) {
+      loff_t in_at = loff_t(done), out_at = loff_t(offset + done);
+      n = ::copy_file_range(in, &in_at, to_fd, &out_at, std::size_t(length - done), 0);
+      if (n < 0 && (errno == EXDEV || errno == ENOSYS || errno == EINVAL || errno == EOPNOTSUPP)) {
+        buffer.resize(std::size_t(4) << 20);
+        continue;
+      }
+    } else {
+      n = ::pread(in, buffer.data(), std::min<std::uint64_t>(buffer.size(), length - done),
+                  off_t(done));
+      if (n > 0 && ::pwrite(to_fd, buffer.data(), std::size_t(n), off_t(offset + done)) != n) {
+        n = -1;
+      }
+    }
+    if (n <= 0) {
+      const int error = errno;
+      ::close(in);
+      throw std::runtime_error(
+          to.string() + ": cannot copy " + from.string() +
+          " into it: " + (n == 0 ? "the file is shorter than its size" : std::strerror(error)));
+    }
+    done += std::uint64_t(n);
+  }
+  ::close(in);
+}
+
+// Where each group's part of octree.bin starts (the sizes its build stated), and the end.
+std::vector<std::uint64_t> partOffsets(const DistributedPlan& plan, std::size_t groups) {
+  std::vector<std::uint64_t> offsets{0};
+  for (std::size_t g = 0; g < groups; ++g) {
+    const std::filesystem::path part = groupPartPath(plan, g);
+    const std::uint64_t bytes = readGroupPartBytes(groupNodesPath(plan, g));
+    std::error_code error;
+    const std::uint64_t size = std::filesystem::file_size(part, error);
+    if (error || size != bytes) {
+      throw std::runtime_error(part.string() + ": expected " + std::to_string(bytes) + " bytes (" +
+                               groupNodesPath(plan, g).string() + "), found " +
+                               (error ? error.message() : std::to_string(size)) + "; run build " +
+                               std::to_string(g) + " again");
+    }
+    offsets.push_back(offsets.back() + bytes);
+  }
+  return offsets;
+}
+
+// The part of group `group` copied to its place in the work directory's octree.bin: the
+// groups' places are known once every build ran, so the copies run side by side instead of
+// one after the other in the finish task (at 10^11 points, hours of copying on one machine).
+// Written at a fixed offset, a run again writes the same bytes.
+std::uint64_t runPlace(const DistributedPlan& plan, std::size_t group) {
+  const ChunkGroups groups = readChunkGroups(chunksFilePath(plan));
+  const std::vector<std::uint64_t> offsets = partOffsets(plan, groups.groups.size());
+  const std::filesystem::path assembled = assembledOctreePath(plan);
+  const int fd = ::open(assembled.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    throw std::runtime_error(assembled.string() + ": cannot open: " + std::strerror(errno));
+  }
+  try {
+    copyInto(groupPartPath(plan, group), offsets[group + 1] - offsets[group], fd, offsets[group],
+             assembled);
+  } catch (...) {
+    ::close(fd);
+    throw;
+  }
+  if (::close(fd) != 0) {
+    throw std::runtime_error(assembled.string() + ": cannot write: " + std::strerror(errno));
+  }
+  return offsets[group + 1] - offsets[group];
+}
+
+// The placed parts (or, when they are not all there, the parts copied now one after the
+// other), then the top levels, hierarchy.bin and metadata.json, in a partial directory renamed
+// to the output (potree_converter.cpp does the same locally).
+std::uint64_t runFinish(const DistributedPlan& plan) {
+  ConvertPlan state = loadConvertState(plan, true);
+  for (std::size_t r = 0; r < plan.ranges.size(); ++r) {
+    mergeStats(statsFilePath(plan, r), state.stats);
+  }
+  const ChunkGroups groups = readChunkGroups(chunksFilePath(plan));
+  const std::vector<std::uint64_t> offsets = partOffsets(plan, groups.groups.size());
+  const std::filesystem::path target = plan.output;
+  checkPotreeOutput(target);
+  std::filesystem::create_directories(target.parent_path());
+  removeStalePartialOutputs(target);
+  TemporaryDirectory temp(partialOutputPath(target));
+  const std::filesystem::path octree_path = temp.path() / "octree.bin";
+  // The placed file moves into the output (a rename: the work directory is on the same file
+  // system by default), cut back to the parts (an earlier finish may have appended to it).
+  std::error_code error;
+  const std::filesystem::path assembled = assembledOctreePath(plan);
+  const bool placed = std::filesystem::exists(assembled, error) &&
+                      std::filesystem::file_size(assembled, error) >= offsets.back() && !error;
+  if (placed) std::filesystem::rename(assembled, octree_path, error);
+  const bool moved = placed && !error;
+  if (moved) std::filesystem::resize_file(octree_path, offsets.back());
+  OctreeBinWriter octree(octree_path, 0, moved);
+  std::vector<PotreeNodeEntry> entries;
+  std::vector<ChunkRoot> roots;
+  for (std::size_t g = 0; g < groups.groups.size(); ++g) {
+    GroupNodes nodes = readGroupNodes(groupNodesPath(plan, g));
+    if (!moved) octree.appendFile(groupPartPath(plan, g));
+    for (PotreeNodeEntry& entry : nodes.entries) {
+      entry.byte_offset += offsets[g];
+      entries.push_back(std::move(entry));
+    }
+    for (ChunkRoot& root : nodes.roots) roots.push_back(std::move(root));
+  }
+  if (roots.size() != state.chunks.size()) {
+    throw std::runtime_error(chunksFilePath(plan).string() + ": " +
+                             std::to_string(state.chunks.size()) + " chunks, the builds gave " +
+                             std::to_string(roots.size()));
+  }
+  const auto sampler = makeSampler(plan.build.sampling);
+  buildTopLevels(state, roots, *sampler, octree, entries);
+  if (entries.empty()) entries.push_back({.name = "r"});  // an empty input: a root, no points
+  octree.close();
+  writePotreeIndex(state, entries, target.filename().string(), plan.projection, temp, target);
+  return state.points;
+}
+
+}  // namespace
+
+const std::vector<std::string_view>& distributedStages() {
+  static const std::vector<std::string_view> stages = {"scan",       "cube",  "count", "chunks",
+                                                       "distribute", "build", "place", "finish"};
+  return stages;
+}
+
+std::size_t distributedStageParts(const DistributedPlan& plan, std::string_view stage) {
+  if (stage == "scan" || stage == "count" || stage == "distribute") return plan.ranges.size();
+  if (stage == "build" || stage == "place") {
+    return readChunkGroups(chunksFilePath(plan)).groups.size();
+  }
+  return 1;
+}
+
+std::string runDistributedTask(const DistributedPlan& plan, const std::vector<ConvertInput>& inputs,
+                               std::string_view stage, std::size_t part) {
+  const auto& stages = distributedStages();
+  if (std::find(stages.begin(), stages.end(), stage) == stages.end()) {
+    throw std::invalid_argument("convert-task: unknown stage '" + std::string(stage) +
+                                "' (scan, cube, count, chunks, distribute, build, place, finish)");
+  }
+  if (inputs.size() != plan.inputs.size()) {
+    throw std::invalid_argument("convert-task: the inputs are not the plan's");
+  }
+  const std::size_t parts = distributedStageParts(plan, stage);
+  if (part >= parts) {
+    throw std::invalid_argument("convert-task " + std::string(stage) + ": part " +
+                                std::to_string(part) + " of " + std::to_string(parts) +
+                                " (parts are 0 to " + std::to_string(parts - 1) + ")");
+  }
+  const auto start = Clock::now();
+  std::uint64_t points = 0;
+  if (stage == "scan") points = runScan(plan, inputs, part);
+  if (stage == "cube") points = runCube(plan, inputs);
+  if (stage == "count") points = runCount(plan, inputs, part);
+  if (stage == "chunks") points = runChunks(plan);
+  if (stage == "distribute") points = runDistribute(plan, inputs, part);
+  if (stage == "build") points = runBuild(plan, part);
+  if (stage == "place") points = runPlace(plan, part);
+  if (stage == "finish") points = runFinish(plan);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return "{\"stage\": \"" + std::string(stage) + "\", \"part\": " + std::to_string(part) +
+         ", \"parts\": " + std::to_string(parts) + ", \"points\": " + std::to_string(points) +
+         ", \"seconds\": " + std::to_string(seconds) + "}";
+}
+
+}  // namespace parallax

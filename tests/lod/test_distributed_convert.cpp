@@ -1,0 +1,189 @@
+// The distributed conversion's tasks (lod/distributed_tasks.h) run in this process, stage by
+// stage: the same bytes as convertToPotree for any number of ranges and groups, tasks that can
+// run again, inputs read in ranges (PointStream::restrictTo), and the errors of missing or
+// damaged task files.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "io/ply_writer.h"
+#include "io/point_file.h"
+#include "lod/distributed_plan.h"
+#include "lod/distributed_task_files.h"
+#include "lod/distributed_tasks.h"
+#include "lod/potree_converter.h"
+#include "lod_test_clouds.h"
+#include "support/temp_dir.h"
+
+namespace parallax::test {
+namespace {
+
+std::string readBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+void expectSameOctree(const std::filesystem::path& expected, const std::filesystem::path& got) {
+  for (const char* name : {"metadata.json", "hierarchy.bin", "octree.bin"}) {
+    const std::string a = readBytes(expected / name), b = readBytes(got / name);
+    EXPECT_FALSE(a.empty()) << name;
+    EXPECT_TRUE(a == b) << name << " differs: " << a.size() << " and " << b.size() << " bytes";
+  }
+}
+
+OctreeBuildOptions smallChunks() {
+  OctreeBuildOptions options;
+  options.max_node_points = 300;
+  options.max_chunk_points = 700;  // many chunks, so groups hold several
+  return options;
+}
+
+// Every task of every stage, in order, as the driver runs them.
+void runAllTasks(const DistributedPlan& plan, const std::vector<ConvertInput>& inputs) {
+  for (std::string_view stage : distributedStages()) {
+    const std::size_t parts = distributedStageParts(plan, stage);
+    for (std::size_t part = 0; part < parts; ++part) runDistributedTask(plan, inputs, stage, part);
+  }
+}
+
+struct Inputs {
+  TempDir dir;
+  std::vector<ConvertInput> inputs;
+  Inputs() {
+    writePointFile(makeSurfaceCloud(3000, 1), dir / "a.ply");
+    writePointFile(makeSurfaceCloud(2000, 7), dir / "b.las");
+    PlyWriteOptions ascii;
+    ascii.format = PlyFormat::Ascii;
+    writePly(makeSurfaceCloud(1500, 3), dir / "c.ply", ascii);
+    inputs = {{dir / "a.ply", {}}, {dir / "b.las", {}}, {dir / "c.ply", {}}};
+  }
+};
+
+TEST(DistributedConvert, WritesTheLocalBytesForAnyNumberOfTasks) {
+  Inputs in;
+  PotreeConvertOptions local;
+  local.build = smallChunks();
+  convertToPotree(in.inputs, in.dir / "local" / "octree", local);
+  for (std::size_t tasks : {1u, 3u, 8u, 40u}) {
+    SCOPED_TRACE("tasks " + std::to_string(tasks));
+    const auto root = in.dir / ("tasks" + std::to_string(tasks));
+    const DistributedPlan plan =
+        makeDistributedPlan(in.inputs, root / "octree", root / "work", smallChunks(), tasks);
+    writeDistributedPlan(plan);
+    // The ranges cover each input once, in order; all three inputs (PLY binary and ascii,
+    // LAS) are split when there are more tasks than inputs.
+    std::vector<std::uint64_t> covered(in.inputs.size(), 0);
+    for (const InputRange& range : plan.ranges) {
+      EXPECT_EQ(range.first, covered[range.input]);
+      covered[range.input] = range.last;
+    }
+    EXPECT_EQ(covered, (std::vector<std::uint64_t>{3000, 2000, 1500}));
+    EXPECT_GE(plan.ranges.size(), std::max<std::size_t>(3, tasks * 3 / 4));
+    const DistributedPlan read = readDistributedPlan(planPath(root / "work"));
+    EXPECT_EQ(read.ranges.size(), plan.ranges.size());
+    runAllTasks(read, in.inputs);
+    expectSameOctree(in.dir / "local" / "octree", root / "octree");
+    EXPECT_GT(distributedStageParts(read, "build"), tasks > 1 ? 1u : 0u);
+  }
+}
+
+TEST(DistributedConvert, TasksRunAgainGiveTheSameOctree) {
+  Inputs in;
+  PotreeConvertOptions local;
+  local.build = smallChunks();
+  convertToPotree(in.inputs, in.dir / "local" / "octree", local);
+  const DistributedPlan plan =
+      makeDistributedPlan(in.inputs, in.dir / "out" / "octree", in.dir / "work", smallChunks(), 4);
+  writeDistributedPlan(plan);
+  runAllTasks(plan, in.inputs);
+  // Every task again (a retry after a crash, or a second run of a task Dask thought lost),
+  // then the finish again over the finished output.
+  runAllTasks(plan, in.inputs);
+  expectSameOctree(in.dir / "local" / "octree", in.dir / "out" / "octree");
+  // No temporary name is left in the work directory.
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(in.dir / "work")) {
+    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
+  }
+}
+
+TEST(DistributedConvert, RangesOfAFileHoldItsPointsInOrder) {
+  Inputs in;
+  for (const auto& input : in.inputs) {
+    SCOPED_TRACE(input.path.string());
+    PointStream whole(input.path, {});
+    PointCloud all;
+    ASSERT_TRUE(whole.next(all, 1u << 20));
+    ASSERT_TRUE(whole.canSkip());
+    // Ranges that start inside the reader's own 512 KB ranges and at their ends.
+    for (auto [first, last] : std::vector<std::pair<std::uint64_t, std::uint64_t>>{
+             {0, 1}, {1, 2}, {17, 1001}, {999, all.count}, {all.count, all.count}}) {
+      PointStream part(input.path, {}, &whole.quantization());
+      part.restrictTo(first, last);
+      std::uint64_t at = first;
+      PointCloud batch;
+      while (part.next(batch, 100)) {
+        for (std::uint64_t i = 0; i < batch.count; ++i, ++at) {
+          ASSERT_LT(at, last);
+          EXPECT_EQ(batch.positions[i].x, all.positions[at].x) << "point " << at;
+          EXPECT_EQ(batch.positions[i].z, all.positions[at].z) << "point " << at;
+        }
+      }
+      EXPECT_EQ(at, last);
+    }
+  }
+}
+
+TEST(DistributedConvert, MissingOrDamagedTaskFilesAreNamed) {
+  Inputs in;
+  const DistributedPlan plan =
+      makeDistributedPlan(in.inputs, in.dir / "out" / "octree", in.dir / "work", smallChunks(), 3);
+  writeDistributedPlan(plan);
+  // The cube before the scans ran.
+  try {
+    runDistributedTask(plan, in.inputs, "cube", 0);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("scan/range_0.json"), std::string::npos) << e.what();
+  }
+  for (std::size_t r = 0; r < plan.ranges.size(); ++r)
+    runDistributedTask(plan, in.inputs, "scan", r);
+  runDistributedTask(plan, in.inputs, "cube", 0);
+  for (std::size_t r = 0; r < plan.ranges.size(); ++r) {
+    runDistributedTask(plan, in.inputs, "count", r);
+  }
+  // A count file cut short.
+  const auto count = countFilePath(plan, 1);
+  std::filesystem::resize_file(count, std::filesystem::file_size(count) - 5);
+  try {
+    runDistributedTask(plan, in.inputs, "chunks", 0);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(count.string() + ": a damaged task file"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(runDistributedTask(plan, in.inputs, "scan", plan.ranges.size()),
+               std::invalid_argument);
+  EXPECT_THROW(runDistributedTask(plan, in.inputs, "sort", 0), std::invalid_argument);
+  EXPECT_FALSE(std::filesystem::exists(in.dir / "out" / "octree"));
+}
+
+TEST(DistributedConvert, APlanThatIsNotOneIsAnInputError) {
+  TempDir dir;
+  std::ofstream(dir / "plan.json") << R"({"format": "parallax-convert-plan", "version": 1})";
+  try {
+    readDistributedPlan(dir / "plan.json");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("plan.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("conversion plan"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(readDistributedPlan(dir / "missing.json"), InputError);
+}
+
+}  // namespace
+}  // namespace parallax::test
