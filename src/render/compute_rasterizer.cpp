@@ -6,9 +6,11 @@
 #include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <optional>
 #include <string>
 
 #include "render/compute_rasterizer_glsl.h"
+#include "render/filter_uniforms.h"
 #include "render/frustum.h"
 #include "render/fullscreen_triangle.h"
 #include "render/point_pass_glsl.h"
@@ -17,7 +19,15 @@ namespace parallax {
 
 namespace {
 
-enum TextureUnit : int { kPositions = 0, kColors = 1, kNormals = 2, kExtras = 3, kBatches = 4 };
+enum TextureUnit : int {
+  kPositions = 0,
+  kColors = 1,
+  kNormals = 2,
+  kExtras = 3,
+  kBatches = 4,
+  kGpsTimes = 5,
+  kTextureUnits = 6
+};
 // SSBO bindings, as in the shaders.
 enum Binding : GLuint {
   kDepthBinding = 0,
@@ -123,13 +133,13 @@ ComputeRasterizer::ComputeRasterizer(const ComputeRasterizerOptions& options) : 
   atomic64_ = options.allow_64bit_atomics && hasExtension("GL_NV_shader_atomic_int64") &&
               hasExtension("GL_ARB_gpu_shader_int64");
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_ssbo_bytes_);
-  glCreateTextures(GL_TEXTURE_BUFFER, 5, textures_);
+  glCreateTextures(GL_TEXTURE_BUFFER, kTextureUnits, textures_);
   glCreateTextures(GL_TEXTURE_BUFFER, 6, views_);
   glCreateVertexArrays(1, &vao_);
 }
 
 ComputeRasterizer::~ComputeRasterizer() {
-  glDeleteTextures(5, textures_);
+  glDeleteTextures(kTextureUnits, textures_);
   glDeleteTextures(6, views_);
   if (vao_) glDeleteVertexArrays(1, &vao_);
   const GLuint buffers[] = {depths_, ids_, colors_, sums_, flags_};
@@ -377,13 +387,8 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     glUniform2f(shader.uniform("u_size_clamp"), std::max(settings.min_size_px, 1.0f),
                 settings.max_size_px);
     glUniform1f(shader.uniform("u_hq_range"), settings.hq_depth_range);
-    if (variant.filter) {
-      const auto class_words = filterClassWords(settings.filter, draw_set.has_classification);
-      glUniform1uiv(shader.uniform("u_filter_classes"), 8, class_words.data());
-      glUniform1i(shader.uniform("u_clip_outside"), GLint(settings.filter.clip_outside));
-      glUniform1i(shader.uniform("u_clip_plane_count"),
-                  GLint(std::min(settings.filter.clip_planes.size(), PointFilter::kMaxClipPlanes)));
-    }
+    std::optional<FilterUniforms> filter_uniforms;
+    if (variant.filter) filter_uniforms.emplace(shader, settings.filter, draw_set);
     float viewports[4 * kMaxViews], pixels_per_unit[kMaxViews], coeffs[4 * kMaxViews];
     for (std::size_t v = 0; v < eyes.size(); ++v) {
       const Viewport& vp = eyes[v].viewport;
@@ -403,12 +408,12 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     const GLint view_mask_location = shader.uniform("u_view_mask");
     const GLint elevation_location = shader.uniform("u_elevation");
     const GLint node_spacing_location = shader.uniform("u_node_spacing");
-    const GLint clip_planes_location = shader.uniform("u_clip_planes");
     const GLint point_count_location = shader.uniform("u_point_count");
     const GLint batch_base_location = shader.uniform("u_batch_base");
     const GLint id_base_location = shader.uniform("u_id_base");
     const GLint flag_base_location = shader.uniform("u_flag_base");
-    for (int unit = 0; unit < 5; ++unit) glBindTextureUnit(GLuint(unit), textures_[unit]);
+    for (int unit = 0; unit < kTextureUnits; ++unit)
+      glBindTextureUnit(GLuint(unit), textures_[unit]);
 
     for (std::size_t n = 0; n < work.size(); ++n) {
       const Work& w = work[n];
@@ -426,10 +431,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
       glUniform1ui(view_mask_location, w.visible);
       glUniform2f(elevation_location, float(chunk.origin.z - z_min), float(1.0 / z_extent));
       glUniform1f(node_spacing_location, item.node_spacing);
-      if (variant.filter) {
-        const auto planes = chunkClipPlanes(settings.filter, chunk.origin);
-        glUniform4fv(clip_planes_location, GLsizei(PointFilter::kMaxClipPlanes), planes.data());
-      }
+      if (filter_uniforms) filter_uniforms->setChunk(chunk);
       glTextureBufferRange(textures_[kBatches], GL_RGBA32F, chunk.buffer,
                            GLintptr(chunk.batches_offset), GLsizeiptr(chunk.batch_count) * 32);
       for (std::size_t first = 0; first < chunk.count; first += range_points) {
@@ -447,6 +449,10 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
         if (needs_extras) {
           glTextureBufferRange(textures_[kExtras], GL_RG32UI, chunk.buffer,
                                GLintptr(chunk.extras_offset + first * 8), GLsizeiptr(count * 8));
+        }
+        if (filter_uniforms && filter_uniforms->readsGpsTime()) {
+          glTextureBufferRange(textures_[kGpsTimes], GL_RG32F, chunk.buffer,
+                               GLintptr(chunk.gps_offset + first * 8), GLsizeiptr(count * 8));
         }
         glUniform1ui(point_count_location, GLuint(count));
         glUniform1ui(batch_base_location, GLuint(first / kBatchPoints));

@@ -32,6 +32,7 @@ layout(binding = 1) uniform samplerBuffer t_colors;     // RGBA8
 layout(binding = 2) uniform usamplerBuffer t_normals;   // R32UI, int 2_10_10_10 (w unused)
 layout(binding = 3) uniform usamplerBuffer t_extras;    // RG32UI: intensity | class << 16, spacing
 layout(binding = 4) uniform samplerBuffer t_batches;    // RGBA32F, min and max of each batch
+layout(binding = 5) uniform samplerBuffer t_gps;        // RG32F, GPS time (hi, lo) (filters)
 
 // The visibility buffer, one entry per canvas pixel. The depth key is ~bits of the reversed
 // window depth (near 1, far 0): smaller is nearer, and the empty value ~0u is the far plane.
@@ -291,7 +292,9 @@ void main() {
     if (i >= u_point_count) break;
     vec3 p = texelFetch(t_positions, int(i)).xyz;
 #if FILTER
-    if (!keepPoint(p, (extras0(i) >> 16) & 0xffu)) continue;
+    if (!keepPoint(p, extras0(i), u_filter_gps_on ? texelFetch(t_gps, int(i)).xy : vec2(0.0))) {
+      continue;
+    }
 #endif
     // Read once, projected into every view (stereo in one pass).
     for (int v = 0; v < VIEWS; ++v) {
