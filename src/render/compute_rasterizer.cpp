@@ -64,14 +64,15 @@ struct Variant {
   int views = 1;
   int color = 5, size = 0;
   bool lighting = false, orthographic = false, round = false, splat = false;
-  bool hq = false, reset = false, filter = false;
+  bool hq = false, reset = false;
+  unsigned filter = 0;  // FilterPart bits (filter_uniforms.h)
 
   std::uint32_t key() const {
     return std::uint32_t(pass) | std::uint32_t(atomic64) << 2 | std::uint32_t(views) << 3 |
            std::uint32_t(color) << 6 | std::uint32_t(size) << 9 | std::uint32_t(lighting) << 11 |
            std::uint32_t(orthographic) << 12 | std::uint32_t(round) << 13 |
            std::uint32_t(splat) << 14 | std::uint32_t(hq) << 15 | std::uint32_t(reset) << 16 |
-           std::uint32_t(filter) << 17;
+           std::uint32_t(filter) << 21;
   }
   std::string defines() const {
     auto define = [](const char* name, int value) {
@@ -80,7 +81,7 @@ struct Variant {
     return define("PASS", pass) + define("ATOMIC64", atomic64) + define("VIEWS", views) +
            define("COLOR_MODE", color) + define("SIZE_MODE", size) + define("LIGHTING", lighting) +
            define("ORTHOGRAPHIC", orthographic) + define("ROUND", round) + define("SPLAT", splat) +
-           define("HQ", hq) + define("RESET", reset) + define("FILTER", filter) +
+           define("HQ", hq) + define("RESET", reset) + filterDefines(filter) +
            "#define BATCH_POINTS " + std::to_string(kBatchPoints) + "u\n#define MAX_SPLAT " +
            std::to_string(ComputeRasterizer::kMaxSplatPx) + "\n";
   }
@@ -296,9 +297,11 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   variant.splat = settings.size_mode != PointSizeMode::Fixed || settings.point_size_px > 1.0f;
   variant.hq = hq;
   variant.reset = frame.accumulate && !atomic64_;
-  variant.filter = !settings.filter.keepsAll();
-  const bool needs_extras = variant.color == 2 || variant.color == 4 || variant.filter ||
-                            settings.size_mode == PointSizeMode::Adaptive;
+  variant.filter = filterParts(settings.filter, draw_set);
+  const bool needs_extras =
+      variant.color == 2 || variant.color == 4 ||
+      (variant.filter & ~(kFilterElevation | kFilterGps | kFilterPlanes | kFilterPolygon)) != 0 ||
+      settings.size_mode == PointSizeMode::Adaptive;
 
   // Ids: the draw set's points in order, whatever this frame draws of it.
   item_ids_.assign(draw_set.items.size() + 1, 0);

@@ -292,9 +292,17 @@ void main() {
     if (i >= u_point_count) break;
     vec3 p = texelFetch(t_positions, int(i)).xyz;
 #if FILTER
-    if (!keepPoint(p, extras0(i), u_filter_gps_on ? texelFetch(t_gps, int(i)).xy : vec2(0.0))) {
-      continue;
-    }
+#if FILTER_GPS
+    vec2 gps = texelFetch(t_gps, int(i)).xy;
+#else
+    vec2 gps = vec2(0.0);
+#endif
+#if FILTER_CLASSES || FILTER_RETURNS || FILTER_INTENSITY
+    uint word = extras0(i);
+#else
+    uint word = 0u;  // the extras are not bound: no test reads them
+#endif
+    if (!keepPoint(p, word, gps)) continue;
 #endif
     // Read once, projected into every view (stereo in one pass).
     for (int v = 0; v < VIEWS; ++v) {

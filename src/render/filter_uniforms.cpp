@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "render/rasterizer.h"
@@ -28,6 +29,35 @@ std::array<float, 2> splitBound(double d, bool minimum) {
 }
 
 }  // namespace
+
+unsigned filterParts(const PointFilter& filter, const DrawSet& draw_set) {
+  unsigned parts = 0;
+  if (!filter.keepsEveryClass()) parts |= kFilterClasses;
+  if (!filter.keepsEveryReturn()) parts |= kFilterReturns;
+  // A GPS range where there is no GPS time keeps all or nothing: the latter is an empty
+  // intensity range.
+  if (filter.intensity || (filter.gps_time && !draw_set.has_gps_time)) parts |= kFilterIntensity;
+  if (filter.elevation) parts |= kFilterElevation;
+  if (filter.gps_time && draw_set.has_gps_time) parts |= kFilterGps;
+  if (!filter.clip_planes.empty()) parts |= kFilterPlanes;
+  if (!filter.polygon.empty()) parts |= kFilterPolygon;
+  return parts;
+}
+
+std::string filterDefines(unsigned parts) {
+  std::string text = "#define FILTER " + std::to_string(int(parts != 0)) + "\n";
+  const std::pair<FilterPart, const char*> names[] = {{kFilterClasses, "FILTER_CLASSES"},
+                                                      {kFilterReturns, "FILTER_RETURNS"},
+                                                      {kFilterIntensity, "FILTER_INTENSITY"},
+                                                      {kFilterElevation, "FILTER_ELEVATION"},
+                                                      {kFilterGps, "FILTER_GPS"},
+                                                      {kFilterPlanes, "FILTER_PLANES"},
+                                                      {kFilterPolygon, "FILTER_POLYGON"}};
+  for (const auto& [part, name] : names) {
+    text += "#define " + std::string(name) + " " + std::to_string(int((parts & part) != 0)) + "\n";
+  }
+  return text;
+}
 
 std::array<std::uint32_t, 2> filterIntensityBounds(const PointFilter& filter,
                                                    const DrawSet& draw_set) {
@@ -55,13 +85,12 @@ std::array<float, 4> filterGpsBounds(const ValueRange& range, double base) {
 
 FilterUniforms::FilterUniforms(const ShaderProgram& program, const PointFilter& filter,
                                const DrawSet& draw_set)
-    : filter_(filter), gps_on_(filter.gps_time && draw_set.has_gps_time) {
+    : filter_(filter), parts_(filterParts(filter, draw_set)), gps_on_((parts_ & kFilterGps) != 0) {
   const auto class_words = filterClassWords(filter, draw_set.has_classification);
   glUniform1uiv(program.uniform("u_filter_classes"), 8, class_words.data());
   glUniform1uiv(program.uniform("u_filter_returns"), 8, filter.returns.data());
   const auto intensity = filterIntensityBounds(filter, draw_set);
   glUniform2ui(program.uniform("u_filter_intensity"), intensity[0], intensity[1]);
-  glUniform1i(program.uniform("u_filter_gps_on"), GLint(gps_on_));
   glUniform1i(program.uniform("u_clip_outside"), GLint(filter.clip_outside));
   glUniform1i(program.uniform("u_clip_plane_count"),
               GLint(std::min(filter.clip_planes.size(), PointFilter::kMaxClipPlanes)));
@@ -74,11 +103,15 @@ FilterUniforms::FilterUniforms(const ShaderProgram& program, const PointFilter& 
 }
 
 void FilterUniforms::setChunk(const PointChunk& chunk) const {
-  const auto planes = chunkClipPlanes(filter_, chunk.origin);
-  glUniform4fv(planes_, GLsizei(PointFilter::kMaxClipPlanes), planes.data());
-  const double z = chunk.origin.z;
-  glUniform2f(elevation_, filter_.elevation ? relative(filter_.elevation->min, z) : -FLT_MAX,
-              filter_.elevation ? relative(filter_.elevation->max, z) : FLT_MAX);
+  if (parts_ & kFilterPlanes) {
+    const auto planes = chunkClipPlanes(filter_, chunk.origin);
+    glUniform4fv(planes_, GLsizei(PointFilter::kMaxClipPlanes), planes.data());
+  }
+  if (filter_.elevation) {
+    const double z = chunk.origin.z;
+    glUniform2f(elevation_, relative(filter_.elevation->min, z),
+                relative(filter_.elevation->max, z));
+  }
   if (gps_on_) {
     const auto bounds = filterGpsBounds(*filter_.gps_time, chunk.gps_base);
     glUniform4fv(gps_, 1, bounds.data());

@@ -46,16 +46,16 @@ std::string withDefines(const char* source, const std::string& defines) {
 }  // namespace
 
 const ShaderProgram& PointPass::program(int color, int size, bool lighting, bool orthographic,
-                                        bool round, bool eye_depth, bool filter) {
+                                        bool round, bool eye_depth, unsigned filter) {
   const int key = color | size << 4 | int(lighting) << 8 | int(orthographic) << 9 |
                   int(round) << 10 | int(eye_depth) << 11 | int(filter) << 12;
   auto found = programs_.find(key);
   if (found != programs_.end()) return found->second;
-  const std::string vertex_defines =
-      "#define COLOR_MODE " + std::to_string(color) + "\n#define SIZE_MODE " +
-      std::to_string(size) + "\n#define LIGHTING " + std::to_string(int(lighting)) +
-      "\n#define ORTHOGRAPHIC " + std::to_string(int(orthographic)) + "\n#define FILTER " +
-      std::to_string(int(filter)) + "\n" + glsl::pointShadingFunctions();
+  const std::string vertex_defines = "#define COLOR_MODE " + std::to_string(color) +
+                                     "\n#define SIZE_MODE " + std::to_string(size) +
+                                     "\n#define LIGHTING " + std::to_string(int(lighting)) +
+                                     "\n#define ORTHOGRAPHIC " + std::to_string(int(orthographic)) +
+                                     "\n" + filterDefines(filter) + glsl::pointShadingFunctions();
   const std::string fragment_defines = "#define ROUND " + std::to_string(int(round)) +
                                        "\n#define EYE_DEPTH " + std::to_string(int(eye_depth)) +
                                        "\n";
@@ -147,7 +147,8 @@ RasterStats PointPass::draw(const RasterFrame& frame) {
   const bool lighting = settings.lighting && draw_set.has_normals;
   const bool orthographic = camera.projection == Projection::Orthographic;
   const bool adaptive = settings.size_mode == PointSizeMode::Adaptive;
-  const bool filter = !settings.filter.keepsAll();
+  const unsigned filter_parts = filterParts(settings.filter, draw_set);
+  const bool filter = filter_parts != 0;
 
   // Only the attributes this picture needs are fetched: vertex fetch is a large part of the cost
   // of a point on llvmpipe. A disabled attribute reads its constant (set below), never memory.
@@ -157,8 +158,9 @@ RasterStats PointPass::draw(const RasterFrame& frame) {
   setAttribute(vao_, kClassification,
                color == ColorMode::Classification && draw_set.has_classification);
   setAttribute(vao_, kSpacing, adaptive);
-  setAttribute(vao_, kFilterWord, filter);
-  const bool gps_times = filter && settings.filter.gps_time && draw_set.has_gps_time;
+  setAttribute(vao_, kFilterWord,
+               (filter_parts & (kFilterClasses | kFilterReturns | kFilterIntensity)) != 0);
+  const bool gps_times = (filter_parts & kFilterGps) != 0;
   setAttribute(vao_, kGpsTime, gps_times);
   glVertexAttrib4f(kColor, 1, 1, 1, 1);
   glVertexAttrib4f(kNormal, 0, 0, 1, 0);
@@ -169,7 +171,7 @@ RasterStats PointPass::draw(const RasterFrame& frame) {
 
   const ShaderProgram& shader =
       program(glsl::colorModeDefine(color), int(settings.size_mode), lighting, orthographic,
-              settings.shape == PointShape::Round, eye_depth, filter);
+              settings.shape == PointShape::Round, eye_depth, filter_parts);
   glUseProgram(shader.id());
   glBindVertexArray(vao_);
   glEnable(GL_DEPTH_TEST);

@@ -54,7 +54,6 @@ uniform uint u_filter_classes[8];
 uniform uint u_filter_returns[8];
 uniform uvec2 u_filter_intensity;
 uniform vec2 u_filter_elevation;
-uniform bool u_filter_gps_on;
 uniform vec4 u_filter_gps;  // min (hi, lo), max (hi, lo)
 uniform vec4 u_clip_planes[6];
 uniform int u_clip_plane_count;
@@ -62,6 +61,7 @@ uniform vec4 u_clip_polygon[128];  // two vertices (x, y) a vec4
 uniform int u_clip_polygon_count;
 uniform bool u_clip_outside;
 
+#if FILTER_POLYGON
 vec2 polygonVertex(int i) {
   vec4 pair = u_clip_polygon[i >> 1];
   return (i & 1) == 0 ? pair.xy : pair.zw;
@@ -80,31 +80,48 @@ bool insidePolygon(vec2 p) {
   }
   return inside;
 }
+#endif
 
+// Only the parts the frame uses are compiled in (FILTER_*, filter_uniforms.h).
 bool keepPoint(vec3 position, uint word, vec2 gps) {
+#if FILTER_CLASSES
   uint c = (word >> 16) & 0xffu;
   if (((u_filter_classes[c >> 5] >> (c & 31u)) & 1u) == 0u) return false;
+#endif
+#if FILTER_RETURNS
   uint r = word >> 24;
   if (((u_filter_returns[r >> 5] >> (r & 31u)) & 1u) == 0u) return false;
+#endif
+#if FILTER_INTENSITY
   uint q = word & 0xffffu;
   if (q < u_filter_intensity.x || q > u_filter_intensity.y) return false;
+#endif
+#if FILTER_ELEVATION
   if (position.z < u_filter_elevation.x || position.z > u_filter_elevation.y) return false;
-  if (u_filter_gps_on) {
-    // Pairs compared hi first: exact, where one float would merge steps below 64 s at 1e9 s.
-    bool above = gps.x > u_filter_gps.x || (gps.x == u_filter_gps.x && gps.y >= u_filter_gps.y);
-    bool below = gps.x < u_filter_gps.z || (gps.x == u_filter_gps.z && gps.y <= u_filter_gps.w);
-    if (!above || !below) return false;
-  }
-  if (u_clip_plane_count == 0 && u_clip_polygon_count == 0) return true;
+#endif
+#if FILTER_GPS
+  // Pairs compared hi first: exact, where one float would merge steps below 64 s at 1e9 s.
+  bool above = gps.x > u_filter_gps.x || (gps.x == u_filter_gps.x && gps.y >= u_filter_gps.y);
+  bool below = gps.x < u_filter_gps.z || (gps.x == u_filter_gps.z && gps.y <= u_filter_gps.w);
+  if (!above || !below) return false;
+#endif
+#if FILTER_PLANES || FILTER_POLYGON
   bool inside = true;
+#if FILTER_PLANES
   for (int i = 0; i < u_clip_plane_count; ++i) {
     if (dot(u_clip_planes[i].xyz, position) + u_clip_planes[i].w < 0.0) {
       inside = false;
       break;
     }
   }
-  if (inside && u_clip_polygon_count > 0) inside = insidePolygon(position.xy);
+#endif
+#if FILTER_POLYGON
+  if (inside) inside = insidePolygon(position.xy);
+#endif
   return inside != u_clip_outside;
+#else
+  return true;
+#endif
 }
 #endif
 )glsl";
