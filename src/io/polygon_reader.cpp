@@ -80,6 +80,11 @@ std::string kindOf(const Json& j) {
                          : "a value";
 }
 
+// A JSON value for a message; invalid UTF-8 in a string is replaced, not thrown on.
+std::string shown(const Json& j) {
+  return quoteInput(j.dump(-1, ' ', false, Json::error_handler_t::replace));
+}
+
 std::string typeOf(const Json& j) {
   const auto t = j.find("type");
   return t != j.end() && t->is_string() ? t->get<std::string>() : std::string();
@@ -88,7 +93,7 @@ std::string typeOf(const Json& j) {
 Polygon2 polygonOf(const Json& geometry, const std::string& path, const std::string& name) {
   if (!geometry.is_object() || typeOf(geometry) != "Polygon") {
     fail(name, std::nullopt, path, "a GeoJSON Polygon geometry",
-         geometry.is_object() ? "type '" + typeOf(geometry) + "'" : kindOf(geometry));
+         geometry.is_object() ? "type " + quoteInput(typeOf(geometry)) : kindOf(geometry));
   }
   const auto rings = geometry.find("coordinates");
   if (rings == geometry.end() || !rings->is_array() || rings->empty()) {
@@ -107,12 +112,11 @@ Polygon2 polygonOf(const Json& geometry, const std::string& path, const std::str
     const Json& p = ring[i];
     const std::string at = ring_path + "[" + std::to_string(i) + "]";
     if (!p.is_array() || p.size() < 2 || p.size() > 3 || !p[0].is_number() || !p[1].is_number()) {
-      fail(name, std::nullopt, at, "a position [x, y] or [x, y, z] of numbers",
-           quoteInput(p.dump()));
+      fail(name, std::nullopt, at, "a position [x, y] or [x, y, z] of numbers", shown(p));
     }
     const double x = p[0].get<double>(), y = p[1].get<double>();
     if (!std::isfinite(x) || !std::isfinite(y)) {
-      fail(name, std::nullopt, at, "finite coordinates", quoteInput(p.dump()));
+      fail(name, std::nullopt, at, "finite coordinates", shown(p));
     }
     vertices.push_back({x, y});
   }
@@ -123,8 +127,9 @@ Polygon2 parseGeoJson(std::string_view text, const std::string& name) {
   Json root;
   try {
     root = Json::parse(text);
-  } catch (const Json::parse_error& error) {
-    fail(name, std::nullopt, "GeoJSON", "valid JSON", error.what());
+  } catch (const Json::exception& error) {
+    // parse_error, and out_of_range for a number past a double's range.
+    fail(name, std::nullopt, "GeoJSON", "valid JSON", quoteInput(error.what(), 240));
   }
   if (!root.is_object()) fail(name, std::nullopt, "$", "a GeoJSON object", kindOf(root));
   const std::string type = typeOf(root);
@@ -144,13 +149,12 @@ Polygon2 parseGeoJson(std::string_view text, const std::string& name) {
     }
     const Json& feature = (*features)[0];
     if (!feature.is_object() || typeOf(feature) != "Feature" || !feature.contains("geometry")) {
-      fail(name, std::nullopt, "$.features[0]", "a Feature with a geometry",
-           quoteInput(feature.dump()));
+      fail(name, std::nullopt, "$.features[0]", "a Feature with a geometry", shown(feature));
     }
     return polygonOf(feature["geometry"], "$.features[0].geometry", name);
   }
   fail(name, std::nullopt, "$.type", "'Polygon', 'Feature' or 'FeatureCollection'",
-       type.empty() ? "no type" : "'" + type + "'");
+       type.empty() ? "no type" : quoteInput(type));
 }
 
 }  // namespace

@@ -83,6 +83,13 @@ TEST(PolygonReader, MalformedGeoJsonNamesThePath) {
               "'$.features[0].geometry': expected a GeoJSON Polygon geometry, found type "
               "'MultiPolygon'");
   expectError(R"({"type":"Feature","geometry":null})", "$.geometry");
+  // Found by the fuzzer: a number past a double's range, invalid UTF-8 in a string.
+  expectError(R"({"type":"Polygon","coordinates":[[[0,0],[1e400,0],[4,4]]]})",
+              "expected valid JSON");
+  const std::string bad_utf8 =
+      errorOf("{\"type\":\"Polygon\",\"coordinates\":[[[0,0],[4,\"\xff\xfe\"],[4,4]]]}");
+  EXPECT_NE(bad_utf8.find("expected valid JSON"), std::string::npos) << bad_utf8;
+  EXPECT_EQ(bad_utf8.find('\xff'), std::string::npos) << "raw bytes in the message";
 }
 
 TEST(PolygonReader, AMissingFileIsAnInputError) {
