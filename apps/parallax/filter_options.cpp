@@ -128,7 +128,8 @@ void addFilterOptions(CLI::App& command, FilterOptions& o, const std::string& wh
       ->check(not_empty);
   command.add_option("--clip-mode", o.clip_mode,
                      "inside (default): keep the --clip-box's / --clip-polygon's content; "
-                     "outside: hide it, keep the rest");
+                     "outside: hide it, keep the rest; highlight (render, view): keep every "
+                     "point and tint the content");
 }
 
 std::vector<int> parseClassList(std::string_view text) {
@@ -261,14 +262,22 @@ PointFilter pointFilterFrom(const FilterOptions& o, FilterTarget target) {
   if (!o.intensity.empty()) filter.intensity = parseRange("--intensity", o.intensity);
   if (!o.elevation.empty()) filter.elevation = parseRange("--elevation", o.elevation);
   if (!o.gps_time.empty()) filter.gps_time = parseRange("--gps-time", o.gps_time);
-  if (!o.clip_mode.empty() && o.clip_mode != "inside" && o.clip_mode != "outside") {
+  if (!o.clip_mode.empty() && o.clip_mode != "inside" && o.clip_mode != "outside" &&
+      o.clip_mode != "highlight") {
     throw std::invalid_argument("--clip-mode: unknown mode '" + o.clip_mode +
-                                "' (use inside|outside)");
+                                (target == FilterTarget::Gpu ? "' (use inside|outside|highlight)"
+                                                             : "' (use inside|outside)"));
+  }
+  if (o.clip_mode == "highlight" && target == FilterTarget::Cpu) {
+    throw std::invalid_argument(
+        "--clip-mode: highlight tints the region in a picture and keeps every point: use it with "
+        "render or view; here use inside or outside");
   }
   if (!o.clip_mode.empty() && o.clip_box.empty() && o.clip_polygon.empty()) {
     throw std::invalid_argument("--clip-mode: needs a region: give --clip-box or --clip-polygon");
   }
   const bool outside = o.clip_mode == "outside";
+  filter.clip_highlight = o.clip_mode == "highlight";
   if (!o.clip_box.empty()) filter.setClipBox(parseClipBox(o.clip_box), outside);
   if (!o.clip_polygon.empty()) {
     filter.polygon = readPolygonFile(o.clip_polygon);

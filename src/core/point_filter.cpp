@@ -129,13 +129,18 @@ bool PointFilter::insidePolygon(double x, double y) const {
   return inside;
 }
 
-bool PointFilter::keepsPosition(double x, double y, double z) const {
-  if (elevation && !elevation->contains(z)) return false;
-  if (!hasRegion()) return true;
+bool PointFilter::inRegion(double x, double y, double z) const {
+  if (!hasRegion()) return false;
   bool inside = true;
   for (const auto& p : clip_planes) inside = inside && p[0] * x + p[1] * y + p[2] * z + p[3] >= 0;
   if (inside && !polygon.empty()) inside = insidePolygon(x, y);
-  return inside != clip_outside;
+  return inside;
+}
+
+bool PointFilter::keepsPosition(double x, double y, double z) const {
+  if (elevation && !elevation->contains(z)) return false;
+  if (!hasRegion() || clip_highlight) return true;
+  return inRegion(x, y, z) != clip_outside;
 }
 
 PointCloud filterPoints(const PointCloud& cloud, const PointFilter& filter) {

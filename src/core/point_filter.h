@@ -66,6 +66,9 @@ struct PointFilter {
   // Keep the points outside the region instead (hide a box's content): a union of half-spaces,
   // which AND-ed planes alone cannot say. Ignored without a region.
   bool clip_outside = false;
+  // Keep the region's points and the others alike, and tint the region's (render and view: a
+  // drawing mode, which the converter refuses). Ignored without a region; clip_outside unused.
+  bool clip_highlight = false;
 
   bool keepsAll() const;
   bool keepsEveryClass() const;
@@ -84,9 +87,11 @@ struct PointFilter {
   void setClipBox(const Bounds3& box, bool outside);
   // The box of clip_planes when they are six that setClipBox wrote (an editor shows it back).
   std::optional<Bounds3> clipBox() const;
-  // The region test alone (planes and polygon, inside or outside), in double: what the shaders
-  // approximate in chunk-relative floats.
+  // The position tests (elevation, and the region inside or outside unless highlighted), in
+  // double: what the shaders approximate in chunk-relative floats.
   bool keepsPosition(double x, double y, double z) const;
+  // Whether a point is in the region (planes and polygon; false without a region).
+  bool inRegion(double x, double y, double z) const;
   // Whether (x, y) is inside `polygon` (even-odd rule; false for an empty polygon).
   bool insidePolygon(double x, double y) const;
 

@@ -119,6 +119,9 @@ vec3 pointColor(uint i, vec3 p, int v) {
 #else
   vec3 color = u_uniform_color;
 #endif
+#if FILTER && FILTER_HIGHLIGHT
+  color = highlighted(color, p);
+#endif
 #if LIGHTING
   vec3 n = normalize(mat3(u_model_view[v]) * normalOf(i));
 #if ORTHOGRAPHIC

@@ -41,6 +41,7 @@ unsigned filterParts(const PointFilter& filter, const DrawSet& draw_set) {
   if (filter.gps_time && draw_set.has_gps_time) parts |= kFilterGps;
   if (!filter.clip_planes.empty()) parts |= kFilterPlanes;
   if (!filter.polygon.empty()) parts |= kFilterPolygon;
+  if (filter.clip_highlight && filter.hasRegion()) parts |= kFilterHighlight;
   return parts;
 }
 
@@ -52,7 +53,8 @@ std::string filterDefines(unsigned parts) {
                                                       {kFilterElevation, "FILTER_ELEVATION"},
                                                       {kFilterGps, "FILTER_GPS"},
                                                       {kFilterPlanes, "FILTER_PLANES"},
-                                                      {kFilterPolygon, "FILTER_POLYGON"}};
+                                                      {kFilterPolygon, "FILTER_POLYGON"},
+                                                      {kFilterHighlight, "FILTER_HIGHLIGHT"}};
   for (const auto& [part, name] : names) {
     text += "#define " + std::string(name) + " " + std::to_string(int((parts & part) != 0)) + "\n";
   }

@@ -41,6 +41,7 @@ enum FilterPart : unsigned {
   kFilterGps = 16,
   kFilterPlanes = 32,
   kFilterPolygon = 64,
+  kFilterHighlight = 128,  // the region tints (inClipRegion()) instead of dropping
 };
 // 0 when the filter keeps everything.
 unsigned filterParts(const PointFilter& filter, const DrawSet& draw_set);

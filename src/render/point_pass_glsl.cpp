@@ -82,6 +82,25 @@ bool insidePolygon(vec2 p) {
 }
 #endif
 
+#if FILTER_PLANES || FILTER_POLYGON
+// The planes' and polygon's intersection (PointFilter::inRegion).
+bool inClipRegion(vec3 position) {
+  bool inside = true;
+#if FILTER_PLANES
+  for (int i = 0; i < u_clip_plane_count; ++i) {
+    if (dot(u_clip_planes[i].xyz, position) + u_clip_planes[i].w < 0.0) {
+      inside = false;
+      break;
+    }
+  }
+#endif
+#if FILTER_POLYGON
+  if (inside) inside = insidePolygon(position.xy);
+#endif
+  return inside;
+}
+#endif
+
 // Only the parts the frame uses are compiled in (FILTER_*, filter_uniforms.h).
 bool keepPoint(vec3 position, uint word, vec2 gps) {
 #if FILTER_CLASSES
@@ -105,24 +124,20 @@ bool keepPoint(vec3 position, uint word, vec2 gps) {
   bool below = gps.x < u_filter_gps.z || (gps.x == u_filter_gps.z && gps.y <= u_filter_gps.w);
   if (!above || !below) return false;
 #endif
-#if FILTER_PLANES || FILTER_POLYGON
-  bool inside = true;
-#if FILTER_PLANES
-  for (int i = 0; i < u_clip_plane_count; ++i) {
-    if (dot(u_clip_planes[i].xyz, position) + u_clip_planes[i].w < 0.0) {
-      inside = false;
-      break;
-    }
-  }
-#endif
-#if FILTER_POLYGON
-  if (inside) inside = insidePolygon(position.xy);
-#endif
-  return inside != u_clip_outside;
+#if (FILTER_PLANES || FILTER_POLYGON) && !FILTER_HIGHLIGHT
+  return inClipRegion(position) != u_clip_outside;
 #else
   return true;
 #endif
 }
+
+#if FILTER_HIGHLIGHT
+// --clip-mode highlight: the region's points are drawn half way to this colour.
+const vec3 kHighlightColor = vec3(1.0, 0.25, 0.05);
+vec3 highlighted(vec3 color, vec3 position) {
+  return inClipRegion(position) ? mix(color, kHighlightColor, 0.5) : color;
+}
+#endif
 #endif
 )glsl";
 
@@ -214,6 +229,9 @@ void main() {
   vec3 color = classColor(a_classification);
 #else
   vec3 color = u_uniform_color;
+#endif
+#if FILTER && FILTER_HIGHLIGHT
+  color = highlighted(color, a_position);
 #endif
 
 #if LIGHTING

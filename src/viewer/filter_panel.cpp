@@ -90,14 +90,21 @@ void drawClipBoxEditor(Session& s) {
   }
 }
 
-// Inside / outside of the region (box and polygon alike, as --clip-mode).
+// Inside / outside / highlight of the region (box and polygon alike, as --clip-mode).
 void drawClipMode(Session& s) {
   Session::FilterEditor& e = s.filter_editor;
   if (!e.box_enabled && !e.polygon_enabled) return;
-  if (ImGui::RadioButton("inside", !e.box_outside)) e.box_outside = false;
+  if (ImGui::RadioButton("inside", !e.box_outside && !e.highlight)) {
+    e.box_outside = e.highlight = false;
+  }
   ImGui::SameLine();
-  if (ImGui::RadioButton("outside", e.box_outside)) e.box_outside = true;
-  s.settings.filter.clip_outside = e.box_outside;
+  if (ImGui::RadioButton("outside", e.box_outside && !e.highlight)) {
+    e.box_outside = true, e.highlight = false;
+  }
+  ImGui::SameLine();
+  if (ImGui::RadioButton("highlight", e.highlight)) e.highlight = true;
+  s.settings.filter.clip_outside = e.box_outside && !e.highlight;
+  s.settings.filter.clip_highlight = e.highlight;
 }
 
 constexpr std::array<const char*, 5> kReturnKindNames{"first", "last", "intermediate", "single",
@@ -246,10 +253,13 @@ void prepareFilters(Session& s, const PointCloud* points, bool whole, bool has_c
     e.box_enabled = true;
     e.box = *given;
     e.box_outside = s.options->settings.filter.clip_outside;
+    e.highlight = s.options->settings.filter.clip_highlight;
     return;
   }
   e.box_enabled = false;
   e.box_outside = e.polygon_enabled && options.clip_outside;
+  e.highlight = e.polygon_enabled && options.clip_highlight;
+  s.settings.filter.clip_highlight = e.highlight;
   e.box = s.extent.bounds;
   s.settings.filter.clip_planes.clear();
   s.settings.filter.clip_outside = e.box_outside;

@@ -197,6 +197,12 @@ TEST(PointFilter, PolygonInsideOutsideAndWithABox) {
   EXPECT_TRUE(filter.keepsPosition(0.5, 0.5, 0.5));
   EXPECT_FALSE(filter.keepsPosition(0.5, 0.5, 1.5));
   EXPECT_FALSE(filter.keepsPosition(1.5, 1.5, 0.5));
+  // Highlighted, the region keeps everything and only says what is in it.
+  filter.clip_highlight = true;
+  EXPECT_TRUE(filter.keepsPosition(1.5, 1.5, 0.5));
+  EXPECT_TRUE(filter.keepsPosition(0.5, 0.5, 0.5));
+  EXPECT_FALSE(filter.inRegion(1.5, 1.5, 0.5));
+  EXPECT_TRUE(filter.inRegion(0.5, 0.5, 0.5));
 }
 
 TEST(Classification, AsprsNamesAndNumbersForTheRest) {

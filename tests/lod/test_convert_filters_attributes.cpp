@@ -287,7 +287,11 @@ TEST_F(ConvertAttributeFilters, BadValuesAndPolygonFilesAreClearErrors) {
             2},
            {"--clip-polygon " + quoted(two.string()),
             "expected at least 3 distinct vertices, found 2", 2},
-           {"--gps-time 1,2", "at least one point that the filters", 2}}) {
+           {"--gps-time 1,2", "at least one point that the filters", 2},
+           {"--clip-polygon " + quoted(two.string()) + " --clip-mode highlight",
+            "--clip-mode: highlight tints the region in a picture and keeps every point: use it "
+            "with render or view",
+            1}}) {
     const RunResult r = runParallax(dir_, "convert " + quoted(las_.string()) + " -o " +
                                               quoted((dir_ / "bad.las").string()) + " " + options);
     EXPECT_EQ(r.exit_code, exit_code) << options << "\n" << r.err;

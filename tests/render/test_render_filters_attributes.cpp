@@ -201,6 +201,46 @@ TEST_P(RenderAttributeFilters, ClipPolygonBoundedInZByABox) {
       [&](const Point& p) { return kL.inside(p, c) && p.mm[2] >= z - 100 && p.mm[2] <= z + 100; });
 }
 
+// --clip-mode highlight keeps every point and draws the region's half way to orange: the pixels
+// of the points inside (those of the CPU-filtered render) change to the mix, every other pixel
+// stays as the plain render has it.
+TEST_P(RenderAttributeFilters, HighlightTintsThePolygonsPointsAndKeepsTheRest) {
+  const Scene scene = makeScene(kUtm, true);
+  const auto c = centreMm(scene);
+  const auto file = dir_.write("area.geojson", kL.geoJson(c));
+  std::vector<Point> inside;
+  for (const Point& p : scene.points) {
+    if (kL.inside(p, c)) inside.push_back(p);
+  }
+  ASSERT_GT(inside.size(), 100u);
+  const auto all = dir_.write("all.ply", plyOf(scene.points, true, true));
+  const auto kept = dir_.write("inside.ply", plyOf(inside, true, true));
+  const RgbaImage plain = render(scene, all, "", "plain");
+  const RgbaImage tinted = render(
+      scene, all, "--clip-polygon " + quoted(file.string()) + " --clip-mode highlight", "tinted");
+  const RgbaImage only_inside = render(scene, kept, "", "inside");
+  const double tint[3] = {255.0, 0.25 * 255.0, 0.05 * 255.0};
+  std::size_t changed = 0, unchanged_lit = 0;
+  for (std::size_t i = 0; i < plain.pixels.size(); i += 4) {
+    const bool in =
+        (only_inside.pixels[i] | only_inside.pixels[i + 1] | only_inside.pixels[i + 2]) != 0;
+    if (!in) {
+      EXPECT_TRUE(std::equal(&plain.pixels[i], &plain.pixels[i] + 4, &tinted.pixels[i]))
+          << "pixel " << i / 4 << " outside the polygon changed";
+      unchanged_lit += (plain.pixels[i] | plain.pixels[i + 1] | plain.pixels[i + 2]) != 0;
+      continue;
+    }
+    ++changed;
+    for (int k = 0; k < 3; ++k) {
+      const double expected = (double(plain.pixels[i + std::size_t(k)]) + tint[k]) / 2.0;
+      EXPECT_NEAR(double(tinted.pixels[i + std::size_t(k)]), expected, 1.0)
+          << "pixel " << i / 4 << " channel " << k;
+    }
+  }
+  EXPECT_EQ(changed, inside.size());
+  EXPECT_EQ(unchanged_lit, scene.points.size() - inside.size());
+}
+
 TEST_P(RenderAttributeFilters, BadValuesAndPolygonFilesAreClearErrors) {
   const Scene scene = makeScene({10.0, 20.0, 5.0}, true);
   const auto all = dir_.write("all.ply", plyOf(scene.points, true, true));
@@ -223,6 +263,8 @@ TEST_P(RenderAttributeFilters, BadValuesAndPolygonFilesAreClearErrors) {
            {"--elevation 10,2", "--elevation: MIN '10' is greater than MAX '2'", 1},
            {"--gps-time 1,x", "--gps-time: MAX 'x' is not a number", 1},
            {"--clip-mode outside", "--clip-mode: needs a region", 1},
+           {"--clip-box 0,0,0,1,1,1 --clip-mode tint",
+            "--clip-mode: unknown mode 'tint' (use inside|outside|highlight)", 1},
            {"--clip-polygon " + quoted(big_polygon.string()),
             "has 300 vertices; the shaders take at most 256", 1},
            {"--clip-polygon " + quoted(bad_polygon.string()),
