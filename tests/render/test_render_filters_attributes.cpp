@@ -29,10 +29,11 @@ class RenderAttributeFilters : public ::testing::TestWithParam<std::string> {
     return readPng(png);
   }
 
-  // The filtered render of the whole scene equals the render of the points `keep` accepts, and
-  // lights one pixel per kept point.
-  void expectFilterMatches(const Scene& scene, const std::string& options,
-                           const std::function<bool(const Point&)>& keep) {
+  // The filtered render of the whole scene (as a PLY file, or as what `prepare` makes of it: an
+  // octree) equals the render of the points `keep` accepts, and lights one pixel per kept point.
+  void expectFilterMatches(
+      const Scene& scene, const std::string& options, const std::function<bool(const Point&)>& keep,
+      const std::function<std::filesystem::path(const std::filesystem::path&)>& prepare = {}) {
     std::vector<Point> kept;
     for (const Point& p : scene.points) {
       if (keep(p)) kept.push_back(p);
@@ -41,7 +42,7 @@ class RenderAttributeFilters : public ::testing::TestWithParam<std::string> {
     ASSERT_LT(kept.size(), scene.points.size()) << options;
     const auto all = dir_.write("all.ply", plyOf(scene.points, true, true));
     const auto cpu = dir_.write("kept.ply", plyOf(kept, true, true));
-    const RgbaImage filtered = render(scene, all, options, "filtered");
+    const RgbaImage filtered = render(scene, prepare ? prepare(all) : all, options, "filtered");
     const RgbaImage expected = render(scene, cpu, "", "expected");
     ASSERT_EQ(filtered.pixels.size(), expected.pixels.size());
     std::size_t lit = 0, different = 0;
@@ -107,6 +108,28 @@ TEST_P(RenderAttributeFilters, EveryFilterTogether) {
                                p.gps_us >= 10000000 && p.gps_us <= 90000000 && p.cls >= 1 &&
                                p.cls <= 9;
                       });
+}
+
+// The same filters on octrees made of the scene (Potree directory, COPC file): the nodes carry
+// returns, intensity and GPS time, and the level-of-detail path filters them alike.
+TEST_P(RenderAttributeFilters, OctreesFilterLikeTheFile) {
+  const Scene scene = makeScene(kUtm, true);
+  const auto keep = [](const Point& p) {
+    return p.ret == p.returns && p.intensity >= 200 && p.gps_us >= 20000002 && p.gps_us <= 70000000;
+  };
+  const std::string options =
+      "--returns last --intensity 199.5,1000 --gps-time 400000020.0000015,400000070.0000005";
+  for (const std::string output : {"octree", "octree.copc.laz"}) {
+    SCOPED_TRACE(output);
+    expectFilterMatches(scene, options, keep, [&](const std::filesystem::path& ply) {
+      const auto converted = dir_ / output;
+      std::filesystem::remove_all(converted);
+      const RunResult r = runParallax(
+          dir_, "convert -q " + quoted(ply.string()) + " -o " + quoted(converted.string()));
+      EXPECT_EQ(r.exit_code, 0) << r.err;
+      return converted;
+    });
+  }
 }
 
 // A concave polygon (an L) at UTM coordinates, vertices on odd half millimetres: the hand test
