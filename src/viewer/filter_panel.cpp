@@ -224,18 +224,23 @@ void prepareFilters(Session& s, const PointCloud* points, bool whole, bool has_c
       for (const std::uint8_t c : points->classification) setBit(e.listed, c);
     }
   }
-  // Ranges over the data: the whole cloud's or the preview's; an octree's intensity over 16 bits
-  // (its GPS time range is not known before its nodes are read: type a range with Ctrl + click).
+  // Ranges over the data: the whole cloud's or the preview's; an octree's as its format records
+  // them (OctreeInfo), else intensity over 16 bits and GPS time unknown (Ctrl + click to type).
   const PointFilter& options = s.options->settings.filter;
   PointFilter& filter = s.settings.filter;
   ValueRange intensity{0.0, s.octree && s.octree->info().has_intensity ? 65535.0 : 0.0};
-  if (points && points->hasIntensity() && points->count > 0) {
-    const auto [lo, hi] = std::minmax_element(points->intensity.begin(), points->intensity.end());
-    intensity = {double(*lo), double(*hi)};
+  ValueRange gps_time{};
+  if (points) {
+    if (points->hasIntensity() && points->count > 0) {
+      const auto [lo, hi] = std::minmax_element(points->intensity.begin(), points->intensity.end());
+      intensity = {double(*lo), double(*hi)};
+    }
+    gps_time = columnRange(points->findScalar(filter_names::kGpsTime), points->count);
+  } else if (s.octree) {
+    const OctreeInfo& info = s.octree->info();
+    if (info.intensity_range) intensity = {(*info.intensity_range)[0], (*info.intensity_range)[1]};
+    if (info.gps_time_range) gps_time = {(*info.gps_time_range)[0], (*info.gps_time_range)[1]};
   }
-  const ValueRange gps_time =
-      points ? columnRange(points->findScalar(filter_names::kGpsTime), points->count)
-             : ValueRange{};
   prepareRange(e.intensity, intensity, options.intensity, filter.intensity, first);
   prepareRange(e.elevation, {s.extent.bounds.min[2], s.extent.bounds.max[2]}, options.elevation,
                filter.elevation, first);

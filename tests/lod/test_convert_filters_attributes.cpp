@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <functional>
 #include <iomanip>
@@ -267,6 +268,32 @@ TEST_F(ConvertAttributeFilters, PolygonTextFileFromCopcToLasWithoutAVertexLimit)
   convert(dir_ / "all.copc.laz", dir_ / "circle.las",
           "--clip-polygon " + quoted(file.string()) + " --returns single");
   EXPECT_EQ(keysOf(readPointFile(dir_ / "circle.las")), kept);
+}
+
+// The octrees record the kept points' intensity and GPS time ranges where their formats can
+// (Potree metadata's min and max, COPC's info VLR for GPS time): the viewer's sliders start there.
+TEST_F(ConvertAttributeFilters, OctreesRecordTheKeptPointsRanges) {
+  const auto kept = keep(all_, [](const Key& k) { return ret(k) == 1; });
+  double gps[2] = {INFINITY, -INFINITY};
+  int intensities[2] = {INT_MAX, INT_MIN};
+  for (const Key& k : kept) {
+    gps[0] = std::min(gps[0], std::get<6>(k)), gps[1] = std::max(gps[1], std::get<6>(k));
+    intensities[0] = std::min(intensities[0], intensity(k));
+    intensities[1] = std::max(intensities[1], intensity(k));
+  }
+  convert(las_, dir_ / "first", "--returns first");
+  const auto potree = openPotree(dir_ / "first");
+  ASSERT_TRUE(potree->info().gps_time_range.has_value());
+  EXPECT_EQ((*potree->info().gps_time_range)[0], gps[0]);
+  EXPECT_EQ((*potree->info().gps_time_range)[1], gps[1]);
+  ASSERT_TRUE(potree->info().intensity_range.has_value());
+  EXPECT_EQ((*potree->info().intensity_range)[0], intensities[0]);
+  EXPECT_EQ((*potree->info().intensity_range)[1], intensities[1]);
+  convert(las_, dir_ / "first.copc.laz", "--returns first");
+  const auto copc = openCopc(dir_ / "first.copc.laz");
+  ASSERT_TRUE(copc->info().gps_time_range.has_value());
+  EXPECT_EQ((*copc->info().gps_time_range)[0], gps[0]);
+  EXPECT_EQ((*copc->info().gps_time_range)[1], gps[1]);
 }
 
 TEST_F(ConvertAttributeFilters, BadValuesAndPolygonFilesAreClearErrors) {
