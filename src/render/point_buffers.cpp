@@ -58,11 +58,14 @@ std::uint16_t quantizeIntensity(float value, const ChunkLayout& layout) {
                          ? layout.intensity_max - layout.intensity_min
                          : 1.0f;
   const float t = (value - layout.intensity_min) * (65535.0f / span);
-  return std::uint16_t(std::clamp(t, 0.0f, 65535.0f) + 0.5f);
+  // NaN (a float intensity may be one) gives 0: converting it to an integer is undefined.
+  return std::uint16_t((t >= 0.0f ? std::min(t, 65535.0f) : 0.0f) + 0.5f);
 }
 
 std::array<float, 2> splitGpsTime(double t, double base) {
-  const double d = t - base;
+  // Kept within a float's range (a double beyond it has no float); NaN stays NaN, which every
+  // comparison fails, as the CPU's range test does.
+  const double d = std::isnan(t - base) ? t - base : std::clamp(t - base, -1e30, 1e30);
   const float hi = float(d);
   return {hi, float(d - double(hi))};
 }
