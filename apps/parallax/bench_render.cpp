@@ -28,6 +28,8 @@
 // mono frame drawn twice in a row: what a second eye's rasterization alone costs, so that
 // stereo / (2 x mono) above 1 is work the stereo path adds.
 //
+// `--filter-toggle [--returns ...]`: what toggling a point filter costs (bench_render_filter.h).
+//
 // `parallax bench render DIR [--budget N]`: level of detail on a Potree directory instead
 // (bench_render_lod.cpp).
 #include <time.h>
@@ -45,9 +47,12 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include "bench_render_filter.h"
 #include "bench_render_lod.h"
+#include "bench_timing.h"
 #include "commands.h"
 #include "core/point_cloud.h"
+#include "filter_options.h"
 #include "render/gl_context.h"
 #include "render/point_buffers.h"
 #include "render/renderer.h"
@@ -73,6 +78,8 @@ struct RenderBenchOptions {
   bool json = false;
   int orbit_frames = 0;        // with a directory: an orbit of this many streamed frames
   double frame_budget_ms = 0;  // with --orbit: progressive refinement's time budget (0: none)
+  bool filter_toggle = false;  // frames with and without the filter (bench_render_filter.h)
+  FilterOptions filter;
 };
 
 using Clock = std::chrono::steady_clock;
@@ -186,24 +193,6 @@ class BarePoints {
   GLuint buffer_ = 0, vao_ = 0, color_ = 0, depth_ = 0, framebuffer_ = 0;
 };
 
-double processCpuSeconds() {
-  timespec now{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
-  return double(now.tv_sec) + double(now.tv_nsec) * 1e-9;
-}
-
-std::vector<double> loadAverage() {
-  std::ifstream file("/proc/loadavg");
-  std::vector<double> load(3, 0.0);
-  file >> load[0] >> load[1] >> load[2];
-  return load;
-}
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return values[values.size() / 2];
-}
-
 // Wall and CPU time of one frame, median of `repeat`, two sides interleaved frame by frame.
 struct Timing {
   double wall_s = 0, cpu_s = 0;
@@ -302,6 +291,14 @@ int runBenchRender(const RenderBenchOptions& o) {
   settings.shape = *shape;
   settings.rasterizer = *rasterizer;
   settings.hq = o.hq;
+  if (o.filter_toggle) {
+    return runBenchRenderFilter({.points = o.points,
+                                 .width = o.width,
+                                 .height = o.height,
+                                 .repeat = o.repeat,
+                                 .settings = settings,
+                                 .filter = pointFilterFrom(o.filter, FilterTarget::Gpu)});
+  }
   if (!o.directory.empty()) {
     return runBenchRenderLod({.directory = o.directory,
                               .budget = o.budget,
@@ -468,6 +465,11 @@ Command addBenchRenderCommand(CLI::App& bench) {
       ->add_option("--frame-budget", options->frame_budget_ms,
                    "With --orbit: progressive refinement's time budget per moving frame, ms")
       ->check(CLI::NonNegativeNumber);
+  command.subcommand->add_flag(
+      "--filter-toggle", options->filter_toggle,
+      "Frames with and without the filter options below (default --returns first), toggled "
+      "every other frame: frame times and the bytes uploaded");
+  addFilterOptions(*command.subcommand, options->filter, "drawn (with --filter-toggle)");
   command.run = [options] { return runBenchRender(*options); };
   return command;
 }

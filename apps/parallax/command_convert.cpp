@@ -261,7 +261,8 @@ int runConvert(ConvertArgs args) {
     return 0;
   }
   for (const std::string& input : args.inputs) checkOctreeUrl(input);
-  args.filter = pointFilterFrom(args.filter_options);  // before any output is touched
+  args.filter =
+      pointFilterFrom(args.filter_options, FilterTarget::Cpu);  // before any output is touched
   const bool filtered = !args.filter.keepsAll();
   if (args.plan) {
     return runConvertPlan({.inputs = args.inputs,
@@ -322,11 +323,13 @@ int runConvert(ConvertArgs args) {
     cloud = filterPoints(cloud, args.filter);
     // As the octree builds say (lod/convert_count.cpp): an empty output is a mistake, not a result.
     if (cloud.count == 0) {
-      throw InputError({.file = args.input,
-                        .expected = "at least one point that the class and clip filters keep",
-                        .found = "none of " + std::to_string(read_points) + " points",
-                        .hint = "check the class list and the clip box against the input's "
-                                "classes and bounds (parallax info)"});
+      throw InputError(
+          {.file = args.input,
+           .expected =
+               "at least one point that the filters (classes, returns, ranges, clip region) keep",
+           .found = "none of " + std::to_string(read_points) + " points",
+           .hint = "check the class list and the clip box against the input's "
+                   "classes and bounds (parallax info)"});
     }
   }
   int minor = 0;

@@ -17,21 +17,33 @@
 namespace parallax::cli {
 namespace {
 
+// The filter options as the plan keeps them: every option's text, the polygon file's path made
+// absolute (the workers may run in another directory; the work directory is shared).
 nlohmann::json filterJson(const FilterOptions& options) {
-  return {{"classes", options.classes},
-          {"clip_box", options.clip_box},
-          {"clip_mode", options.clip_mode}};
+  const std::string polygon =
+      options.clip_polygon.empty() ? "" : std::filesystem::absolute(options.clip_polygon).string();
+  return {{"classes", options.classes},     {"returns", options.returns},
+          {"intensity", options.intensity}, {"elevation", options.elevation},
+          {"gps_time", options.gps_time},   {"clip_box", options.clip_box},
+          {"clip_polygon", polygon},        {"clip_mode", options.clip_mode}};
 }
 
 FilterOptions filterOptionsFrom(const nlohmann::json& json, const std::string& plan_path) {
   try {
     return {.classes = json.at("classes").get<std::string>(),
+            .returns = json.at("returns").get<std::string>(),
+            .intensity = json.at("intensity").get<std::string>(),
+            .elevation = json.at("elevation").get<std::string>(),
+            .gps_time = json.at("gps_time").get<std::string>(),
             .clip_box = json.at("clip_box").get<std::string>(),
+            .clip_polygon = json.at("clip_polygon").get<std::string>(),
             .clip_mode = json.at("clip_mode").get<std::string>()};
   } catch (const nlohmann::json::exception& e) {
     throw InputError({.file = plan_path,
                       .element = "filter",
-                      .expected = "the filter options (classes, clip_box, clip_mode)",
+                      .expected =
+                          "the filter options (classes, returns, intensity, elevation, gps_time, "
+                          "clip_box, clip_polygon, clip_mode)",
                       .found = e.what(),
                       .hint = "write the plan again with parallax convert --plan"});
   }
@@ -52,7 +64,8 @@ int runConvertTask(const TaskArgs& args) {
     threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(args.threads));
   }
   const DistributedPlan plan = readDistributedPlan(args.plan);
-  const PointFilter filter = pointFilterFrom(filterOptionsFrom(plan.filter, args.plan));
+  const PointFilter filter =
+      pointFilterFrom(filterOptionsFrom(plan.filter, args.plan), FilterTarget::Cpu);
   std::vector<ConvertInput> inputs;
   for (const PlannedInput& input : plan.inputs) {
     inputs.push_back({input.path, plan.text_columns, filter});
@@ -65,7 +78,7 @@ int runConvertTask(const TaskArgs& args) {
 }  // namespace
 
 int runConvertPlan(const ConvertPlanRequest& request) {
-  const PointFilter filter = pointFilterFrom(request.filter_options);
+  const PointFilter filter = pointFilterFrom(request.filter_options, FilterTarget::Cpu);
   std::vector<ConvertInput> inputs;
   for (const std::string& input : request.inputs) {
     inputs.push_back({input, request.columns, filter});

@@ -79,7 +79,7 @@ int runPick(const PickCommandOptions& o) {
   const auto [pixel_x, pixel_y] = parsePixel(o);  // before the file is read
   configureNetworkFrom(o.lod);
   checkOctreeUrl(o.input);
-  pointFilterFrom(o.render.filter);
+  pointFilterFrom(o.render.filter, FilterTarget::Gpu);
   // Quiet: stdout carries the answer, and stderr stays free of progress bars.
   RenderSource source = openRenderSource(
       {.input = o.input, .preview = o.preview, .quiet = true, .command = "pick"}, o.lod);

@@ -95,7 +95,8 @@ int runRender(const RenderCommandOptions& o) {
   const auto start = Clock::now();
   configureNetworkFrom(o.lod);
   checkOctreeUrl(o.input);
-  pointFilterFrom(o.render.filter);  // a malformed list is reported before the file is read
+  pointFilterFrom(o.render.filter,
+                  FilterTarget::Gpu);  // a malformed list is reported before the file is read
   RenderSource source =
       openRenderSource({.input = o.input, .preview = o.preview, .quiet = o.quiet}, o.lod);
   const double load_s = secondsSince(start);

@@ -1,9 +1,13 @@
 #include "filter_options.h"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
+
+#include "io/polygon_reader.h"
 
 namespace parallax::cli {
 namespace {
@@ -42,6 +46,39 @@ int classNumber(std::string_view text) {
   return value >= 0 && value <= 255 ? value : -1;
 }
 
+// A whole item as a finite double ("+" allowed), or nothing.
+std::optional<double> numberOf(std::string_view item) {
+  const char* begin = item.data();
+  if (!item.empty() && item.front() == '+') ++begin;  // from_chars takes no plus sign
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(begin, item.data() + item.size(), value);
+  if (item.empty() || error != std::errc{} || end != item.data() + item.size() ||
+      !std::isfinite(value)) {
+    return std::nullopt;
+  }
+  return value;
+}
+
+constexpr const char* kReturnsExpected =
+    "expected first, last, intermediate, single, multiple, a return number 1-15 or a range N-M "
+    "(e.g. --returns first,last or --returns 1,2)";
+
+constexpr std::pair<const char*, ReturnKind> kReturnKinds[] = {
+    {"first", ReturnKind::First},
+    {"last", ReturnKind::Last},
+    {"intermediate", ReturnKind::Intermediate},
+    {"single", ReturnKind::Single},
+    {"multiple", ReturnKind::Multiple},
+};
+
+// A whole item as a return number 1-15, or -1.
+int returnNumber(std::string_view text) {
+  int value = -1;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc{} || end != text.data() + text.size() || text.empty()) return -1;
+  return value >= 1 && value <= 15 ? value : -1;
+}
+
 constexpr const char* kClassesExpected =
     "expected a class number 0-255 or a range N-M such as 9-12 (e.g. --classes 2,6,9-12)";
 
@@ -57,17 +94,42 @@ void addFilterOptions(CLI::App& command, FilterOptions& o, const std::string& wh
                   "ASPRS classes (0-255) and ranges, e.g. 2,6,9-12: only points of these are " +
                       what + " (points without classification are class 0)")
       ->check(not_empty);
-  CLI::Option* box = command
-                         .add_option("--clip-box", o.clip_box,
-                                     "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX in world coordinates: only "
-                                     "points inside the box are " +
-                                         what + " (see --clip-mode)")
-                         ->check(not_empty);
   command
-      .add_option("--clip-mode", o.clip_mode,
-                  "inside: keep the --clip-box's content; outside: hide it, keep the rest")
-      ->capture_default_str()
-      ->needs(box);
+      .add_option("--returns", o.returns,
+                  "first, last, intermediate, single, multiple and return numbers 1-15, e.g. "
+                  "first,last or 1,2: only points that are any of these are " +
+                      what + " (points without returns are return 1 of 1)")
+      ->check(not_empty);
+  command
+      .add_option("--intensity", o.intensity,
+                  "MIN,MAX: only points of intensity in [MIN, MAX] are " + what +
+                      " (points without intensity have 0)")
+      ->check(not_empty);
+  command
+      .add_option("--elevation", o.elevation,
+                  "MIN,MAX: only points of world z in [MIN, MAX] are " + what)
+      ->check(not_empty);
+  command
+      .add_option("--gps-time", o.gps_time,
+                  "MIN,MAX: only points of GPS time in [MIN, MAX] are " + what +
+                      " (points without GPS time have 0)")
+      ->check(not_empty);
+  command
+      .add_option("--clip-box", o.clip_box,
+                  "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX in world coordinates: only points inside the "
+                  "box are " +
+                      what + " (see --clip-mode)")
+      ->check(not_empty);
+  command
+      .add_option("--clip-polygon", o.clip_polygon,
+                  "a polygon file (GeoJSON Polygon, Feature or FeatureCollection of one, or "
+                  "'x y' lines) in the cloud's x, y: only points inside it, along all z, are " +
+                      what + "; with --clip-box, inside both (see --clip-mode)")
+      ->check(not_empty);
+  command.add_option("--clip-mode", o.clip_mode,
+                     "inside (default): keep the --clip-box's / --clip-polygon's content; "
+                     "outside: hide it, keep the rest; highlight (render, view): keep every "
+                     "point and tint the content");
 }
 
 std::vector<int> parseClassList(std::string_view text) {
@@ -136,14 +198,100 @@ Bounds3 parseClipBox(std::string_view text) {
   return box;
 }
 
-PointFilter pointFilterFrom(const FilterOptions& o) {
+ReturnSelection parseReturnList(std::string_view text) {
+  ReturnSelection selection;
+  for (const std::string_view item : splitItems(text)) {
+    const auto kind = std::find_if(std::begin(kReturnKinds), std::end(kReturnKinds),
+                                   [&](const auto& k) { return item == k.first; });
+    if (kind != std::end(kReturnKinds)) {
+      selection.kinds.push_back(kind->second);
+      continue;
+    }
+    const std::size_t dash = item.find('-', 1);
+    if (dash == std::string_view::npos) {
+      const int r = returnNumber(item);
+      if (r < 0) {
+        throw std::invalid_argument("--returns: item " + quotedItem(item) +
+                                    " is not a return: " + kReturnsExpected);
+      }
+      selection.numbers.push_back(r);
+      continue;
+    }
+    const int first = returnNumber(item.substr(0, dash)),
+              last = returnNumber(item.substr(dash + 1));
+    if (first < 0 || last < 0 || first > last) {
+      throw std::invalid_argument(
+          "--returns: item " + quotedItem(item) +
+          " is not a range N-M with 1 <= N <= M <= 15: " + kReturnsExpected);
+    }
+    for (int r = first; r <= last; ++r) selection.numbers.push_back(r);
+  }
+  return selection;
+}
+
+ValueRange parseRange(std::string_view name, std::string_view text) {
+  const std::vector<std::string_view> items = splitItems(text);
+  const std::string option(name);
+  if (items.size() != 2) {
+    throw std::invalid_argument(option + ": expected two numbers MIN,MAX, found " +
+                                std::to_string(items.size()) + " items in '" + std::string(text) +
+                                "'");
+  }
+  const std::optional<double> min = numberOf(items[0]), max = numberOf(items[1]);
+  for (int i = 0; i < 2; ++i) {
+    if (!(i == 0 ? min : max)) {
+      throw std::invalid_argument(option + ": " + (i == 0 ? "MIN " : "MAX ") +
+                                  quotedItem(items[std::size_t(i)]) +
+                                  " is not a number: expected MIN,MAX such as 100,2000");
+    }
+  }
+  if (*min > *max) {
+    throw std::invalid_argument(option + ": MIN " + quotedItem(items[0]) + " is greater than MAX " +
+                                quotedItem(items[1]) + ": expected MIN <= MAX");
+  }
+  return {*min, *max};
+}
+
+PointFilter pointFilterFrom(const FilterOptions& o, FilterTarget target) {
   PointFilter filter;
   if (!o.classes.empty()) filter.keepOnlyClasses(parseClassList(o.classes));
-  if (o.clip_mode != "inside" && o.clip_mode != "outside") {
-    throw std::invalid_argument("--clip-mode: unknown mode '" + o.clip_mode +
-                                "' (use inside|outside)");
+  if (!o.returns.empty()) {
+    const ReturnSelection selection = parseReturnList(o.returns);
+    filter.keepOnlyReturns(selection.kinds, selection.numbers);
   }
-  if (!o.clip_box.empty()) filter.setClipBox(parseClipBox(o.clip_box), o.clip_mode == "outside");
+  if (!o.intensity.empty()) filter.intensity = parseRange("--intensity", o.intensity);
+  if (!o.elevation.empty()) filter.elevation = parseRange("--elevation", o.elevation);
+  if (!o.gps_time.empty()) filter.gps_time = parseRange("--gps-time", o.gps_time);
+  if (!o.clip_mode.empty() && o.clip_mode != "inside" && o.clip_mode != "outside" &&
+      o.clip_mode != "highlight") {
+    throw std::invalid_argument("--clip-mode: unknown mode '" + o.clip_mode +
+                                (target == FilterTarget::Gpu ? "' (use inside|outside|highlight)"
+                                                             : "' (use inside|outside)"));
+  }
+  if (o.clip_mode == "highlight" && target == FilterTarget::Cpu) {
+    throw std::invalid_argument(
+        "--clip-mode: highlight tints the region in a picture and keeps every point: use it with "
+        "render or view; here use inside or outside");
+  }
+  if (!o.clip_mode.empty() && o.clip_box.empty() && o.clip_polygon.empty()) {
+    throw std::invalid_argument("--clip-mode: needs a region: give --clip-box or --clip-polygon");
+  }
+  const bool outside = o.clip_mode == "outside";
+  filter.clip_highlight = o.clip_mode == "highlight";
+  if (!o.clip_box.empty()) filter.setClipBox(parseClipBox(o.clip_box), outside);
+  if (!o.clip_polygon.empty()) {
+    filter.polygon = readPolygonFile(o.clip_polygon);
+    filter.clip_outside = outside;
+    if (target == FilterTarget::Gpu &&
+        filter.polygon.size() > PointFilter::kMaxGpuPolygonVertices) {
+      throw std::invalid_argument(
+          "--clip-polygon: " + o.clip_polygon + " has " + std::to_string(filter.polygon.size()) +
+          " vertices; the shaders take at most " +
+          std::to_string(PointFilter::kMaxGpuPolygonVertices) +
+          " (simplify it, or cut the points with `parallax convert --clip-polygon`, which has no "
+          "limit, and draw the result)");
+    }
+  }
   return filter;
 }
 

@@ -1,5 +1,6 @@
-// The point filter options of `parallax render`, `view` and `convert`: --classes, --clip-box,
-// --clip-mode (core/point_filter.h). One parser, so that a list means the same everywhere.
+// The point filter options of `parallax render`, `view`, `pick` and `convert`: --classes,
+// --returns, --intensity, --elevation, --gps-time, --clip-box, --clip-polygon, --clip-mode
+// (core/point_filter.h). One parser, so that a list means the same everywhere.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -14,12 +15,17 @@
 namespace parallax::cli {
 
 struct FilterOptions {
-  std::string classes;   // "2,6,9-12"; empty: every class
-  std::string clip_box;  // "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX"; empty: no box
-  std::string clip_mode = "inside";
+  std::string classes;    // "2,6,9-12"; empty: every class
+  std::string returns;    // "first,last", "1,2", "single"; empty: every return
+  std::string intensity;  // "MIN,MAX"; empty: no bound (also elevation, gps_time)
+  std::string elevation;  // world z
+  std::string gps_time;
+  std::string clip_box;      // "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX"; empty: no box
+  std::string clip_polygon;  // a polygon file (io/polygon_reader.h); empty: none
+  std::string clip_mode;     // inside (empty) or outside
 };
 
-// Registers --classes, --clip-box and --clip-mode; `what` ends their help texts ("drawn",
+// Registers the options above; `what` ends their help texts ("drawn",
 // "written").
 void addFilterOptions(CLI::App& command, FilterOptions& options, const std::string& what);
 
@@ -33,8 +39,26 @@ std::vector<int> parseClassList(std::string_view text);
 // its maximum is an error.
 Bounds3 parseClipBox(std::string_view text);
 
-// The filter of the options (keeps everything without them); throws as the parsers do, and for
-// an unknown --clip-mode.
-PointFilter pointFilterFrom(const FilterOptions& options);
+// The kinds and explicit return numbers of "first,last,2": keywords first, last, intermediate,
+// single, multiple and numbers 1-15 (ranges N-M too). Throws std::invalid_argument naming
+// --returns, the item and what was expected.
+struct ReturnSelection {
+  std::vector<ReturnKind> kinds;
+  std::vector<int> numbers;
+};
+ReturnSelection parseReturnList(std::string_view text);
+
+// The range "MIN,MAX" of the option `name` (inclusive; MIN <= MAX, finite numbers). Throws
+// std::invalid_argument naming the option, the item and what was expected.
+ValueRange parseRange(std::string_view name, std::string_view text);
+
+// Where a filter is applied: the shaders take at most PointFilter::kMaxGpuPolygonVertices
+// polygon vertices; the converter's CPU test has no limit.
+enum class FilterTarget { Gpu, Cpu };
+
+// The filter of the options (keeps everything without them); throws as the parsers do, for an
+// unknown --clip-mode or one without a region, and for a polygon beyond the target's limit. The
+// polygon file's errors are InputError (io/polygon_reader.h).
+PointFilter pointFilterFrom(const FilterOptions& options, FilterTarget target);
 
 }  // namespace parallax::cli

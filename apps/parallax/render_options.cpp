@@ -181,7 +181,7 @@ RenderSettings renderSettingsFrom(const RenderOptions& o, double typical_spacing
   }
   settings.rasterizer = *rasterizer;
   settings.hq = o.hq;
-  settings.filter = pointFilterFrom(o.filter);
+  settings.filter = pointFilterFrom(o.filter, FilterTarget::Gpu);
   return settings;
 }
 

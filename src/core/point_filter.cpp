@@ -1,20 +1,58 @@
 #include "core/point_filter.h"
 
+#include <algorithm>
 #include <cassert>
+#include <cmath>
 
 #include "core/point_gather.h"
 
 namespace parallax {
+namespace {
+
+int clampNibble(int v) {
+  return std::clamp(v, 0, 15);
+}
+
+bool allSet(const std::array<std::uint32_t, 8>& words) {
+  return std::all_of(words.begin(), words.end(), [](std::uint32_t w) { return w == ~0u; });
+}
+
+// A scalar column's value as a 4-bit return field: rounded, clamped to 0-15.
+int nibbleOf(const ScalarColumn* column, std::size_t i, int absent) {
+  if (!column) return absent;
+  const double v = column->valueAsDouble(i);
+  return std::isnan(v) ? 0 : clampNibble(int(std::clamp(std::lround(v), -1l, 16l)));
+}
+
+}  // namespace
+
+bool isReturnKind(ReturnKind kind, int r, int n) {
+  switch (kind) {
+    case ReturnKind::First:
+      return r == 1;
+    case ReturnKind::Last:
+      return r == n;
+    case ReturnKind::Intermediate:
+      return r > 1 && r < n;
+    case ReturnKind::Single:
+      return n == 1;
+    case ReturnKind::Multiple:
+      return n > 1;
+  }
+  return false;
+}
 
 bool PointFilter::keepsEveryClass() const {
-  for (const std::uint32_t word : classes) {
-    if (word != ~0u) return false;
-  }
-  return true;
+  return allSet(classes);
+}
+
+bool PointFilter::keepsEveryReturn() const {
+  return allSet(returns);
 }
 
 bool PointFilter::keepsAll() const {
-  return keepsEveryClass() && clip_planes.empty();
+  return keepsEveryClass() && keepsEveryReturn() && !intensity && !elevation && !gps_time &&
+         !hasRegion();
 }
 
 void PointFilter::setClass(int c, bool keep) {
@@ -27,6 +65,30 @@ void PointFilter::setClass(int c, bool keep) {
 void PointFilter::keepOnlyClasses(const std::vector<int>& list) {
   classes.fill(0u);
   for (const int c : list) setClass(c, true);
+}
+
+bool PointFilter::keepsReturn(int r, int n) const {
+  const int k = clampNibble(n) * 16 + clampNibble(r);
+  return (returns[std::size_t(k) / 32] >> (k % 32)) & 1u;
+}
+
+void PointFilter::setReturn(int r, int n, bool keep) {
+  assert(r >= 0 && r < 16 && n >= 0 && n < 16 && "return fields are 0-15");
+  const int k = n * 16 + r;
+  const std::uint32_t bit = 1u << (k % 32);
+  std::uint32_t& word = returns[std::size_t(k) / 32];
+  word = keep ? word | bit : word & ~bit;
+}
+
+void PointFilter::keepOnlyReturns(const std::vector<ReturnKind>& kinds,
+                                  const std::vector<int>& numbers) {
+  for (int n = 0; n < 16; ++n) {
+    for (int r = 0; r < 16; ++r) {
+      bool keep = std::find(numbers.begin(), numbers.end(), r) != numbers.end();
+      for (const ReturnKind kind : kinds) keep = keep || isReturnKind(kind, r, n);
+      setReturn(r, n, keep);
+    }
+  }
 }
 
 void PointFilter::setClipBox(const Bounds3& box, bool outside) {
@@ -52,21 +114,59 @@ std::optional<Bounds3> PointFilter::clipBox() const {
   return box;
 }
 
-bool PointFilter::keepsPosition(double x, double y, double z) const {
-  if (clip_planes.empty()) return true;
+bool PointFilter::insidePolygon(double x, double y) const {
+  // Crossing number: a ray towards +x crosses the boundary an odd number of times from inside.
+  // The shaders run the same expression in chunk-relative floats (point_pass_glsl.cpp).
+  bool inside = false;
+  const std::size_t n = polygon.size();
+  for (std::size_t i = 0, j = n ? n - 1 : 0; i < n; j = i++) {
+    const auto& a = polygon[i];
+    const auto& b = polygon[j];
+    if ((a[1] > y) != (b[1] > y) && x < (b[0] - a[0]) * (y - a[1]) / (b[1] - a[1]) + a[0]) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+bool PointFilter::inRegion(double x, double y, double z) const {
+  if (!hasRegion()) return false;
   bool inside = true;
   for (const auto& p : clip_planes) inside = inside && p[0] * x + p[1] * y + p[2] * z + p[3] >= 0;
-  return inside != clip_outside;
+  if (inside && !polygon.empty()) inside = insidePolygon(x, y);
+  return inside;
+}
+
+bool PointFilter::keepsPosition(double x, double y, double z) const {
+  if (elevation && !elevation->contains(z)) return false;
+  if (!hasRegion() || clip_highlight) return true;
+  return inRegion(x, y, z) != clip_outside;
 }
 
 PointCloud filterPoints(const PointCloud& cloud, const PointFilter& filter) {
-  // Indices first, then each column gathered once: the test reads positions and classes only.
+  // Indices first, then each column gathered once: the test reads only what the filter needs.
   std::vector<std::uint64_t> kept;
   const bool every_class = filter.keepsEveryClass();
   const bool class_zero = filter.keepsClass(0);
+  const bool every_return = filter.keepsEveryReturn();
+  const ScalarColumn* return_number = cloud.findScalar(filter_names::kReturnNumber);
+  const ScalarColumn* number_of_returns = cloud.findScalar(filter_names::kNumberOfReturns);
+  const ScalarColumn* gps_time = cloud.findScalar(filter_names::kGpsTime);
   for (std::uint64_t i = 0; i < cloud.count; ++i) {
     if (!every_class &&
         !(cloud.hasClassification() ? filter.keepsClass(cloud.classification[i]) : class_zero)) {
+      continue;
+    }
+    if (!every_return &&
+        !filter.keepsReturn(nibbleOf(return_number, i, 1), nibbleOf(number_of_returns, i, 1))) {
+      continue;
+    }
+    if (filter.intensity &&
+        !filter.intensity->contains(cloud.hasIntensity() ? double(cloud.intensity[i]) : 0.0)) {
+      continue;
+    }
+    if (filter.gps_time &&
+        !filter.gps_time->contains(gps_time ? gps_time->valueAsDouble(i) : 0.0)) {
       continue;
     }
     if (!filter.keepsPosition(cloud.worldX(i), cloud.worldY(i), cloud.worldZ(i))) continue;

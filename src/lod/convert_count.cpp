@@ -105,11 +105,13 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
     return !input.filter.keepsAll();
   });
   if (filtered && plan.points == 0) {
-    throw InputError({.file = inputs.front().path.string(),
-                      .expected = "at least one point that the class and clip filters keep",
-                      .found = "none of " + std::to_string(total) + " points",
-                      .hint = "check the class list and the clip box against the input's "
-                              "classes and bounds (parallax info)"});
+    throw InputError(
+        {.file = inputs.front().path.string(),
+         .expected =
+             "at least one point that the filters (classes, returns, ranges, clip region) keep",
+         .found = "none of " + std::to_string(total) + " points",
+         .hint = "check the class list and the clip box against the input's "
+                 "classes and bounds (parallax info)"});
   }
   if (!have_layout) plan.layout = PotreeLayout::fromCloud(PointCloud{});
   finishScan(plan, options);

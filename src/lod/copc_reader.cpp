@@ -407,6 +407,11 @@ class CopcOctree final : public Octree {
     info_.has_colors = prototype.hasColors();
     info_.has_normals = prototype.hasNormals();
     info_.has_intensity = prototype.hasIntensity();
+    // The info VLR's GPS time range (COPC 1.0), where the file has points with GPS time.
+    if (prototype.findScalar("gps_time") && header_.point_count > 0 &&
+        info_vlr_.gps_time_min <= info_vlr_.gps_time_max) {
+      info_.gps_time_range = {{info_vlr_.gps_time_min, info_vlr_.gps_time_max}};
+    }
     info_.has_classification = prototype.hasClassification();
   }
 

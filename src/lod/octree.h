@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <stop_token>
 #include <string>
@@ -53,6 +54,10 @@ struct OctreeInfo {
   std::vector<std::string> attributes;  // names, as PointCloud::attributeNames() gives them
   bool has_colors = false, has_normals = false, has_intensity = false;
   bool has_classification = false;
+  // Over all points, where the format records them (Potree metadata's "min" and "max" of
+  // intensity and gps-time, a COPC file's info VLR for GPS time); the viewer's filter sliders
+  // start from them. Empty: not recorded.
+  std::optional<std::array<double, 2>> intensity_range, gps_time_range;
 };
 
 // Read access to an octree. nodes(), expandHierarchy() and hierarchyReady() belong to one thread

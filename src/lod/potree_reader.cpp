@@ -203,6 +203,12 @@ class PotreeOctree final : public Octree {
         info_.bounds.min = {a.min[0], a.min[1], a.min[2]};
         info_.bounds.max = {a.max[0], a.max[1], a.max[2]};
       }
+      if (a.min.size() == 1 && a.max.size() == 1 && a.min[0] <= a.max[0]) {
+        if (a.name == "intensity") info_.intensity_range = {{a.min[0], a.max[0]}};
+        if (a.name == "gps-time" || a.name == "gps time") {
+          info_.gps_time_range = {{a.min[0], a.max[0]}};
+        }
+      }
     }
     records_.describe(info_);
   }

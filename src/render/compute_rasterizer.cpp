@@ -7,10 +7,12 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <numeric>
+#include <optional>
 #include <span>
 #include <string>
 
 #include "render/compute_rasterizer_glsl.h"
+#include "render/filter_uniforms.h"
 #include "render/frustum.h"
 #include "render/fullscreen_triangle.h"
 #include "render/point_pass_glsl.h"
@@ -25,8 +27,11 @@ enum TextureUnit : int {
   kNormals = 2,
   kExtras = 3,
   kBatches = 4,
-  kDepthKeys = 5,
-  kBatchOrder = 6
+  kGpsTimes = 5,
+  kTextureUnits = 6,
+  // Bound beside the chunk's textures, not re-pointed per chunk.
+  kDepthKeys = 6,
+  kBatchOrder = 7
 };
 // SSBO bindings, as in the shaders.
 enum Binding : GLuint {
@@ -64,14 +69,15 @@ struct Variant {
   int views = 1;
   int color = 5, size = 0;
   bool lighting = false, orthographic = false, round = false, splat = false;
-  bool hq = false, reset = false, filter = false;
+  bool hq = false, reset = false;
+  unsigned filter = 0;  // FilterPart bits (filter_uniforms.h)
 
   std::uint32_t key() const {
     return std::uint32_t(pass) | std::uint32_t(atomic64) << 2 | std::uint32_t(views) << 3 |
            std::uint32_t(color) << 6 | std::uint32_t(size) << 9 | std::uint32_t(lighting) << 11 |
            std::uint32_t(orthographic) << 12 | std::uint32_t(round) << 13 |
            std::uint32_t(splat) << 14 | std::uint32_t(hq) << 15 | std::uint32_t(reset) << 16 |
-           std::uint32_t(filter) << 17;
+           std::uint32_t(filter) << 21;
   }
   std::string defines() const {
     auto define = [](const char* name, int value) {
@@ -80,7 +86,7 @@ struct Variant {
     return define("PASS", pass) + define("ATOMIC64", atomic64) + define("VIEWS", views) +
            define("COLOR_MODE", color) + define("SIZE_MODE", size) + define("LIGHTING", lighting) +
            define("ORTHOGRAPHIC", orthographic) + define("ROUND", round) + define("SPLAT", splat) +
-           define("HQ", hq) + define("RESET", reset) + define("FILTER", filter) +
+           define("HQ", hq) + define("RESET", reset) + filterDefines(filter) +
            "#define BATCH_POINTS " + std::to_string(kBatchPoints) + "u\n#define MAX_SPLAT " +
            std::to_string(ComputeRasterizer::kMaxSplatPx) + "\n";
   }
@@ -133,14 +139,14 @@ ComputeRasterizer::ComputeRasterizer(const ComputeRasterizerOptions& options) : 
   atomic64_ = options.allow_64bit_atomics && hasExtension("GL_NV_shader_atomic_int64") &&
               hasExtension("GL_ARB_gpu_shader_int64");
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_ssbo_bytes_);
-  glCreateTextures(GL_TEXTURE_BUFFER, 5, textures_);
+  glCreateTextures(GL_TEXTURE_BUFFER, kTextureUnits, textures_);
   glCreateTextures(GL_TEXTURE_BUFFER, 6, views_);
   glCreateTextures(GL_TEXTURE_BUFFER, 1, &order_view_);
   glCreateVertexArrays(1, &vao_);
 }
 
 ComputeRasterizer::~ComputeRasterizer() {
-  glDeleteTextures(5, textures_);
+  glDeleteTextures(kTextureUnits, textures_);
   glDeleteTextures(6, views_);
   glDeleteTextures(1, &order_view_);
   if (vao_) glDeleteVertexArrays(1, &vao_);
@@ -327,9 +333,11 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   variant.splat = settings.size_mode != PointSizeMode::Fixed || settings.point_size_px > 1.0f;
   variant.hq = hq;
   variant.reset = frame.accumulate && !atomic64_;
-  variant.filter = !settings.filter.keepsAll();
-  const bool needs_extras = variant.color == 2 || variant.color == 4 || variant.filter ||
-                            settings.size_mode == PointSizeMode::Adaptive;
+  variant.filter = filterParts(settings.filter, draw_set);
+  const bool needs_extras =
+      variant.color == 2 || variant.color == 4 ||
+      (variant.filter & ~(kFilterElevation | kFilterGps | kFilterPlanes | kFilterPolygon)) != 0 ||
+      settings.size_mode == PointSizeMode::Adaptive;
 
   // Ids: the draw set's points in order, whatever this frame draws of it.
   item_ids_.assign(draw_set.items.size() + 1, 0);
@@ -438,13 +446,8 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     glUniform2f(shader.uniform("u_size_clamp"), std::max(settings.min_size_px, 1.0f),
                 settings.max_size_px);
     glUniform1f(shader.uniform("u_hq_range"), settings.hq_depth_range);
-    if (variant.filter) {
-      const auto class_words = filterClassWords(settings.filter, draw_set.has_classification);
-      glUniform1uiv(shader.uniform("u_filter_classes"), 8, class_words.data());
-      glUniform1i(shader.uniform("u_clip_outside"), GLint(settings.filter.clip_outside));
-      glUniform1i(shader.uniform("u_clip_plane_count"),
-                  GLint(std::min(settings.filter.clip_planes.size(), PointFilter::kMaxClipPlanes)));
-    }
+    std::optional<FilterUniforms> filter_uniforms;
+    if (variant.filter) filter_uniforms.emplace(shader, settings.filter, draw_set);
     float viewports[4 * kMaxViews], pixels_per_unit[kMaxViews], coeffs[4 * kMaxViews];
     for (std::size_t v = 0; v < eyes.size(); ++v) {
       const Viewport& vp = eyes[v].viewport;
@@ -464,12 +467,12 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     const GLint view_mask_location = shader.uniform("u_view_mask");
     const GLint elevation_location = shader.uniform("u_elevation");
     const GLint node_spacing_location = shader.uniform("u_node_spacing");
-    const GLint clip_planes_location = shader.uniform("u_clip_planes");
     const GLint point_count_location = shader.uniform("u_point_count");
     const GLint batch_base_location = shader.uniform("u_batch_base");
     const GLint id_base_location = shader.uniform("u_id_base");
     const GLint flag_base_location = shader.uniform("u_flag_base");
-    for (int unit = 0; unit < 5; ++unit) glBindTextureUnit(GLuint(unit), textures_[unit]);
+    for (int unit = 0; unit < kTextureUnits; ++unit)
+      glBindTextureUnit(GLuint(unit), textures_[unit]);
     if (!atomic64_) glBindTextureUnit(kDepthKeys, views_[0]);
     glBindTextureUnit(kBatchOrder, order_view_);
 
@@ -489,10 +492,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
       glUniform1ui(view_mask_location, w.visible);
       glUniform2f(elevation_location, float(chunk.origin.z - z_min), float(1.0 / z_extent));
       glUniform1f(node_spacing_location, item.node_spacing);
-      if (variant.filter) {
-        const auto planes = chunkClipPlanes(settings.filter, chunk.origin);
-        glUniform4fv(clip_planes_location, GLsizei(PointFilter::kMaxClipPlanes), planes.data());
-      }
+      if (filter_uniforms) filter_uniforms->setChunk(chunk);
       glTextureBufferRange(textures_[kBatches], GL_RGBA32F, chunk.buffer,
                            GLintptr(chunk.batches_offset), GLsizeiptr(chunk.batch_count) * 32);
       for (std::size_t first = 0; first < chunk.count; first += range_points) {
@@ -510,6 +510,10 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
         if (needs_extras) {
           glTextureBufferRange(textures_[kExtras], GL_RG32UI, chunk.buffer,
                                GLintptr(chunk.extras_offset + first * 8), GLsizeiptr(count * 8));
+        }
+        if (filter_uniforms && filter_uniforms->readsGpsTime()) {
+          glTextureBufferRange(textures_[kGpsTimes], GL_RG32F, chunk.buffer,
+                               GLintptr(chunk.gps_offset + first * 8), GLsizeiptr(count * 8));
         }
         glUniform1ui(point_count_location, GLuint(count));
         glUniform1ui(batch_base_location, GLuint(first / kBatchPoints));

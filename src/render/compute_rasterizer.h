@@ -98,8 +98,9 @@ class ComputeRasterizer final : public Rasterizer {
   ComputeRasterizerOptions options_;
   bool atomic64_ = false;
   std::map<std::uint32_t, ShaderProgram> programs_, resolve_programs_;
-  // Buffer textures re-pointed at each chunk range: positions, colours, normals, extras, batches.
-  GLuint textures_[5] = {};
+  // Buffer textures re-pointed at each chunk range: positions, colours, normals, extras, batches,
+  // GPS times.
+  GLuint textures_[6] = {};
   // Buffer-texture views of the visibility buffer for plain reads: depth keys (or pairs),
   // colours, the four sum planes.
   GLuint views_[6] = {};

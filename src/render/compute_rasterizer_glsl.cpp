@@ -32,11 +32,12 @@ layout(binding = 1) uniform samplerBuffer t_colors;     // RGBA8
 layout(binding = 2) uniform usamplerBuffer t_normals;   // R32UI, int 2_10_10_10 (w unused)
 layout(binding = 3) uniform usamplerBuffer t_extras;    // RG32UI: intensity | class << 16, spacing
 layout(binding = 4) uniform samplerBuffer t_batches;    // RGBA32F, min and max of each batch
+layout(binding = 5) uniform samplerBuffer t_gps;        // RG32F, GPS time (hi, lo) (filters)
 // The order the frame's workgroups take the batches of each range in, nearest the eye first
 // (R32UI, the batch's index in the range, at u_flag_base + workgroup): pass 1 then meets the
 // front points early and most points behind them fail the plain depth test, skipping the atomic
 // and leaving their groups unflagged for pass 2.
-layout(binding = 6) uniform usamplerBuffer t_batch_order;
+layout(binding = 7) uniform usamplerBuffer t_batch_order;
 
 // The visibility buffer, one entry per canvas pixel. The depth key is ~bits of the reversed
 // window depth (near 1, far 0): smaller is nearer, and the empty value ~0u is the far plane.
@@ -49,7 +50,7 @@ layout(std430, binding = 1) coherent buffer Ids { uint ids[]; };
 // is a loop over the lanes. Within pass 1 a fetch may see an older, larger key than the atomics
 // left (no coherence is promised between the two views): the pre-test below then lets a point
 // through to the atomic, which decides, so the result is the same. Pass 2 reads after a barrier.
-layout(binding = 5) uniform usamplerBuffer t_depth_keys;
+layout(binding = 6) uniform usamplerBuffer t_depth_keys;
 #endif
 layout(std430, binding = 2) coherent buffer Colors { uint colors[]; };  // packUnorm4x8
 // Two words of flags per batch of the frame, a bit per group of 64 consecutive points (the points
@@ -128,6 +129,9 @@ vec3 pointColor(uint i, vec3 p, int v) {
   vec3 color = classColor((extras0(i) >> 16) & 0xffu);
 #else
   vec3 color = u_uniform_color;
+#endif
+#if FILTER && FILTER_HIGHLIGHT
+  color = highlighted(color, p);
 #endif
 #if LIGHTING
   vec3 n = normalize(mat3(u_model_view[v]) * normalOf(i));
@@ -288,7 +292,17 @@ void drawInView(uint i, uint id, vec3 p, int v) {
 bool drawPoint(uint i, uint views) {
   vec3 p = texelFetch(t_positions, int(i)).xyz;
 #if FILTER
-  if (!keepPoint(p, (extras0(i) >> 16) & 0xffu)) return false;
+#if FILTER_GPS
+  vec2 gps = texelFetch(t_gps, int(i)).xy;
+#else
+  vec2 gps = vec2(0.0);
+#endif
+#if FILTER_CLASSES || FILTER_RETURNS || FILTER_INTENSITY
+  uint word = extras0(i);
+#else
+  uint word = 0u;  // the extras are not bound: no test reads them
+#endif
+  if (!keepPoint(p, word, gps)) return false;
 #endif
   may_win = false;
   // Read once, projected into every view (stereo in one pass).

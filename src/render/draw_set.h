@@ -27,6 +27,11 @@ struct DrawSet {
   Bounds3 bounds;               // of everything that may be drawn (clip planes come from it)
   bool has_colors = false, has_normals = false, has_intensity = false;
   bool has_classification = false;
+  bool has_gps_time = false;  // chunks have a GPS time section (PointChunk::gps_offset)
+  // The intensity quantization of every chunk (ChunkLayout), and whether every intensity is a
+  // whole number (LAS, Potree and COPC): what the filter's bounds are converted with.
+  float intensity_min = 0.0f, intensity_max = 1.0f;
+  bool intensity_integral = true;
   double typical_spacing = 0.0;  // world units, for the default adaptive and attenuated sizes
 };
 

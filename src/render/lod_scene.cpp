@@ -4,6 +4,8 @@
 #include <cmath>
 #include <unordered_set>
 
+#include "core/point_filter.h"
+
 namespace parallax {
 
 LodScene::LodScene(Octree& octree, const LodSceneOptions& options)
@@ -13,6 +15,8 @@ LodScene::LodScene(Octree& octree, const LodSceneOptions& options)
   draw_set_.has_colors = info.has_colors, draw_set_.has_normals = info.has_normals;
   draw_set_.has_intensity = info.has_intensity;
   draw_set_.has_classification = info.has_classification;
+  draw_set_.has_gps_time = std::find(info.attributes.begin(), info.attributes.end(),
+                                     filter_names::kGpsTime) != info.attributes.end();
 }
 
 const DrawSet& LodScene::update(std::span<const View> views, const LodFrameSettings& settings) {
@@ -35,6 +39,10 @@ NodeSelection LodScene::select(std::span<const SelectionView> views,
 const DrawSet& LodScene::update(std::span<const SelectionView> views,
                                 const LodFrameSettings& settings) {
   ++frame_;
+  if (const auto intensity = loader_.intensityLayout()) {
+    draw_set_.intensity_min = intensity->min, draw_set_.intensity_max = intensity->max;
+    draw_set_.intensity_integral = intensity->integral;
+  }
   stats_.uploaded_nodes = 0, stats_.uploaded_points = 0, stats_.gpu_full = false;
 
   auto fail = [&](std::vector<std::uint8_t>& failed, std::int32_t node,

@@ -7,10 +7,12 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <exception>
 #include <unordered_set>
 
 #include "core/byte_source.h"
+#include "core/point_filter.h"
 
 namespace parallax {
 
@@ -18,6 +20,8 @@ NodeLoader::NodeLoader(const Octree& octree, int threads) : octree_(octree) {
   const OctreeInfo& info = octree.info();
   layout_.colors = info.has_colors;
   layout_.normals = info.has_normals;
+  layout_.gps_time = std::find(info.attributes.begin(), info.attributes.end(),
+                               filter_names::kGpsTime) != info.attributes.end();
   if (!octree.nodes().empty()) root_ = octree.nodes()[0];
   threads_.reserve(std::size_t(std::max(threads, 1)));
   for (int i = 0; i < std::max(threads, 1); ++i) {
@@ -160,6 +164,11 @@ void NodeLoader::serve(std::stop_token stop) {
   }
 }
 
+std::optional<NodeLoader::IntensityLayout> NodeLoader::intensityLayout() const {
+  if (!intensity_ready_.load(std::memory_order_acquire)) return std::nullopt;
+  return IntensityLayout{layout_.intensity_min, layout_.intensity_max, intensity_integral_};
+}
+
 LoadedNode NodeLoader::load(const Request& request, std::stop_token cancel) {
   LoadedNode loaded;
   loaded.node = request.index;
@@ -176,8 +185,13 @@ LoadedNode NodeLoader::load(const Request& request, std::stop_token cancel) {
           const auto [lo, hi] = std::minmax_element(root.intensity.begin(), root.intensity.end());
           layout_.intensity_min = *lo;
           layout_.intensity_max = *hi > *lo ? *hi : *lo + 1.0f;
+          intensity_integral_ = std::all_of(root.intensity.begin(), root.intensity.end(),
+                                            [](float v) { return v == std::floor(v); });
         }
+        intensity_ready_.store(true, std::memory_order_release);
       });
+    } else {
+      intensity_ready_.store(true, std::memory_order_release);
     }
     const PointCloud cloud = octree_.loadNodeCancellable(request.node, cancel);
     ChunkLayout layout = layout_;

@@ -18,11 +18,13 @@
 // staging inside a load does use TBB.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <thread>
@@ -77,6 +79,14 @@ class NodeLoader {
   std::uint64_t loadsStarted() const;
   // Loads in flight that were cancelled (their node no longer wanted) and not delivered.
   std::uint64_t loadsCancelled() const;
+  // The intensity quantization every chunk is staged with (chunks' min and max, whether the
+  // root's intensities are whole numbers), once the first load has set it; before, no chunk
+  // exists. Any thread. The filter's intensity bounds are converted with it (DrawSet).
+  struct IntensityLayout {
+    float min = 0.0f, max = 1.0f;
+    bool integral = true;
+  };
+  std::optional<IntensityLayout> intensityLayout() const;
 
   // How many queued nodes request() passes to Octree::prefetch, and the most bytes they hold.
   // Most of the queue: a hint that a reordered queue (nodes found below a proxy just read) cuts
@@ -106,6 +116,8 @@ class NodeLoader {
   ChunkLayout layout_;
   OctreeNode root_;
   std::once_flag intensity_once_;
+  bool intensity_integral_ = true;
+  std::atomic<bool> intensity_ready_{false};  // set (release) once layout_'s range is final
 
   mutable std::mutex mutex_;
   std::condition_variable_any wake_;   // workers: a request arrived, or stop

@@ -1,12 +1,14 @@
 #include "render/point_buffers.h"
 
 #include "core/morton.h"
+#include "core/point_filter.h"
 #include "render/draw_set.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -50,6 +52,31 @@ void radixSort(std::vector<std::pair<std::uint64_t, std::uint32_t>>& items) {
 }
 
 }  // namespace
+
+std::uint16_t quantizeIntensity(float value, const ChunkLayout& layout) {
+  const float span = layout.intensity_max > layout.intensity_min
+                         ? layout.intensity_max - layout.intensity_min
+                         : 1.0f;
+  const float t = (value - layout.intensity_min) * (65535.0f / span);
+  // NaN (a float intensity may be one) gives 0: converting it to an integer is undefined.
+  return std::uint16_t((t >= 0.0f ? std::min(t, 65535.0f) : 0.0f) + 0.5f);
+}
+
+std::array<float, 2> splitGpsTime(double t, double base) {
+  // Kept within a float's range (a double beyond it has no float); NaN stays NaN, which every
+  // comparison fails, as the CPU's range test does.
+  const double d = std::isnan(t - base) ? t - base : std::clamp(t - base, -1e30, 1e30);
+  const float hi = float(d);
+  return {hi, float(d - double(hi))};
+}
+
+namespace {
+std::atomic<std::uint64_t> uploaded_bytes{0};
+}  // namespace
+
+std::uint64_t uploadedPointBytes() {
+  return uploaded_bytes.load();
+}
 
 std::vector<std::uint32_t> mortonOrder(const PointCloud& cloud) {
   const std::size_t n = cloud.positions.size();
@@ -132,6 +159,7 @@ StagedChunk stagePointChunk(const PointCloud& cloud, std::span<const std::uint32
   if (layout.colors) chunk.colors_offset = size, size = alignUp(size + count * 4);
   if (layout.normals) chunk.normals_offset = size, size = alignUp(size + count * 4);
   chunk.extras_offset = size, size = alignUp(size + count * kExtraBytes);
+  if (layout.gps_time) chunk.gps_offset = size, size = alignUp(size + count * 8);
   chunk.batch_count = std::uint32_t((count + kBatchPoints - 1) / kBatchPoints);
   chunk.batches_offset = size, size = alignUp(size + std::size_t(chunk.batch_count) * 32);
 
@@ -144,10 +172,24 @@ StagedChunk stagePointChunk(const PointCloud& cloud, std::span<const std::uint32
   const bool has_colors = cloud.hasColors(), has_normals = cloud.hasNormals();
   const bool has_intensity = cloud.hasIntensity();
   const bool has_classification = cloud.hasClassification();
-  const float intensity_span = layout.intensity_max > layout.intensity_min
-                                   ? layout.intensity_max - layout.intensity_min
-                                   : 1.0f;
-  const float intensity_scale = 65535.0f / intensity_span;
+  // Returns as core/point_filter.h counts them: absent is return 1 of 1, above 15 is 15.
+  const ScalarColumn* return_number = cloud.findScalar(filter_names::kReturnNumber);
+  const ScalarColumn* number_of_returns = cloud.findScalar(filter_names::kNumberOfReturns);
+  const auto nibble = [](const ScalarColumn* column, std::size_t i) {
+    if (!column) return 1u;
+    const double v = column->valueAsDouble(i);
+    return std::isnan(v) ? 0u : std::uint32_t(std::clamp(std::round(v), 0.0, 15.0));
+  };
+  const ScalarColumn* gps_time =
+      layout.gps_time ? cloud.findScalar(filter_names::kGpsTime) : nullptr;
+  if (gps_time && count > 0) {
+    chunk.gps_base = INFINITY;
+    for (std::size_t i = 0; i < count; ++i) {
+      chunk.gps_base = std::min(chunk.gps_base, gps_time->valueAsDouble(indices[i]));
+    }
+    if (!std::isfinite(chunk.gps_base)) chunk.gps_base = 0.0;
+  }
+  auto* gps = reinterpret_cast<float*>(base + chunk.gps_offset);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       const std::size_t src = indices[i];
@@ -157,19 +199,21 @@ StagedChunk stagePointChunk(const PointCloud& cloud, std::span<const std::uint32
       positions[3 * i + 2] = float(world[i].z - chunk.origin.z);
       if (layout.colors) colors[i] = has_colors ? cloud.colors[src] : Rgba8{255, 255, 255, 255};
       if (layout.normals) normals[i] = has_normals ? packNormal(cloud.normals[src]) : 0u;
-      std::uint16_t intensity = 0;
-      if (has_intensity) {
-        const float t = (cloud.intensity[src] - layout.intensity_min) * intensity_scale;
-        intensity = std::uint16_t(std::clamp(t, 0.0f, 65535.0f) + 0.5f);
-      }
+      const std::uint16_t intensity =
+          has_intensity ? quantizeIntensity(cloud.intensity[src], layout) : std::uint16_t(0);
       const std::uint8_t classification =
           has_classification ? cloud.classification[src] : std::uint8_t(1);
       const float point_spacing = spacing.empty() ? layout.uniform_spacing : spacing[i];
       std::byte* extra = extras + i * kExtraBytes;
       std::memcpy(extra, &intensity, 2);
       std::memcpy(extra + 2, &classification, 1);
-      extra[3] = std::byte{0};
+      extra[3] = std::byte(nibble(return_number, src) | nibble(number_of_returns, src) << 4);
       std::memcpy(extra + 4, &point_spacing, 4);
+      if (layout.gps_time) {
+        const auto [hi, lo] = gps_time ? splitGpsTime(gps_time->valueAsDouble(src), chunk.gps_base)
+                                       : std::array<float, 2>{0.0f, 0.0f};
+        gps[2 * i] = hi, gps[2 * i + 1] = lo;
+      }
     }
   });
   // Batch boxes from the floats the GPU gets, so that culling a batch never drops a point.
@@ -202,6 +246,7 @@ PointChunk uploadStagedChunk(StagedChunk& staged) {
   const std::byte zero{0};
   glNamedBufferStorage(chunk.buffer, GLsizeiptr(std::max<std::size_t>(staged.bytes.size(), 1)),
                        staged.bytes.empty() ? &zero : staged.bytes.data(), 0);
+  uploaded_bytes += staged.bytes.size();
   staged.bytes = {};
   return chunk;
 }
@@ -222,11 +267,14 @@ GpuPointCloud::GpuPointCloud(const PointCloud& cloud, const PointUploadOptions& 
     for (std::size_t i = 0; i < n; ++i) order[i] = std::uint32_t(i);
   }
 
-  ChunkLayout layout;
+  ChunkLayout& layout = layout_;
   layout.colors = has_colors_, layout.normals = has_normals_;
+  layout.gps_time = cloud.findScalar(filter_names::kGpsTime) != nullptr;
   if (has_intensity_ && n > 0) {
     const auto [lo, hi] = std::minmax_element(cloud.intensity.begin(), cloud.intensity.end());
     layout.intensity_min = *lo, layout.intensity_max = *hi > *lo ? *hi : *lo + 1.0f;
+    intensity_integral_ = std::all_of(cloud.intensity.begin(), cloud.intensity.end(),
+                                      [](float v) { return v == std::floor(v); });
   }
 
   std::vector<double> spacing_samples;
@@ -273,6 +321,8 @@ GpuPointCloud& GpuPointCloud::operator=(GpuPointCloud&& other) noexcept {
   bounds_ = other.bounds_;
   has_colors_ = other.has_colors_, has_normals_ = other.has_normals_;
   has_intensity_ = other.has_intensity_, has_classification_ = other.has_classification_;
+  intensity_integral_ = other.intensity_integral_;
+  layout_ = other.layout_;
   typical_spacing_ = other.typical_spacing_;
   return *this;
 }
@@ -286,6 +336,9 @@ DrawSet GpuPointCloud::drawSet() const {
   set.has_normals = has_normals_;
   set.has_intensity = has_intensity_;
   set.has_classification = has_classification_;
+  set.has_gps_time = layout_.gps_time;
+  set.intensity_min = layout_.intensity_min, set.intensity_max = layout_.intensity_max;
+  set.intensity_integral = intensity_integral_;
   set.typical_spacing = typical_spacing_;
   return set;
 }

@@ -15,6 +15,7 @@
 
 #include <epoxy/gl.h>
 
+#include <array>
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <memory>
@@ -43,11 +44,21 @@ struct PointChunk {
   glm::dvec3 origin{0.0};  // world coordinates that chunk-relative position (0, 0, 0) stands for
   Bounds3 bounds;          // world coordinates
   // Byte offsets in `buffer` of: vec3 float positions, rgba8 colours, int 2_10_10_10 normals,
-  // and 8-byte extras (uint16 unorm intensity, uint8 classification, pad, float spacing).
+  // 8-byte extras (uint16 unorm intensity, uint8 classification, uint8 returns: return number in
+  // the low 4 bits, number of returns in the high 4, each clamped to 15; float spacing), and,
+  // when the layout has GPS time, vec2 GPS times (below).
   std::size_t positions_offset = 0;
   std::size_t colors_offset = 0;
   std::size_t normals_offset = 0;
   std::size_t extras_offset = 0;
+  // GPS time t of each point as two floats (hi, lo): hi = float(t - gps_base), lo = float(t -
+  // gps_base - hi), with gps_base the chunk's smallest GPS time, in double. A float alone is
+  // good to 64 s at t ~ 1e9; the pair holds t - gps_base exactly where it has at most 48
+  // significant bits (a chunk spanning up to a year of GPS time at 1e9 s and its 0.12 us steps),
+  // and compared as a pair (hi first) against a bound split the same way (render/filter_uniforms.h)
+  // the GPU's test is the CPU's double test. Points without GPS time hold 0 with gps_base 0.
+  std::size_t gps_offset = 0;
+  double gps_base = 0.0;
   // Batches of kBatchPoints consecutive points (the last may be shorter): their boxes, as two
   // RGBA32F texels each (min xyz, max xyz; w unused) in chunk-relative coordinates, at
   // `batches_offset`. Only the compute rasterizer reads them (render/compute_rasterizer.h).
@@ -75,6 +86,9 @@ struct ChunkLayout {
   // Intensity is stored as unorm16 over [intensity_min, intensity_max] (clamped), so the range
   // must be the cloud's (or the octree's), never a single chunk's.
   float intensity_min = 0.0f, intensity_max = 1.0f;
+  // A GPS time section (PointChunk::gps_offset), 8 bytes a point, when the cloud or octree has
+  // GPS time: always there, so that a GPS time filter toggled in the viewer uploads nothing.
+  bool gps_time = false;
   // > 0: every point gets this spacing (world units), e.g. an octree node's; 0: the local spacing
   // of the chunk's points in their draw order (localSpacing()).
   float uniform_spacing = 0.0f;
@@ -86,6 +100,16 @@ struct StagedChunk {
   PointChunk chunk;
   std::vector<std::byte> bytes;
 };
+
+// The unorm16 value the buffers hold for intensity `value` (clamped to the layout's range).
+std::uint16_t quantizeIntensity(float value, const ChunkLayout& layout);
+
+// The (hi, lo) pair of PointChunk::gps_offset for GPS time `t` in a chunk based at `base`.
+std::array<float, 2> splitGpsTime(double t, double base);
+
+// Bytes given to the GL by uploadStagedChunk in this process, every thread and cloud together:
+// tests assert that a filter change uploads nothing (it is uniforms only).
+std::uint64_t uploadedPointBytes();
 
 // Builds the chunk of cloud points `indices` (in that draw order). Thread-safe; uses TBB inside.
 StagedChunk stagePointChunk(const PointCloud& cloud, std::span<const std::uint32_t> indices,
@@ -113,6 +137,7 @@ class GpuPointCloud {
   bool hasNormals() const { return has_normals_; }
   bool hasIntensity() const { return has_intensity_; }
   bool hasClassification() const { return has_classification_; }
+  bool hasGpsTime() const { return layout_.gps_time; }
   // Median over the cloud of the local point spacing (world units), 0 for fewer than 2 points.
   double typicalSpacing() const { return typical_spacing_; }
   // Every chunk, in upload order, with the cloud's bounds and attributes (include
@@ -128,6 +153,9 @@ class GpuPointCloud {
   Bounds3 bounds_;
   bool has_colors_ = false, has_normals_ = false, has_intensity_ = false;
   bool has_classification_ = false;
+  bool intensity_integral_ =
+      true;  // every intensity a whole number (filter bounds: filter_uniforms.h)
+  ChunkLayout layout_;
   double typical_spacing_ = 0.0;
 };
 

@@ -5,9 +5,11 @@
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "render/filter_uniforms.h"
 #include "render/frustum.h"
 #include "render/point_pass_glsl.h"
 
@@ -22,8 +24,10 @@ enum Location : GLuint {
   kIntensity = 3,
   kClassification = 4,
   kSpacing = 5,
+  kFilterWord = 6,
+  kGpsTime = 7,
 };
-enum Binding : GLuint { kPositions = 0, kColors = 1, kNormals = 2, kExtras = 3 };
+enum Binding : GLuint { kPositions = 0, kColors = 1, kNormals = 2, kExtras = 3, kGpsTimes = 4 };
 
 void setAttribute(GLuint vao, GLuint location, bool enabled) {
   if (enabled) {
@@ -42,16 +46,16 @@ std::string withDefines(const char* source, const std::string& defines) {
 }  // namespace
 
 const ShaderProgram& PointPass::program(int color, int size, bool lighting, bool orthographic,
-                                        bool round, bool eye_depth, bool filter) {
+                                        bool round, bool eye_depth, unsigned filter) {
   const int key = color | size << 4 | int(lighting) << 8 | int(orthographic) << 9 |
                   int(round) << 10 | int(eye_depth) << 11 | int(filter) << 12;
   auto found = programs_.find(key);
   if (found != programs_.end()) return found->second;
-  const std::string vertex_defines =
-      "#define COLOR_MODE " + std::to_string(color) + "\n#define SIZE_MODE " +
-      std::to_string(size) + "\n#define LIGHTING " + std::to_string(int(lighting)) +
-      "\n#define ORTHOGRAPHIC " + std::to_string(int(orthographic)) + "\n#define FILTER " +
-      std::to_string(int(filter)) + "\n" + glsl::pointShadingFunctions();
+  const std::string vertex_defines = "#define COLOR_MODE " + std::to_string(color) +
+                                     "\n#define SIZE_MODE " + std::to_string(size) +
+                                     "\n#define LIGHTING " + std::to_string(int(lighting)) +
+                                     "\n#define ORTHOGRAPHIC " + std::to_string(int(orthographic)) +
+                                     "\n" + filterDefines(filter) + glsl::pointShadingFunctions();
   const std::string fragment_defines = "#define ROUND " + std::to_string(int(round)) +
                                        "\n#define EYE_DEPTH " + std::to_string(int(eye_depth)) +
                                        "\n";
@@ -76,6 +80,10 @@ PointPass::PointPass() {
   glVertexArrayAttribBinding(vao_, kClassification, kExtras);
   glVertexArrayAttribFormat(vao_, kSpacing, 1, GL_FLOAT, GL_FALSE, 4);
   glVertexArrayAttribBinding(vao_, kSpacing, kExtras);
+  glVertexArrayAttribIFormat(vao_, kFilterWord, 1, GL_UNSIGNED_INT, 0);
+  glVertexArrayAttribBinding(vao_, kFilterWord, kExtras);
+  glVertexArrayAttribFormat(vao_, kGpsTime, 2, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(vao_, kGpsTime, kGpsTimes);
   glEnableVertexArrayAttrib(vao_, kPosition);
 }
 
@@ -139,7 +147,8 @@ RasterStats PointPass::draw(const RasterFrame& frame) {
   const bool lighting = settings.lighting && draw_set.has_normals;
   const bool orthographic = camera.projection == Projection::Orthographic;
   const bool adaptive = settings.size_mode == PointSizeMode::Adaptive;
-  const bool filter = !settings.filter.keepsAll();
+  const unsigned filter_parts = filterParts(settings.filter, draw_set);
+  const bool filter = filter_parts != 0;
 
   // Only the attributes this picture needs are fetched: vertex fetch is a large part of the cost
   // of a point on llvmpipe. A disabled attribute reads its constant (set below), never memory.
@@ -147,17 +156,22 @@ RasterStats PointPass::draw(const RasterFrame& frame) {
   setAttribute(vao_, kNormal, draw_set.has_normals && (color == ColorMode::Normal || lighting));
   setAttribute(vao_, kIntensity, color == ColorMode::Intensity && draw_set.has_intensity);
   setAttribute(vao_, kClassification,
-               (color == ColorMode::Classification || filter) && draw_set.has_classification);
+               color == ColorMode::Classification && draw_set.has_classification);
   setAttribute(vao_, kSpacing, adaptive);
+  setAttribute(vao_, kFilterWord,
+               (filter_parts & (kFilterClasses | kFilterReturns | kFilterIntensity)) != 0);
+  const bool gps_times = (filter_parts & kFilterGps) != 0;
+  setAttribute(vao_, kGpsTime, gps_times);
   glVertexAttrib4f(kColor, 1, 1, 1, 1);
   glVertexAttrib4f(kNormal, 0, 0, 1, 0);
   glVertexAttrib1f(kIntensity, 1.0f);
   glVertexAttribI1ui(kClassification, 1);
   glVertexAttrib1f(kSpacing, 0.0f);
+  glVertexAttrib2f(kGpsTime, 0.0f, 0.0f);
 
   const ShaderProgram& shader =
       program(glsl::colorModeDefine(color), int(settings.size_mode), lighting, orthographic,
-              settings.shape == PointShape::Round, eye_depth, filter);
+              settings.shape == PointShape::Round, eye_depth, filter_parts);
   glUseProgram(shader.id());
   glBindVertexArray(vao_);
   glEnable(GL_DEPTH_TEST);
@@ -183,14 +197,8 @@ RasterStats PointPass::draw(const RasterFrame& frame) {
   const GLint model_view_location = shader.uniform("u_model_view");
   const GLint elevation_location = shader.uniform("u_elevation");
   const GLint node_spacing_location = shader.uniform("u_node_spacing");
-  const GLint clip_planes_location = shader.uniform("u_clip_planes");
-  if (filter) {
-    const auto class_words = filterClassWords(settings.filter, draw_set.has_classification);
-    glUniform1uiv(shader.uniform("u_filter_classes"), 8, class_words.data());
-    glUniform1i(shader.uniform("u_clip_outside"), GLint(settings.filter.clip_outside));
-    glUniform1i(shader.uniform("u_clip_plane_count"),
-                GLint(std::min(settings.filter.clip_planes.size(), PointFilter::kMaxClipPlanes)));
-  }
+  std::optional<FilterUniforms> filter_uniforms;
+  if (filter) filter_uniforms.emplace(shader, settings.filter, draw_set);
   const double z_min = draw_set.bounds.min[2];
   const double z_extent = std::max(draw_set.bounds.size()[2], 1e-12);
   // The per-view state is set only when the view changes: with one view, once per frame.
@@ -215,10 +223,7 @@ RasterStats PointPass::draw(const RasterFrame& frame) {
     }
     // Bound once, drawn for every view that sees the chunk.
     glUniform2f(elevation_location, float(chunk.origin.z - z_min), float(1.0 / z_extent));
-    if (filter) {
-      const auto planes = chunkClipPlanes(settings.filter, chunk.origin);
-      glUniform4fv(clip_planes_location, GLsizei(PointFilter::kMaxClipPlanes), planes.data());
-    }
+    if (filter_uniforms) filter_uniforms->setChunk(chunk);
     if (adaptive && item.node_spacing != current_node_spacing) {
       glUniform1f(node_spacing_location, item.node_spacing);
       current_node_spacing = item.node_spacing;
@@ -231,6 +236,9 @@ RasterStats PointPass::draw(const RasterFrame& frame) {
       glVertexArrayVertexBuffer(vao_, kNormals, chunk.buffer, GLintptr(chunk.normals_offset), 4);
     }
     glVertexArrayVertexBuffer(vao_, kExtras, chunk.buffer, GLintptr(chunk.extras_offset), 8);
+    if (gps_times) {
+      glVertexArrayVertexBuffer(vao_, kGpsTimes, chunk.buffer, GLintptr(chunk.gps_offset), 8);
+    }
     for (std::size_t v = 0; v < eyes.size(); ++v) {
       if (!(visible & (1u << v))) continue;
       const EyeState& eye = eyes[v];

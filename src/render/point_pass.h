@@ -49,7 +49,7 @@ class PointPass final : public Rasterizer {
   // One program per combination of the modes (compiled on first use, then kept): the shaders
   // have no run-time branches on modes (see point_pass_glsl.cpp).
   const ShaderProgram& program(int color, int size, bool lighting, bool orthographic, bool round,
-                               bool eye_depth, bool filter);
+                               bool eye_depth, unsigned filter);
 
   std::map<int, ShaderProgram> programs_;
   GLuint vao_ = 0;

@@ -42,25 +42,102 @@ vec3 ramp(float t) {
 )glsl";
 
 const char* const kFilter = R"glsl(
-// The point filter (PointFilter): classes as 8 words of bits, clip planes in chunk-relative
-// coordinates (the chunk origin folded into d in double on the CPU). The region is the planes'
-// intersection; u_clip_outside keeps its complement instead (a box's content hidden).
+// The point filter (PointFilter), its uniforms set by FilterUniforms (filter_uniforms.h, which
+// says how each test agrees with the CPU's): classes and returns as 8 words of bits each, the
+// unorm16 intensity bounds, elevation, clip planes and polygon in chunk-relative coordinates
+// (the chunk origin taken off in double on the CPU), GPS time as (hi, lo) pairs relative to the
+// chunk's base. `word` is the extras' first word: intensity | class << 16 | returns << 24, the
+// returns byte being return number | number of returns << 4 (= the returns table's index). The
+// region is the planes' and polygon's intersection; u_clip_outside keeps its complement.
 #if FILTER
 uniform uint u_filter_classes[8];
+uniform uint u_filter_returns[8];
+uniform uvec2 u_filter_intensity;
+uniform vec2 u_filter_elevation;
+uniform vec4 u_filter_gps;  // min (hi, lo), max (hi, lo)
 uniform vec4 u_clip_planes[6];
 uniform int u_clip_plane_count;
+uniform vec4 u_clip_polygon[128];  // two vertices (x, y) a vec4
+uniform int u_clip_polygon_count;
 uniform bool u_clip_outside;
-bool keepPoint(vec3 position, uint classification) {
-  if (((u_filter_classes[classification >> 5] >> (classification & 31u)) & 1u) == 0u) return false;
+
+#if FILTER_POLYGON
+vec2 polygonVertex(int i) {
+  vec4 pair = u_clip_polygon[i >> 1];
+  return (i & 1) == 0 ? pair.xy : pair.zw;
+}
+
+// Crossing number, the expression of PointFilter::insidePolygon.
+bool insidePolygon(vec2 p) {
+  bool inside = false;
+  vec2 b = polygonVertex(u_clip_polygon_count - 1);
+  for (int i = 0; i < u_clip_polygon_count; ++i) {
+    vec2 a = polygonVertex(i);
+    if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) {
+      inside = !inside;
+    }
+    b = a;
+  }
+  return inside;
+}
+#endif
+
+#if FILTER_PLANES || FILTER_POLYGON
+// The planes' and polygon's intersection (PointFilter::inRegion).
+bool inClipRegion(vec3 position) {
   bool inside = true;
+#if FILTER_PLANES
   for (int i = 0; i < u_clip_plane_count; ++i) {
     if (dot(u_clip_planes[i].xyz, position) + u_clip_planes[i].w < 0.0) {
       inside = false;
       break;
     }
   }
-  return u_clip_plane_count == 0 || inside != u_clip_outside;
+#endif
+#if FILTER_POLYGON
+  if (inside) inside = insidePolygon(position.xy);
+#endif
+  return inside;
 }
+#endif
+
+// Only the parts the frame uses are compiled in (FILTER_*, filter_uniforms.h).
+bool keepPoint(vec3 position, uint word, vec2 gps) {
+#if FILTER_CLASSES
+  uint c = (word >> 16) & 0xffu;
+  if (((u_filter_classes[c >> 5] >> (c & 31u)) & 1u) == 0u) return false;
+#endif
+#if FILTER_RETURNS
+  uint r = word >> 24;
+  if (((u_filter_returns[r >> 5] >> (r & 31u)) & 1u) == 0u) return false;
+#endif
+#if FILTER_INTENSITY
+  uint q = word & 0xffffu;
+  if (q < u_filter_intensity.x || q > u_filter_intensity.y) return false;
+#endif
+#if FILTER_ELEVATION
+  if (position.z < u_filter_elevation.x || position.z > u_filter_elevation.y) return false;
+#endif
+#if FILTER_GPS
+  // Pairs compared hi first: exact, where one float would merge steps below 64 s at 1e9 s.
+  bool above = gps.x > u_filter_gps.x || (gps.x == u_filter_gps.x && gps.y >= u_filter_gps.y);
+  bool below = gps.x < u_filter_gps.z || (gps.x == u_filter_gps.z && gps.y <= u_filter_gps.w);
+  if (!above || !below) return false;
+#endif
+#if (FILTER_PLANES || FILTER_POLYGON) && !FILTER_HIGHLIGHT
+  return inClipRegion(position) != u_clip_outside;
+#else
+  return true;
+#endif
+}
+
+#if FILTER_HIGHLIGHT
+// --clip-mode highlight: the region's points are drawn half way to this colour.
+const vec3 kHighlightColor = vec3(1.0, 0.25, 0.05);
+vec3 highlighted(vec3 color, vec3 position) {
+  return inClipRegion(position) ? mix(color, kHighlightColor, 0.5) : color;
+}
+#endif
 #endif
 )glsl";
 
@@ -100,6 +177,8 @@ layout(location = 2) in vec4 a_normal;
 layout(location = 3) in float a_intensity;  // 0..1 over the cloud's range
 layout(location = 4) in uint a_classification;
 layout(location = 5) in float a_spacing;    // local point spacing, world units
+layout(location = 6) in uint a_filter_word;  // the extras' first word (keepPoint)
+layout(location = 7) in vec2 a_gps;          // GPS time (hi, lo) relative to the chunk's base
 
 uniform mat4 u_model_view;      // chunk to eye: world-to-eye with the chunk origin folded in
 uniform mat4 u_projection;
@@ -122,7 +201,7 @@ out float v_depth;
 
 void main() {
 #if FILTER
-  if (!keepPoint(a_position, a_classification)) {
+  if (!keepPoint(a_position, a_filter_word, a_gps)) {
     gl_Position = vec4(2.0, 2.0, 2.0, 1.0);  // outside the clip volume: the point is dropped
     gl_PointSize = 1.0;
     v_color = vec4(0.0);
@@ -150,6 +229,9 @@ void main() {
   vec3 color = classColor(a_classification);
 #else
   vec3 color = u_uniform_color;
+#endif
+#if FILTER && FILTER_HIGHLIGHT
+  color = highlighted(color, a_position);
 #endif
 
 #if LIGHTING

@@ -1,13 +1,16 @@
 // The viewer panel's "Filters" section: which classes are drawn (with the classification colour
-// mode's legend), and a clip box. Everything
-// here edits RenderSettings::filter, which the rasterizers read as uniforms: a change redraws
-// the picture (the settings differ from the drawn ones) and uploads nothing.
+// mode's legend), which returns, ranges of intensity, elevation and GPS time (sliders over the
+// data's ranges), a clip box and the command line's clip polygon. Everything here edits
+// RenderSettings::filter, which the rasterizers read as uniforms: a change redraws the picture
+// (the settings differ from the drawn ones) and uploads nothing.
 #include <imgui.h>
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "core/classification.h"
 #include "render/class_colors.h"
@@ -69,15 +72,6 @@ void drawClipBoxEditor(Session& s) {
                                   nullptr, nullptr, "%.3f");
     changed |= ImGui::DragScalarN("max", ImGuiDataType_Double, e.box.max.data(), 3, float(step),
                                   nullptr, nullptr, "%.3f");
-    if (ImGui::RadioButton("inside", !e.box_outside)) {
-      e.box_outside = false;
-      changed = true;
-    }
-    ImGui::SameLine();
-    if (ImGui::RadioButton("outside", e.box_outside)) {
-      e.box_outside = true;
-      changed = true;
-    }
     if (ImGui::Button("reset to the cloud's bounds")) {
       e.box = s.extent.bounds;
       changed = true;
@@ -93,8 +87,123 @@ void drawClipBoxEditor(Session& s) {
     s.settings.filter.setClipBox(box, e.box_outside);
   } else {
     s.settings.filter.clip_planes.clear();
-    s.settings.filter.clip_outside = false;
   }
+}
+
+// Inside / outside / highlight of the region (box and polygon alike, as --clip-mode).
+void drawClipMode(Session& s) {
+  Session::FilterEditor& e = s.filter_editor;
+  if (!e.box_enabled && !e.polygon_enabled) return;
+  if (ImGui::RadioButton("inside", !e.box_outside && !e.highlight)) {
+    e.box_outside = e.highlight = false;
+  }
+  ImGui::SameLine();
+  if (ImGui::RadioButton("outside", e.box_outside && !e.highlight)) {
+    e.box_outside = true, e.highlight = false;
+  }
+  ImGui::SameLine();
+  if (ImGui::RadioButton("highlight", e.highlight)) e.highlight = true;
+  s.settings.filter.clip_outside = e.box_outside && !e.highlight;
+  s.settings.filter.clip_highlight = e.highlight;
+}
+
+constexpr std::array<const char*, 5> kReturnKindNames{"first", "last", "intermediate", "single",
+                                                      "multiple"};
+
+void applyReturns(Session& s) {
+  Session::FilterEditor& e = s.filter_editor;
+  PointFilter& filter = s.settings.filter;
+  if (!e.returns_enabled) {
+    filter.returns.fill(~0u);
+    return;
+  }
+  std::vector<ReturnKind> kinds;
+  std::vector<int> numbers;
+  for (std::size_t k = 0; k < e.return_kinds.size(); ++k) {
+    if (e.return_kinds[k]) kinds.push_back(ReturnKind(k));
+  }
+  for (int r = 0; r < 16; ++r) {
+    if ((e.return_numbers >> r) & 1u) numbers.push_back(r);
+  }
+  filter.keepOnlyReturns(kinds, numbers);
+}
+
+void drawReturns(Session& s) {
+  Session::FilterEditor& e = s.filter_editor;
+  bool changed = ImGui::Checkbox("returns", &e.returns_enabled);
+  if (e.returns_enabled) {
+    ImGui::TextDisabled("keep any of (no returns: return 1 of 1)");
+    for (std::size_t k = 0; k < kReturnKindNames.size(); ++k) {
+      if (k) ImGui::SameLine();
+      changed |= ImGui::Checkbox(kReturnKindNames[k], &e.return_kinds[k]);
+    }
+    for (int r = 1; r <= 7; ++r) {
+      if (r > 1) ImGui::SameLine();
+      bool on = (e.return_numbers >> r) & 1u;
+      const std::string label = std::to_string(r);
+      if (ImGui::Checkbox(label.c_str(), &on)) {
+        e.return_numbers = on ? e.return_numbers | 1u << r : e.return_numbers & ~(1u << r);
+        changed = true;
+      }
+    }
+  }
+  if (changed) applyReturns(s);
+}
+
+// A range slider pair over the data's range; `target` is set while enabled.
+void drawRange(const char* label, Session::FilterEditor::Range& range,
+               std::optional<ValueRange>& target, const char* format) {
+  bool changed = ImGui::Checkbox(label, &range.enabled);
+  if (range.enabled) {
+    ImGui::PushID(label);
+    // Sliders over the data's range; Ctrl + click types a value beyond it.
+    changed |= ImGui::SliderScalarN("##range", ImGuiDataType_Double, &range.value.min, 2,
+                                    &range.data.min, &range.data.max, format);
+    ImGui::SameLine();
+    if (ImGui::Button("all")) {
+      range.value = range.data;
+      changed = true;
+    }
+    ImGui::PopID();
+  }
+  if (!changed) return;
+  ValueRange value = range.value;
+  if (value.min > value.max) std::swap(value.min, value.max);
+  target = range.enabled ? std::optional<ValueRange>(value) : std::nullopt;
+}
+
+void drawPolygon(Session& s) {
+  Session::FilterEditor& e = s.filter_editor;
+  if (e.polygon.empty()) return;
+  const std::string label = "clip polygon (" + std::to_string(e.polygon.size()) + " vertices)";
+  if (!ImGui::Checkbox(label.c_str(), &e.polygon_enabled)) return;
+  s.settings.filter.polygon = e.polygon_enabled ? e.polygon : std::vector<std::array<double, 2>>{};
+}
+
+// The range of a scalar column, or {0, 0} without it.
+ValueRange columnRange(const ScalarColumn* column, std::uint64_t count) {
+  if (!column || count == 0) return {};
+  ValueRange range{INFINITY, -INFINITY};
+  for (std::uint64_t i = 0; i < count; ++i) {
+    const double v = column->valueAsDouble(i);
+    range.min = std::min(range.min, v), range.max = std::max(range.max, v);
+  }
+  return range;
+}
+
+// Starts a range editor: the command line's range for the first cloud, else off; the sliders
+// span the data's range (and the command line's).
+void prepareRange(Session::FilterEditor::Range& range, ValueRange data,
+                  const std::optional<ValueRange>& given, std::optional<ValueRange>& target,
+                  bool first) {
+  range.data = data;
+  range.enabled = first && given;
+  range.value = range.enabled ? *given : data;
+  if (range.enabled) {
+    range.data.min = std::min(range.data.min, given->min);
+    range.data.max = std::max(range.data.max, given->max);
+  }
+  target = range.enabled ? given : std::nullopt;
 }
 
 }  // namespace
@@ -115,18 +224,50 @@ void prepareFilters(Session& s, const PointCloud* points, bool whole, bool has_c
       for (const std::uint8_t c : points->classification) setBit(e.listed, c);
     }
   }
+  // Ranges over the data: the whole cloud's or the preview's; an octree's as its format records
+  // them (OctreeInfo), else intensity over 16 bits and GPS time unknown (Ctrl + click to type).
+  const PointFilter& options = s.options->settings.filter;
+  PointFilter& filter = s.settings.filter;
+  ValueRange intensity{0.0, s.octree && s.octree->info().has_intensity ? 65535.0 : 0.0};
+  ValueRange gps_time{};
+  if (points) {
+    if (points->hasIntensity() && points->count > 0) {
+      const auto [lo, hi] = std::minmax_element(points->intensity.begin(), points->intensity.end());
+      intensity = {double(*lo), double(*hi)};
+    }
+    gps_time = columnRange(points->findScalar(filter_names::kGpsTime), points->count);
+  } else if (s.octree) {
+    const OctreeInfo& info = s.octree->info();
+    if (info.intensity_range) intensity = {(*info.intensity_range)[0], (*info.intensity_range)[1]};
+    if (info.gps_time_range) gps_time = {(*info.gps_time_range)[0], (*info.gps_time_range)[1]};
+  }
+  prepareRange(e.intensity, intensity, options.intensity, filter.intensity, first);
+  prepareRange(e.elevation, {s.extent.bounds.min[2], s.extent.bounds.max[2]}, options.elevation,
+               filter.elevation, first);
+  prepareRange(e.gps_time, gps_time, options.gps_time, filter.gps_time, first);
+  // The command line's returns table stays for the first cloud until the checkboxes are used.
+  e.returns_enabled = false;
+  if (!first) filter.returns.fill(~0u);
+  e.polygon = options.polygon;
+  e.polygon_enabled = first && !options.polygon.empty();
+  if (!first) filter.polygon.clear();
+
   // The command line's box for the first cloud; any other starts as the cloud's bounds, off.
   const std::optional<Bounds3> given = s.options->settings.filter.clipBox();
   if (first && given) {
     e.box_enabled = true;
     e.box = *given;
     e.box_outside = s.options->settings.filter.clip_outside;
+    e.highlight = s.options->settings.filter.clip_highlight;
     return;
   }
-  e.box_enabled = e.box_outside = false;
+  e.box_enabled = false;
+  e.box_outside = e.polygon_enabled && options.clip_outside;
+  e.highlight = e.polygon_enabled && options.clip_highlight;
+  s.settings.filter.clip_highlight = e.highlight;
   e.box = s.extent.bounds;
   s.settings.filter.clip_planes.clear();
-  s.settings.filter.clip_outside = false;
+  s.settings.filter.clip_outside = e.box_outside;
 }
 
 void drawFilterPanel(Session& s) {
@@ -136,7 +277,17 @@ void drawFilterPanel(Session& s) {
     drawClassCheckboxes(s);
     ImGui::TreePop();
   }
+  if (ImGui::TreeNode("returns and ranges")) {
+    drawReturns(s);
+    PointFilter& filter = s.settings.filter;
+    drawRange("intensity", s.filter_editor.intensity, filter.intensity, "%.0f");
+    drawRange("elevation", s.filter_editor.elevation, filter.elevation, "%.3f");
+    drawRange("GPS time", s.filter_editor.gps_time, filter.gps_time, "%.6f");
+    ImGui::TreePop();
+  }
   drawClipBoxEditor(s);
+  drawPolygon(s);
+  drawClipMode(s);
 }
 
 }  // namespace parallax::viewer_internal

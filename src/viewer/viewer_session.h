@@ -106,7 +106,20 @@ struct Session {
     std::array<std::uint32_t, 8> listed{};  // bit c: class c has a checkbox
     bool classified = false;                // false: no classification, every point is class 0
     bool box_enabled = false, box_outside = false;
-    Bounds3 box;  // world coordinates; applied to settings.filter while enabled
+    bool highlight = false;  // tint the region's content instead (box_outside unused)
+    Bounds3 box;             // world coordinates; applied to settings.filter while enabled
+    // Returns: kinds (first, last, intermediate, single, multiple) and return numbers (bit r),
+    // applied while enabled; ranges applied while enabled, their sliders over the data's range.
+    bool returns_enabled = false;
+    std::array<bool, 5> return_kinds{};
+    std::uint32_t return_numbers = 0;
+    struct Range {
+      bool enabled = false;
+      ValueRange data, value;
+    };
+    Range intensity, elevation, gps_time;
+    bool polygon_enabled = false;
+    std::vector<std::array<double, 2>> polygon;  // the command line's --clip-polygon
   };
   FilterEditor filter_editor;
 };

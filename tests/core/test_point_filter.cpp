@@ -1,6 +1,8 @@
 // The point filter on the CPU (what `convert` applies) and the ASPRS class names.
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "core/classification.h"
 #include "core/point_filter.h"
 
@@ -86,6 +88,121 @@ TEST(PointFilter, WithoutClassificationEveryPointIsClassZero) {
   EXPECT_EQ(filterPoints(fivePoints(false), filter).count, 0u);
   filter.keepOnlyClasses({0});
   EXPECT_EQ(filterPoints(fivePoints(false), filter).count, 5u);
+}
+
+// Eight returns of one cloud: (r, n) pairs covering first, last, intermediate and single.
+PointCloud returnsCloud(bool with_returns) {
+  PointCloud cloud;
+  const int pairs[8][2] = {{1, 1}, {1, 3}, {2, 3}, {3, 3}, {1, 2}, {2, 2}, {5, 7}, {17, 20}};
+  cloud.count = 8;
+  cloud.quantization.scale = {0.001, 0.001, 0.001};
+  cloud.positions = Column<Int3>(8);
+  cloud.intensity = Column<float>(8);
+  ScalarColumn r{.name = "return_number", .type = ScalarType::UInt8, .data = ByteBuffer(8)};
+  ScalarColumn n{.name = "number_of_returns", .type = ScalarType::UInt8, .data = ByteBuffer(8)};
+  ScalarColumn gps{.name = "gps_time", .type = ScalarType::Float64, .data = ByteBuffer(8 * 8)};
+  for (int i = 0; i < 8; ++i) {
+    cloud.positions[std::size_t(i)] = {1000 * i, 0, 500 * i};  // z 0, 0.5, ... 3.5 m
+    cloud.intensity[std::size_t(i)] = float(100 * i);
+    r.as<std::uint8_t>()[i] = std::uint8_t(pairs[i][0]);
+    n.as<std::uint8_t>()[i] = std::uint8_t(pairs[i][1]);
+    gps.as<double>()[i] = 400000000.0 + 0.000001 * i;  // a microsecond apart
+  }
+  if (with_returns) cloud.scalars.push_back(std::move(r)), cloud.scalars.push_back(std::move(n));
+  cloud.scalars.push_back(std::move(gps));
+  cloud.computeBounds();
+  return cloud;
+}
+
+// The x (in metres) of the kept points: which ones, in order.
+std::vector<int> keptIndices(const PointCloud& cloud, const PointFilter& filter) {
+  const PointCloud kept = filterPoints(cloud, filter);
+  std::vector<int> indices;
+  for (std::size_t i = 0; i < kept.count; ++i) indices.push_back(kept.positions[i].x / 1000);
+  return indices;
+}
+
+TEST(PointFilter, ReturnKindsAndNumbers) {
+  const PointCloud cloud = returnsCloud(true);
+  PointFilter filter;
+  EXPECT_TRUE(filter.keepsEveryReturn());
+  filter.keepOnlyReturns({ReturnKind::First}, {});
+  EXPECT_FALSE(filter.keepsAll());
+  EXPECT_EQ(keptIndices(cloud, filter), (std::vector<int>{0, 1, 4}));
+  filter.keepOnlyReturns({ReturnKind::Last}, {});
+  // 17 of 20 counts as 15 of 15: the last.
+  EXPECT_EQ(keptIndices(cloud, filter), (std::vector<int>{0, 3, 5, 7}));
+  filter.keepOnlyReturns({ReturnKind::Intermediate}, {});
+  EXPECT_EQ(keptIndices(cloud, filter), (std::vector<int>{2, 6}));
+  filter.keepOnlyReturns({ReturnKind::Single}, {});
+  EXPECT_EQ(keptIndices(cloud, filter), (std::vector<int>{0}));
+  filter.keepOnlyReturns({ReturnKind::Multiple}, {});
+  EXPECT_EQ(keptIndices(cloud, filter), (std::vector<int>{1, 2, 3, 4, 5, 6, 7}));
+  filter.keepOnlyReturns({ReturnKind::Single}, {2, 5});
+  EXPECT_EQ(keptIndices(cloud, filter), (std::vector<int>{0, 2, 5, 6}));
+}
+
+TEST(PointFilter, WithoutReturnsEveryPointIsReturnOneOfOne) {
+  const PointCloud cloud = returnsCloud(false);
+  PointFilter filter;
+  filter.keepOnlyReturns({ReturnKind::Intermediate}, {2});
+  EXPECT_EQ(filterPoints(cloud, filter).count, 0u);
+  filter.keepOnlyReturns({ReturnKind::First, ReturnKind::Single}, {});
+  EXPECT_EQ(filterPoints(cloud, filter).count, 8u);
+}
+
+TEST(PointFilter, IntensityElevationAndGpsTimeRangesAreInclusive) {
+  const PointCloud cloud = returnsCloud(true);
+  PointFilter filter;
+  filter.intensity = ValueRange{100.0, 300.0};
+  EXPECT_FALSE(filter.keepsAll());
+  EXPECT_EQ(keptIndices(cloud, filter), (std::vector<int>{1, 2, 3}));
+  filter.elevation = ValueRange{1.0, 3.5};  // z = 0.5 i
+  EXPECT_EQ(keptIndices(cloud, filter), (std::vector<int>{2, 3}));
+  filter = {};
+  // A microsecond apart at 4e8 s: a float could not tell them apart.
+  filter.gps_time = ValueRange{400000000.0000015, 400000000.0000045};
+  EXPECT_EQ(keptIndices(cloud, filter), (std::vector<int>{2, 3, 4}));
+}
+
+TEST(PointFilter, MissingIntensityAndGpsTimeAreZero) {
+  PointCloud cloud = fivePoints(true);
+  cloud.scalars.clear();
+  PointFilter filter;
+  filter.intensity = ValueRange{0.0, 10.0};
+  filter.gps_time = ValueRange{-1.0, 0.0};
+  EXPECT_EQ(filterPoints(cloud, filter).count, 5u);
+  filter.gps_time = ValueRange{1.0, 2.0};
+  EXPECT_EQ(filterPoints(cloud, filter).count, 0u);
+}
+
+TEST(PointFilter, PolygonInsideOutsideAndWithABox) {
+  PointFilter filter;
+  // An L: the unit squares (0..2, 0..1) and (0..1, 1..2).
+  filter.polygon = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  EXPECT_FALSE(filter.keepsAll());
+  EXPECT_TRUE(filter.keepsPosition(0.5, 0.5, 100.0));  // any z
+  EXPECT_TRUE(filter.keepsPosition(1.5, 0.5, -100.0));
+  EXPECT_TRUE(filter.keepsPosition(0.5, 1.5, 0.0));
+  EXPECT_FALSE(filter.keepsPosition(1.5, 1.5, 0.0));  // the notch
+  EXPECT_FALSE(filter.keepsPosition(-0.5, 0.5, 0.0));
+  filter.clip_outside = true;
+  EXPECT_FALSE(filter.keepsPosition(0.5, 0.5, 0.0));
+  EXPECT_TRUE(filter.keepsPosition(1.5, 1.5, 0.0));
+  // A box bounds the polygon in z: the region is their intersection.
+  Bounds3 box;
+  box.extend(-10, -10, 0);
+  box.extend(10, 10, 1);
+  filter.setClipBox(box, false);
+  EXPECT_TRUE(filter.keepsPosition(0.5, 0.5, 0.5));
+  EXPECT_FALSE(filter.keepsPosition(0.5, 0.5, 1.5));
+  EXPECT_FALSE(filter.keepsPosition(1.5, 1.5, 0.5));
+  // Highlighted, the region keeps everything and only says what is in it.
+  filter.clip_highlight = true;
+  EXPECT_TRUE(filter.keepsPosition(1.5, 1.5, 0.5));
+  EXPECT_TRUE(filter.keepsPosition(0.5, 0.5, 0.5));
+  EXPECT_FALSE(filter.inRegion(1.5, 1.5, 0.5));
+  EXPECT_TRUE(filter.inRegion(0.5, 0.5, 0.5));
 }
 
 TEST(Classification, AsprsNamesAndNumbersForTheRest) {

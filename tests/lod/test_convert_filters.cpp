@@ -230,7 +230,8 @@ TEST_F(ConvertFilters, AFilterThatKeepsNothingIsAClearError) {
   const RunResult r = runParallax(dir_, "convert " + quoted(las_.string()) + " -o " +
                                             quoted((dir_ / "none").string()) + " --classes 200");
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_NE(r.err.find("at least one point that the class and clip filters keep"),
+  EXPECT_NE(r.err.find(
+                "at least one point that the filters (classes, returns, ranges, clip region) keep"),
             std::string::npos)
       << r.err;
 }

@@ -213,6 +213,29 @@ TEST(PickCommand, LasFileGivesTheFrontMostPointWithExactCoordinatesAndAttributes
               {picks.begin(), picks.begin() + 2}, true);
 }
 
+// With a filter, pick answers with the front-most point the filter keeps: a point the filter
+// hides is never picked, even where it is the nearest.
+TEST(PickCommand, APointTheFilterHidesIsNeverPicked) {
+  TempDir dir;
+  const LasTestFile file = utmCloud();
+  const auto las = dir.write("utm.las", makeLas(file));
+  LasTestFile kept = file;
+  std::erase_if(kept.points, [](const LasTestPoint& p) { return p.return_number != 2; });
+  const StereoFrame mono = stereoFrame(testCamera(), StereoSettings{}, kWidth, kHeight);
+  const std::vector<ExpectedPick> whole = certainPixels(file, mono.views);
+  std::vector<ExpectedPick> picks;
+  for (const ExpectedPick& p : choose(certainPixels(kept, mono.views), 0, 1000)) {
+    // Pixels whose front-most point in the whole file is one the filter hides.
+    const auto front = std::find_if(whole.begin(), whole.end(), [&](const ExpectedPick& w) {
+      return w.x == p.x && w.y == p.y && w.view == p.view;
+    });
+    if (front != whole.end() && file.points[front->point].return_number != 2) picks.push_back(p);
+    if (picks.size() == 4) break;
+  }
+  ASSERT_GE(picks.size(), 2u) << "no pixel where the filter hides the front-most point";
+  expectPicks(dir, las.string(), cameraArgs() + " --returns 2", kept, picks, true);
+}
+
 TEST(PickCommand, EachEyeOfSideBySideStereo) {
   TempDir dir;
   const LasTestFile file = utmCloud();

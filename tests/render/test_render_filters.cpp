@@ -5,117 +5,12 @@
 // of its own colour: the pictures must be equal, and the lit pixels are counted too. A cloud at
 // UTM coordinates (~500 000, 5 000 000) with box faces half a millimetre from points shows that
 // the clip planes keep double precision (float world coordinates there are good to 0.5 m).
-#include <gtest/gtest.h>
-
-#include <algorithm>
-#include <array>
-#include <cmath>
-#include <filesystem>
-#include <iomanip>
-#include <set>
-#include <sstream>
-#include <string>
-#include <vector>
-
-#include "render/camera.h"
-#include "render/image_file.h"
-#include "support/run_parallax.h"
-#include "support/temp_dir.h"
+#include "filter_scene.h"
 
 namespace parallax::test {
 namespace {
 
-constexpr int kWidth = 160, kHeight = 120;
-
-struct Point {
-  long long mm[3];  // world position in millimetres
-  int cls;
-  int r, g, b;
-};
-
-struct Scene {
-  std::array<double, 3> center;  // world, a whole number of millimetres
-  std::array<double, 3> eye;
-  std::vector<Point> points;
-  bool classified = true;
-
-  std::string cameraOptions() const {
-    std::ostringstream o;
-    o << std::fixed << std::setprecision(3) << "--eye " << eye[0] << ',' << eye[1] << ',' << eye[2]
-      << " --target " << center[0] << ',' << center[1] << ',' << center[2]
-      << " --up 0,0,1 --fov 50";
-    return o.str();
-  }
-};
-
-std::string plyOf(const std::vector<Point>& points, bool classified) {
-  std::ostringstream ply;
-  ply << "ply\nformat ascii 1.0\nelement vertex " << points.size()
-      << "\nproperty double x\nproperty double y\nproperty double z\nproperty uchar red\n"
-         "property uchar green\nproperty uchar blue\n"
-      << (classified ? "property uchar classification\n" : "") << "end_header\n";
-  for (const Point& p : points) {
-    // Millimetres printed exactly: the integer metres, then three digits.
-    for (int a = 0; a < 3; ++a) {
-      ply << p.mm[a] / 1000 << '.' << std::setw(3) << std::setfill('0') << p.mm[a] % 1000
-          << std::setfill(' ') << ' ';
-    }
-    ply << p.r << ' ' << p.g << ' ' << p.b;
-    if (classified) ply << ' ' << p.cls;
-    ply << '\n';
-  }
-  return ply.str();
-}
-
-// About 2 000 points in a 4 x 3 x 1 m box around `center` on a millimetre grid, classes 0-12,
-// kept only where they project one to a pixel at least 0.1 pixel from its edges (the same
-// camera as the renders, in double).
-Scene makeScene(std::array<double, 3> center, bool classified) {
-  Scene scene;
-  scene.center = center;
-  scene.eye = {center[0] + 1.0, center[1] - 3.5, center[2] + 3.0};
-  scene.classified = classified;
-  Camera camera;
-  camera.lookAt({scene.eye[0], scene.eye[1], scene.eye[2]}, {center[0], center[1], center[2]},
-                {0, 0, 1});
-  camera.fov_y_deg = 50;
-  Bounds3 bounds;  // (the clip range does not move points across the picture)
-  bounds.extend(center[0] - 2.0, center[1] - 1.5, center[2] - 0.5);
-  bounds.extend(center[0] + 2.0, center[1] + 1.5, center[2] + 0.5);
-  const glm::dmat4 to_clip =
-      camera.projectionMatrix(double(kWidth) / kHeight, camera.clipRange(bounds)) *
-      camera.viewMatrix();
-  std::uint32_t state = 12345;
-  auto next = [&] {  // xorshift32
-    state ^= state << 13;
-    state ^= state >> 17;
-    state ^= state << 5;
-    return state;
-  };
-  std::set<std::pair<int, int>> taken;
-  for (int i = 0; i < 4000; ++i) {
-    Point p{};
-    const long long extent[3] = {4000, 3000, 1000};
-    for (int a = 0; a < 3; ++a) {
-      p.mm[a] = std::llround(center[std::size_t(a)] * 1000.0) - extent[a] / 2 +
-                (long long)(next() % std::uint32_t(extent[a] + 1));
-    }
-    p.cls = classified ? int(next() % 13) : 0;
-    p.r = 40 + i % 200, p.g = 40 + (i / 200) % 200, p.b = 60 + 10 * p.cls;
-    const glm::dvec4 clip =
-        to_clip * glm::dvec4(p.mm[0] / 1000.0, p.mm[1] / 1000.0, p.mm[2] / 1000.0, 1.0);
-    if (clip.w <= 0) continue;
-    const double x = (clip.x / clip.w + 1) * 0.5 * kWidth,
-                 y = (clip.y / clip.w + 1) * 0.5 * kHeight;
-    const double fx = x - std::floor(x), fy = y - std::floor(y);
-    if (x < 1 || y < 1 || x > kWidth - 1 || y > kHeight - 1) continue;
-    if (fx < 0.1 || fx > 0.9 || fy < 0.1 || fy > 0.9) continue;
-    if (!taken.insert({int(x), int(y)}).second) continue;
-    scene.points.push_back(p);
-  }
-  EXPECT_GT(scene.points.size(), 1500u);
-  return scene;
-}
+using namespace filter_scene;
 
 // The filter by hand: classes (empty: all) and a box in millimetres, inclusive.
 struct HandFilter {

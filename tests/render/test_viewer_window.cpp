@@ -644,10 +644,17 @@ TEST(ViewerWindow, CommandLineFiltersReachTheViewer) {
     std::vector<std::string> options;
     bool drawn;
   };
+  // A square around the whole grid; the grid has no returns (1 of 1), no GPS time (0) and z
+  // from 0 to 0.15.
+  const std::string polygon = dir.write("square.txt", "-1 -1\n1 -1\n1 1\n-1 1\n").string();
   const std::vector<Case> cases = {{box, true},
                                    {{box[0], box[1], "--clip-mode", "outside"}, false},
                                    {{"--classes", "5"}, false},
-                                   {{"--classes", "0-4"}, true}};
+                                   {{"--classes", "0-4"}, true},
+                                   {{"--returns", "single", "--clip-polygon", polygon}, true},
+                                   {{"--clip-polygon", polygon, "--clip-mode", "outside"}, false},
+                                   {{"--elevation", "0.2,1"}, false},
+                                   {{"--gps-time", "1,2"}, false}};
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const auto shots = dir.path() / ("shots" + std::to_string(i));
     std::filesystem::create_directories(shots);

@@ -1,0 +1,32 @@
+// Timing helpers of the render benchmarks (bench_render*.cpp): process CPU time, the load
+// average beside each figure, medians.
+#pragma once
+
+#include <time.h>
+
+#include <algorithm>
+#include <fstream>
+#include <vector>
+
+namespace parallax::cli {
+
+inline double processCpuSeconds() {
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return double(now.tv_sec) + double(now.tv_nsec) * 1e-9;
+}
+
+// /proc/loadavg's three figures (zeros where it cannot be read).
+inline std::vector<double> loadAverage() {
+  std::ifstream file("/proc/loadavg");
+  std::vector<double> load(3, 0.0);
+  file >> load[0] >> load[1] >> load[2];
+  return load;
+}
+
+inline double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values.empty() ? 0.0 : values[values.size() / 2];
+}
+
+}  // namespace parallax::cli
