@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -413,6 +414,13 @@ class ViewerProcess {
               0);
     std::this_thread::sleep_for(300ms);
   }
+  // A plain left click at (x, y), window coordinates (with a measurement tool: adds a point).
+  void click(int x, int y) {
+    EXPECT_EQ(run(env_ + "xdotool mousemove --window " + window_ + " " + std::to_string(x) + " " +
+                  std::to_string(y) + " click 1 > /dev/null 2>&1"),
+              0);
+    std::this_thread::sleep_for(300ms);
+  }
   // `clicks` steps of the wheel forward (towards the cloud) at the window's middle.
   void scroll(int clicks) {
     for (int i = 0; i < clicks; ++i) {
@@ -767,6 +775,84 @@ TEST(ViewerWindow, CtrlClickPrintsThePickedPoint) {
   EXPECT_EQ(pz, expected.at("point").at("z").get<double>()) << log;
   const std::string red = "red=" + std::to_string(expected.at("point").at("red").get<int>()) + " ";
   EXPECT_NE(log.find(red), std::string::npos) << log;
+  EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
+}
+
+// With the distance tool (`--tool distance`), clicking two points and pressing Enter prints the
+// two points (the file's values, exactly those `parallax pick` gives for those pixels) and their
+// distance, computed in double from them.
+TEST(ViewerWindow, DistanceToolClickingTwoPointsPrintsTheirDistance) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto cloud = dir.write("grid.ply", gridPly());
+  const std::vector<std::string> look = {"--width",      "640",   "--height", "400",
+                                         "--point-size", "4",     "--eye",    "0.4,-1.6,1.2",
+                                         "--target",     "0,0,0", "--fov",    "30"};
+  std::array<nlohmann::json, 2> expected;
+  const std::array<std::string, 2> pixels = {"250,150", "420,260"};
+  for (int i = 0; i < 2; ++i) {
+    std::string args = " pick " + cloud.string() + " --pixel " + pixels[i] + " --json";
+    for (const std::string& option : look) args += " " + option;
+    const auto json = dir / ("pick" + std::to_string(i) + ".json");
+    ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + args + " > " + json.string()), 0);
+    expected[i] = nlohmann::json::parse(readFile(json));
+    ASSERT_TRUE(expected[i].at("found").get<bool>()) << expected[i].dump();
+  }
+  auto point = [&](int i) {
+    const nlohmann::json& p = expected[i].at("point");
+    return std::array<double, 3>{p.at("x").get<double>(), p.at("y").get<double>(),
+                                 p.at("z").get<double>()};
+  };
+  const auto a = point(0), b = point(1);
+  const double distance = std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
+                                    (b[2] - a[2]) * (b[2] - a[2]));
+  ASSERT_GT(distance, 0.1) << "the two pixels picked the same point";
+
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  std::vector<std::string> view_args = {cloud.string(), "--no-vsync",       "--tool",
+                                        "distance",     "--screenshot-dir", dir.path().string()};
+  view_args.insert(view_args.end(), look.begin(), look.end());
+  ViewerProcess viewer(dir, display.name(), view_args, "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+  viewer.key("g");  // the panel off the picture
+  for (int i = 0; i < 2; ++i) {
+    viewer.click(expected[i].at("point_pixel")[0], expected[i].at("point_pixel")[1]);
+    ASSERT_TRUE(viewer.logged("parallax view: distance point " + std::to_string(i + 1) + ": "))
+        << viewer.log();
+  }
+  viewer.key("Return");
+  ASSERT_TRUE(viewer.logged("parallax view: distance ", 10s) && viewer.logged(" m (2 points)", 10s))
+      << viewer.log();
+  const std::string log = viewer.log();
+  for (int i = 0; i < 2; ++i) {
+    const std::string prefix = "parallax view: distance point " + std::to_string(i + 1) + ": ";
+    std::istringstream line(log.substr(log.find(prefix) + prefix.size()));
+    double x = 0, y = 0, z = 0;
+    line >> x >> y >> z;
+    EXPECT_EQ(x, point(i)[0]) << log;
+    EXPECT_EQ(y, point(i)[1]) << log;
+    EXPECT_EQ(z, point(i)[2]) << log;
+  }
+  const std::string prefix = "parallax view: distance ";
+  const auto at = log.find(" m (2 points)");
+  const auto start = log.rfind(prefix, at) + prefix.size();
+  const double printed = std::stod(log.substr(start, at - start));
+  // Printed with six decimals.
+  EXPECT_NEAR(printed, distance, 5e-7) << log;
+  // The overlay: the measurement's vertex markers (distance yellow, 1 0.85 0.1) around the two
+  // points clicked, drawn over the points.
+  const RgbaImage shot = viewer.screenshot(dir.path());
+  for (int i = 0; i < 2; ++i) {
+    const int x = expected[i].at("point_pixel")[0], y = expected[i].at("point_pixel")[1];
+    const std::size_t pixel = (std::size_t(y) * std::size_t(shot.width) + std::size_t(x + 2)) * 4;
+    EXPECT_NEAR(shot.pixels[pixel], 255, 1) << "marker " << i;
+    EXPECT_NEAR(shot.pixels[pixel + 1], 217, 1) << "marker " << i;
+    EXPECT_NEAR(shot.pixels[pixel + 2], 26, 1) << "marker " << i;
+  }
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
 }
 
