@@ -200,6 +200,8 @@ MeasurementDocument parseMeasurementDocument(std::string_view text, const std::s
     for (std::size_t i = 0; i + 1 < offset; ++i) line += text[i] == '\n';
     throw InputError(
         {.file = file, .line = line, .expected = "a JSON measurement document", .found = e.what()});
+  } catch (const nlohmann::json::exception& e) {  // e.g. a number too large for a double
+    throw InputError({.file = file, .expected = "a JSON measurement document", .found = e.what()});
   }
   return DocumentParser(file).document(json);
 }

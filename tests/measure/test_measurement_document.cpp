@@ -153,6 +153,13 @@ TEST(MeasurementDocument, SyntaxErrorNamesTheLine) {
   }
 }
 
+TEST(MeasurementDocument, NumberTooLargeForADoubleIsAnInputError) {
+  const std::string text =
+      R"({"format": "parallax-measurements", "version": 1, "measurements": [{"kind": "point",
+          "points": [[1e400, 0, 0]]}]})";
+  EXPECT_THROW(parseMeasurementDocument(text, "huge.json"), InputError);
+}
+
 TEST(MeasurementDocument, MissingFileIsAnInputError) {
   EXPECT_THROW(loadMeasurementDocument(tempDir() / "none.json"), InputError);
 }

@@ -160,5 +160,28 @@ TEST(RenderMeasurements, MalformedFileIsAnErrorNamingTheFileAndThePath) {
   EXPECT_FALSE(std::filesystem::exists(dir / "out.png"));
 }
 
+TEST(RenderMeasurements, ViewReadsTheFileBeforeOpeningAWindow) {
+  // A malformed file stops `view` before it looks for a display: the same error as render's.
+  TempDir dir;
+  const auto ply = dir.write("scene.ply", scenePly());
+  nlohmann::json bad = document();
+  bad["measurements"][0]["kind"] = "volume";
+  const auto json = dir.write("bad.json", bad.dump());
+  const std::string command = "DISPLAY= " + std::string(PARALLAX_EXECUTABLE) + " view " +
+                              ply.string() + " --measurements " + json.string() + " 2> " +
+                              (dir / "log").string();
+  EXPECT_EQ(run(command), 2);
+  const std::string log = readText(dir / "log");
+  EXPECT_NE(log.find("bad.json"), std::string::npos) << log;
+  EXPECT_NE(log.find("measurements[0].kind"), std::string::npos) << log;
+  EXPECT_NE(log.find("'volume'"), std::string::npos) << log;
+  // An unknown tool is an option error (status 1) naming the tools there are.
+  EXPECT_EQ(run("DISPLAY= " + std::string(PARALLAX_EXECUTABLE) + " view " + ply.string() +
+                " --tool ruler 2> " + (dir / "log").string()),
+            1);
+  EXPECT_NE(readText(dir / "log").find("distance, height, area"), std::string::npos)
+      << readText(dir / "log");
+}
+
 }  // namespace
 }  // namespace parallax::test
