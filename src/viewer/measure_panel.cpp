@@ -175,7 +175,7 @@ void drawMeasurePanel(Session& s) {
 
   ImGui::Separator();
   ImGui::InputText("file", &m.file);
-  if (ImGui::Button("Save")) saveMeasurements(s);
+  if (ImGui::Button("Save (Ctrl+S)")) saveMeasurements(s);
   ImGui::SameLine();
   if (ImGui::Button("Load")) loadMeasurements(s);
   ImGui::PopID();

@@ -153,9 +153,13 @@ void deleteSelectedMeasurement(Session& s) {
   s.status = "measurement deleted";
 }
 
-bool measureKey(Session& s, int key) {
+bool measureKey(Session& s, int key, int mods) {
   MeasureSession& m = s.measure;
   const bool drawing = !m.current.points.empty();
+  if (key == GLFW_KEY_S && (mods & GLFW_MOD_CONTROL)) {
+    saveMeasurements(s);
+    return true;
+  }
   switch (key) {
     case GLFW_KEY_ENTER:
     case GLFW_KEY_KP_ENTER:

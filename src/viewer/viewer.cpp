@@ -307,14 +307,14 @@ void scaleStereo(Session& s, double separation_factor, double convergence_factor
   std::fprintf(stderr, "parallax view: %s\n", text);
 }
 
-void onKey(GLFWwindow* window, int key, int, int action, int) {
+void onKey(GLFWwindow* window, int key, int, int action, int mods) {
   if ((action != GLFW_PRESS && action != GLFW_REPEAT) || ImGui::GetIO().WantCaptureKeyboard) return;
   Session& s = sessionOf(window);
   // Held keys repeat only for the stereo adjustments.
   const bool adjust = key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET ||
                       key == GLFW_KEY_MINUS || key == GLFW_KEY_EQUAL;
   if (action == GLFW_REPEAT && !adjust) return;
-  if (measureKey(s, key)) return;
+  if (measureKey(s, key, mods)) return;
   switch (key) {
     case GLFW_KEY_3:
       cycleStereoMode(s);

@@ -26,7 +26,7 @@ const char* const kHelp =
     "                     its coordinates and attributes in the panel and on stderr\n"
     "  click              with a measurement tool (panel: Measure): add the point under the\n"
     "                     cursor; Enter finishes, Backspace removes the last, Esc cancels,\n"
-    "                     Delete removes the selected measurement\n"
+    "                     Delete removes the selected measurement; Ctrl + S saves them\n"
     "Keys\n"
     "  H      this help\n"
     "  G      show or hide the panel\n"

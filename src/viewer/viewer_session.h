@@ -152,8 +152,8 @@ void cancelMeasurement(Session& s);
 void removeLastMeasurePoint(Session& s);
 void deleteSelectedMeasurement(Session& s);
 // Enter (finish), Escape (cancel, while drawing), Backspace (remove the last point), Delete (the
-// selected measurement): true when the key was the tool's.
-bool measureKey(Session& s, int key);
+// selected measurement), Ctrl + S (save the measurement file): true when the key was the tools'.
+bool measureKey(Session& s, int key, int mods);
 // Animates the camera to the annotation's saved camera, or looks at its point from here.
 void flyToAnnotation(Session& s, const Annotation& annotation);
 // Moves the camera along a flight; true while one is under way.

@@ -856,5 +856,66 @@ TEST(ViewerWindow, DistanceToolClickingTwoPointsPrintsTheirDistance) {
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
 }
 
+// The annotation tool places a labelled point where the click picks one; Ctrl + S saves it with
+// the camera, and `parallax render --measurements` draws it from that camera where the viewer
+// showed it.
+TEST(ViewerWindow, AnnotationSavedFromTheViewerIsDrawnByRender) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto cloud = dir.write("grid.ply", gridPly());
+  const std::vector<std::string> look = {"--width",      "640",   "--height", "400",
+                                         "--point-size", "4",     "--eye",    "0.4,-1.6,1.2",
+                                         "--target",     "0,0,0", "--fov",    "30"};
+  std::string args = " pick " + cloud.string() + " --pixel 300,200 --json";
+  for (const std::string& option : look) args += " " + option;
+  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + args + " > " + (dir / "pick.json").string()), 0);
+  const nlohmann::json expected = nlohmann::json::parse(readFile(dir / "pick.json"));
+  ASSERT_TRUE(expected.at("found").get<bool>()) << expected.dump();
+  const int x = expected.at("point_pixel")[0], y = expected.at("point_pixel")[1];
+
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  std::vector<std::string> view_args = {cloud.string(), "--no-vsync",       "--tool",
+                                        "annotation",   "--screenshot-dir", dir.path().string()};
+  view_args.insert(view_args.end(), look.begin(), look.end());
+  ViewerProcess viewer(dir, display.name(), view_args, "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+  viewer.key("g");
+  viewer.click(x, y);
+  ASSERT_TRUE(viewer.logged("parallax view: annotation 'Annotation 1' at ")) << viewer.log();
+  viewer.key("ctrl+s");
+  ASSERT_TRUE(viewer.logged("parallax view: measurements saved to ")) << viewer.log();
+  EXPECT_EQ(viewer.quit(), 0) << viewer.log();
+
+  const nlohmann::json saved = nlohmann::json::parse(readFile(dir / "measurements.json"));
+  ASSERT_EQ(saved.at("annotations").size(), 1u) << saved.dump();
+  const nlohmann::json& annotation = saved.at("annotations")[0];
+  EXPECT_EQ(annotation.at("label"), "Annotation 1");
+  for (int axis = 0; axis < 3; ++axis) {
+    EXPECT_EQ(annotation.at("position")[axis].get<double>(),
+              expected.at("point").at(std::string(1, char('x' + axis))).get<double>());
+  }
+  ASSERT_TRUE(annotation.contains("camera"));
+  ASSERT_TRUE(saved.contains("camera"));
+  EXPECT_EQ(saved.at("camera").at("position")[1].get<double>(), -1.6);
+
+  // The same picture from the saved camera: the annotation's marker (cyan) on the point's pixel.
+  const auto png = dir / "annotated.png";
+  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " render " + cloud.string() + " -o " +
+                png.string() + " --width 640 --height 400 --point-size 4 --measurements " +
+                (dir / "measurements.json").string() + " 2> " + (dir / "render.log").string()),
+            0)
+      << readFile(dir / "render.log");
+  EXPECT_NE(readFile(dir / "render.log").find("from its camera"), std::string::npos);
+  const RgbaImage image = readPng(png);
+  const std::size_t pixel = (std::size_t(y) * std::size_t(image.width) + std::size_t(x + 2)) * 4;
+  EXPECT_NEAR(image.pixels[pixel], 51, 1);
+  EXPECT_NEAR(image.pixels[pixel + 1], 255, 1);
+  EXPECT_NEAR(image.pixels[pixel + 2], 255, 1);
+}
+
 }  // namespace
 }  // namespace parallax::test
