@@ -146,21 +146,10 @@ std::vector<OverlayVertex> overlayTriangles(const OverlayScene& scene, const Vie
                   line.width_px);
     }
   }
-  for (const OverlayMarker& marker : scene.markers) {
-    const glm::dvec3 eye = t.eye(marker.position);
-    if (!t.inFront(eye)) continue;
-    const ProjectedPoint p = t.project(eye);
-    const float depth = t.depthVarying(p.eye_depth);
-    const float tx = std::floor(float(p.x)), ty = std::floor(float(p.y));
-    const float h = 0.5f * marker.size_px;
-    // A dark rim, then the colour: visible on any background.
-    pushRect(out, float(p.x) - h - 1, float(p.y) - h - 1, float(p.x) + h + 1, float(p.y) + h + 1,
-             depth, tx, ty, {0, 0, 0, marker.color[3]});
-    pushRect(out, float(p.x) - h, float(p.y) - h, float(p.x) + h, float(p.y) + h, depth, tx, ty,
-             marker.color);
-  }
-  if (!glyphs) return out;
-  for (const OverlayLabel& label : scene.labels) {
+  // Labels (they need a font), then markers on top: a label's box may fall on a vertex of
+  // another segment, whose marker must stay visible.
+  const std::vector<OverlayLabel> no_labels;
+  for (const OverlayLabel& label : glyphs ? scene.labels : no_labels) {
     const glm::dvec3 eye = t.eye(label.anchor);
     if (!t.inFront(eye) || label.text.empty()) continue;
     const ProjectedPoint p = t.project(eye);
@@ -185,6 +174,19 @@ std::vector<OverlayVertex> overlayTriangles(const OverlayScene& scene, const Vie
       }
       pen += g.advance;
     }
+  }
+  for (const OverlayMarker& marker : scene.markers) {
+    const glm::dvec3 eye = t.eye(marker.position);
+    if (!t.inFront(eye)) continue;
+    const ProjectedPoint p = t.project(eye);
+    const float depth = t.depthVarying(p.eye_depth);
+    const float tx = std::floor(float(p.x)), ty = std::floor(float(p.y));
+    const float h = 0.5f * marker.size_px;
+    // A dark rim, then the colour: visible on any background.
+    pushRect(out, float(p.x) - h - 1, float(p.y) - h - 1, float(p.x) + h + 1, float(p.y) + h + 1,
+             depth, tx, ty, {0, 0, 0, marker.color[3]});
+    pushRect(out, float(p.x) - h, float(p.y) - h, float(p.x) + h, float(p.y) + h, depth, tx, ty,
+             marker.color);
   }
   return out;
 }

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "viewer/viewer_session.h"
@@ -105,9 +106,20 @@ void drawMeasurePanel(Session& s) {
   }
   if (!m.current.points.empty()) {
     ImGui::Separator();
-    ImGui::Text("drawing a %s, %zu points",
+    ImGui::Text("%s a %s, %zu points", m.editing ? "editing" : "drawing",
                 std::string(measurementKindName(m.current.kind)).c_str(), m.current.points.size());
     showValues(m.current);
+    // Each vertex, with a button that removes it.
+    std::optional<std::size_t> remove_vertex;
+    for (std::size_t i = 0; i < m.current.points.size(); ++i) {
+      const glm::dvec3& p = m.current.points[i];
+      ImGui::PushID(int(2000 + i));
+      if (ImGui::SmallButton("x")) remove_vertex = i;
+      ImGui::SameLine();
+      ImGui::Text("%zu: %.3f  %.3f  %.3f", i + 1, p.x, p.y, p.z);
+      ImGui::PopID();
+    }
+    if (remove_vertex) removeMeasurePoint(s, *remove_vertex);
     if (ImGui::Button("Finish")) finishMeasurement(s);
     ImGui::SameLine();
     if (ImGui::Button("Remove last point")) removeLastMeasurePoint(s);
@@ -151,6 +163,8 @@ void drawMeasurePanel(Session& s) {
         }
       }
     }
+    if (ImGui::Button("Edit points (Ctrl+E)")) editSelectedMeasurement(s);
+    ImGui::SameLine();
     if (ImGui::Button("Delete measurement")) deleteSelectedMeasurement(s);
   }
 

@@ -18,10 +18,14 @@ struct MeasureSession {
   // The measurement being clicked (its kind is the tool's); empty points: none in progress.
   Measurement current;
   std::optional<std::size_t> selected;  // in document.measurements
-  double profile_width = 1.0;           // the next profile's corridor width, world units
-  std::string annotation_label;         // the next annotation's label (empty: "Annotation N")
-  bool annotation_camera = true;        // save the current camera with new annotations
-  std::string file;                     // Save / Load (the panel's field)
+  // While a measurement of the document is reopened for editing (its points are `current`): its
+  // index, and the measurement as it was, which Escape puts back.
+  std::optional<std::size_t> editing;
+  Measurement editing_original;
+  double profile_width = 1.0;     // the next profile's corridor width, world units
+  std::string annotation_label;   // the next annotation's label (empty: "Annotation N")
+  bool annotation_camera = true;  // save the current camera with new annotations
+  std::string file;               // Save / Load (the panel's field)
 
   // The height profile of one measurement, computed when it is selected (kept until another).
   struct Profile {

@@ -82,7 +82,7 @@ std::string exact(const glm::dvec3& p) {
 
 void setMeasureTool(Session& s, MeasureTool tool) {
   MeasureSession& m = s.measure;
-  if (!m.current.points.empty()) cancelMeasurement(s);
+  if (!m.current.points.empty() || m.editing) cancelMeasurement(s);
   m.tool = tool;
   if (const auto kind = kindOf(tool)) m.current = Measurement{.kind = *kind};
   s.status = "tool: " + std::string(measureToolName(tool));
@@ -126,17 +126,72 @@ void finishMeasurement(Session& s) {
                std::to_string(minimumVertices(c.kind)) + " points";
     return;
   }
-  if (c.kind == MeasurementKind::Profile) c.profile_width = m.profile_width;
-  m.document.measurements.push_back(c);
-  m.selected = m.document.measurements.size() - 1;
+  if (m.editing && *m.editing <= m.document.measurements.size()) {
+    // Back where it was in the list, under its name and width.
+    c.name = m.editing_original.name;
+    c.profile_width = m.editing_original.profile_width;
+    m.document.measurements.insert(m.document.measurements.begin() + std::ptrdiff_t(*m.editing), c);
+    m.selected = *m.editing;
+    m.editing.reset();
+  } else {
+    if (c.kind == MeasurementKind::Profile) c.profile_width = m.profile_width;
+    m.document.measurements.push_back(c);
+    m.selected = m.document.measurements.size() - 1;
+  }
   // Six decimals on stderr (micrometres in metres): what scripts and tests compare.
   report(s, describeMeasurement(c, 6));
   c = Measurement{.kind = c.kind};
 }
 
 void cancelMeasurement(Session& s) {
-  s.measure.current.points.clear();
+  MeasureSession& m = s.measure;
+  if (m.editing && *m.editing <= m.document.measurements.size()) {
+    // An edit cancelled gives the measurement back unchanged.
+    m.document.measurements.insert(m.document.measurements.begin() + std::ptrdiff_t(*m.editing),
+                                   m.editing_original);
+    m.selected = *m.editing;
+    m.editing.reset();
+    m.current.points.clear();
+    s.status = "edit cancelled";
+    return;
+  }
+  m.current.points.clear();
   s.status = "measurement cancelled";
+}
+
+void editSelectedMeasurement(Session& s) {
+  MeasureSession& m = s.measure;
+  if (!m.selected || *m.selected >= m.document.measurements.size()) return;
+  std::size_t index = *m.selected;
+  if (!m.current.points.empty() || m.editing) {
+    // Cancelling an edit puts that measurement back in its place, moving the ones after it.
+    if (m.editing && *m.editing <= index) ++index;
+    cancelMeasurement(s);
+  }
+  const Measurement measurement = m.document.measurements[index];
+  static constexpr std::array<std::pair<MeasurementKind, MeasureTool>, 6> kToolOf{{
+      {MeasurementKind::Point, MeasureTool::Point},
+      {MeasurementKind::Distance, MeasureTool::Distance},
+      {MeasurementKind::Height, MeasureTool::Height},
+      {MeasurementKind::Area, MeasureTool::Area},
+      {MeasurementKind::Angle, MeasureTool::Angle},
+      {MeasurementKind::Profile, MeasureTool::Profile},
+  }};
+  for (const auto& [kind, tool] : kToolOf) {
+    if (kind == measurement.kind) m.tool = tool;
+  }
+  m.document.measurements.erase(m.document.measurements.begin() + std::ptrdiff_t(index));
+  m.editing = index;
+  m.editing_original = measurement;
+  m.current = measurement;
+  m.selected.reset();
+  m.profile.reset();
+  s.status = "editing: click to add points, Backspace removes the last, Enter finishes";
+}
+
+void removeMeasurePoint(Session& s, std::size_t index) {
+  auto& points = s.measure.current.points;
+  if (index < points.size()) points.erase(points.begin() + std::ptrdiff_t(index));
 }
 
 void removeLastMeasurePoint(Session& s) {
@@ -155,9 +210,13 @@ void deleteSelectedMeasurement(Session& s) {
 
 bool measureKey(Session& s, int key, int mods) {
   MeasureSession& m = s.measure;
-  const bool drawing = !m.current.points.empty();
+  const bool drawing = !m.current.points.empty() || m.editing;
   if (key == GLFW_KEY_S && (mods & GLFW_MOD_CONTROL)) {
     saveMeasurements(s);
+    return true;
+  }
+  if (key == GLFW_KEY_E && (mods & GLFW_MOD_CONTROL)) {
+    editSelectedMeasurement(s);
     return true;
   }
   switch (key) {

@@ -148,11 +148,18 @@ void setMeasureTool(Session& s, MeasureTool tool);
 // Adds the measurement being drawn to the document when it has enough points; prints it on
 // stderr ("parallax view: distance 12.345678 m (2 points)").
 void finishMeasurement(Session& s);
+// Cancels the measurement being drawn; an edit puts the measurement back as it was.
 void cancelMeasurement(Session& s);
 void removeLastMeasurePoint(Session& s);
+// Removes vertex `index` of the measurement being drawn or edited.
+void removeMeasurePoint(Session& s, std::size_t index);
+// Reopens the selected measurement: its points become the ones being drawn (more can be clicked,
+// any removed), Enter puts it back in its place, Escape restores it.
+void editSelectedMeasurement(Session& s);
 void deleteSelectedMeasurement(Session& s);
 // Enter (finish), Escape (cancel, while drawing), Backspace (remove the last point), Delete (the
-// selected measurement), Ctrl + S (save the measurement file): true when the key was the tools'.
+// selected measurement), Ctrl + E (edit the selected measurement), Ctrl + S (save the measurement
+// file): true when the key was the tools'.
 bool measureKey(Session& s, int key, int mods);
 // Animates the camera to the annotation's saved camera, or looks at its point from here.
 void flyToAnnotation(Session& s, const Annotation& annotation);

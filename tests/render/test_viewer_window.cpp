@@ -790,9 +790,9 @@ TEST(ViewerWindow, DistanceToolClickingTwoPointsPrintsTheirDistance) {
   const std::vector<std::string> look = {"--width",      "640",   "--height", "400",
                                          "--point-size", "4",     "--eye",    "0.4,-1.6,1.2",
                                          "--target",     "0,0,0", "--fov",    "30"};
-  std::array<nlohmann::json, 2> expected;
-  const std::array<std::string, 2> pixels = {"250,150", "420,260"};
-  for (int i = 0; i < 2; ++i) {
+  std::array<nlohmann::json, 3> expected;
+  const std::array<std::string, 3> pixels = {"250,150", "420,260", "330,300"};
+  for (int i = 0; i < 3; ++i) {
     std::string args = " pick " + cloud.string() + " --pixel " + pixels[i] + " --json";
     for (const std::string& option : look) args += " " + option;
     const auto json = dir / ("pick" + std::to_string(i) + ".json");
@@ -805,10 +805,14 @@ TEST(ViewerWindow, DistanceToolClickingTwoPointsPrintsTheirDistance) {
     return std::array<double, 3>{p.at("x").get<double>(), p.at("y").get<double>(),
                                  p.at("z").get<double>()};
   };
-  const auto a = point(0), b = point(1);
-  const double distance = std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
-                                    (b[2] - a[2]) * (b[2] - a[2]));
+  auto between = [&](int i, int j) {
+    const auto a = point(i), b = point(j);
+    return std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
+                     (b[2] - a[2]) * (b[2] - a[2]));
+  };
+  const double distance = between(0, 1);
   ASSERT_GT(distance, 0.1) << "the two pixels picked the same point";
+  ASSERT_GT(between(1, 2), 0.1) << "the last two pixels picked the same point";
 
   Display display(dir);
   ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
@@ -843,6 +847,18 @@ TEST(ViewerWindow, DistanceToolClickingTwoPointsPrintsTheirDistance) {
   const double printed = std::stod(log.substr(start, at - start));
   // Printed with six decimals.
   EXPECT_NEAR(printed, distance, 5e-7) << log;
+  // Ctrl + E reopens it (the measurement just finished is the selected one); a third click
+  // extends the polyline, Enter puts it back: the total of both segments.
+  viewer.key("ctrl+e");
+  viewer.click(expected[2].at("point_pixel")[0], expected[2].at("point_pixel")[1]);
+  ASSERT_TRUE(viewer.logged("parallax view: distance point 3: ")) << viewer.log();
+  viewer.key("Return");
+  ASSERT_TRUE(viewer.logged(" m (3 points)", 10s)) << viewer.log();
+  const std::string extended = viewer.log();
+  const auto end3 = extended.find(" m (3 points)");
+  const auto start3 = extended.rfind(prefix, end3) + prefix.size();
+  EXPECT_NEAR(std::stod(extended.substr(start3, end3 - start3)), distance + between(1, 2), 5e-7)
+      << extended;
   // The overlay: the measurement's vertex markers (distance yellow, 1 0.85 0.1) around the two
   // points clicked, drawn over the points.
   const RgbaImage shot = viewer.screenshot(dir.path());
