@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <glm/gtc/quaternion.hpp>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -69,11 +70,26 @@ class DocumentParser {
   }
 
   Camera camera(const nlohmann::json& value, const std::string& path) const {
+    Camera camera;
     try {
-      return cameraFromJson(value);
+      camera = cameraFromJson(value);
     } catch (const std::exception& e) {
       fail(path, "a camera as `parallax view` saves it", e.what());
     }
+    // cameraFromJson normalises the orientation; a quaternion whose length overflows comes out
+    // of that as zeros, which is no rotation at all.
+    auto finite3 = [](const glm::dvec3& v) {
+      return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+    };
+    const glm::dquat& q = camera.orientation;
+    const bool finite = std::abs(glm::length(q) - 1.0) < 1e-6 && std::isfinite(camera.fov_y_deg) &&
+                        std::isfinite(camera.ortho_height) && finite3(camera.position) &&
+                        finite3(camera.pivot) && finite3(camera.world_up);
+    if (!finite) {
+      fail(path, "a camera of finite numbers with a non-zero orientation quaternion",
+           quoteInput(value.dump(), 80));
+    }
+    return camera;
   }
 
   Measurement measurement(const nlohmann::json& value, const std::string& path) const {

@@ -131,6 +131,9 @@ TEST(MeasurementDocument, BadDocumentsNameThePathAndWhatWasExpected) {
           "position": [0, 0, 0], "camera": {"position": [0, 0]}}]})",
        "annotations[0].camera", "a camera"},
       {R"({"format": "parallax-measurements", "version": 1, "camera": 3})", "camera", "a camera"},
+      {R"({"format": "parallax-measurements", "version": 1, "camera": {"position": [0, 0, 0],
+          "orientation_wxyz": [1e300, 1e300, 0, 0], "pivot": [0, 0, 0]}})",
+       "camera", "a non-zero orientation quaternion"},
   };
   for (const Case& c : cases) {
     const std::string message = errorOf(c.text);
