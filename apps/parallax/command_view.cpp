@@ -27,6 +27,7 @@ struct ViewCommandOptions {
   double frame_budget_ms = 1000.0 / 15.0;
   std::string measurements_file;
   std::string tool = "none";
+  double profile_width = 1.0;
   RenderOptions render;
   LodOptions lod;
 };
@@ -55,6 +56,7 @@ int runView(const ViewCommandOptions& o, const CLI::App& command,
                                 "or annotation");
   }
   viewer.measure_tool = *tool;
+  viewer.profile_width = o.profile_width;
   if (!o.measurements_file.empty()) {
     // Read before the window opens: a malformed file is reported like a bad point file.
     viewer.measurements = loadMeasurementDocument(o.measurements_file);
@@ -103,6 +105,10 @@ Command addViewCommand(CLI::App& app) {
                   "Measurement tool a click uses: none, point, distance, height, area, angle, "
                   "profile or annotation (also in the panel)")
       ->capture_default_str();
+  sub->add_option("--profile-width", options->profile_width,
+                  "Corridor width of new height profiles, in the cloud's units (also in the panel)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   addRenderOptions(*sub, options->render);
   addLodOptions(*sub, options->lod);
   sub->footer(

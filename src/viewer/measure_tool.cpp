@@ -141,6 +141,8 @@ void finishMeasurement(Session& s) {
   // Six decimals on stderr (micrometres in metres): what scripts and tests compare.
   report(s, describeMeasurement(c, 6));
   c = Measurement{.kind = c.kind};
+  // A finished profile is extracted at once, for the panel's plot.
+  if (m.document.measurements[*m.selected].kind == MeasurementKind::Profile) selectedProfile(s);
 }
 
 void cancelMeasurement(Session& s) {
@@ -298,6 +300,13 @@ const MeasureSession::Profile* selectedProfile(Session& s) {
     }
   } catch (const std::exception& e) {
     profile.error = e.what();
+  }
+  if (profile.error.empty()) {
+    std::fprintf(stderr, "parallax view: profile of measurement %zu: %zu points from %s\n",
+                 profile.measurement + 1, profile.profile.samples.size(), profile.source.c_str());
+  } else {
+    std::fprintf(stderr, "parallax view: no profile of measurement %zu: %s\n",
+                 profile.measurement + 1, profile.error.c_str());
   }
   m.profile = std::move(profile);
   return &*m.profile;

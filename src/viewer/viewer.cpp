@@ -588,6 +588,7 @@ int runViewer(const ViewerOptions& options) {
   s.measure.file = options.measurements_file.empty()
                        ? (options.screenshot_dir / "measurements.json").string()
                        : options.measurements_file.string();
+  s.measure.profile_width = options.profile_width;
   setMeasureTool(s, options.measure_tool);
   s.status.clear();
   glfwSwapInterval(s.vsync ? 1 : 0);

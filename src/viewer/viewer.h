@@ -49,6 +49,7 @@ struct ViewerOptions {
   // Measurements: the tool a click uses at first, the document shown at first (its camera is
   // the caller's to use, through initial_camera), and the file the panel saves to and loads.
   MeasureTool measure_tool = MeasureTool::None;
+  double profile_width = 1.0;  // the corridor width of new profiles (world units, > 0)
   MeasurementDocument measurements;
   std::filesystem::path measurements_file;
   // When the command started: the time to the first picture is printed from here.
