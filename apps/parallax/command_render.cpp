@@ -100,12 +100,13 @@ struct RenderCommandOptions {
 
 int runRender(const RenderCommandOptions& o) {
   const auto start = Clock::now();
+  // A malformed measurement file is reported before the point file is read.
+  std::optional<MeasurementDocument> measurements;
+  if (!o.measurements_file.empty()) measurements = loadMeasurementDocument(o.measurements_file);
+
   configureNetworkFrom(o.lod);
   checkOctreeUrl(o.input);
   pointFilterFrom(o.render.filter);  // a malformed list is reported before the file is read
-  // So is a malformed measurement file.
-  std::optional<MeasurementDocument> measurements;
-  if (!o.measurements_file.empty()) measurements = loadMeasurementDocument(o.measurements_file);
   RenderSource source =
       openRenderSource({.input = o.input, .preview = o.preview, .quiet = o.quiet}, o.lod);
   const double load_s = secondsSince(start);
