@@ -105,6 +105,13 @@ void measureClick(Session& s, const PickResult& picked) {
   const auto kind = kindOf(m.tool);
   if (!kind) return;
   if (m.current.kind != *kind) m.current = Measurement{.kind = *kind};
+  if (hasFixedVertexCount(*kind) && m.current.points.size() >= minimumVertices(*kind)) {
+    // (Editing one: it has all its vertices; a new one goes in place of a removed one.)
+    s.status = "a " + std::string(measurementKindName(*kind)) + " has " +
+               std::to_string(minimumVertices(*kind)) +
+               " points: remove one first (Backspace, or x in the panel)";
+    return;
+  }
   m.current.points.push_back(picked.position);
   std::fprintf(stderr, "parallax view: %s point %zu: %s\n",
                std::string(measurementKindName(*kind)).c_str(), m.current.points.size(),
@@ -122,7 +129,8 @@ void finishMeasurement(Session& s) {
   Measurement& c = m.current;
   if (c.points.empty()) return;
   if (c.points.size() < minimumVertices(c.kind)) {
-    s.status = "a " + std::string(measurementKindName(c.kind)) + " needs at least " +
+    s.status = "a " + std::string(measurementKindName(c.kind)) + " needs " +
+               (hasFixedVertexCount(c.kind) ? "" : "at least ") +
                std::to_string(minimumVertices(c.kind)) + " points";
     return;
   }
