@@ -12,6 +12,10 @@
 // asks for a picture of an even sample at once (PLY, LAS, LAZ; the budget's worth of points, at
 // most kPreviewPoints).
 //
+// With --measurements FILE (measure/measurement_document.h), the file's measurements and
+// annotations are drawn over every picture (lines, markers and labels, depth-tested against the
+// points: behind them, faded), and its camera is used unless --eye or --camera is given.
+//
 // Prints the time from start to PNG broken down into load, context, upload, draw and write, on
 // stderr (stdout stays free for scripts).
 #include <algorithm>
@@ -35,6 +39,8 @@
 #include "lod/octree_open.h"
 #include "lod/octree_url.h"
 #include "lod/potree_reader.h"
+#include "measure/measurement_document.h"
+#include "measure/measurement_overlay.h"
 #include "net/url.h"
 #include "network_options.h"
 #include "progress_options.h"
@@ -87,12 +93,17 @@ struct RenderCommandOptions {
   int frames = 0;
   bool preview = false;
   bool quiet = false;  // no progress bar, no report on stderr
+  std::string measurements_file;
   RenderOptions render;
   LodOptions lod;
 };
 
 int runRender(const RenderCommandOptions& o) {
   const auto start = Clock::now();
+  // A malformed measurement file is reported before the point file is read.
+  std::optional<MeasurementDocument> measurements;
+  if (!o.measurements_file.empty()) measurements = loadMeasurementDocument(o.measurements_file);
+
   configureNetworkFrom(o.lod);
   checkOctreeUrl(o.input);
   pointFilterFrom(o.render.filter,
@@ -123,12 +134,21 @@ int runRender(const RenderCommandOptions& o) {
       outputs.push_back(framePath(o.output, f));
     }
     std::filesystem::create_directories(std::filesystem::path(outputs.front()).parent_path());
+  } else if (measurements && measurements->camera && o.render.eye.empty() &&
+             o.render.camera_file.empty()) {
+    cameras.push_back(*measurements->camera);
+    outputs.push_back(o.output);
   } else {
     cameras.push_back(cameraFrom(o.render, scene.extent, aspect));
     outputs.push_back(o.output);
   }
 
   Renderer renderer;
+  if (measurements) {
+    OverlayScene overlay;
+    appendMeasurementOverlay(*measurements, {}, overlay);
+    renderer.setOverlay(std::move(overlay));
+  }
   RenderTarget target(o.width, o.height);
   double draw_s = 0, write_s = 0;
   std::uint64_t drawn = 0;
@@ -165,6 +185,15 @@ int runRender(const RenderCommandOptions& o) {
     std::fprintf(stderr,
                  "parallax render: %u chunks with points over %g pixels drawn by GL_POINTS\n",
                  last_stats.fallback_chunks, double(ComputeRasterizer::kMaxSplatPx));
+  }
+  if (measurements) {
+    std::fprintf(stderr, "parallax render: drew %zu measurements and %zu annotations of %s%s\n",
+                 measurements->measurements.size(), measurements->annotations.size(),
+                 o.measurements_file.c_str(),
+                 measurements->camera && o.render.eye.empty() && o.render.camera_file.empty() &&
+                         o.path_file.empty()
+                     ? ", from its camera"
+                     : "");
   }
   if (lod) {
     const LodStats& stats = lod->stats();
@@ -221,6 +250,9 @@ Command addRenderCommand(CLI::App& app) {
       "A PLY, LAS or LAZ file over --budget: draw an even sample (at most the budget, at most 1 M "
       "points) at once "
       "instead of converting it to an octree");
+  sub->add_option("--measurements", options->measurements_file,
+                  "Measurement file (JSON, as the viewer saves it): draw its measurements and "
+                  "annotations, from its camera unless --eye or --camera is given");
   addQuietFlag(*sub, options->quiet);
   addRenderOptions(*sub, options->render);
   addLodOptions(*sub, options->lod);

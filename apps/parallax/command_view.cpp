@@ -6,9 +6,12 @@
 // --lighting, clouds with normals are lit.
 #include <chrono>
 #include <memory>
+#include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "commands.h"
+#include "measure/measurement_document.h"
 #include "network_options.h"
 #include "render_options.h"
 #include "viewer/viewer.h"
@@ -22,6 +25,9 @@ struct ViewCommandOptions {
   bool no_vsync = false;
   std::string screenshot_dir = ".";
   double frame_budget_ms = 1000.0 / 15.0;
+  std::string measurements_file;
+  std::string tool = "none";
+  double profile_width = 1.0;
   RenderOptions render;
   LodOptions lod;
 };
@@ -43,9 +49,25 @@ int runView(const ViewCommandOptions& o, const CLI::App& command,
   viewer.settings = renderSettingsFrom(o.render, 0.0);
   if (o.render.world_size <= 0) viewer.settings.world_size = 0.0f;
   viewer.stereo = stereoSettingsFrom(o.render);
+  const auto tool = measureToolFromName(o.tool);
+  if (!tool) {
+    throw std::invalid_argument("--tool " + o.tool +
+                                ": expected none, point, distance, height, area, angle, profile "
+                                "or annotation");
+  }
+  viewer.measure_tool = *tool;
+  viewer.profile_width = o.profile_width;
+  if (!o.measurements_file.empty()) {
+    // Read before the window opens: a malformed file is reported like a bad point file.
+    viewer.measurements = loadMeasurementDocument(o.measurements_file);
+    viewer.measurements_file = o.measurements_file;
+  }
   const RenderOptions render = o.render;
-  viewer.initial_camera = [render](const ViewExtent& extent, double aspect) {
-    return cameraFrom(render, extent, aspect);
+  // The measurement file's camera for the first cloud, unless camera options are given.
+  std::optional<Camera> saved = viewer.measurements.camera;
+  if (!render.eye.empty() || !render.camera_file.empty()) saved.reset();
+  viewer.initial_camera = [render, saved](const ViewExtent& extent, double aspect) {
+    return saved ? *saved : cameraFrom(render, extent, aspect);
   };
   // Unlike `render` (whose fixed 1-pixel, unlit default scripts rely on), the viewer shows
   // surfaces by default: adaptive size and lighting where the cloud allows, unless asked otherwise.
@@ -76,6 +98,17 @@ Command addViewCommand(CLI::App& app) {
                   "completed once it stops (progressive refinement). 0: always draw everything")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 10000.0));
+  sub->add_option("--measurements", options->measurements_file,
+                  "Measurement file (JSON): show its measurements and annotations, from its camera "
+                  "unless --eye or --camera is given; the panel's Save writes it back");
+  sub->add_option("--tool", options->tool,
+                  "Measurement tool a click uses: none, point, distance, height, area, angle, "
+                  "profile or annotation (also in the panel)")
+      ->capture_default_str();
+  sub->add_option("--profile-width", options->profile_width,
+                  "Corridor width of new height profiles, in the cloud's units (also in the panel)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   addRenderOptions(*sub, options->render);
   addLodOptions(*sub, options->lod);
   sub->footer(

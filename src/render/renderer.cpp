@@ -256,20 +256,42 @@ bool Renderer::composite(std::span<const View> views, const RenderSettings& sett
                              GL_COLOR_BUFFER_BIT, GL_NEAREST);
       glBindFramebuffer(GL_FRAMEBUFFER, target);
     }
+    // The target's pixels are the canvas's: the overlay goes straight on top.
+    drawOverlay();
     return true;
   }
-  // Composed stereo: eye-dome lighting per eye into the post canvas, then the composition.
+  // Composed stereo: eye-dome lighting per eye into the post canvas, the overlay per eye on it,
+  // then the composition. The overlay needs a canvas of its own (the points' canvas is kept as
+  // drawn, for the next composite()).
   GLuint canvas = color_, canvas_framebuffer = framebuffer_;
-  if (edl) {
+  if (edl || !overlay_.empty()) {
     ensurePostTarget();
     glBindFramebuffer(GL_FRAMEBUFFER, post_framebuffer_);
-    for (const View& view : views) edl_pass_.draw(color_, eye_depth_, view.viewport, settings);
+    if (edl) {
+      for (const View& view : views) edl_pass_.draw(color_, eye_depth_, view.viewport, settings);
+    } else {
+      glBlitNamedFramebuffer(framebuffer_, post_framebuffer_, 0, 0, width_, height_, 0, 0, width_,
+                             height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
+    drawOverlay();
     canvas = post_color_, canvas_framebuffer = post_framebuffer_;
   }
   if (!compositor_) compositor_.emplace();
   compositor_->compose(composition, canvas, canvas_framebuffer, target, width, height);
   glBindFramebuffer(GL_FRAMEBUFFER, target);
   return true;
+}
+
+void Renderer::drawOverlay() {
+  if (overlay_.empty() || last_views_.empty()) return;
+  if (!overlay_pass_) overlay_pass_ = std::make_unique<OverlayPass>();
+  std::vector<View> views;
+  std::vector<ClipRange> ranges;
+  for (const DrawnView& drawn : last_views_) {
+    views.push_back(drawn.view);
+    ranges.push_back(drawn.range);
+  }
+  overlay_pass_->draw(overlay_, views, ranges, depth_, width_, height_, overlay_depth_);
 }
 
 std::optional<glm::dvec3> Renderer::pick(int x, int y) const {

@@ -17,6 +17,8 @@
 #include "render/compute_rasterizer.h"
 #include "render/draw_set.h"
 #include "render/edl_pass.h"
+#include "render/overlay.h"
+#include "render/overlay_pass.h"
 #include "render/point_pass.h"
 #include "render/stereo.h"
 #include "render/stereo_compositor.h"
@@ -110,6 +112,14 @@ class Renderer {
   // The compute rasterizer, made on first use (needs the current context).
   ComputeRasterizer& computeRasterizer();
 
+  // Lines, markers and labels drawn over every picture from now on (render/overlay_pass.h): by
+  // render() and composite() alike, each view with its own camera, depth-tested against the
+  // frame's points, before the stereo composition (so each eye has its own). An empty scene
+  // draws nothing. Changing it needs no new frame: composite() shows it.
+  void setOverlay(OverlayScene scene) { overlay_ = std::move(scene); }
+  const OverlayScene& overlay() const { return overlay_; }
+  void setOverlayDepth(const OverlayDepthSettings& depth) { overlay_depth_ = depth; }
+
  private:
   // (Re)creates the framebuffers for a size and a sample count (0: no multisampled one).
   void resize(int width, int height, int samples);
@@ -123,7 +133,13 @@ class Renderer {
   // (composed stereo modes with EDL only); made on first use.
   void ensurePostTarget();
 
+  // Draws overlay_ for the last frame's views into the bound framebuffer (the canvas's size).
+  void drawOverlay();
+
   PointPass point_pass_;
+  OverlayScene overlay_;
+  OverlayDepthSettings overlay_depth_;
+  std::unique_ptr<OverlayPass> overlay_pass_;  // made on the first overlay drawn
   ComputeRasterizerOptions compute_options_;
   std::unique_ptr<ComputeRasterizer> compute_;
   RasterizerKind last_rasterizer_ = RasterizerKind::Points;

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -306,13 +307,14 @@ void scaleStereo(Session& s, double separation_factor, double convergence_factor
   std::fprintf(stderr, "parallax view: %s\n", text);
 }
 
-void onKey(GLFWwindow* window, int key, int, int action, int) {
+void onKey(GLFWwindow* window, int key, int, int action, int mods) {
   if ((action != GLFW_PRESS && action != GLFW_REPEAT) || ImGui::GetIO().WantCaptureKeyboard) return;
   Session& s = sessionOf(window);
   // Held keys repeat only for the stereo adjustments.
   const bool adjust = key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET ||
                       key == GLFW_KEY_MINUS || key == GLFW_KEY_EQUAL;
   if (action == GLFW_REPEAT && !adjust) return;
+  if (measureKey(s, key, mods)) return;
   switch (key) {
     case GLFW_KEY_3:
       cycleStereoMode(s);
@@ -391,10 +393,27 @@ void onScroll(GLFWwindow* window, double, double y) {
 }
 
 void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
-  if (ImGui::GetIO().WantCaptureMouse || button != GLFW_MOUSE_BUTTON_LEFT || action != GLFW_PRESS) {
+  if (ImGui::GetIO().WantCaptureMouse || button != GLFW_MOUSE_BUTTON_LEFT) return;
+  Session& s = sessionOf(window);
+  MeasureSession& measure = s.measure;
+  if (measure.tool != MeasureTool::None && !(mods & GLFW_MOD_CONTROL)) {
+    // With a tool, a click (press and release within a few pixels) adds a point; a drag still
+    // orbits. No double-click pivot meanwhile: two quick clicks are two points.
+    double x = 0, y = 0;
+    glfwGetCursorPos(window, &x, &y);
+    if (action == GLFW_PRESS) {
+      measure.press_valid = true;
+      measure.press_x = x, measure.press_y = y;
+    } else if (action == GLFW_RELEASE && measure.press_valid) {
+      measure.press_valid = false;
+      if (std::hypot(x - measure.press_x, y - measure.press_y) <= 4.0) {
+        measure.click_requested = true;
+        measure.click_x = x, measure.click_y = y;
+      }
+    }
     return;
   }
-  Session& s = sessionOf(window);
+  if (action != GLFW_PRESS) return;
   if (mods & GLFW_MOD_CONTROL) {
     s.point_pick_requested = true;  // not also half of a double-click
     return;
@@ -404,11 +423,11 @@ void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
   s.last_click_time = now;
 }
 
-// Ctrl + click: the point under the cursor (bottom-left origin), answered in this frame, after
-// the frame is drawn. The draw set is the one drawn: the cloud (or preview) while there is one,
-// else the octree's last selection.
-void pickPointAt(Session& s, int x, int y, int width, int height) {
-  if (!s.cloud && !s.lod) return;
+// Ctrl + click and the measurement tools: answered in the frame of the click, after the frame is
+// drawn. The draw set is the one drawn: the cloud (or preview) while there is one, else the
+// octree's last selection.
+std::optional<PickResult> pickAt(Session& s, int x, int y, int width, int height) {
+  if (!s.cloud && !s.lod) return std::nullopt;
   const void* scene = s.cloud ? static_cast<const void*>(s.cloud.get()) : s.lod.get();
   if (s.pick_scene != scene || !s.pick_source) {
     s.pick_source = s.cloud ? std::make_unique<PickSource>(*s.cloud_points)
@@ -422,22 +441,29 @@ void pickPointAt(Session& s, int x, int y, int width, int height) {
   // The pick's offscreen frame (compute, no multisampling or eye-dome lighting) is now the
   // renderer's last picture: the next frame draws the window's own again rather than reuse it.
   s.drawn.reset();
+  std::optional<PickResult> picked;
   try {
     // The window's picture may be GL_POINTS' or a progressive part: picking draws the whole
     // frame again with the compute rasterizer (render/point_picker.h).
-    s.picked = pickPoint(*s.renderer, *s.pick_source, draw_set, frame.views, frame.composition,
-                         s.settings, width, height, request);
+    picked = pickPoint(*s.renderer, *s.pick_source, draw_set, frame.views, frame.composition,
+                       s.settings, width, height, request);
   } catch (const std::exception& e) {  // an octree node that cannot be read again
-    s.picked.reset();
     s.status = std::string("cannot pick: ") + e.what();
     std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
-    return;
+    return std::nullopt;
   }
-  if (!s.picked) {
+  if (!picked) {
     s.status = "no point under the cursor";
     std::fprintf(stderr, "parallax view: picked nothing at %d,%d\n", x, height - 1 - y);
-    return;
   }
+  return picked;
+}
+
+// Ctrl + click: the point under the cursor (bottom-left origin) and its attributes, in the
+// panel's "Picked point" and on stderr.
+void pickPointAt(Session& s, int x, int y, int width, int height) {
+  s.picked = pickAt(s, x, y, width, height);
+  if (!s.picked) return;
   std::string line = "parallax view: picked";
   for (const PointAttribute& attribute : s.picked->attributes) {
     const bool position = attribute.name == "x" || attribute.name == "y" || attribute.name == "z";
@@ -558,6 +584,13 @@ int runViewer(const ViewerOptions& options) {
   if (s.stereo.mode != StereoMode::Mono) setStereoMode(s, s.stereo.mode);
   s.vsync = options.vsync;
   s.renderer = std::make_unique<Renderer>();
+  s.measure.document = options.measurements;
+  s.measure.file = options.measurements_file.empty()
+                       ? (options.screenshot_dir / "measurements.json").string()
+                       : options.measurements_file.string();
+  s.measure.profile_width = options.profile_width;
+  setMeasureTool(s, options.measure_tool);
+  s.status.clear();
   glfwSwapInterval(s.vsync ? 1 : 0);
   glfwSetWindowUserPointer(window, &s);
   // Ours first: ImGui's backend chains to callbacks installed before it.
@@ -628,6 +661,8 @@ int runViewer(const ViewerOptions& options) {
 
     pollBuild(s);
     pollOpeningUrl(s);
+    if (updateMeasureFlight(s)) busy = true;
+    updateMeasureOverlay(s);
     if (s.cloud || s.lod) {
       const StereoFrame frame = stereoFrame(s.camera, s.stereo, width, height);
       const void* scene = s.lod ? static_cast<const void*>(s.lod.get()) : s.cloud.get();
@@ -716,6 +751,14 @@ int runViewer(const ViewerOptions& options) {
       s.point_pick_requested = false;
       pickPointAt(s, int(input.cursor_x), height - 1 - int(input.cursor_y), width, height);
       glBindFramebuffer(GL_FRAMEBUFFER, 0);  // picking may have drawn offscreen; the panel may not
+    }
+    if (s.measure.click_requested) {
+      s.measure.click_requested = false;
+      const auto picked =
+          pickAt(s, int(s.measure.click_x), height - 1 - int(s.measure.click_y), width, height);
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);
+      if (picked) measureClick(s, *picked);
+      busy = true;  // the overlay changed: the next frame shows it
     }
     if (s.show_panel) drawPanel(s, frame_seconds, stats);
     if (s.show_help) drawHelp();

@@ -8,11 +8,13 @@
 #include <string>
 
 #include "lod/octree_cache.h"
+#include "measure/measurement_document.h"
 #include "render/camera.h"
 #include "render/lod_scene.h"
 #include "render/render_settings.h"
 #include "render/stereo.h"
 #include "render/view_extent.h"
+#include "viewer/measure_tool.h"
 
 namespace parallax {
 
@@ -44,6 +46,12 @@ struct ViewerOptions {
   // the rest is drawn on top, a budget at a time. 0: every frame draws everything it selected.
   // Live in the panel.
   double frame_budget_ms = 1000.0 / 15.0;
+  // Measurements: the tool a click uses at first, the document shown at first (its camera is
+  // the caller's to use, through initial_camera), and the file the panel saves to and loads.
+  MeasureTool measure_tool = MeasureTool::None;
+  double profile_width = 1.0;  // the corridor width of new profiles (world units, > 0)
+  MeasurementDocument measurements;
+  std::filesystem::path measurements_file;
   // When the command started: the time to the first picture is printed from here.
   std::chrono::steady_clock::time_point start_time = std::chrono::steady_clock::now();
 };

@@ -24,6 +24,10 @@ const char* const kHelp =
     "  double-click       new pivot at the point under the cursor\n"
     "  ctrl + click       pick the point under the cursor (or the nearest within 3 pixels):\n"
     "                     its coordinates and attributes in the panel and on stderr\n"
+    "  click              with a measurement tool (panel: Measure): add the point under the\n"
+    "                     cursor; Enter finishes, Backspace removes the last, Esc cancels,\n"
+    "                     Delete removes the selected measurement, Ctrl + E reopens it;\n"
+    "                     Ctrl + S saves the measurements\n"
     "Keys\n"
     "  H      this help\n"
     "  G      show or hide the panel\n"
@@ -39,7 +43,7 @@ const char* const kHelp =
     "  X      swap the eyes\n"
     "  , .    point budget halved / doubled (level of detail)\n"
     "  R      rasterizer: auto, compute, points (cycles)\n"
-    "  Esc    quit\n"
+    "  Esc    quit (while measuring: cancel the measurement)\n"
     "Drop a point file or a Potree directory on the window to open it; `parallax view URL`\n"
     "streams a Potree directory from a web server.";
 
@@ -255,6 +259,7 @@ void drawPanel(Session& s, double frame_seconds, const FrameStats& stats) {
     ImGui::Checkbox("swap eyes (X)", &s.stereo.swap_eyes);
   }
   drawFilterPanel(s);
+  drawMeasurePanel(s);
   drawPickedPanel(s);
   ImGui::Separator();
   ImGui::TextDisabled("Camera");

@@ -25,6 +25,7 @@
 #include "render/progressive.h"
 #include "render/renderer.h"
 #include "viewer/camera_controller.h"
+#include "viewer/measure_session.h"
 #include "viewer/viewer.h"
 
 namespace parallax::viewer_internal {
@@ -122,6 +123,8 @@ struct Session {
     std::vector<std::array<double, 2>> polygon;  // the command line's --clip-polygon
   };
   FilterEditor filter_editor;
+  // Measurements and annotations (measure_tool.cpp, measure_panel.cpp).
+  MeasureSession measure;
 };
 
 // Fits the camera to what is shown (F).
@@ -145,5 +148,47 @@ void prepareFilters(Session& s, const PointCloud* points, bool whole, bool has_c
                     bool first);
 // The keys and mouse (H).
 void drawHelp();
+
+// The point under window pixel (x, y) (bottom-left origin) of the frame shown, read back from
+// the source with every attribute; std::nullopt (and the user told) where there is none or the
+// source cannot be read again.
+std::optional<PickResult> pickAt(Session& s, int x, int y, int width, int height);
+
+// Measurement tools (measure_tool.cpp). A picked point for the active tool: a vertex of the
+// measurement being drawn (point, height and angle finish themselves) or a new annotation.
+void measureClick(Session& s, const PickResult& picked);
+void setMeasureTool(Session& s, MeasureTool tool);
+// Adds the measurement being drawn to the document when it has enough points; prints it on
+// stderr ("parallax view: distance 12.345678 m (2 points)").
+void finishMeasurement(Session& s);
+// Cancels the measurement being drawn; an edit puts the measurement back as it was.
+void cancelMeasurement(Session& s);
+void removeLastMeasurePoint(Session& s);
+// Removes vertex `index` of the measurement being drawn or edited.
+void removeMeasurePoint(Session& s, std::size_t index);
+// Reopens the selected measurement: its points become the ones being drawn (more can be clicked,
+// any removed), Enter puts it back in its place, Escape restores it.
+void editSelectedMeasurement(Session& s);
+void deleteSelectedMeasurement(Session& s);
+// Enter (finish), Escape (cancel, while drawing), Backspace (remove the last point), Delete (the
+// selected measurement), Ctrl + E (edit the selected measurement), Ctrl + S (save the measurement
+// file): true when the key was the tools'.
+bool measureKey(Session& s, int key, int mods);
+// Animates the camera to the annotation's saved camera, or looks at its point from here.
+void flyToAnnotation(Session& s, const Annotation& annotation);
+// Moves the camera along a flight; true while one is under way.
+bool updateMeasureFlight(Session& s);
+// Gives the renderer the overlay of the document and the measurement being drawn.
+void updateMeasureOverlay(Session& s);
+// The selected profile measurement's profile, extracted from what is open (cached); nullptr when
+// the selection is not a profile.
+const MeasureSession::Profile* selectedProfile(Session& s);
+// Writes the selected profile into the screenshot folder as profile-N.csv or .las.
+void exportProfile(Session& s, bool las);
+// Save / Load of s.measure.file (the current camera saved with the measurements).
+void saveMeasurements(Session& s);
+void loadMeasurements(Session& s);
+// The panel's Measure section (measure_panel.cpp).
+void drawMeasurePanel(Session& s);
 
 }  // namespace parallax::viewer_internal

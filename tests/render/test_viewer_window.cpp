@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -35,108 +36,12 @@
 #include "render/image_file.h"
 #include "render/view_extent.h"
 #include "support/temp_dir.h"
-
-extern char** environ;
+#include "viewer_window_support.h"
 
 namespace parallax::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-bool onPath(const std::string& program) {
-  return std::system(("command -v " + program + " > /dev/null 2>&1").c_str()) == 0;
-}
-
-// A child process; killed (SIGTERM, then SIGKILL) if still running when destroyed.
-class Child {
- public:
-  Child(const std::vector<std::string>& args, const std::vector<std::string>& extra_env,
-        const std::string& output_file) {
-    std::vector<char*> argv;
-    for (const auto& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
-    argv.push_back(nullptr);
-    env_strings_ = extra_env;
-    std::vector<char*> envp;
-    for (auto& entry : env_strings_) envp.push_back(entry.data());
-    for (char** e = environ; *e; ++e) envp.push_back(*e);
-    envp.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, output_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                     0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    if (posix_spawnp(&pid_, args[0].c_str(), &actions, nullptr, argv.data(), envp.data()) != 0) {
-      pid_ = -1;
-    }
-    posix_spawn_file_actions_destroy(&actions);
-  }
-  ~Child() {
-    if (pid_ <= 0) return;
-    kill(pid_, SIGTERM);
-    for (int i = 0; i < 50 && !exited(); ++i) std::this_thread::sleep_for(20ms);
-    if (!exited()) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
-  }
-  bool started() const { return pid_ > 0; }
-  // Waits up to `timeout` for the process to end; its exit status, or -1.
-  int wait(std::chrono::milliseconds timeout) {
-    const auto end = std::chrono::steady_clock::now() + timeout;
-    while (std::chrono::steady_clock::now() < end) {
-      if (exited()) return WIFEXITED(status_) ? WEXITSTATUS(status_) : -1;
-      std::this_thread::sleep_for(20ms);
-    }
-    return -1;
-  }
-
- private:
-  bool exited() {
-    if (done_) return true;
-    if (waitpid(pid_, &status_, WNOHANG) == pid_) done_ = true;
-    return done_;
-  }
-  pid_t pid_ = -1;
-  int status_ = 0;
-  bool done_ = false;
-  std::vector<std::string> env_strings_;
-};
-
-std::string readFile(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-bool waitFor(const std::function<bool()>& condition, std::chrono::milliseconds timeout) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < end) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(50ms);
-  }
-  return condition();
-}
-
-int run(const std::string& command) {
-  return std::system(command.c_str());
-}
-
-// A coloured 60 x 60 grid on a gentle dome, as an ASCII PLY.
-std::string gridPly() {
-  std::ostringstream ply;
-  ply << "ply\nformat ascii 1.0\nelement vertex 3600\nproperty float x\nproperty float y\n"
-         "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
-         "end_header\n";
-  for (int j = 0; j < 60; ++j) {
-    for (int i = 0; i < 60; ++i) {
-      const double x = i / 59.0 - 0.5, y = j / 59.0 - 0.5;
-      ply << x << ' ' << y << ' ' << 0.3 * (0.5 - x * x - y * y) << ' ' << 40 + 3 * i << ' '
-          << 40 + 3 * j << " 60\n";
-    }
-  }
-  return ply.str();
-}
 
 TEST(ViewerWindow, OpensDrawsThePanelTurnsOnDragAndTakesScreenshots) {
   if (!onPath("Xvfb") || !onPath("xdotool")) {
@@ -347,101 +252,6 @@ TEST(ViewerWindow, QuadBufferFallsBackToSideBySideAndTheThreeKeyCyclesStereoMode
 }
 
 // An Xvfb display for one test, started on a free display number.
-class Display {
- public:
-  explicit Display(const TempDir& dir)
-      : xvfb_({"sh", "-c",
-               "exec Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp 3>" +
-                   (dir / "display").string()},
-              {}, (dir / "xvfb.log").string()) {
-    if (waitFor([&] { return !readFile(dir / "display").empty(); }, 20s)) {
-      // Appended, not `":" + ...`: GCC 12 warns (-Wrestrict) on that inlined operator+.
-      name_ = ":";
-      name_ += std::to_string(std::stoi(readFile(dir / "display")));
-    }
-  }
-  const std::string& name() const { return name_; }  // empty: Xvfb did not start
-
- private:
-  Child xvfb_;
-  std::string name_;
-};
-
-// The parallax viewer on `display`, its window found by xdotool.
-class ViewerProcess {
- public:
-  ViewerProcess(const TempDir& dir, const std::string& display, std::vector<std::string> args,
-                const std::string& log_name)
-      : log_(dir / log_name),
-        env_("DISPLAY=" + display + " "),
-        viewer_(
-            [&] {
-              args.insert(args.begin(), {PARALLAX_EXECUTABLE, "view"});
-              return args;
-            }(),
-            {"DISPLAY=" + display, "ASAN_OPTIONS=detect_leaks=0"}, log_.string()) {
-    const auto window_file = dir / (log_name + ".window");
-    if (run(env_ + "timeout 60 xdotool search --sync --name Parallax > " + window_file.string()) ==
-        0) {
-      window_ = std::to_string(std::stol(readFile(window_file)));
-    }
-  }
-  bool hasWindow() const { return !window_.empty(); }
-  std::string log() const { return readFile(log_); }
-  bool logged(const std::string& text, std::chrono::milliseconds timeout = 30s) const {
-    return waitFor([&] { return log().find(text) != std::string::npos; }, timeout);
-  }
-  void key(const std::string& name) {
-    EXPECT_EQ(run(env_ + "xdotool key --window " + window_ + " " + name + " > /dev/null 2>&1"), 0)
-        << name;
-    std::this_thread::sleep_for(300ms);
-  }
-  // A left-button drag from (x0, y0) to (x1, y1), window coordinates.
-  void drag(int x0, int y0, int x1, int y1) {
-    const std::string at = "mousemove --window " + window_ + " ";
-    EXPECT_EQ(run(env_ + "xdotool " + at + std::to_string(x0) + " " + std::to_string(y0) +
-                  " mousedown 1 " + at + std::to_string((x0 + x1) / 2) + " " +
-                  std::to_string((y0 + y1) / 2) + " sleep 0.3 " + at + std::to_string(x1) + " " +
-                  std::to_string(y1) + " sleep 0.3 mouseup 1 > /dev/null 2>&1"),
-              0);
-    std::this_thread::sleep_for(300ms);
-  }
-  // A left click with Ctrl held at (x, y), window coordinates: picks a point.
-  void ctrlClick(int x, int y) {
-    EXPECT_EQ(run(env_ + "xdotool mousemove --window " + window_ + " " + std::to_string(x) + " " +
-                  std::to_string(y) + " keydown ctrl click 1 keyup ctrl > /dev/null 2>&1"),
-              0);
-    std::this_thread::sleep_for(300ms);
-  }
-  // `clicks` steps of the wheel forward (towards the cloud) at the window's middle.
-  void scroll(int clicks) {
-    for (int i = 0; i < clicks; ++i) {
-      EXPECT_EQ(run(env_ + "xdotool click --window " + window_ + " 4 > /dev/null 2>&1"), 0);
-      std::this_thread::sleep_for(200ms);
-    }
-  }
-  RgbaImage screenshot(const std::filesystem::path& shots) {
-    const auto path = shots / ("parallax-screenshot-" + std::to_string(++shots_) + ".png");
-    key("p");
-    EXPECT_TRUE(waitFor([&] { return std::filesystem::exists(path); }, 30s))
-        << "no screenshot " << path << ": " << log();
-    return readPng(path);
-  }
-  int quit() {
-    // xdotool may fail on the key release when the window is already gone: the exit status of
-    // the viewer is what counts.
-    run(env_ + "xdotool key --window " + window_ + " Escape > /dev/null 2>&1");
-    return viewer_.wait(20s);
-  }
-
- private:
-  std::filesystem::path log_;
-  std::string env_;
-  Child viewer_;
-  std::string window_;
-  int shots_ = 0;
-};
-
 // Pixels that are not the white background.
 std::size_t cloudPixels(const RgbaImage& image) {
   std::size_t count = 0;

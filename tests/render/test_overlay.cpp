@@ -1,0 +1,197 @@
+// The overlay pass on llvmpipe: a line's pixels where a CPU projection in double of its
+// endpoints puts them (at UTM coordinates), drawn over points behind it and faded behind points
+// in front of it, in each eye of a side-by-side stereo frame at that eye's projection; labels
+// in the atlas's font.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "render/overlay_geometry.h"
+#include "render/renderer.h"
+#include "render/stereo.h"
+#include "render_test_support.h"
+
+namespace parallax::test {
+namespace {
+
+constexpr double kEast = 500000.0, kNorth = 5000000.0, kUp = 100.0;
+constexpr int kWidth = 256, kHeight = 192;
+
+glm::dvec3 utm(double x, double y, double z) {
+  return {kEast + x, kNorth + y, kUp + z};
+}
+
+// Two big points: one in front of the line's middle (z +5, towards the camera), one behind the
+// line at x +1.5 (z -5). Blue and green (makeCloud's colours are replaced).
+PointCloud occluders() {
+  PointCloud cloud = makeCloud({{kEast, kNorth, kUp + 5}, {kEast + 1.5, kNorth, kUp - 5}},
+                               {kEast, kNorth, kUp}, 1.0 / 1024);
+  cloud.colors[0] = {0, 0, 255, 255};
+  cloud.colors[1] = {0, 255, 0, 255};
+  return cloud;
+}
+
+Camera frontCamera() {
+  Camera camera;
+  camera.lookAt(utm(0, 0, 20), utm(0, 0, 0), {0, 1, 0});
+  camera.fov_y_deg = 40;
+  return camera;
+}
+
+RenderSettings bigSquares() {
+  RenderSettings settings;
+  settings.point_size_px = 15;
+  settings.rasterizer = RasterizerKind::Points;
+  return settings;
+}
+
+OverlayScene yellowLine() {
+  OverlayScene scene;
+  OverlayPolyline line;
+  line.points = {utm(-3, 0, 0), utm(3, 0, 0)};
+  line.color = {1, 1, 0, 1};
+  line.width_px = 3;
+  scene.polylines.push_back(line);
+  return scene;
+}
+
+// The pixel (top-row-first image coordinates) where `world` lands in `view`, projected here in
+// double with the camera's matrices (independently of the overlay's own projection).
+std::pair<int, int> cpuPixel(const View& view, const glm::dvec3& world) {
+  const glm::dmat4 m =
+      view.camera.projectionMatrix(view.aspect(), ClipRange{1, 100}) * view.camera.viewMatrix();
+  const glm::dvec4 clip = m * glm::dvec4(world, 1.0);
+  const double x = view.viewport.x + (clip.x / clip.w * 0.5 + 0.5) * view.viewport.width;
+  const double y = view.viewport.y + (clip.y / clip.w * 0.5 + 0.5) * view.viewport.height;
+  return {int(std::floor(x)), kHeight - 1 - int(std::floor(y))};
+}
+
+std::array<int, 3> rgbAt(const std::vector<std::uint8_t>& rgba, std::pair<int, int> pixel) {
+  const std::size_t at = (std::size_t(pixel.second) * kWidth + std::size_t(pixel.first)) * 4;
+  return {rgba[at], rgba[at + 1], rgba[at + 2]};
+}
+
+void expectColor(const std::array<int, 3>& got, const std::array<int, 3>& want, int tolerance,
+                 const std::string& what) {
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(got[c], want[c], tolerance)
+        << what << ": (" << got[0] << ", " << got[1] << ", " << got[2] << ")";
+  }
+}
+
+TEST(OverlayPass, LineLandsOnTheProjectedPixelsAndFadesBehindNearerPoints) {
+  headlessContext();
+  const GpuPointCloud cloud(occluders());
+  Renderer renderer;
+  renderer.setOverlay(yellowLine());
+  RenderTarget target(kWidth, kHeight);
+  const View view{frontCamera(), {0, 0, kWidth, kHeight}};
+  renderer.render(cloud, std::span(&view, 1), bigSquares(), target.framebuffer(), kWidth, kHeight);
+  const auto rgba = target.readRgba();
+
+  // Open line over the background: pure yellow, along the whole projected segment.
+  for (double x : {-2.5, -1.0, 0.8, 2.5}) {
+    expectColor(rgbAt(rgba, cpuPixel(view, utm(x, 0, 0))), {255, 255, 0}, 0,
+                "line at x " + std::to_string(x));
+  }
+  // Off the line (3 pixels wide): background.
+  const auto [lx, ly] = cpuPixel(view, utm(-2, 0, 0));
+  expectColor(rgbAt(rgba, {lx, ly - 4}), {0, 0, 0}, 0, "above the line");
+  expectColor(rgbAt(rgba, {lx, ly + 4}), {0, 0, 0}, 0, "below the line");
+  // The green point behind the line: the line is drawn over it, whole.
+  expectColor(rgbAt(rgba, cpuPixel(view, utm(1.5, 0, 0))), {255, 255, 0}, 0, "over the far point");
+  expectColor(rgbAt(rgba, cpuPixel(view, utm(1.5, 0.2, 0))), {0, 255, 0}, 0, "the far point");
+  // The blue point in front of the line's middle hides it: the line is faded to 30 % there.
+  expectColor(rgbAt(rgba, cpuPixel(view, utm(0, 0, 0))),
+              {int(0.3 * 255), int(0.3 * 255), int(0.7 * 255)}, 2, "behind the near point");
+}
+
+TEST(OverlayPass, EachStereoEyeDrawsTheLineAtItsOwnProjection) {
+  headlessContext();
+  const GpuPointCloud cloud(occluders());
+  Renderer renderer;
+  // A vertical line at x -2: its two pictures differ by the eyes' parallax.
+  OverlayScene scene;
+  scene.polylines.push_back({{utm(-2, -2, 0), utm(-2, 2, 0)}, false, {1, 0, 1, 1}, 3});
+  renderer.setOverlay(scene);
+  RenderTarget target(kWidth, kHeight);
+  StereoSettings stereo;
+  stereo.mode = StereoMode::SideBySide;
+  stereo.eye_separation = 1.0;
+  stereo.convergence = 10.0;
+  const StereoFrame frame = stereoFrame(frontCamera(), stereo, kWidth, kHeight);
+  ASSERT_EQ(frame.views.size(), 2u);
+  renderer.render(cloud, frame.views, bigSquares(), target.framebuffer(), kWidth, kHeight,
+                  frame.composition);
+  const auto rgba = target.readRgba();
+  int columns[2];
+  for (int eye = 0; eye < 2; ++eye) {
+    const auto pixel = cpuPixel(frame.views[std::size_t(eye)], utm(-2, 1, 0));
+    columns[eye] = pixel.first - frame.views[std::size_t(eye)].viewport.x;
+    expectColor(rgbAt(rgba, pixel), {255, 0, 255}, 0, "eye " + std::to_string(eye));
+    expectColor(rgbAt(rgba, {pixel.first + 4, pixel.second}), {0, 0, 0}, 0,
+                "right of the line, eye " + std::to_string(eye));
+  }
+  // Behind the convergence plane (20 units away, converged at 10): uncrossed parallax, the
+  // right eye's picture of it further right in its half.
+  EXPECT_GT(columns[1], columns[0]);
+}
+
+TEST(OverlayPass, LabelTextIsDrawnInTheFontAtItsAnchor) {
+  headlessContext();
+  const GpuPointCloud cloud(occluders());
+  Renderer renderer;
+  OverlayScene scene;
+  scene.labels.push_back({utm(-2.5, -1.5, 0), "12.34 m", {1, 1, 1, 1}});
+  renderer.setOverlay(scene);
+  RenderTarget target(kWidth, kHeight);
+  const View view{frontCamera(), {0, 0, kWidth, kHeight}};
+  renderer.render(cloud, std::span(&view, 1), bigSquares(), target.framebuffer(), kWidth, kHeight);
+  const auto rgba = target.readRgba();
+  // The text's box starts 8 pixels right of and above the anchor; its glyphs are white pixels
+  // on the dark box, none left of the anchor.
+  const auto [ax, ay] = cpuPixel(view, utm(-2.5, -1.5, 0));
+  int white = 0, white_left = 0;
+  for (int y = ay - 30; y <= ay; ++y) {
+    for (int x = ax - 20; x < ax + 70; ++x) {
+      if (x < 0 || y < 0) continue;
+      const auto c = rgbAt(rgba, {x, y});
+      if (c[0] > 200 && c[1] > 200 && c[2] > 200) (x < ax ? white_left : white) += 1;
+    }
+  }
+  // "12.34 m" in a 13-pixel font: dozens of lit pixels.
+  EXPECT_GT(white, 40);
+  EXPECT_EQ(white_left, 0);
+  // Drawing the label needs the renderer's font: its atlas is not empty.
+  EXPECT_GT(OverlayFont().atlasWidth(), 0);
+}
+
+TEST(OverlayGeometry, SegmentThroughTheNearPlaneIsClippedNotMirrored) {
+  const View view{frontCamera(), {0, 0, kWidth, kHeight}};
+  const ClipRange range{1, 100};
+  // From in front of the camera to far behind it: only the front part is drawn.
+  OverlayScene scene;
+  scene.polylines.push_back({{utm(0, 0, 0), utm(0, 4, 40)}, false, {1, 1, 1, 1}, 2});
+  const auto triangles = overlayTriangles(scene, view, range, nullptr);
+  ASSERT_EQ(triangles.size(), 6u);
+  for (const OverlayVertex& v : triangles) {
+    // Every vertex is in front: a positive inverse depth no larger than 1 / near.
+    EXPECT_GT(v.inverse_depth, 0.0f);
+    EXPECT_LE(v.inverse_depth, 1.0f + 1e-6f);
+    // The segment goes up the screen from the centre (y of the world is up in the picture).
+    EXPECT_GE(v.y, kHeight / 2.0f - 2.0f);
+  }
+  // Entirely behind: nothing.
+  OverlayScene behind;
+  behind.polylines.push_back({{utm(0, 0, 30), utm(1, 0, 40)}, false, {1, 1, 1, 1}, 2});
+  EXPECT_TRUE(overlayTriangles(behind, view, range, nullptr).empty());
+  EXPECT_FALSE(projectToView(view, range, utm(0, 0, 30)));
+  const auto centre = projectToView(view, range, utm(0, 0, 0));
+  ASSERT_TRUE(centre);
+  EXPECT_NEAR(centre->x, kWidth / 2.0, 1e-9);
+  EXPECT_NEAR(centre->y, kHeight / 2.0, 1e-9);
+  EXPECT_NEAR(centre->eye_depth, 20.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace parallax::test
