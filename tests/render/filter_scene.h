@@ -140,4 +140,18 @@ inline Scene makeScene(std::array<double, 3> center, bool classified) {
   return scene;
 }
 
+// The filtered render against the render of the points kept by hand: every kept point lights
+// its own pixel (`kept` pixels lit) and no pixel differs.
+inline void expectSamePicture(const RgbaImage& filtered, const RgbaImage& expected,
+                              std::size_t kept, const std::string& options) {
+  ASSERT_EQ(filtered.pixels.size(), expected.pixels.size());
+  std::size_t lit = 0, different = 0;
+  for (std::size_t i = 0; i < expected.pixels.size(); i += 4) {
+    lit += (expected.pixels[i] | expected.pixels[i + 1] | expected.pixels[i + 2]) != 0;
+    different += !std::equal(&expected.pixels[i], &expected.pixels[i] + 4, &filtered.pixels[i]);
+  }
+  EXPECT_EQ(lit, kept) << options;
+  EXPECT_EQ(different, 0u) << options << ": pixels that differ from the CPU-filtered render";
+}
+
 }  // namespace parallax::test::filter_scene
