@@ -21,7 +21,7 @@ import time
 import uuid
 
 import cloudpickle
-from distributed import Client, as_completed
+from distributed import Client, wait
 
 from . import tasks
 
@@ -96,52 +96,82 @@ def stage_parts(stage, work_dir):
     return 1
 
 
+# How often the driver looks whether a task held off one worker can still run anywhere.
+RESTRICTION_CHECK_SECONDS = 2.0
+
+
 def run_stage(client, options, plan, stage, parts, progress, run_id):
     """Runs the tasks of one stage; returns their results. A failed task runs again (on
-    another worker when there is one) up to options.retries times; bad input stops at once."""
+    another worker when there is one) up to options.retries times; bad input stops at once.
+
+    The task run again is restricted strictly to the other workers: a loose restriction is
+    only a preference, and Dask's work stealing hands such a task to the idle worker it just
+    failed on. Should every other worker leave, the task would wait for them forever, so the
+    driver looks every few seconds and then lets it run anywhere."""
     started = time.monotonic()
     attempts = {}
-    pending = {}
+    pending = {}  # future -> part
+    restricted = {}  # future -> the workers it may run on
 
-    def submit(part, avoid=None):
-        attempt = attempts.get(part, 0)
-        attempts[part] = attempt + 1
+    def submit(part, avoid=None, again=False):
+        if not again:
+            attempts[part] = attempts.get(part, 0) + 1
         workers = None
         if avoid:
-            others = [w for w in client.scheduler_info()["workers"] if w != avoid]
-            workers = others or None
-        placement = {"workers": workers, "allow_other_workers": True} if workers else {}
+            workers = [w for w in client.scheduler_info()["workers"] if w != avoid] or None
+        placement = {"workers": workers, "allow_other_workers": False} if workers else {}
+        key = f"parallax-{stage}-{part}-{run_id}-{attempts[part]}" + ("-anywhere" if again else "")
         future = client.submit(tasks.run_convert_task, options.parallax, stage, plan, part,
-                               options.task_threads,
-                               key=f"parallax-{stage}-{part}-{run_id}-{attempt}", pure=False,
-                               **placement)
+                               options.task_threads, key=key, pure=False, **placement)
         pending[future] = part
+        if workers:
+            restricted[future] = set(workers)
         return future
 
-    queue = as_completed([submit(part) for part in range(parts)])
+    def release_stranded():
+        """A task restricted to workers that have all left runs anywhere instead."""
+        present = set(client.scheduler_info()["workers"])
+        for future, workers in list(restricted.items()):
+            if future.status == "pending" and not workers & present:
+                del restricted[future]
+                part = pending.pop(future)
+                future.cancel()
+                submit(part, again=True)
+
+    for part in range(parts):
+        submit(part)
     results = []
     progress.update(stage, 0, parts, started)
-    for future in queue:
-        part = pending.pop(future)
+    while pending:
         try:
-            result = future.result()
-        except Exception as error:  # the worker died too often with it (KilledWorker), ...
-            result = {"stage": stage, "part": part, "error": f"{type(error).__name__}: {error}"}
-        if "input_error" in result:
-            client.cancel(list(pending))
-            raise ConversionError(result["input_error"], 2)
-        if "error" in result:
-            if attempts[part] > options.retries:
-                client.cancel(list(pending))
-                raise ConversionError(f"{stage} task {part} failed {attempts[part]} times; "
-                                      f"the last time: {result['error']}", 1)
-            if not options.quiet:
-                sys.stderr.write(f"\n{stage} task {part} failed on {result.get('worker')}: "
-                                 f"{result['error']}; running it again\n")
-            queue.add(submit(part, avoid=result.get("worker")))
+            done, _ = wait(list(pending), timeout=RESTRICTION_CHECK_SECONDS,
+                           return_when="FIRST_COMPLETED")
+        except TimeoutError:  # asyncio's, the same class since Python 3.11
+            release_stranded()
             continue
-        results.append(result)
-        progress.update(stage, len(results), parts, started)
+        for future in done:
+            part = pending.pop(future)
+            restricted.pop(future, None)
+            try:
+                result = future.result()
+            except Exception as error:  # the worker died too often with it (KilledWorker), ...
+                result = {"stage": stage, "part": part,
+                          "error": f"{type(error).__name__}: {error}"}
+            if "input_error" in result:
+                client.cancel(list(pending))
+                raise ConversionError(result["input_error"], 2)
+            if "error" in result:
+                if attempts[part] > options.retries:
+                    client.cancel(list(pending))
+                    raise ConversionError(f"{stage} task {part} failed {attempts[part]} times; "
+                                          f"the last time: {result['error']}", 1)
+                if not options.quiet:
+                    sys.stderr.write(f"\n{stage} task {part} failed on {result.get('worker')}: "
+                                     f"{result['error']}; running it again\n")
+                submit(part, avoid=result.get("worker"))
+                continue
+            results.append(result)
+            progress.update(stage, len(results), parts, started)
     progress.finish(stage, parts, time.monotonic() - started)
     return results
 
