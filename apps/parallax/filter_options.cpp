@@ -116,9 +116,11 @@ void addFilterOptions(CLI::App& command, FilterOptions& o, const std::string& wh
       ->check(not_empty);
   command
       .add_option("--clip-box", o.clip_box,
-                  "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX in world coordinates: only points inside the "
-                  "box are " +
-                      what + " (see --clip-mode)")
+                  "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX[,YAW] in world coordinates: only points "
+                  "inside the box are " +
+                      what +
+                      " (see --clip-mode); YAW turns it by that many degrees about the vertical "
+                      "line through its centre, counter-clockwise seen from above")
       ->check(not_empty);
   command
       .add_option("--clip-polygon", o.clip_polygon,
@@ -160,34 +162,37 @@ std::vector<int> parseClassList(std::string_view text) {
   return classes;
 }
 
-Bounds3 parseClipBox(std::string_view text) {
-  static constexpr std::array<const char*, 6> kNames{"XMIN", "YMIN", "ZMIN",
-                                                     "XMAX", "YMAX", "ZMAX"};
+ClipBox parseClipBox(std::string_view text) {
+  static constexpr std::array<const char*, 7> kNames{"XMIN", "YMIN", "ZMIN", "XMAX",
+                                                     "YMAX", "ZMAX", "YAW"};
   const std::vector<std::string_view> items = splitItems(text);
-  if (items.size() != 6) {
+  if (items.size() != 6 && items.size() != 7) {
     throw std::invalid_argument(
         "--clip-box: expected six numbers XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX, "
-        "found " +
+        "and optionally a seventh, YAW, found " +
         std::to_string(items.size()) + " items in '" + std::string(text) + "'");
   }
-  std::array<double, 6> values{};
-  for (std::size_t i = 0; i < 6; ++i) {
+  std::array<double, 7> values{};
+  for (std::size_t i = 0; i < items.size(); ++i) {
     const std::string_view item = items[i];
     const char* begin = item.data();
     if (!item.empty() && item.front() == '+') ++begin;  // from_chars takes no plus sign
     const auto [end, error] = std::from_chars(begin, item.data() + item.size(), values[i]);
     if (item.empty() || error != std::errc{} || end != item.data() + item.size() ||
         !std::isfinite(values[i])) {
-      throw std::invalid_argument("--clip-box: " + std::string(kNames[i]) + " " + quotedItem(item) +
-                                  " is not a number: expected a world coordinate such as "
-                                  "500123.25");
+      throw std::invalid_argument(
+          "--clip-box: " + std::string(kNames[i]) + " " + quotedItem(item) +
+          (i == 6 ? " is not a number: expected degrees, counter-clockwise seen from above, "
+                    "such as 30"
+                  : " is not a number: expected a world coordinate such as 500123.25"));
     }
   }
-  Bounds3 box;
+  ClipBox clip;
+  clip.yaw_degrees = values[6];
   for (int axis = 0; axis < 3; ++axis) {
-    box.min[std::size_t(axis)] = values[std::size_t(axis)];
-    box.max[std::size_t(axis)] = values[std::size_t(axis) + 3];
-    if (box.min[std::size_t(axis)] > box.max[std::size_t(axis)]) {
+    clip.box.min[std::size_t(axis)] = values[std::size_t(axis)];
+    clip.box.max[std::size_t(axis)] = values[std::size_t(axis) + 3];
+    if (clip.box.min[std::size_t(axis)] > clip.box.max[std::size_t(axis)]) {
       throw std::invalid_argument("--clip-box: " + std::string(kNames[std::size_t(axis)]) + " " +
                                   quotedItem(items[std::size_t(axis)]) + " is greater than " +
                                   kNames[std::size_t(axis) + 3] + " " +
@@ -195,7 +200,7 @@ Bounds3 parseClipBox(std::string_view text) {
                                   ": expected each minimum at most its maximum");
     }
   }
-  return box;
+  return clip;
 }
 
 ReturnSelection parseReturnList(std::string_view text) {
@@ -278,7 +283,10 @@ PointFilter pointFilterFrom(const FilterOptions& o, FilterTarget target) {
   }
   const bool outside = o.clip_mode == "outside";
   filter.clip_highlight = o.clip_mode == "highlight";
-  if (!o.clip_box.empty()) filter.setClipBox(parseClipBox(o.clip_box), outside);
+  if (!o.clip_box.empty()) {
+    const ClipBox clip = parseClipBox(o.clip_box);
+    filter.setClipBox(clip.box, outside, clip.yaw_degrees);
+  }
   if (!o.clip_polygon.empty()) {
     filter.polygon = readPolygonFile(o.clip_polygon);
     filter.clip_outside = outside;

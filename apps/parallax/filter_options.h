@@ -20,7 +20,7 @@ struct FilterOptions {
   std::string intensity;  // "MIN,MAX"; empty: no bound (also elevation, gps_time)
   std::string elevation;  // world z
   std::string gps_time;
-  std::string clip_box;      // "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX"; empty: no box
+  std::string clip_box;      // "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX[,YAW]"; empty: no box
   std::string clip_polygon;  // a polygon file (io/polygon_reader.h); empty: none
   std::string clip_mode;     // inside (empty) or outside
 };
@@ -34,10 +34,10 @@ void addFilterOptions(CLI::App& command, FilterOptions& options, const std::stri
 // expected.
 std::vector<int> parseClassList(std::string_view text);
 
-// The box of "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX" (world coordinates, inclusive). Throws
-// std::invalid_argument that names --clip-box, the item and what was expected; a minimum above
-// its maximum is an error.
-Bounds3 parseClipBox(std::string_view text);
+// The box of "XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX[,YAW]" (world coordinates, inclusive; YAW in degrees,
+// PointFilter::setClipBox's turn). Throws std::invalid_argument that names --clip-box, the item
+// and what was expected; a minimum above its maximum is an error.
+ClipBox parseClipBox(std::string_view text);
 
 // The kinds and explicit return numbers of "first,last,2": keywords first, last, intermediate,
 // single, multiple and numbers 1-15 (ranges N-M too). Throws std::invalid_argument naming

@@ -42,7 +42,9 @@ def parse_arguments(argv):
     parser.add_argument("--spacing", type=float)
     parser.add_argument("--columns", help="text inputs: the columns, e.g. x,y,z,r,g,b")
     parser.add_argument("--classes", help="keep only these ASPRS classes, e.g. 2,6,9-12")
-    parser.add_argument("--clip-box", help="keep the points in XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX")
+    parser.add_argument("--clip-box",
+                        help="keep the points in XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX[,YAW] (YAW: "
+                        "degrees the box turns about its vertical axis, counter-clockwise)")
     parser.add_argument("--clip-mode", choices=("inside", "outside"))
     parser.add_argument("--keep-work", action="store_true",
                         help="keep the work directory (task files) at the end")

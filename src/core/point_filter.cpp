@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <numbers>
 
 #include "core/point_gather.h"
 
@@ -91,27 +92,64 @@ void PointFilter::keepOnlyReturns(const std::vector<ReturnKind>& kinds,
   }
 }
 
-void PointFilter::setClipBox(const Bounds3& box, bool outside) {
-  clip_planes = {{1, 0, 0, -box.min[0]}, {-1, 0, 0, box.max[0]}, {0, 1, 0, -box.min[1]},
-                 {0, -1, 0, box.max[1]}, {0, 0, 1, -box.min[2]}, {0, 0, -1, box.max[2]}};
+void PointFilter::setClipBox(const Bounds3& box, bool outside, double yaw_degrees) {
   clip_outside = outside;
+  if (yaw_degrees == 0.0) {
+    clip_planes = {{1, 0, 0, -box.min[0]}, {-1, 0, 0, box.max[0]}, {0, 1, 0, -box.min[1]},
+                   {0, -1, 0, box.max[1]}, {0, 0, 1, -box.min[2]}, {0, 0, -1, box.max[2]}};
+    return;
+  }
+  // The box's own axes u (its x) and v (its y) in world coordinates; a point p is inside where
+  // |u.(p - c)| <= half width, |v.(p - c)| <= half depth and z is in [min, max]. The offsets are
+  // half extents minus or plus u.c, so no plane constant carries a UTM coordinate's rounding
+  // beyond that of u.c itself.
+  const double yaw = yaw_degrees * (std::numbers::pi / 180.0);
+  const double cs = std::cos(yaw), sn = std::sin(yaw);
+  const double cx = 0.5 * (box.min[0] + box.max[0]), cy = 0.5 * (box.min[1] + box.max[1]);
+  const double hu = 0.5 * (box.max[0] - box.min[0]), hv = 0.5 * (box.max[1] - box.min[1]);
+  const double uc = cs * cx + sn * cy, vc = -sn * cx + cs * cy;
+  clip_planes = {{cs, sn, 0, hu - uc},  {-cs, -sn, 0, hu + uc}, {-sn, cs, 0, hv - vc},
+                 {sn, -cs, 0, hv + vc}, {0, 0, 1, -box.min[2]}, {0, 0, -1, box.max[2]}};
 }
 
-std::optional<Bounds3> PointFilter::clipBox() const {
+std::optional<ClipBox> PointFilter::clipBox() const {
   if (clip_planes.size() != 6) return std::nullopt;
-  Bounds3 box;
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    const auto& low = clip_planes[2 * axis];
-    const auto& high = clip_planes[2 * axis + 1];
-    for (std::size_t k = 0; k < 3; ++k) {
-      if (low[k] != (k == axis ? 1.0 : 0.0) || high[k] != (k == axis ? -1.0 : 0.0)) {
-        return std::nullopt;
-      }
-    }
-    box.min[axis] = -low[3];
-    box.max[axis] = high[3];
+  // z: the vertical planes setClipBox writes for every yaw.
+  const auto& bottom = clip_planes[4];
+  const auto& top = clip_planes[5];
+  if (bottom != std::array<double, 4>{0, 0, 1, bottom[3]} ||
+      top != std::array<double, 4>{0, 0, -1, top[3]}) {
+    return std::nullopt;
   }
-  return box;
+  ClipBox clip;
+  clip.box.min[2] = -bottom[3];
+  clip.box.max[2] = top[3];
+  const auto& low_u = clip_planes[0];
+  const auto& high_u = clip_planes[1];
+  const auto& low_v = clip_planes[2];
+  const auto& high_v = clip_planes[3];
+  if (low_u == std::array<double, 4>{1, 0, 0, low_u[3]} &&
+      high_u == std::array<double, 4>{-1, 0, 0, high_u[3]} &&
+      low_v == std::array<double, 4>{0, 1, 0, low_v[3]} &&
+      high_v == std::array<double, 4>{0, -1, 0, high_v[3]}) {
+    clip.box.min[0] = -low_u[3], clip.box.max[0] = high_u[3];
+    clip.box.min[1] = -low_v[3], clip.box.max[1] = high_v[3];
+    return clip;
+  }
+  // Turned: u = (cos, sin), v = (-sin, cos), each pair of planes opposite.
+  const double cs = low_u[0], sn = low_u[1];
+  const bool turned = low_u[2] == 0 && std::abs(cs * cs + sn * sn - 1.0) < 1e-12 &&
+                      high_u == std::array<double, 4>{-cs, -sn, 0, high_u[3]} &&
+                      low_v == std::array<double, 4>{-sn, cs, 0, low_v[3]} &&
+                      high_v == std::array<double, 4>{sn, -cs, 0, high_v[3]};
+  if (!turned) return std::nullopt;
+  const double hu = 0.5 * (low_u[3] + high_u[3]), uc = 0.5 * (high_u[3] - low_u[3]);
+  const double hv = 0.5 * (low_v[3] + high_v[3]), vc = 0.5 * (high_v[3] - low_v[3]);
+  const double cx = cs * uc - sn * vc, cy = sn * uc + cs * vc;
+  clip.box.min[0] = cx - hu, clip.box.max[0] = cx + hu;
+  clip.box.min[1] = cy - hv, clip.box.max[1] = cy + hv;
+  clip.yaw_degrees = std::atan2(sn, cs) * (180.0 / std::numbers::pi);
+  return clip;
 }
 
 bool PointFilter::insidePolygon(double x, double y) const {

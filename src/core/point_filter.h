@@ -44,6 +44,15 @@ struct ValueRange {
   friend bool operator==(const ValueRange&, const ValueRange&) = default;
 };
 
+// A clip box: [min, max] in its own frame, turned by yaw_degrees about the vertical line through
+// its centre (counter-clockwise seen from above).
+struct ClipBox {
+  Bounds3 box;
+  double yaw_degrees = 0.0;
+
+  friend bool operator==(const ClipBox&, const ClipBox&) = default;
+};
+
 struct PointFilter {
   // Bit c of word c / 32: keep points of classification c (0-255). All set by default.
   std::array<std::uint32_t, 8> classes{~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u, ~0u};
@@ -83,10 +92,14 @@ struct PointFilter {
   void setReturn(int r, int n, bool keep);
   // Keeps only the returns that are one of `kinds` or whose return number is in `numbers`.
   void keepOnlyReturns(const std::vector<ReturnKind>& kinds, const std::vector<int>& numbers);
-  // Six planes that keep the closed box [min, max] (or its outside); replaces clip_planes.
-  void setClipBox(const Bounds3& box, bool outside);
-  // The box of clip_planes when they are six that setClipBox wrote (an editor shows it back).
-  std::optional<Bounds3> clipBox() const;
+  // Six planes that keep the closed box [min, max] (or its outside), turned by `yaw_degrees`
+  // about the vertical line through its centre (counter-clockwise seen from above: a box
+  // aligned with a street or a wall); replaces clip_planes. Unturned, the planes hold min and max
+  // exactly.
+  void setClipBox(const Bounds3& box, bool outside, double yaw_degrees = 0.0);
+  // The box of clip_planes when they are six that setClipBox wrote (an editor shows it back);
+  // a turned box comes back to within rounding.
+  std::optional<ClipBox> clipBox() const;
   // The position tests (elevation, and the region inside or outside unless highlighted), in
   // double: what the shaders approximate in chunk-relative floats.
   bool keepsPosition(double x, double y, double z) const;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <utility>
@@ -14,6 +15,7 @@
 
 #include "core/classification.h"
 #include "render/class_colors.h"
+#include "render/overlay.h"
 #include "viewer/viewer_session.h"
 
 namespace parallax::viewer_internal {
@@ -60,31 +62,55 @@ void drawClassCheckboxes(Session& s) {
   }
 }
 
+// The box as Potree and CloudCompare users handle one: moved by its centre, resized about it,
+// turned about its vertical axis.
 void drawClipBoxEditor(Session& s) {
   Session::FilterEditor& e = s.filter_editor;
   bool changed = ImGui::Checkbox("clip box", &e.box_enabled);
   if (e.box_enabled) {
     // Steps of 1/200 of the cloud's extent per pixel dragged: fine enough for a building in a
     // city, quick enough to sweep the cloud.
-    const auto size = s.extent.bounds.size();
-    const double step = std::max({size[0], size[1], size[2], 1e-6}) / 200.0;
-    changed |= ImGui::DragScalarN("min", ImGuiDataType_Double, e.box.min.data(), 3, float(step),
-                                  nullptr, nullptr, "%.3f");
-    changed |= ImGui::DragScalarN("max", ImGuiDataType_Double, e.box.max.data(), 3, float(step),
-                                  nullptr, nullptr, "%.3f");
+    const auto extent = s.extent.bounds.size();
+    const double step = std::max({extent[0], extent[1], extent[2], 1e-6}) / 200.0;
+    Bounds3& box = e.box.box;
+    std::array<double, 3> centre{}, size{};
+    for (std::size_t a = 0; a < 3; ++a) {
+      centre[a] = 0.5 * (box.min[a] + box.max[a]);
+      size[a] = box.max[a] - box.min[a];
+    }
+    const std::array<double, 3> was = centre;
+    if (ImGui::DragScalarN("centre", ImGuiDataType_Double, centre.data(), 3, float(step), nullptr,
+                           nullptr, "%.3f")) {
+      for (std::size_t a = 0; a < 3; ++a) {
+        box.min[a] += centre[a] - was[a];
+        box.max[a] += centre[a] - was[a];
+      }
+      changed = true;
+    }
+    const double no_size = 0.0;
+    if (ImGui::DragScalarN("size", ImGuiDataType_Double, size.data(), 3, float(step), &no_size,
+                           nullptr, "%.3f")) {
+      for (std::size_t a = 0; a < 3; ++a) {
+        const double half = 0.5 * std::max(size[a], 0.0);
+        box.min[a] = centre[a] - half;
+        box.max[a] = centre[a] + half;
+      }
+      changed = true;
+    }
+    // Degrees, counter-clockwise seen from above; wrapped into (-180, 180].
+    float turn = float(e.box.yaw_degrees);
+    if (ImGui::DragFloat("turn", &turn, 0.5f, -180.0f, 180.0f, "%.1f deg")) {
+      e.box.yaw_degrees = double(turn);
+      changed = true;
+    }
     if (ImGui::Button("reset to the cloud's bounds")) {
-      e.box = s.extent.bounds;
+      e.box = ClipBox{s.extent.bounds, 0.0};
       changed = true;
     }
   }
   if (!changed) return;
-  // Dragged past each other, min and max swap roles rather than emptying the box.
-  Bounds3 box = e.box;
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    if (box.min[axis] > box.max[axis]) std::swap(box.min[axis], box.max[axis]);
-  }
   if (e.box_enabled) {
-    s.settings.filter.setClipBox(box, e.box_outside);
+    s.settings.filter.setClipBox(e.box.box, e.box_outside, e.box.yaw_degrees);
   } else {
     s.settings.filter.clip_planes.clear();
   }
@@ -253,7 +279,7 @@ void prepareFilters(Session& s, const PointCloud* points, bool whole, bool has_c
   if (!first) filter.polygon.clear();
 
   // The command line's box for the first cloud; any other starts as the cloud's bounds, off.
-  const std::optional<Bounds3> given = s.options->settings.filter.clipBox();
+  const std::optional<ClipBox> given = s.options->settings.filter.clipBox();
   if (first && given) {
     e.box_enabled = true;
     e.box = *given;
@@ -265,15 +291,47 @@ void prepareFilters(Session& s, const PointCloud* points, bool whole, bool has_c
   e.box_outside = e.polygon_enabled && options.clip_outside;
   e.highlight = e.polygon_enabled && options.clip_highlight;
   s.settings.filter.clip_highlight = e.highlight;
-  e.box = s.extent.bounds;
+  e.box = ClipBox{s.extent.bounds, 0.0};
   s.settings.filter.clip_planes.clear();
   s.settings.filter.clip_outside = e.box_outside;
+}
+
+void appendClipBoxOutline(const Session& s, OverlayScene& scene) {
+  const Session::FilterEditor& e = s.filter_editor;
+  if (!e.box_enabled || !s.show_panel) return;
+  const Bounds3& box = e.box.box;
+  const double yaw = e.box.yaw_degrees * (std::numbers::pi / 180.0);
+  const double cs = std::cos(yaw), sn = std::sin(yaw);
+  const double cx = 0.5 * (box.min[0] + box.max[0]), cy = 0.5 * (box.min[1] + box.max[1]);
+  const double hu = 0.5 * (box.max[0] - box.min[0]), hv = 0.5 * (box.max[1] - box.min[1]);
+  // The corners counter-clockwise in the box's own frame, then turned about its centre.
+  std::array<glm::dvec2, 4> corners;
+  const std::array<std::array<double, 2>, 4> signs{{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double u = signs[i][0] * hu, v = signs[i][1] * hv;
+    corners[i] = {cx + cs * u - sn * v, cy + sn * u + cs * v};
+  }
+  const OverlayColor orange{1.0f, 0.6f, 0.1f, 1.0f};  // the highlight mode's tint
+  for (const double z : {box.min[2], box.max[2]}) {
+    OverlayPolyline ring;
+    ring.closed = true, ring.color = orange, ring.width_px = 1.5f;
+    for (const glm::dvec2& c : corners) ring.points.emplace_back(c.x, c.y, z);
+    scene.polylines.push_back(std::move(ring));
+  }
+  for (const glm::dvec2& c : corners) {
+    OverlayPolyline edge;
+    edge.color = orange, edge.width_px = 1.5f;
+    edge.points = {{c.x, c.y, box.min[2]}, {c.x, c.y, box.max[2]}};
+    scene.polylines.push_back(std::move(edge));
+  }
 }
 
 void drawFilterPanel(Session& s) {
   ImGui::Separator();
   ImGui::TextDisabled("Filters");
-  if (ImGui::TreeNode("classes")) {
+  // Open from the start for a classified cloud: its classes are what a surveyor looks at first.
+  if (ImGui::TreeNodeEx("classes",
+                        s.filter_editor.classified ? ImGuiTreeNodeFlags_DefaultOpen : 0)) {
     drawClassCheckboxes(s);
     ImGui::TreePop();
   }

@@ -274,12 +274,13 @@ bool updateMeasureFlight(Session& s) {
   return true;
 }
 
-void updateMeasureOverlay(Session& s) {
+void updateOverlay(Session& s) {
   OverlayScene scene;
   MeasurementOverlayOptions options;
   options.in_progress = s.measure.current.points.empty() ? nullptr : &s.measure.current;
   options.selected = s.measure.selected;
   appendMeasurementOverlay(s.measure.document, options, scene);
+  appendClipBoxOutline(s, scene);
   s.renderer->setOverlay(std::move(scene));
 }
 

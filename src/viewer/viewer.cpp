@@ -662,7 +662,7 @@ int runViewer(const ViewerOptions& options) {
     pollBuild(s);
     pollOpeningUrl(s);
     if (updateMeasureFlight(s)) busy = true;
-    updateMeasureOverlay(s);
+    updateOverlay(s);
     if (s.cloud || s.lod) {
       const StereoFrame frame = stereoFrame(s.camera, s.stereo, width, height);
       const void* scene = s.lod ? static_cast<const void*>(s.lod.get()) : s.cloud.get();

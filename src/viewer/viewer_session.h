@@ -108,7 +108,7 @@ struct Session {
     bool classified = false;                // false: no classification, every point is class 0
     bool box_enabled = false, box_outside = false;
     bool highlight = false;  // tint the region's content instead (box_outside unused)
-    Bounds3 box;             // world coordinates; applied to settings.filter while enabled
+    ClipBox box;             // world coordinates; applied to settings.filter while enabled
     // Returns: kinds (first, last, intermediate, single, multiple) and return numbers (bit r),
     // applied while enabled; ranges applied while enabled, their sliders over the data's range.
     bool returns_enabled = false;
@@ -146,6 +146,8 @@ void drawFilterPanel(Session& s);
 // the first cloud. Classes unchecked earlier stay unchecked.
 void prepareFilters(Session& s, const PointCloud* points, bool whole, bool has_classification,
                     bool first);
+// The clip box's twelve edges, turned as it is, while its editor is on and the panel shown.
+void appendClipBoxOutline(const Session& s, OverlayScene& scene);
 // The keys and mouse (H).
 void drawHelp();
 
@@ -178,8 +180,9 @@ bool measureKey(Session& s, int key, int mods);
 void flyToAnnotation(Session& s, const Annotation& annotation);
 // Moves the camera along a flight; true while one is under way.
 bool updateMeasureFlight(Session& s);
-// Gives the renderer the overlay of the document and the measurement being drawn.
-void updateMeasureOverlay(Session& s);
+// Gives the renderer the overlay: the document, the measurement being drawn and, while the panel
+// shows its editor, the clip box's outline.
+void updateOverlay(Session& s);
 // The selected profile measurement's profile, extracted from what is open (cached); nullptr when
 // the selection is not a profile.
 const MeasureSession::Profile* selectedProfile(Session& s);

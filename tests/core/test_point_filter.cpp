@@ -1,6 +1,9 @@
 // The point filter on the CPU (what `convert` applies) and the ASPRS class names.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+#include <optional>
 #include <vector>
 
 #include "core/classification.h"
@@ -58,8 +61,61 @@ TEST(PointFilter, ClipBoxInsideAndOutsideIncludeTheFaces) {
   EXPECT_FALSE(filter.keepsPosition(500002.0, 5000000.0, 0.0));
   EXPECT_TRUE(filter.keepsPosition(500000.9995, 5000000.0, 0.0));
   ASSERT_TRUE(filter.clipBox().has_value());
-  EXPECT_EQ(*filter.clipBox(), box);
+  EXPECT_EQ(filter.clipBox()->box, box);  // unturned: exactly the box given
+  EXPECT_EQ(filter.clipBox()->yaw_degrees, 0.0);
   filter.clip_planes.pop_back();
+  EXPECT_FALSE(filter.clipBox().has_value());
+}
+
+// A long thin box (20 m by 2 m) at UTM coordinates turned by 90 degrees covers what an unturned
+// 2 m by 20 m box would; turned by 30 degrees, its corners are where the rotation puts them.
+TEST(PointFilter, TurnedClipBoxTurnsAboutItsCentre) {
+  const double cx = 500123.5, cy = 5000456.5;
+  Bounds3 box;
+  box.extend(cx - 10.0, cy - 1.0, 99.0);
+  box.extend(cx + 10.0, cy + 1.0, 101.0);
+  PointFilter filter;
+  filter.setClipBox(box, false, 90.0);
+  EXPECT_TRUE(filter.keepsPosition(cx, cy + 9.9, 100.0));
+  EXPECT_TRUE(filter.keepsPosition(cx + 0.9, cy - 9.9, 100.0));
+  EXPECT_FALSE(filter.keepsPosition(cx + 9.0, cy, 100.0));  // inside the box before it turned
+  EXPECT_FALSE(filter.keepsPosition(cx, cy + 10.001, 100.0));
+  EXPECT_FALSE(filter.keepsPosition(cx, cy, 101.001));  // z is not turned
+  filter.setClipBox(box, false, 30.0);
+  const double cs = std::cos(std::numbers::pi / 6.0), sn = std::sin(std::numbers::pi / 6.0);
+  // Points at the box's own coordinates (u, v), a millimetre inside or outside a face.
+  const auto at = [&](double u, double v) {
+    return filter.keepsPosition(cx + cs * u - sn * v, cy + sn * u + cs * v, 100.0);
+  };
+  EXPECT_TRUE(at(9.999, 0.999));
+  EXPECT_TRUE(at(-9.999, -0.999));
+  EXPECT_FALSE(at(10.001, 0.0));
+  EXPECT_FALSE(at(0.0, -1.001));
+  EXPECT_FALSE(filter.keepsPosition(cx + 9.999, cy + 0.999, 100.0));  // the unturned corner
+  filter.setClipBox(box, true, 30.0);
+  EXPECT_FALSE(at(9.999, 0.999));
+  EXPECT_TRUE(at(10.001, 0.0));
+}
+
+TEST(PointFilter, TurnedClipBoxComesBackFromItsPlanes) {
+  Bounds3 box;
+  box.extend(500100.25, 5000200.5, -3.0);
+  box.extend(500130.75, 5000210.0, 12.5);
+  for (const double yaw : {30.0, -135.0, 90.0, 180.0, 1e-9}) {
+    PointFilter filter;
+    filter.setClipBox(box, false, yaw);
+    const std::optional<ClipBox> back = filter.clipBox();
+    ASSERT_TRUE(back.has_value()) << yaw;
+    EXPECT_NEAR(back->yaw_degrees, yaw, 1e-9) << yaw;
+    for (std::size_t a = 0; a < 3; ++a) {
+      EXPECT_NEAR(back->box.min[a], box.min[a], 1e-8) << yaw << " axis " << a;
+      EXPECT_NEAR(back->box.max[a], box.max[a], 1e-8) << yaw << " axis " << a;
+    }
+  }
+  // Six planes that are not a box (two faces not opposite) are not shown as one.
+  PointFilter filter;
+  filter.setClipBox(box, false, 30.0);
+  filter.clip_planes[1] = {0, -1, 0, 5000210.0};
   EXPECT_FALSE(filter.clipBox().has_value());
 }
 

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -219,6 +220,40 @@ TEST_F(ConvertFilters, FromAPotreeOctreeToEveryOutput) {
   EXPECT_EQ(octreeKeys(*openCopc(dir_ / "outside.copc.laz")), boxExpected(true).of(all_));
 }
 
+// A box of 24 x 12 m turned -25 degrees about its centre (500020.0005, 5000012.0005), its z from
+// 101.0005 to 109.0005: the points kept are those the rotation puts inside, found here in double
+// from the millimetre grid; each at least 0.01 mm from a face, else the test cannot tell.
+std::vector<Key> turnedBoxExpected(const std::vector<Key>& all, bool outside) {
+  const double radians = -25.0 * std::numbers::pi / 180.0;
+  const double cs = std::cos(radians), sn = std::sin(radians);
+  std::vector<Key> kept;
+  for (const Key& k : all) {
+    const double dx = double(std::get<0>(k) - 500000000) - 20000.5;
+    const double dy = double(std::get<1>(k) - 5000000000) - 12000.5;
+    const double u = cs * dx + sn * dy, v = -sn * dx + cs * dy;
+    EXPECT_GT(std::min(std::abs(12000.0 - std::abs(u)), std::abs(6000.0 - std::abs(v))), 0.01);
+    const bool inside = std::abs(u) <= 12000.0 && std::abs(v) <= 6000.0 &&
+                        std::get<2>(k) >= 101001 && std::get<2>(k) <= 109000;
+    if (inside != outside) kept.push_back(k);
+  }
+  return kept;
+}
+const char* const kTurnedBoxOption =
+    "--clip-box 500008.0005,5000006.0005,101.0005,500032.0005,5000018.0005,109.0005,-25";
+
+TEST_F(ConvertFilters, TurnedClipBoxFromLasAndFromAnOctree) {
+  const std::vector<Key> inside = turnedBoxExpected(all_, false);
+  ASSERT_GT(inside.size(), 1000u);
+  ASSERT_LT(inside.size(), all_.size() / 2);
+  convert(las_, dir_ / "turned", kTurnedBoxOption);
+  EXPECT_EQ(octreeKeys(*openPotree(dir_ / "turned")), inside);
+  expectMetadataOf(dir_ / "turned", inside);
+  convert(las_, dir_ / "all", "");
+  convert(dir_ / "all", dir_ / "outside.las",
+          std::string(kTurnedBoxOption) + " --clip-mode outside");
+  EXPECT_EQ(keysOf(readPointFile(dir_ / "outside.las")), turnedBoxExpected(all_, true));
+}
+
 TEST_F(ConvertFilters, FromACopcFileToPotree) {
   convert(las_, dir_ / "all.copc.laz", "");
   const Expected e{.classes = {7, 18}};
@@ -248,9 +283,10 @@ TEST_F(ConvertFilters, MalformedListsAreClearErrors) {
       {"--classes 12-9", "--classes: range '12-9' runs backwards: expected N-M with N <= M"},
       {"--clip-box 1,2,3",
        "--clip-box: expected six numbers XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX, "
-       "found 3 items"},
+       "and optionally a seventh, YAW, found 3 items"},
       {"--clip-box 0,0,a,1,1,1", "--clip-box: ZMIN 'a' is not a number"},
       {"--clip-box 0,5,0,1,2,1", "--clip-box: YMIN '5' is greater than YMAX '2'"},
+      {"--clip-box 0,0,0,1,1,1,inf", "--clip-box: YAW 'inf' is not a number: expected degrees"},
       {"--clip-box 0,0,0,1,1,1 --clip-mode sideways",
        "--clip-mode: unknown mode 'sideways' (use inside|outside)"},
   };

@@ -5,6 +5,8 @@
 // of its own colour: the pictures must be equal, and the lit pixels are counted too. A cloud at
 // UTM coordinates (~500 000, 5 000 000) with box faces half a millimetre from points shows that
 // the clip planes keep double precision (float world coordinates there are good to 0.5 m).
+#include <numbers>
+
 #include "filter_scene.h"
 
 namespace parallax::test {
@@ -57,6 +59,60 @@ std::pair<std::string, HandFilter> middleBox(const Scene& scene, bool outside) {
   return {option.str(), f};
 }
 
+// Tenths of a millimetre as metres: "500123.4565".
+std::string metresOfTenths(long long tenths) {
+  std::ostringstream text;
+  text << (tenths < 0 ? "-" : "") << std::llabs(tenths) / 10000 << '.' << std::setw(4)
+       << std::setfill('0') << std::llabs(tenths) % 10000;
+  return text.str();
+}
+
+// A box turned by `yaw` degrees about its centre, in tenths of a millimetre from the scene's
+// centre (faces at half millimetres); the points it keeps found in double from the millimetre
+// grid, each at least 0.01 mm from every face (else the scene cannot tell a float test from a
+// double one, and the test says so).
+struct TurnedBox {
+  long long lo[3], hi[3];  // tenths of a millimetre from the scene's centre
+  double yaw;
+
+  std::string option(const Scene& scene) const {
+    std::string text = "--clip-box ";
+    for (int end = 0; end < 2; ++end) {
+      for (int a = 0; a < 3; ++a) {
+        const long long centre = std::llround(scene.center[std::size_t(a)] * 10000.0);
+        if (end || a) text += ',';
+        text += metresOfTenths(centre + (end ? hi[a] : lo[a]));
+      }
+    }
+    std::ostringstream yaw_text;
+    yaw_text << std::setprecision(17) << yaw;
+    return text + "," + yaw_text.str();
+  }
+
+  std::vector<Point> of(const Scene& scene, const std::vector<Point>& all) const {
+    const double radians = yaw * std::numbers::pi / 180.0;
+    const double cs = std::cos(radians), sn = std::sin(radians);
+    const double cu = 0.05 * double(lo[0] + hi[0]), cv = 0.05 * double(lo[1] + hi[1]);  // mm
+    const double hu = 0.05 * double(hi[0] - lo[0]), hv = 0.05 * double(hi[1] - lo[1]);
+    std::vector<Point> kept;
+    for (const Point& p : all) {
+      double rel[3];
+      for (int a = 0; a < 3; ++a) {
+        rel[a] = double(p.mm[a] - std::llround(scene.center[std::size_t(a)] * 1000.0));
+      }
+      const double u = cs * (rel[0] - cu) + sn * (rel[1] - cv);
+      const double v = -sn * (rel[0] - cu) + cs * (rel[1] - cv);
+      EXPECT_GT(std::min(std::abs(hu - std::abs(u)), std::abs(hv - std::abs(v))), 0.01)
+          << "a point lies on a face of the turned box: choose another box";
+      if (std::abs(u) <= hu && std::abs(v) <= hv && rel[2] * 10.0 >= double(lo[2]) &&
+          rel[2] * 10.0 <= double(hi[2])) {
+        kept.push_back(p);
+      }
+    }
+    return kept;
+  }
+};
+
 class RenderFilters : public ::testing::TestWithParam<std::string> {
  protected:
   // Renders `ply` with the scene's camera and `options`; the picture.
@@ -74,7 +130,10 @@ class RenderFilters : public ::testing::TestWithParam<std::string> {
   // The filtered render of the whole scene equals the render of the hand-filtered points, and
   // lights one pixel per kept point.
   void expectFilterMatches(const Scene& scene, const std::string& options, const HandFilter& f) {
-    const std::vector<Point> kept = f.of(scene.points);
+    expectFilterKeeps(scene, options, f.of(scene.points));
+  }
+  void expectFilterKeeps(const Scene& scene, const std::string& options,
+                         const std::vector<Point>& kept) {
     ASSERT_GT(kept.size(), 100u) << options;
     ASSERT_LT(kept.size(), scene.points.size()) << options;
     const auto all = dir_.write("all.ply", plyOf(scene.points, scene.classified));
@@ -116,6 +175,23 @@ TEST_P(RenderFilters, ClassesAndClipBoxOutsideTogether) {
   expectFilterMatches(scene, option + " --classes 1,2,5", filter);
 }
 
+// A box turned 35 degrees about its centre (what the viewer's "turn" sets): the GPU's float
+// planes keep what the CPU keeps in double, at UTM coordinates; inside and outside.
+TEST_P(RenderFilters, TurnedClipBoxAtUtmCoordinates) {
+  const Scene scene = makeScene({500123.456, 5000456.789, 250.0}, true);
+  const TurnedBox box{{-13005, -6505, -3005}, {11005, 7505, 2505}, 35.0};
+  const std::vector<Point> inside = box.of(scene, scene.points);
+  expectFilterKeeps(scene, box.option(scene), inside);
+  std::vector<Point> outside;
+  for (const Point& p : scene.points) {
+    const bool in = std::any_of(inside.begin(), inside.end(), [&](const Point& q) {
+      return std::equal(std::begin(p.mm), std::end(p.mm), std::begin(q.mm));
+    });
+    if (!in) outside.push_back(p);
+  }
+  expectFilterKeeps(scene, box.option(scene) + " --clip-mode outside", outside);
+}
+
 // A file without classification is class 0 to the filter (the GPU buffers hold 1 there, what
 // the classification colour shows).
 TEST_P(RenderFilters, WithoutClassificationEveryPointIsClassZero) {
@@ -138,7 +214,9 @@ TEST_P(RenderFilters, MalformedListsAreClearErrors) {
   for (const auto& [options, message] : std::vector<std::pair<std::string, std::string>>{
            {"--classes 2,6,x", "--classes: item 'x' is not a class"},
            {"--classes 12-9", "--classes: range '12-9' runs backwards"},
-           {"--clip-box 1,1,1,0,2,2", "--clip-box: XMIN '1' is greater than XMAX '0'"}}) {
+           {"--clip-box 1,1,1,0,2,2", "--clip-box: XMIN '1' is greater than XMAX '0'"},
+           {"--clip-box 0,0,0,1,1,1,north", "--clip-box: YAW 'north' is not a number"},
+           {"--clip-box 0,0,0,1,1,1,30,2", "and optionally a seventh, YAW, found 8 items"}}) {
     const RunResult r = runParallax(dir_, "render " + quoted(all.string()) + " -o " +
                                               quoted((dir_ / "bad.png").string()) +
                                               " --rasterizer " + GetParam() + " " + options);

@@ -33,6 +33,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render/camera.h"
+#include "render/class_colors.h"
 #include "render/image_file.h"
 #include "render/view_extent.h"
 #include "support/temp_dir.h"
@@ -464,7 +465,11 @@ TEST(ViewerWindow, CommandLineFiltersReachTheViewer) {
                                    {{"--returns", "single", "--clip-polygon", polygon}, true},
                                    {{"--clip-polygon", polygon, "--clip-mode", "outside"}, false},
                                    {{"--elevation", "0.2,1"}, false},
-                                   {{"--gps-time", "1,2"}, false}};
+                                   {{"--gps-time", "1,2"}, false},
+                                   // A strip right of the grid; turned a quarter about its
+                                   // centre (0.9, 0), it crosses the grid's middle.
+                                   {{"--clip-box", "0.8,-1.2,-1,1,1.2,1"}, false},
+                                   {{"--clip-box", "0.8,-1.2,-1,1,1.2,1,90"}, true}};
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const auto shots = dir.path() / ("shots" + std::to_string(i));
     std::filesystem::create_directories(shots);
@@ -486,6 +491,97 @@ TEST(ViewerWindow, CommandLineFiltersReachTheViewer) {
     }
     EXPECT_EQ(viewer.quit(), 0) << viewer.log();
   }
+}
+
+// The grid of gridPly() in one colour (30, 60, 230), classified: class 2 (ground) where x < 0,
+// class 6 (building) elsewhere.
+std::string classifiedGridPly() {
+  std::ostringstream ply;
+  ply << "ply\nformat ascii 1.0\nelement vertex 3600\nproperty float x\nproperty float y\n"
+         "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+         "property uchar classification\nend_header\n";
+  for (int j = 0; j < 60; ++j) {
+    for (int i = 0; i < 60; ++i) {
+      const double x = i / 59.0 - 0.5, y = j / 59.0 - 0.5;
+      ply << x << ' ' << y << ' ' << 0.3 * (0.5 - x * x - y * y) << " 30 60 230 " << (x < 0 ? 2 : 6)
+          << '\n';
+    }
+  }
+  return ply.str();
+}
+
+// Pixels of the points' colour (30, 60, 230) right of the panel (x >= 345).
+std::size_t pointPixelsRightOfPanel(const RgbaImage& image) {
+  std::size_t count = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 345; x < image.width; ++x) {
+      const std::uint8_t* p = &image.pixels[(std::size_t(y) * image.width + x) * 4];
+      count += p[0] == 30 && p[1] == 60 && p[2] == 230;
+    }
+  }
+  return count;
+}
+
+// The centre of the panel's legend swatch of `classification` (the square of its colour left
+// of its checkbox, x < 345), or {-1, -1}.
+std::array<int, 2> legendSwatch(const RgbaImage& image, int classification) {
+  const std::array<float, 3> rgb = classColor(classification);
+  std::array<int, 3> want{};
+  for (std::size_t k = 0; k < 3; ++k) want[k] = int(rgb[k] * 255.0f + 0.5f);  // as ImGui rounds
+  int x0 = image.width, x1 = -1, y0 = image.height, y1 = -1;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < std::min(345, image.width); ++x) {
+      const std::uint8_t* p = &image.pixels[(std::size_t(y) * image.width + x) * 4];
+      if (p[0] == want[0] && p[1] == want[1] && p[2] == want[2]) {
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+      }
+    }
+  }
+  // A swatch is a square of the frame's height (about 19 pixels).
+  if (x1 < 0 || x1 - x0 < 8 || x1 - x0 > 40 || y1 - y0 < 8 || y1 - y0 > 40) return {-1, -1};
+  return {(x0 + x1) / 2, (y0 + y1) / 2};
+}
+
+// Toggling a class in the panel: a click on the "6 building" checkbox hides the building half
+// of the grid in the next pictures, a second click brings it back (the same picture).
+TEST(ViewerWindow, ClickingAClassCheckboxInThePanelChangesThePicture) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto cloud = dir.write("classified.ply", classifiedGridPly());
+  const auto shots = dir.path() / "shots";
+  std::filesystem::create_directories(shots);
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  ViewerProcess viewer(
+      dir, display.name(),
+      {cloud.string(), "--width", "900", "--height", "700", "--screenshot-dir", shots.string(),
+       "--background", "255,255,255", "--point-size", "3", "--no-vsync"},
+      "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+  // The filters are near the panel's end: scrolled to it (the panel is taller than the window).
+  viewer.scrollDownAt(150, 300, 15);
+  const RgbaImage before = viewer.screenshot(shots);
+  const std::size_t all = pointPixelsRightOfPanel(before);
+  ASSERT_GT(all, 2000u) << "the grid is not drawn";
+  const std::array<int, 2> swatch = legendSwatch(before, 6);
+  ASSERT_GE(swatch[0], 0) << "no legend swatch of class 6 in the panel";
+  ASSERT_NE(legendSwatch(before, 2)[0], -1) << "no legend swatch of class 2 in the panel";
+  // The checkbox is the next item on the line: the swatch's half width (about 10 pixels),
+  // ImGui's item spacing (8) and the checkbox's half width (about 10) to its right.
+  const int checkbox_x = swatch[0] + 10 + 8 + 10;
+  viewer.click(checkbox_x, swatch[1]);
+  std::this_thread::sleep_for(1s);
+  const std::size_t without = pointPixelsRightOfPanel(viewer.screenshot(shots));
+  EXPECT_LT(without, all * 3 / 4) << "the building half is still drawn";
+  EXPECT_GT(without, all / 10) << "more than the building half went";
+  viewer.click(checkbox_x, swatch[1]);
+  std::this_thread::sleep_for(1s);
+  const RgbaImage again = viewer.screenshot(shots);
+  EXPECT_EQ(pointPixelsRightOfPanel(again), all) << "the building half did not come back";
+  EXPECT_EQ(viewer.quit(), 0) << viewer.log();
 }
 
 // Progressive refinement: with a frame budget far below what the octree takes to draw, the

@@ -208,6 +208,17 @@ class ViewerProcess {
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
     }
   }
+  // `clicks` steps of the wheel backwards (down a scrolled panel) with the pointer at (x, y).
+  void scrollDownAt(int x, int y, int clicks) {
+    EXPECT_EQ(run(env_ + "xdotool mousemove --window " + window_ + " " + std::to_string(x) + " " +
+                  std::to_string(y) + " > /dev/null 2>&1"),
+              0);
+    for (int i = 0; i < clicks; ++i) {
+      EXPECT_EQ(run(env_ + "xdotool click --window " + window_ + " 5 > /dev/null 2>&1"), 0);
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  }
   RgbaImage screenshot(const std::filesystem::path& shots) {
     const auto path = shots / ("parallax-screenshot-" + std::to_string(++shots_) + ".png");
     key("p");
