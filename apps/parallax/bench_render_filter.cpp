@@ -104,6 +104,21 @@ int runBenchRenderFilter(const FilterRenderBenchOptions& o) {
   }
   const std::uint64_t uploaded_while_toggling = uploadedPointBytes() - uploaded;
 
+  // Picking, as the viewer does on a click: read from the frame just drawn (the filtered one),
+  // before the next is drawn. 100 pixels of a fixed random sequence; a hit returns the point.
+  draw(filtered);
+  std::vector<double> pick_wall;
+  int hits = 0;
+  std::mt19937 pixels(99);
+  for (int i = 0; i < 100; ++i) {
+    const int x = int(pixels() % std::uint32_t(o.width)),
+              y = int(pixels() % std::uint32_t(o.height));
+    const auto start = std::chrono::steady_clock::now();
+    hits += renderer.pickPoint(x, y).has_value();
+    pick_wall.push_back(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+
   std::printf(
       "bench render --filter-toggle: %llu points (%llu kept by the filter), %dx%d, %s, "
       "median of %d rounds, on %s\n",
@@ -122,6 +137,11 @@ int runBenchRenderFilter(const FilterRenderBenchOptions& o) {
               median(wall[kToggleOff]) / median(wall[kPlain]));
   std::printf("  uploaded while toggling: %llu bytes; pixels the filter changes: %zu\n",
               static_cast<unsigned long long>(uploaded_while_toggling), changed);
+  std::printf(
+      "  a pick from the frame drawn: median %.3f ms, slowest %.3f ms (100 pixels, %d on a "
+      "point), %.3f of a filtered frame\n",
+      median(pick_wall) * 1e3, *std::max_element(pick_wall.begin(), pick_wall.end()) * 1e3, hits,
+      median(pick_wall) / median(wall[kFiltered]));
   const std::vector<double> load_after = loadAverage();
   std::printf("  load average %.2f before, %.2f after\n", load_before[0], load_after[0]);
   return 0;

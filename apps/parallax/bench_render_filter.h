@@ -20,7 +20,8 @@ struct FilterRenderBenchOptions {
 
 // Prints, per kind of frame (steady without the filter, the first with it, steady with it, the
 // first without it again), the median wall and CPU time, the bytes uploaded while toggling and
-// how many pixels the toggle changed; the load average before and after.
+// how many pixels the toggle changed; then what a pick from the frame drawn costs (the viewer
+// answers a click that way, before the next frame); the load average before and after.
 int runBenchRenderFilter(const FilterRenderBenchOptions& options);
 
 }  // namespace parallax::cli
