@@ -70,14 +70,15 @@ struct Variant {
   int color = 5, size = 0;
   bool lighting = false, orthographic = false, round = false, splat = false;
   bool hq = false, reset = false;
-  unsigned filter = 0;  // FilterPart bits (filter_uniforms.h)
+  bool view_shift = false;  // every view's clip x from view 0's clip (viewShifts)
+  unsigned filter = 0;      // FilterPart bits (filter_uniforms.h)
 
   std::uint32_t key() const {
     return std::uint32_t(pass) | std::uint32_t(atomic64) << 2 | std::uint32_t(views) << 3 |
            std::uint32_t(color) << 6 | std::uint32_t(size) << 9 | std::uint32_t(lighting) << 11 |
            std::uint32_t(orthographic) << 12 | std::uint32_t(round) << 13 |
            std::uint32_t(splat) << 14 | std::uint32_t(hq) << 15 | std::uint32_t(reset) << 16 |
-           std::uint32_t(filter) << 21;
+           std::uint32_t(view_shift) << 17 | std::uint32_t(filter) << 21;
   }
   std::string defines() const {
     auto define = [](const char* name, int value) {
@@ -86,9 +87,9 @@ struct Variant {
     return define("PASS", pass) + define("ATOMIC64", atomic64) + define("VIEWS", views) +
            define("COLOR_MODE", color) + define("SIZE_MODE", size) + define("LIGHTING", lighting) +
            define("ORTHOGRAPHIC", orthographic) + define("ROUND", round) + define("SPLAT", splat) +
-           define("HQ", hq) + define("RESET", reset) + filterDefines(filter) +
-           "#define BATCH_POINTS " + std::to_string(kBatchPoints) + "u\n#define MAX_SPLAT " +
-           std::to_string(ComputeRasterizer::kMaxSplatPx) + "\n";
+           define("HQ", hq) + define("RESET", reset) + define("VIEW_SHIFT", view_shift) +
+           filterDefines(filter) + "#define BATCH_POINTS " + std::to_string(kBatchPoints) +
+           "u\n#define MAX_SPLAT " + std::to_string(ComputeRasterizer::kMaxSplatPx) + "\n";
   }
 };
 
@@ -100,6 +101,34 @@ struct Eye {
   float pixels_per_unit;
   Viewport viewport;
 };
+
+// Off-axis stereo pairs (and any views whose eyes differ by a move along the camera's x and a
+// frustum shear) share y, z and w of the clip position: view v's clip x is view 0's plus
+// shift.x * z + shift.y * w. With every view so, the shader projects a point once, not once per
+// view (VIEW_SHIFT). The relation is found from the matrices, S = P_v W_v (P_0 W_0)^-1, in
+// double; std::nullopt where some view is not such a shift of view 0.
+std::optional<std::vector<glm::vec2>> viewShifts(const std::vector<Eye>& eyes) {
+  if (eyes.size() < 2) return std::nullopt;
+  std::vector<glm::vec2> shifts{glm::vec2(0.0f)};
+  const glm::dmat4 from_first_eye = glm::inverse(eyes[0].world_to_eye);
+  const glm::dmat4 first_unprojection = glm::inverse(eyes[0].projection);
+  for (std::size_t v = 1; v < eyes.size(); ++v) {
+    // Eye 0 to eye v is rigid (small numbers even at UTM coordinates), then the projections.
+    const glm::dmat4 s =
+        eyes[v].projection * (eyes[v].world_to_eye * from_first_eye) * first_unprojection;
+    constexpr double kTolerance = 1e-9;
+    for (int col = 0; col < 4; ++col) {
+      for (int row = 1; row < 4; ++row) {
+        if (std::abs(s[col][row] - (col == row ? 1.0 : 0.0)) > kTolerance) return std::nullopt;
+      }
+    }
+    if (std::abs(s[0][0] - 1.0) > kTolerance || std::abs(s[1][0]) > kTolerance) {
+      return std::nullopt;
+    }
+    shifts.emplace_back(float(s[2][0]), float(s[3][0]));
+  }
+  return shifts;
+}
 
 // The largest size (pixels) a point of `item` may have in any view that sees it, for the
 // distance-dependent size modes: from the chunk's largest spacing and its box's nearest depth.
@@ -334,6 +363,8 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   variant.hq = hq;
   variant.reset = frame.accumulate && !atomic64_;
   variant.filter = filterParts(settings.filter, draw_set);
+  const std::optional<std::vector<glm::vec2>> view_shifts = viewShifts(eyes);
+  variant.view_shift = view_shifts.has_value();
   const bool needs_extras =
       variant.color == 2 || variant.color == 4 ||
       (variant.filter & ~(kFilterElevation | kFilterGps | kFilterPlanes | kFilterPolygon)) != 0 ||
@@ -462,6 +493,10 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     glUniform4fv(shader.uniform("u_viewport"), view_count, viewports);
     glUniform1fv(shader.uniform("u_pixels_per_unit"), view_count, pixels_per_unit);
     glUniform4fv(shader.uniform("u_depth_coeffs"), view_count, coeffs);
+    if (view_shifts) {
+      glUniform2fv(shader.uniform("u_view_shift"), view_count,
+                   glm::value_ptr(view_shifts->front()));
+    }
     const GLint mvp_location = shader.uniform("u_mvp");
     const GLint model_view_location = shader.uniform("u_model_view");
     const GLint view_mask_location = shader.uniform("u_view_mask");

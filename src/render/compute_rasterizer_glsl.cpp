@@ -14,6 +14,8 @@ namespace parallax::glsl {
 //   HQ          1: pass 2 blends every point within u_hq_range of the front-most one
 //   RESET       1: progressive drawing on top of an earlier part: a point that brings a pixel
 //               nearer clears what the pixel held (32-bit path: its id, colour and sums)
+//   VIEW_SHIFT  1: the views are shifts of view 0 (off-axis stereo): a point is projected once,
+//               each view's clip x derived from view 0's (u_view_shift)
 // No run-time branches on modes: llvmpipe executes both sides of a branch under a mask.
 const char* const kComputeRasterizer = R"glsl(#version 450 core
 #if ATOMIC64
@@ -70,6 +72,9 @@ layout(std430, binding = 6) coherent buffer SumW { uint sum_w[]; };
 #endif
 
 uniform mat4 u_mvp[VIEWS];         // chunk-relative to clip (chunk origin folded in in double)
+#if VIEW_SHIFT
+uniform vec2 u_view_shift[VIEWS];  // clip x of view v = view 0's + dot(shift, clip.zw)
+#endif
 uniform mat4 u_model_view[VIEWS];  // chunk-relative to eye
 uniform vec4 u_viewport[VIEWS];    // x, y, width, height in canvas pixels
 uniform float u_pixels_per_unit[VIEWS];
@@ -241,8 +246,12 @@ void touchPixel(uint pixel, uint key, uint id, uint i, vec3 p, int v, float eye_
 #endif
 }
 
-void drawInView(uint i, uint id, vec3 p, int v) {
+void drawInView(uint i, uint id, vec3 p, int v, vec4 first_clip) {
+#if VIEW_SHIFT
+  vec4 clip = vec4(first_clip.x + dot(u_view_shift[v], first_clip.zw), first_clip.yzw);
+#else
   vec4 clip = u_mvp[v] * vec4(p, 1.0);
+#endif
   // A point is clipped by its centre, as GL_POINTS are.
   if (!(clip.w > 0.0 && abs(clip.x) <= clip.w && abs(clip.y) <= clip.w && clip.z >= 0.0 &&
         clip.z <= clip.w)) {
@@ -305,9 +314,14 @@ bool drawPoint(uint i, uint views) {
   if (!keepPoint(p, word, gps)) return false;
 #endif
   may_win = false;
-  // Read once, projected into every view (stereo in one pass).
+  // Read once, drawn into every view (stereo in one pass); with VIEW_SHIFT projected once too.
+#if VIEW_SHIFT
+  vec4 first_clip = u_mvp[0] * vec4(p, 1.0);
+#else
+  vec4 first_clip = vec4(0.0);
+#endif
   for (int v = 0; v < VIEWS; ++v) {
-    if (((views >> v) & 1u) != 0u) drawInView(i, u_id_base + i, p, v);
+    if (((views >> v) & 1u) != 0u) drawInView(i, u_id_base + i, p, v, first_clip);
   }
   return may_win;
 }

@@ -164,6 +164,15 @@ TEST(ComputeVsPoints, EveryStereoMode) {
     expectAgreement(std::string(stereoModeName(mode)), settings, boxCamera(), stereo, width,
                     height);
   }
+  // Orthographic eyes: the second eye's clip x is the first's plus a shift linear in depth (the
+  // compute rasterizer derives it rather than projecting twice), as GL_POINTS projects it.
+  StereoSettings stereo;
+  stereo.mode = StereoMode::SideBySide;
+  stereo.eye_separation = 0.2;
+  Camera ortho = boxCamera();
+  ortho.projection = Projection::Orthographic;
+  ortho.ortho_height = 2.5;
+  expectAgreement("orthographic side by side", onePixel(ColorMode::Rgb), ortho, stereo, 256, 128);
 }
 
 // Isolated points (no overlap) at positions off the pixel grid: every splat size and shape
