@@ -31,7 +31,8 @@ enum TextureUnit : int {
   kTextureUnits = 6,
   // Bound beside the chunk's textures, not re-pointed per chunk.
   kDepthKeys = 6,
-  kBatchOrder = 7
+  kBatchOrder = 7,
+  kIdKeys = 8
 };
 // SSBO bindings, as in the shaders.
 enum Binding : GLuint {
@@ -43,6 +44,7 @@ enum Binding : GLuint {
 };
 
 constexpr std::uint32_t kEmpty = ~0u;
+constexpr std::uint32_t kTied = ~1u;  // pass 1's mark of a pixel where two points tied (shader)
 
 bool hasExtension(const char* name) {
   GLint count = 0;
@@ -171,6 +173,7 @@ ComputeRasterizer::ComputeRasterizer(const ComputeRasterizerOptions& options) : 
   glCreateTextures(GL_TEXTURE_BUFFER, kTextureUnits, textures_);
   glCreateTextures(GL_TEXTURE_BUFFER, 6, views_);
   glCreateTextures(GL_TEXTURE_BUFFER, 1, &order_view_);
+  glCreateTextures(GL_TEXTURE_BUFFER, 1, &ids_view_);
   glCreateVertexArrays(1, &vao_);
 }
 
@@ -178,6 +181,7 @@ ComputeRasterizer::~ComputeRasterizer() {
   glDeleteTextures(kTextureUnits, textures_);
   glDeleteTextures(6, views_);
   glDeleteTextures(1, &order_view_);
+  glDeleteTextures(1, &ids_view_);
   if (vao_) glDeleteVertexArrays(1, &vao_);
   const GLuint buffers[] = {depths_, ids_, colors_, sums_, flags_, order_};
   glDeleteBuffers(6, buffers);
@@ -224,6 +228,7 @@ void ComputeRasterizer::ensureBuffers(int width, int height, bool hq) {
     if (!atomic64_) {
       glCreateBuffers(1, &ids_);
       glNamedBufferStorage(ids_, pixels * 4, nullptr, 0);
+      glTextureBufferRange(ids_view_, GL_R32UI, ids_, 0, pixels * 4);
     }
     glCreateBuffers(1, &colors_);
     glNamedBufferStorage(colors_, pixels * 4, nullptr, 0);
@@ -244,13 +249,16 @@ void ComputeRasterizer::ensureBuffers(int width, int height, bool hq) {
   }
 }
 
+// The batch flags' bytes per batch: two words for each of the workgroup's 64 invocations.
+constexpr GLsizeiptr kFlagBytesPerBatch = 64 * 8;
+
 void ComputeRasterizer::ensureFlags(std::uint32_t batches) {
   if (batches <= flag_capacity_) return;
   if (flags_) glDeleteBuffers(1, &flags_);
   if (order_) glDeleteBuffers(1, &order_);
   flag_capacity_ = std::max(batches, flag_capacity_ * 2);
   glCreateBuffers(1, &flags_);
-  glNamedBufferStorage(flags_, GLsizeiptr(flag_capacity_) * 8, nullptr, 0);
+  glNamedBufferStorage(flags_, GLsizeiptr(flag_capacity_) * kFlagBytesPerBatch, nullptr, 0);
   glCreateBuffers(1, &order_);
   glNamedBufferStorage(order_, GLsizeiptr(flag_capacity_) * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
@@ -377,7 +385,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     item_ids_[i + 1] = item_ids_[i] + draw_set.items[i].chunk->count;
     item_chunks_[i] = draw_set.items[i].chunk;
   }
-  assert(item_ids_.back() < kEmpty && "point ids are 32-bit");
+  assert(item_ids_.back() < kTied && "point ids are 32-bit, below the empty and tied marks");
 
   // The items this frame draws, with the views that see each.
   struct Work {
@@ -442,10 +450,11 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   }
   ensureFlags(std::max<std::uint32_t>(batch_total, 1));
   const std::uint32_t zero = 0;
-  glClearNamedBufferSubData(flags_, GL_R32UI, 0, GLsizeiptr(std::max(batch_total, 1u)) * 8,
+  glClearNamedBufferSubData(flags_, GL_R32UI, 0,
+                            GLsizeiptr(std::max(batch_total, 1u)) * kFlagBytesPerBatch,
                             GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kFlagBinding, flags_, 0,
-                    GLsizeiptr(std::max(batch_total, 1u)) * 8);
+                    GLsizeiptr(std::max(batch_total, 1u)) * kFlagBytesPerBatch);
   std::vector<std::uint32_t> order(std::max(batch_total, 1u), 0);
   for (std::size_t n = 0; n < work.size(); ++n) {
     const PointChunk& chunk = *draw_set.items[work[n].item].chunk;
@@ -508,7 +517,10 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     const GLint flag_base_location = shader.uniform("u_flag_base");
     for (int unit = 0; unit < kTextureUnits; ++unit)
       glBindTextureUnit(GLuint(unit), textures_[unit]);
-    if (!atomic64_) glBindTextureUnit(kDepthKeys, views_[0]);
+    if (!atomic64_) {
+      glBindTextureUnit(kDepthKeys, views_[0]);
+      glBindTextureUnit(kIdKeys, ids_view_);
+    }
     glBindTextureUnit(kBatchOrder, order_view_);
 
     for (std::size_t n = 0; n < work.size(); ++n) {

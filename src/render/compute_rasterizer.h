@@ -108,8 +108,9 @@ class ComputeRasterizer final : public Rasterizer {
   // The visibility buffer: depth keys (32-bit path) or (key, id) pairs (64-bit path), ids,
   // packed colours and, for HQ, four planes of colour sums.
   GLuint depths_ = 0, ids_ = 0, colors_ = 0, sums_ = 0;
-  GLuint flags_ = 0;                   // two uints per batch of the frame (see the shader)
+  GLuint flags_ = 0;  // two uints per invocation of each batch of the frame (see the shader)
   GLuint order_ = 0, order_view_ = 0;  // the batches' order, a uint per batch, and its texture
+  GLuint ids_view_ = 0;  // the ids as a buffer texture (pass 2 reads whether a pixel is tied)
   std::uint32_t flag_capacity_ = 0;
   int width_ = 0, height_ = 0;
   bool has_sums_ = false;
