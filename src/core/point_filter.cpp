@@ -92,6 +92,20 @@ void PointFilter::keepOnlyReturns(const std::vector<ReturnKind>& kinds,
   }
 }
 
+std::array<std::array<double, 2>, 4> ClipBox::corners() const {
+  const double yaw = yaw_degrees * (std::numbers::pi / 180.0);
+  const double cs = std::cos(yaw), sn = std::sin(yaw);
+  const double cx = 0.5 * (box.min[0] + box.max[0]), cy = 0.5 * (box.min[1] + box.max[1]);
+  const double hu = 0.5 * (box.max[0] - box.min[0]), hv = 0.5 * (box.max[1] - box.min[1]);
+  std::array<std::array<double, 2>, 4> turned{};
+  const std::array<std::array<double, 2>, 4> signs{{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double u = signs[i][0] * hu, v = signs[i][1] * hv;
+    turned[i] = {cx + cs * u - sn * v, cy + sn * u + cs * v};
+  }
+  return turned;
+}
+
 void PointFilter::setClipBox(const Bounds3& box, bool outside, double yaw_degrees) {
   clip_outside = outside;
   if (yaw_degrees == 0.0) {

@@ -50,6 +50,10 @@ struct ClipBox {
   Bounds3 box;
   double yaw_degrees = 0.0;
 
+  // The footprint's corners (x, y), counter-clockwise in the box's own frame from (min, min),
+  // turned about the centre.
+  std::array<std::array<double, 2>, 4> corners() const;
+
   friend bool operator==(const ClipBox&, const ClipBox&) = default;
 };
 

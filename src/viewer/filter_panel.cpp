@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <optional>
 #include <string>
 #include <utility>
@@ -97,7 +96,7 @@ void drawClipBoxEditor(Session& s) {
       }
       changed = true;
     }
-    // Degrees, counter-clockwise seen from above; wrapped into (-180, 180].
+    // Degrees, counter-clockwise seen from above, -180 to 180.
     float turn = float(e.box.yaw_degrees);
     if (ImGui::DragFloat("turn", &turn, 0.5f, -180.0f, 180.0f, "%.1f deg")) {
       e.box.yaw_degrees = double(turn);
@@ -300,28 +299,18 @@ void appendClipBoxOutline(const Session& s, OverlayScene& scene) {
   const Session::FilterEditor& e = s.filter_editor;
   if (!e.box_enabled || !s.show_panel) return;
   const Bounds3& box = e.box.box;
-  const double yaw = e.box.yaw_degrees * (std::numbers::pi / 180.0);
-  const double cs = std::cos(yaw), sn = std::sin(yaw);
-  const double cx = 0.5 * (box.min[0] + box.max[0]), cy = 0.5 * (box.min[1] + box.max[1]);
-  const double hu = 0.5 * (box.max[0] - box.min[0]), hv = 0.5 * (box.max[1] - box.min[1]);
-  // The corners counter-clockwise in the box's own frame, then turned about its centre.
-  std::array<glm::dvec2, 4> corners;
-  const std::array<std::array<double, 2>, 4> signs{{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}};
-  for (std::size_t i = 0; i < 4; ++i) {
-    const double u = signs[i][0] * hu, v = signs[i][1] * hv;
-    corners[i] = {cx + cs * u - sn * v, cy + sn * u + cs * v};
-  }
+  const auto corners = e.box.corners();
   const OverlayColor orange{1.0f, 0.6f, 0.1f, 1.0f};  // the highlight mode's tint
   for (const double z : {box.min[2], box.max[2]}) {
     OverlayPolyline ring;
     ring.closed = true, ring.color = orange, ring.width_px = 1.5f;
-    for (const glm::dvec2& c : corners) ring.points.emplace_back(c.x, c.y, z);
+    for (const auto& c : corners) ring.points.emplace_back(c[0], c[1], z);
     scene.polylines.push_back(std::move(ring));
   }
-  for (const glm::dvec2& c : corners) {
+  for (const auto& c : corners) {
     OverlayPolyline edge;
     edge.color = orange, edge.width_px = 1.5f;
-    edge.points = {{c.x, c.y, box.min[2]}, {c.x, c.y, box.max[2]}};
+    edge.points = {{c[0], c[1], box.min[2]}, {c[0], c[1], box.max[2]}};
     scene.polylines.push_back(std::move(edge));
   }
 }

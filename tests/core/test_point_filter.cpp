@@ -95,6 +95,14 @@ TEST(PointFilter, TurnedClipBoxTurnsAboutItsCentre) {
   filter.setClipBox(box, true, 30.0);
   EXPECT_FALSE(at(9.999, 0.999));
   EXPECT_TRUE(at(10.001, 0.0));
+  // The footprint's corners (the viewer's outline) where the same rotation puts them.
+  const auto corners = ClipBox{box, 30.0}.corners();
+  const double expected[4][2] = {{-10, -1}, {10, -1}, {10, 1}, {-10, 1}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double u = expected[i][0], v = expected[i][1];
+    EXPECT_NEAR(corners[i][0], cx + cs * u - sn * v, 1e-9) << i;
+    EXPECT_NEAR(corners[i][1], cy + sn * u + cs * v, 1e-9) << i;
+  }
 }
 
 TEST(PointFilter, TurnedClipBoxComesBackFromItsPlanes) {
