@@ -44,7 +44,7 @@ enum Binding : GLuint {
 };
 
 constexpr std::uint32_t kEmpty = ~0u;
-constexpr std::uint32_t kTied = ~1u;  // pass 1's mark of a pixel where two points tied (shader)
+constexpr std::uint32_t kTied = ~1u;  // pass 1's mark of a tied pixel (the shader's TIED_MARK)
 
 bool hasExtension(const char* name) {
   GLint count = 0;
@@ -91,7 +91,8 @@ struct Variant {
            define("ORTHOGRAPHIC", orthographic) + define("ROUND", round) + define("SPLAT", splat) +
            define("HQ", hq) + define("RESET", reset) + define("VIEW_SHIFT", view_shift) +
            filterDefines(filter) + "#define BATCH_POINTS " + std::to_string(kBatchPoints) +
-           "u\n#define MAX_SPLAT " + std::to_string(ComputeRasterizer::kMaxSplatPx) + "\n";
+           "u\n#define MAX_SPLAT " + std::to_string(ComputeRasterizer::kMaxSplatPx) +
+           "\n#define TIED_MARK " + std::to_string(kTied) + "u\n";
   }
 };
 

@@ -61,7 +61,7 @@ layout(binding = 6) uniform usamplerBuffer t_depth_keys;
 // pixels only take the atomic path. Not for HQ (its sums need atomics) nor RESET (progressive
 // parts keep ids of earlier parts).
 #define SOLE_WINNER_STORES (!HQ && !RESET)
-const uint kTied = 0xfffffffeu;
+const uint kTied = TIED_MARK;
 #if SOLE_WINNER_STORES
 layout(binding = 8) uniform usamplerBuffer t_id_keys;  // the ids: whether a pixel is tied
 #endif
