@@ -8,10 +8,11 @@ Starts a Dask cluster on loopback once (a scheduler and --workers single-threade
 cluster is there before a conversion; Dask's statistical worker profiler off, as a deployment
 that does not look at the dashboard's profile would set it, unless --worker-profile), then
 alternates `parallax convert IN -o DIR/local --threads T` and `python3 -m parallax_dask IN -o
-DIR/dask --scheduler ...`, checks that both outputs are the same bytes, and prints for each run the wall time, the CPU time (the local
-process; the driver, its plan and every worker with the tasks it ran, from /proc), their ratios
-and the load average (other work on the machine shows there). The best of each is compared at
-the end. The last Dask run's report (every task's time) is written for bench/cost_model.py.
+DIR/dask --scheduler ...`, checks that both outputs are the same bytes, and prints for each run the
+wall time, the CPU time (the local process; the driver, its plan and every worker with the tasks it
+ran, from /proc), their ratios and the load average (other work on the machine shows there). The
+best of each is compared at the end. The last Dask run's report (every task's time) is written for
+bench/cost_model.py.
 """
 
 import argparse
