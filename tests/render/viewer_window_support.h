@@ -111,17 +111,20 @@ inline int run(const std::string& command) {
   return std::system(command.c_str());
 }
 
-// A coloured 60 x 60 grid on a gentle dome, as an ASCII PLY.
-inline std::string gridPly() {
+// A coloured 60 x 60 grid on a gentle dome, as an ASCII PLY; `classified`: with a
+// classification, class 2 (ground) where x < 0 and class 6 (building) elsewhere.
+inline std::string gridPly(bool classified = false) {
   std::ostringstream ply;
   ply << "ply\nformat ascii 1.0\nelement vertex 3600\nproperty float x\nproperty float y\n"
          "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
-         "end_header\n";
+      << (classified ? "property uchar classification\n" : "") << "end_header\n";
   for (int j = 0; j < 60; ++j) {
     for (int i = 0; i < 60; ++i) {
       const double x = i / 59.0 - 0.5, y = j / 59.0 - 0.5;
       ply << x << ' ' << y << ' ' << 0.3 * (0.5 - x * x - y * y) << ' ' << 40 + 3 * i << ' '
-          << 40 + 3 * j << " 60\n";
+          << 40 + 3 * j << " 60";
+      if (classified) ply << ' ' << (x < 0 ? 2 : 6);
+      ply << '\n';
     }
   }
   return ply.str();
