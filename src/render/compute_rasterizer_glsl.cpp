@@ -355,7 +355,7 @@ void main() {
   uint slot = u_flag_base + gl_WorkGroupID.x;
   uint range_batch = texelFetch(t_batch_order, int(slot)).x;
   // This invocation's flags (see BatchFlags): one bit for each of its 64 points.
-  uint flag_word = 128u * slot + 2u * gl_LocalInvocationID.x;
+  uint flag_word = 2u * (gl_WorkGroupSize.x * slot + gl_LocalInvocationID.x);
 #if PASS == 2 && !HQ
   uvec2 todo = uvec2(batch_flags[flag_word], batch_flags[flag_word + 1u]);
   if (todo == uvec2(0u)) return;
