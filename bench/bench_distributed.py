@@ -161,6 +161,13 @@ def main():
                   f"{local[0] / dask[0]:.3f} (CPU {local[1] / dask[1]:.3f}), identical: "
                   f"{identical}, load average {load:.2f} -> {os.getloadavg()[0]:.2f}",
                   flush=True)
+            with open(report, encoding="utf-8") as f:
+                ran = json.load(f)
+            builds = [t for t in ran["tasks"] if t["stage"] == "build"]
+            print("  dask stages: " + ", ".join(f"{s['stage']} {s['seconds']:.2f} s"
+                                               for s in ran["stages"]) +
+                  f"; builds written in place: {sum(bool(t.get('placed')) for t in builds)}"
+                  f" of {len(builds)}", flush=True)
             if not identical:
                 sys.exit("the distributed output differs from the local one")
     finally:

@@ -96,13 +96,66 @@ def stage_parts(stage, work_dir):
     return 1
 
 
+class SubmitAll:
+    """The tasks of a stage all submitted at once, Dask spreading them."""
+
+    def __init__(self, parts):
+        self.parts = list(parts)
+        self.total = len(self.parts)
+
+    def first(self, _slots):
+        parts, self.parts = self.parts, []
+        return parts
+
+    def next(self, _finished):
+        return None
+
+
+class BuildFromBothEnds:
+    """The builds in the order that lets each write straight into octree.bin.
+
+    A build writes into the final file when it knows where its part goes: below chunks.json's
+    split, after the parts of the groups before it, so those must be done; from the split on,
+    before the parts of the groups after it. So the builds run as two lanes, one group after the
+    other up from the first group and down from the last, one task per worker in flight: a lane
+    goes on with the group next to the one it finished. With two workers every build writes in
+    place; with more, the builds beyond the two lanes write parts that the place stage copies."""
+
+    def __init__(self, groups, split):
+        self.lower = list(range(split))
+        self.upper = list(range(groups - 1, split - 1, -1))
+        self.split = split
+        self.total = groups
+
+    def first(self, slots):
+        """A task for each worker, from the lower and upper lanes in turn."""
+        parts = []
+        while len(parts) < max(slots, 1) and (self.lower or self.upper):
+            take_lower = bool(self.lower) and (len(parts) % 2 == 0 or not self.upper)
+            parts.append((self.lower if take_lower else self.upper).pop(0))
+        return parts
+
+    def next(self, finished):
+        lane, other = (self.lower, self.upper) if finished < self.split else (self.upper, self.lower)
+        if lane:
+            return lane.pop(0)
+        return other.pop(0) if other else None
+
+
+def build_schedule(work_dir):
+    with open(os.path.join(work_dir, "chunks.json"), encoding="utf-8") as chunks:
+        plan = json.load(chunks)
+    return BuildFromBothEnds(len(plan["groups"]), plan["split"])
+
+
 # How often the driver looks whether a task held off one worker can still run anywhere.
 RESTRICTION_CHECK_SECONDS = 2.0
 
 
-def run_stage(client, options, plan, stage, parts, progress, run_id):
-    """Runs the tasks of one stage; returns their results. A failed task runs again (on
-    another worker when there is one) up to options.retries times; bad input stops at once.
+def run_stage(client, options, plan, stage, schedule, progress, run_id):
+    """Runs the tasks of one stage in the schedule's order (SubmitAll, BuildFromBothEnds);
+    returns their results. A failed task runs again (on another worker when there is one) up
+    to options.retries times; bad input stops at once.
 
     The task run again is restricted strictly to the other workers: a loose restriction is
     only a preference, and Dask's work stealing hands such a task to the idle worker it just
@@ -138,7 +191,8 @@ def run_stage(client, options, plan, stage, parts, progress, run_id):
                 future.cancel()
                 submit(part, again=True)
 
-    for part in range(parts):
+    parts = schedule.total
+    for part in schedule.first(len(client.scheduler_info()["workers"])):
         submit(part)
     results = []
     progress.update(stage, 0, parts, started)
@@ -172,6 +226,9 @@ def run_stage(client, options, plan, stage, parts, progress, run_id):
                 continue
             results.append(result)
             progress.update(stage, len(results), parts, started)
+            following = schedule.next(part)
+            if following is not None:
+                submit(following)
     progress.finish(stage, parts, time.monotonic() - started)
     return results
 
@@ -199,10 +256,20 @@ def convert(options):
         if not options.quiet and client.dashboard_link and dashboard_address() is not None:
             sys.stderr.write(f"Dask dashboard: {client.dashboard_link}\n")
         run_id = uuid.uuid4().hex[:8]
+        placed = set()
         for stage in STAGES:
             stage_start = time.monotonic()
-            results = run_stage(client, options, plan, stage, stage_parts(stage, work_dir),
-                                progress, run_id)
+            if stage == "build":
+                schedule = build_schedule(work_dir)
+            elif stage == "place":
+                # Only the parts their builds could not write in place.
+                schedule = SubmitAll(part for part in range(stage_parts(stage, work_dir))
+                                     if part not in placed)
+            else:
+                schedule = SubmitAll(range(stage_parts(stage, work_dir)))
+            results = run_stage(client, options, plan, stage, schedule, progress, run_id)
+            if stage == "build":
+                placed = {result["part"] for result in results if result.get("placed")}
             report["stages"].append({"stage": stage, "tasks": len(results),
                                      "seconds": time.monotonic() - stage_start})
             report["tasks"] += results

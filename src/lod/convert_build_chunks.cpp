@@ -42,93 +42,74 @@ void gatherRecords(const std::byte* records, std::size_t record_size,
 }  // namespace
 
 OctreeBinWriter::OctreeBinWriter(const std::filesystem::path& path, std::uint64_t fail_after_bytes,
-                                 bool keep_existing)
+                                 Open open)
     : path_(path), fail_after_(fail_after_bytes) {
-  file_ = std::fopen(path.c_str(), keep_existing ? "ab" : "wb");
-  if (!file_) throw std::runtime_error(path.string() + ": cannot create: " + std::strerror(errno));
-  if (keep_existing) size_ = std::filesystem::file_size(path);
+  const int flags = O_WRONLY | O_CREAT | O_CLOEXEC | (open == Open::kCreate ? O_TRUNC : 0);
+  fd_ = ::open(path.c_str(), flags, 0644);
+  if (fd_ < 0) {
+    throw std::runtime_error(path.string() + ": cannot create: " + std::strerror(errno));
+  }
+  struct stat info {};
+  if (open == Open::kExisting && ::fstat(fd_, &info) == 0) size_ = std::uint64_t(info.st_size);
 }
 
 OctreeBinWriter::~OctreeBinWriter() {
-  if (file_) std::fclose(file_);
+  if (fd_ >= 0) ::close(fd_);
 }
 
 std::uint64_t OctreeBinWriter::append(const std::byte* data, std::size_t size) {
-  if (fail_after_ > 0 && size_ + size > fail_after_) {
-    // Write what fits first, so the interruption leaves a half-written file behind.
-    std::fwrite(data, 1, std::size_t(fail_after_ - size_), file_);
+  const std::uint64_t offset = cursor_;
+  writeAt(offset, data, size);
+  cursor_ += size;
+  return offset;
+}
+
+void OctreeBinWriter::writeAt(std::uint64_t offset, const std::byte* data, std::size_t size) {
+  std::size_t length = size;
+  const bool interrupted = fail_after_ > 0 && written_ + size > fail_after_;
+  // Write what fits first, so the interruption leaves a half-written file behind.
+  if (interrupted) length = std::size_t(fail_after_ - written_);
+  std::size_t done = 0;
+  while (done < length) {
+    const ssize_t n = ::pwrite(fd_, data + done, length - done, off_t(offset + done));
+    if (n <= 0) {
+      throw std::runtime_error(
+          path_.string() + ": cannot write: " + (n == 0 ? "no progress" : std::strerror(errno)));
+    }
+    done += std::size_t(n);
+  }
+  if (interrupted) {
     throw std::runtime_error(path_.string() + ": simulated interruption after " +
                              std::to_string(fail_after_) + " bytes");
   }
-  if (size > 0 && std::fwrite(data, 1, size, file_) != size) {
-    throw std::runtime_error(path_.string() + ": cannot write: " + std::strerror(errno));
-  }
-  const std::uint64_t offset = size_;
-  size_ += size;
-  return offset;
-}
-
-std::uint64_t OctreeBinWriter::appendFile(const std::filesystem::path& path) {
-  const int in = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (in < 0) throw std::runtime_error(path.string() + ": cannot open: " + std::strerror(errno));
-  struct stat info {};
-  if (::fstat(in, &info) != 0) {
-    ::close(in);
-    throw std::runtime_error(path.string() + ": cannot read: " + std::strerror(errno));
-  }
-  const std::uint64_t offset = size_;
-  const std::uint64_t length = std::uint64_t(info.st_size);
-  std::uint64_t copied = 0;
-  bool fallback = false;
-  // What stdio holds goes first; the descriptor's position is then the file's end.
-  if (std::fflush(file_) != 0) fallback = true;
-  const int out = ::fileno(file_);
-  while (!fallback && copied < length) {
-    const ssize_t n = ::copy_file_range(in, nullptr, out, nullptr, length - copied, 0);
-    if (n <= 0) {
-      // Not supported here (another file system, an old kernel): copied by hand from here.
-      if (n < 0 && (errno == EXDEV || errno == ENOSYS || errno == EINVAL || errno == EOPNOTSUPP)) {
-        fallback = true;
-        break;
-      }
-      const int error = errno;
-      ::close(in);
-      throw std::runtime_error(path_.string() + ": cannot append " + path.string() + ": " +
-                               (n == 0 ? "it is shorter than its size" : std::strerror(error)));
-    }
-    copied += std::uint64_t(n);
-  }
-  if (std::fseek(file_, 0, SEEK_END) != 0) {
-    ::close(in);
-    throw std::runtime_error(path_.string() + ": cannot seek: " + std::strerror(errno));
-  }
-  std::vector<std::byte> buffer(fallback ? std::size_t(4) << 20 : 0);
-  while (copied < length) {
-    const ssize_t n = ::pread(
-        in, buffer.data(), std::min<std::uint64_t>(buffer.size(), length - copied), off_t(copied));
-    if (n <= 0) {
-      const int error = errno;
-      ::close(in);
-      throw std::runtime_error(path.string() + ": cannot read: " +
-                               (n == 0 ? "it is shorter than its size" : std::strerror(error)));
-    }
-    if (std::fwrite(buffer.data(), 1, std::size_t(n), file_) != std::size_t(n)) {
-      ::close(in);
-      throw std::runtime_error(path_.string() + ": cannot write: " + std::strerror(errno));
-    }
-    copied += std::uint64_t(n);
-  }
-  ::close(in);
-  size_ += length;
-  return offset;
+  written_ += size;
+  size_ = std::max(size_, offset + size);
 }
 
 void OctreeBinWriter::close() {
-  if (file_ && std::fclose(file_) != 0) {
-    file_ = nullptr;
+  if (fd_ >= 0 && ::close(fd_) != 0) {
+    fd_ = -1;
     throw std::runtime_error(path_.string() + ": cannot write: " + std::strerror(errno));
   }
-  file_ = nullptr;
+  fd_ = -1;
+}
+
+std::size_t topLevelsSplit(const std::vector<ChunkPlan>& chunks) {
+  std::uint64_t total = 0;
+  for (const ChunkPlan& chunk : chunks) total += chunk.points;
+  std::uint64_t below = 0;
+  std::size_t split = 0;
+  while (split < chunks.size() && 2 * below < total) below += chunks[split++].points;
+  return split;
+}
+
+std::uint64_t nonRootBytes(const ConvertPlan& plan, std::size_t first, std::size_t last,
+                           const std::vector<ChunkRoot>& roots) {
+  std::uint64_t bytes = 0;
+  for (std::size_t c = first; c < last; ++c) bytes += plan.chunks[c].points;
+  bytes *= plan.layout.recordSize();
+  for (const ChunkRoot& root : roots) bytes -= root.records.size();
+  return bytes;
 }
 
 namespace {
@@ -171,19 +152,22 @@ BuiltChunk buildOneChunk(const ConvertPlan& plan, std::size_t index, const Chunk
   return result;
 }
 
-// Builds the chunks several at a time and writes them in chunk order. A chunk is started (in
-// chunk order) while the chunks started and not yet written fit in the budget together, or when
-// none is in flight; whichever thread finishes the next chunk to write writes it and starts more.
-// The output is the same whatever the timing: the order of writing is fixed, not the order of
-// finishing.
+// Builds the chunks several at a time and writes them in the placement's order (chunk order up,
+// or the reverse down from the end). A chunk is started (in that order) while the chunks started
+// and not yet written fit in the budget together, or when none is in flight; whichever thread
+// finishes the next chunk to write writes it and starts more. The output is the same whatever
+// the timing: the order of writing is fixed, not the order of finishing.
 class ChunkScheduler {
  public:
   ChunkScheduler(const ConvertPlan& plan, std::size_t first, std::size_t last,
                  const ChunkSource& source, const OctreeBuildOptions& options,
-                 const Sampler& sampler, OctreeBinWriter& octree,
+                 const Sampler& sampler, OctreeBinWriter& octree, ChunkPlacement placement,
                  std::vector<PotreeNodeEntry>& entries, Progress* bar)
       : plan_(plan),
         first_(first),
+        last_(last),
+        descending_(placement.descending),
+        end_at_(placement.at),
         source_(source),
         options_(options),
         sampler_(sampler),
@@ -193,11 +177,10 @@ class ChunkScheduler {
         bytes_per_point_(chunkBuildBytesPerPoint(plan.layout.recordSize())),
         // The batch's quarter of the budget is free once distribute is done.
         budget_(options.memory_bytes / 4 * 3),
-        next_start_(first),
-        next_write_(first),
-        end_(last),
         built_(last - first),
-        roots_(last - first) {}
+        roots_(last - first) {
+    if (!descending_) octree_.seek(placement.at);
+  }
 
   std::vector<ChunkRoot> run() {
     {
@@ -209,29 +192,34 @@ class ChunkScheduler {
   }
 
  private:
+  // The chunk written `step`-th.
+  std::size_t chunkAt(std::size_t step) const {
+    return descending_ ? last_ - 1 - step : first_ + step;
+  }
+
   // Called with mutex_ held.
   void startMore() {
-    while (!failed_ && next_start_ < end_) {
-      const std::uint64_t cost = plan_.chunks[next_start_].points * bytes_per_point_;
+    while (!failed_ && next_start_ < built_.size()) {
+      const std::uint64_t cost = plan_.chunks[chunkAt(next_start_)].points * bytes_per_point_;
       if (in_flight_bytes_ > 0 && in_flight_bytes_ + cost > budget_) break;
       in_flight_bytes_ += cost;
-      const std::size_t index = next_start_++;
-      group_.run([this, index] { buildAndWrite(index); });
+      const std::size_t step = next_start_++;
+      group_.run([this, step] { buildAndWrite(step); });
     }
   }
 
-  void buildAndWrite(std::size_t index) {
+  void buildAndWrite(std::size_t step) {
     try {
-      BuiltChunk chunk = buildOneChunk(plan_, index, source_, options_, sampler_);
+      BuiltChunk chunk = buildOneChunk(plan_, chunkAt(step), source_, options_, sampler_);
       std::unique_lock lock(mutex_);
       if (failed_) return;
-      built_[index - first_] = std::move(chunk);
+      built_[step] = std::move(chunk);
       if (writing_) return;  // the thread writing now will get to it
       writing_ = true;
-      while (next_write_ < end_ && built_[next_write_ - first_]) {
-        BuiltChunk ready = std::move(*built_[next_write_ - first_]);
-        built_[next_write_ - first_].reset();
-        const std::size_t written = next_write_;
+      while (next_write_ < built_.size() && built_[next_write_]) {
+        BuiltChunk ready = std::move(*built_[next_write_]);
+        built_[next_write_].reset();
+        const std::size_t written = chunkAt(next_write_);
         lock.unlock();
         roots_[written - first_] = writeChunk(written, ready);
         ready = BuiltChunk{};
@@ -249,13 +237,21 @@ class ChunkScheduler {
     }
   }
 
-  // Appends the chunk's nodes but its root to octree.bin (only the writing thread calls it).
+  // Writes the chunk's nodes but its root to octree.bin (only the writing thread calls it).
   ChunkRoot writeChunk(std::size_t index, const BuiltChunk& chunk) {
     const std::size_t record = plan_.layout.recordSize();
     const BuiltNode& root = chunk.nodes.front();
     const std::size_t root_bytes = std::size_t(root.count) * record;
-    const std::uint64_t base =
-        octree_.append(chunk.records.data() + root_bytes, chunk.records.size() - root_bytes);
+    const std::byte* nodes = chunk.records.data() + root_bytes;
+    const std::size_t bytes = chunk.records.size() - root_bytes;
+    std::uint64_t base = 0;
+    if (descending_) {
+      end_at_ -= bytes;
+      base = end_at_;
+      octree_.writeAt(base, nodes, bytes);
+    } else {
+      base = octree_.append(nodes, bytes);
+    }
     for (std::size_t n = 1; n < chunk.nodes.size(); ++n) {
       const BuiltNode& node = chunk.nodes[n];
       entries_.push_back({.name = node.name,
@@ -271,6 +267,9 @@ class ChunkScheduler {
 
   const ConvertPlan& plan_;
   const std::size_t first_;
+  const std::size_t last_;
+  const bool descending_;
+  std::uint64_t end_at_;  // descending: where the last chunk written starts
   const ChunkSource& source_;
   const OctreeBuildOptions& options_;
   const Sampler& sampler_;
@@ -281,10 +280,9 @@ class ChunkScheduler {
   const std::uint64_t budget_;
   tbb::task_group group_;
   std::mutex mutex_;
-  std::size_t next_start_;
-  std::size_t next_write_;
-  const std::size_t end_;
-  std::vector<std::optional<BuiltChunk>> built_;  // finished, not yet written (from first_)
+  std::size_t next_start_ = 0;  // steps, in the order of writing (chunkAt)
+  std::size_t next_write_ = 0;
+  std::vector<std::optional<BuiltChunk>> built_;  // finished, not yet written (by step)
   std::vector<ChunkRoot> roots_;                  // from first_
   std::uint64_t in_flight_bytes_ = 0;             // chunks started and not yet written
   bool writing_ = false;
@@ -310,16 +308,32 @@ std::vector<ChunkRoot> buildChunks(const ConvertPlan& plan, const std::filesyste
     records.remove_after = chunkFilePath(chunk_dir, index);
     return records;
   };
-  return buildChunkRange(plan, 0, plan.chunks.size(), mapped, options, sampler, octree, entries,
-                         bar.get());
+  // The lower side up from the start, the upper side down from the end; the gap between is
+  // the top levels' (topLevelsSplit).
+  const std::size_t split = topLevelsSplit(plan.chunks);
+  const std::size_t chunks = plan.chunks.size();
+  std::vector<ChunkRoot> roots =
+      buildChunkRange(plan, 0, split, mapped, options, sampler, octree,
+                      {.descending = false, .at = 0}, entries, bar.get());
+  const std::uint64_t lower = nonRootBytes(plan, 0, split, roots);
+  std::uint64_t total = 0;
+  for (const ChunkPlan& chunk : plan.chunks) total += chunk.points * plan.layout.recordSize();
+  std::vector<ChunkRoot> upper =
+      buildChunkRange(plan, split, chunks, mapped, options, sampler, octree,
+                      {.descending = true, .at = total}, entries, bar.get());
+  for (ChunkRoot& root : upper) roots.push_back(std::move(root));
+  octree.seek(lower);
+  return roots;
 }
 
 std::vector<ChunkRoot> buildChunkRange(const ConvertPlan& plan, std::size_t first, std::size_t last,
                                        const ChunkSource& source, const OctreeBuildOptions& options,
                                        const Sampler& sampler, OctreeBinWriter& octree,
+                                       ChunkPlacement placement,
                                        std::vector<PotreeNodeEntry>& entries, Progress* bar) {
   assert(first <= last && last <= plan.chunks.size() && "buildChunkRange: chunks of the plan");
-  ChunkScheduler scheduler(plan, first, last, source, options, sampler, octree, entries, bar);
+  ChunkScheduler scheduler(plan, first, last, source, options, sampler, octree, placement, entries,
+                           bar);
   return scheduler.run();
 }
 

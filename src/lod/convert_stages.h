@@ -124,27 +124,52 @@ struct ConvertPlan {
   }
 };
 
-// octree.bin, appended to by the build stages. `fail_after_bytes` (tests) throws once the file
-// would grow past it, to simulate an interrupted conversion.
+// octree.bin, written by the build stages at known offsets (see topLevelsSplit for the layout).
+// `fail_after_bytes` (tests) throws once more than that many bytes would have been written, to
+// simulate an interrupted conversion.
 class OctreeBinWriter {
  public:
-  // With `keep_existing`, appends to the file already at `path` (size() starts at its size).
+  enum class Open { kCreate, kExisting };  // kCreate truncates; kExisting keeps what is there
   OctreeBinWriter(const std::filesystem::path& path, std::uint64_t fail_after_bytes,
-                  bool keep_existing = false);
+                  Open open = Open::kCreate);
+  OctreeBinWriter(const OctreeBinWriter&) = delete;
+  OctreeBinWriter& operator=(const OctreeBinWriter&) = delete;
   ~OctreeBinWriter();
-  // Appends and returns the offset the bytes were written at.
+  // Writes at the cursor, moves the cursor past the bytes, and returns where they start.
   std::uint64_t append(const std::byte* data, std::size_t size);
-  // Appends the whole file `path` (copy_file_range: the kernel copies, or shares the blocks
-  // where the file system can) and returns the offset it starts at.
-  std::uint64_t appendFile(const std::filesystem::path& path);
+  // Writes at `offset`; the cursor stays.
+  void writeAt(std::uint64_t offset, const std::byte* data, std::size_t size);
+  void seek(std::uint64_t offset) { cursor_ = offset; }
+  std::uint64_t cursor() const { return cursor_; }
   void close();
+  // The end of the furthest byte written (with kExisting, at least the file's size when opened).
   std::uint64_t size() const { return size_; }
+  const std::filesystem::path& path() const { return path_; }
 
  private:
   std::filesystem::path path_;
-  std::FILE* file_ = nullptr;
+  int fd_ = -1;
+  std::uint64_t cursor_ = 0;
   std::uint64_t size_ = 0;
+  std::uint64_t written_ = 0;
   std::uint64_t fail_after_ = 0;
+};
+
+// Where each chunk's nodes go in octree.bin, so that a build that knows the chunks' point counts
+// (after the count stage) knows where to write without waiting for the builds before it: the
+// chunks before the split (the first half of the points) from the file's start up, the chunks
+// from the split on from its end (the total of the records, known) down, and the nodes above the
+// chunks, written last, in the gap between, which they fill exactly (every chunk root's point
+// ends in one of them). A distributed build then writes into the final file from both ends
+// instead of into a part to be copied (distributed_tasks.cpp). Returns the first chunk of the
+// upper side.
+std::size_t topLevelsSplit(const std::vector<ChunkPlan>& chunks);
+
+// Where a range of chunks is written: up from `at` in chunk order, or (descending) down from
+// `at`, the last chunk's nodes ending there.
+struct ChunkPlacement {
+  bool descending = false;
+  std::uint64_t at = 0;
 };
 
 // What the build stage keeps of each chunk: its root's points, for the top levels to sample.
@@ -175,10 +200,14 @@ void distributePoints(ConvertPlan& plan, const std::vector<ConvertInput>& inputs
 std::vector<std::uint64_t> distributeStream(ConvertPlan& plan, PointStream& stream,
                                             const std::filesystem::path& input,
                                             const std::filesystem::path& shard_dir, Progress* bar);
+// Every chunk's nodes but its root, laid out as topLevelsSplit says; returns the roots in chunk
+// order and leaves the writer's cursor at the gap the top levels fill.
 std::vector<ChunkRoot> buildChunks(const ConvertPlan& plan, const std::filesystem::path& chunk_dir,
                                    const OctreeBuildOptions& options, const Sampler& sampler,
                                    OctreeBinWriter& octree, std::vector<PotreeNodeEntry>& entries,
                                    const ProgressFactory& progress);
+// The nodes above the chunks and the chunks' final roots, appended at the writer's cursor:
+// exactly the roots' records.
 void buildTopLevels(const ConvertPlan& plan, std::vector<ChunkRoot>& roots, const Sampler& sampler,
                     OctreeBinWriter& octree, std::vector<PotreeNodeEntry>& entries);
 
@@ -195,13 +224,17 @@ struct ChunkRecords {
 using ChunkSource = std::function<ChunkRecords(std::size_t chunk)>;
 
 // buildChunks for the chunks [first, last) of the plan, their records from `source`: their
-// nodes but the roots appended to `octree` in chunk order (`entries` with offsets into it), the
-// roots returned (index 0: chunk `first`). The same bytes for a chunk whatever range it is
-// built in.
+// nodes but the roots written to `octree` as `placement` says (`entries` with offsets into it),
+// the roots returned (index 0: chunk `first`). The same bytes for a chunk whatever range it is
+// built in. The nodes take the range's records less its roots' (nonRootBytes).
 std::vector<ChunkRoot> buildChunkRange(const ConvertPlan& plan, std::size_t first, std::size_t last,
                                        const ChunkSource& source, const OctreeBuildOptions& options,
                                        const Sampler& sampler, OctreeBinWriter& octree,
+                                       ChunkPlacement placement,
                                        std::vector<PotreeNodeEntry>& entries, Progress* bar);
+// The bytes the chunks [first, last) wrote to octree.bin, from their roots.
+std::uint64_t nonRootBytes(const ConvertPlan& plan, std::size_t first, std::size_t last,
+                           const std::vector<ChunkRoot>& roots);
 
 // Memory the build of a chunk takes per point: its record, the positions (twice), the Morton
 // pairs and the index lists. The chunk size (3/8 of the budget) and the number of chunks built

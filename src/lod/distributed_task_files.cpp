@@ -12,7 +12,7 @@ namespace {
 
 constexpr std::string_view kCountsTag = "PLXCNT1\n";
 constexpr std::string_view kStatsTag = "PLXSTA1\n";
-constexpr std::string_view kGroupTag = "PLXGRP1\n";
+constexpr std::string_view kGroupTag = "PLXGRP2\n";
 
 std::string numbered(const char* prefix, std::size_t index) {
   return prefix + std::to_string(index);
@@ -130,6 +130,9 @@ std::filesystem::path groupPartPath(const DistributedPlan& plan, std::size_t gro
 std::filesystem::path groupNodesPath(const DistributedPlan& plan, std::size_t group) {
   return plan.work_dir / "build" / (numbered("group_", group) + ".nodes.bin");
 }
+std::filesystem::path groupPlacedPath(const DistributedPlan& plan, std::size_t group) {
+  return plan.work_dir / "build" / (numbered("group_", group) + ".placed");
+}
 
 void clearTaskFiles(const std::filesystem::path& work_dir) {
   for (const char* name :
@@ -142,17 +145,18 @@ std::filesystem::path assembledOctreePath(const DistributedPlan& plan) {
   return plan.work_dir / "build" / "octree.bin";
 }
 
-std::uint64_t readGroupPartBytes(const std::filesystem::path& path) {
+GroupPartHead readGroupPartHead(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  char head[16];
+  char head[17];
   if (!in.read(head, sizeof head) || std::string_view(head, 8) != kGroupTag) {
     throw std::runtime_error(path.string() +
                              ": a damaged or missing task file; run the build "
                              "that writes it again");
   }
-  std::uint64_t bytes;
-  std::memcpy(&bytes, head + 8, sizeof bytes);
-  return bytes;
+  GroupPartHead result;
+  std::memcpy(&result.part_bytes, head + 8, sizeof result.part_bytes);
+  result.placed = head[16] != 0;
+  return result;
 }
 
 void writeCounts(const std::filesystem::path& path, const std::vector<std::uint64_t>& counts) {
@@ -205,6 +209,7 @@ void mergeStats(const std::filesystem::path& path, AttributeStats& stats) {
 void writeGroupNodes(const std::filesystem::path& path, const GroupNodes& nodes) {
   ByteWriter out(kGroupTag);
   out.put(nodes.part_bytes);
+  out.put(std::uint8_t(nodes.placed));
   out.put(std::uint64_t(nodes.entries.size()));
   for (const PotreeNodeEntry& entry : nodes.entries) {
     out.putName(entry.name);
@@ -226,6 +231,7 @@ GroupNodes readGroupNodes(const std::filesystem::path& path) {
   ByteReader in(path, kGroupTag);
   GroupNodes nodes;
   nodes.part_bytes = in.get<std::uint64_t>();
+  nodes.placed = in.get<std::uint8_t>() != 0;
   const std::uint64_t entries = in.getCount(24);
   for (std::uint64_t i = 0; i < entries; ++i) {
     PotreeNodeEntry entry;
@@ -259,7 +265,7 @@ void writeChunkGroups(const std::filesystem::path& path, const ChunkGroups& chun
   for (const ChunkPlan& chunk : chunks.chunks) list.push_back({chunk.name, chunk.points});
   nlohmann::json groups = nlohmann::json::array();
   for (const auto& [first, last] : chunks.groups) groups.push_back({first, last});
-  const nlohmann::json json = {{"chunks", list}, {"groups", groups}};
+  const nlohmann::json json = {{"chunks", list}, {"groups", groups}, {"split", chunks.split}};
   writeFileAtomically(path, json.dump() + "\n");
 }
 
@@ -273,6 +279,7 @@ ChunkGroups readChunkGroups(const std::filesystem::path& path) {
     for (const nlohmann::json& group : json.at("groups")) {
       result.groups.emplace_back(group.at(0).get<std::size_t>(), group.at(1).get<std::size_t>());
     }
+    result.split = json.at("split").get<std::size_t>();
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(path.string() + ": a damaged task file (" + e.what() + ")");
   }
@@ -288,6 +295,9 @@ ChunkGroups readChunkGroups(const std::filesystem::path& path) {
     if (first > last || last > result.chunks.size()) {
       throw std::runtime_error(path.string() + ": a damaged task file (a group of no chunks)");
     }
+  }
+  if (result.split > result.groups.size()) {
+    throw std::runtime_error(path.string() + ": a damaged task file (split past the groups)");
   }
   return result;
 }

@@ -44,21 +44,32 @@ void writeStats(const std::filesystem::path& path, const AttributeStats& stats);
 void mergeStats(const std::filesystem::path& path, AttributeStats& stats);
 
 // What a build task hands the finish task beside its part of octree.bin: the part's size, the
-// nodes in it (offsets into the part) and the chunks' roots.
+// nodes in it (offsets into the part) and the chunks' roots. `placed`: the build wrote its part
+// straight into the assembled octree.bin (at its place, which it knew), not into a part file.
 struct GroupNodes {
   std::uint64_t part_bytes = 0;
+  bool placed = false;
   std::vector<PotreeNodeEntry> entries;
   std::vector<ChunkRoot> roots;
 };
 void writeGroupNodes(const std::filesystem::path& path, const GroupNodes& nodes);
 GroupNodes readGroupNodes(const std::filesystem::path& path);
-// part_bytes alone (the first bytes of the file).
-std::uint64_t readGroupPartBytes(const std::filesystem::path& path);
+// part_bytes and placed alone (the first bytes of the file).
+struct GroupPartHead {
+  std::uint64_t part_bytes = 0;
+  bool placed = false;
+};
+GroupPartHead readGroupPartHead(const std::filesystem::path& path);
+// Marks the part of `group` as copied to its place by the place stage (an empty file beside it).
+std::filesystem::path groupPlacedPath(const DistributedPlan& plan, std::size_t group);
 
-// The chunks (and their groups of consecutive chunks, [first, last) each) of chunks.json.
+// The chunks (and their groups of consecutive chunks, [first, last) each) of chunks.json. The
+// groups from `split` on hold the chunks from topLevelsSplit on: their parts are laid out down
+// from the end of octree.bin, the others up from its start.
 struct ChunkGroups {
   std::vector<ChunkPlan> chunks;
   std::vector<std::pair<std::size_t, std::size_t>> groups;
+  std::size_t split = 0;
 };
 void writeChunkGroups(const std::filesystem::path& path, const ChunkGroups& chunks);
 ChunkGroups readChunkGroups(const std::filesystem::path& path);

@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 
 #include "core/error.h"
@@ -22,6 +23,12 @@ namespace parallax {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// What a build task reports beside its points: whether it wrote straight into octree.bin.
+struct BuildSummary {
+  std::uint64_t points = 0;
+  bool placed = false;
+};
 
 // Points read at a time by the scan: the local scan's first guess (convert_count.cpp), before
 // the record size is known. Batch sizes change no result, only memory.
@@ -137,16 +144,24 @@ std::uint64_t runChunks(const DistributedPlan& plan) {
   for (const ChunkPlan& chunk : state.chunks) total += chunk.points;
   const std::uint64_t target =
       std::max<std::uint64_t>(1, (total + plan.build_tasks - 1) / plan.build_tasks);
-  std::size_t first = 0;
-  std::uint64_t in_group = 0;
-  for (std::size_t c = 0; c < state.chunks.size(); ++c) {
-    in_group += state.chunks[c].points;
-    if (in_group >= target || c + 1 == state.chunks.size()) {
-      groups.groups.emplace_back(first, c + 1);
-      first = c + 1;
-      in_group = 0;
+  // No group straddles the split: the groups below it are laid out up from the start of
+  // octree.bin, the others down from its end.
+  const std::size_t split = topLevelsSplit(state.chunks);
+  auto addGroups = [&](std::size_t from, std::size_t to) {
+    std::size_t first = from;
+    std::uint64_t in_group = 0;
+    for (std::size_t c = from; c < to; ++c) {
+      in_group += state.chunks[c].points;
+      if (in_group >= target || c + 1 == to) {
+        groups.groups.emplace_back(first, c + 1);
+        first = c + 1;
+        in_group = 0;
+      }
     }
-  }
+  };
+  addGroups(0, split);
+  groups.split = groups.groups.size();
+  addGroups(split, state.chunks.size());
   writeChunkGroups(chunksFilePath(plan), groups);
   return total;
 }
@@ -231,34 +246,82 @@ ChunkRecords readShards(const DistributedPlan& plan, const ConvertPlan& state, s
   return records;
 }
 
-std::uint64_t runBuild(const DistributedPlan& plan, std::size_t group) {
+// The bytes of octree.bin the chunks of the plan take (their records; topLevelsSplit).
+std::uint64_t octreeBytes(const ConvertPlan& state) {
+  std::uint64_t points = 0;
+  for (const ChunkPlan& chunk : state.chunks) points += chunk.points;
+  return points * state.layout.recordSize();
+}
+
+// Where group `group` writes in the assembled octree.bin, if the builds it depends on are done:
+// below the split, where the parts of the groups before it end (its first byte); from the split
+// on, where those after it start (its last byte's end). Unknown while one of them is missing.
+std::optional<std::uint64_t> knownPlace(const DistributedPlan& plan, const ChunkGroups& groups,
+                                        std::uint64_t octree_bytes, std::size_t group) {
+  const bool upper = group >= groups.split;
+  const std::size_t from = upper ? group + 1 : 0, to = upper ? groups.groups.size() : group;
+  std::uint64_t bytes = 0;
+  for (std::size_t g = from; g < to; ++g) {
+    std::error_code error;
+    if (!std::filesystem::exists(groupNodesPath(plan, g), error)) return std::nullopt;
+    bytes += readGroupPartHead(groupNodesPath(plan, g)).part_bytes;
+  }
+  if (bytes > octree_bytes) {
+    throw std::runtime_error((plan.work_dir / "build").string() +
+                             ": the groups' parts take more than the chunks' " +
+                             std::to_string(octree_bytes) + " bytes; run the builds again");
+  }
+  return upper ? octree_bytes - bytes : bytes;
+}
+
+// The chunks of one group built, their nodes written straight into the assembled octree.bin when
+// the group's place there is known (knownPlace: with two workers taking the groups from both
+// ends, always), into a part file for the place stage to copy otherwise.
+BuildSummary runBuild(const DistributedPlan& plan, std::size_t group) {
   const ConvertPlan state = loadConvertState(plan, true);
   const ChunkGroups groups = readChunkGroups(chunksFilePath(plan));
   const auto [first, last] = groups.groups[group];
   const auto sampler = makeSampler(plan.build.sampling);
   const std::filesystem::path part_path = groupPartPath(plan, group);
   makeTaskDirectory(part_path.parent_path());
-  const std::filesystem::path temp = temporaryPathFor(part_path);
+  const ChunkSource shards = [&](std::size_t chunk) { return readShards(plan, state, chunk); };
   GroupNodes nodes;
-  try {
-    OctreeBinWriter part(temp, 0);
-    const ChunkSource shards = [&](std::size_t chunk) { return readShards(plan, state, chunk); };
-    nodes.roots = buildChunkRange(state, first, last, shards, plan.build, *sampler, part,
-                                  nodes.entries, nullptr);
-    part.close();
-    nodes.part_bytes = part.size();
-    std::filesystem::rename(temp, part_path);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temp, ignored);
-    throw;
+  const std::optional<std::uint64_t> place = knownPlace(plan, groups, octreeBytes(state), group);
+  if (place) {
+    const bool upper = group >= groups.split;
+    OctreeBinWriter octree(assembledOctreePath(plan), 0, OctreeBinWriter::Open::kExisting);
+    nodes.roots = buildChunkRange(state, first, last, shards, plan.build, *sampler, octree,
+                                  {.descending = upper, .at = *place}, nodes.entries, nullptr);
+    octree.close();
+    nodes.part_bytes = nonRootBytes(state, first, last, nodes.roots);
+    nodes.placed = true;
+    // The nodes file states offsets into the part, wherever it was written.
+    const std::uint64_t start = upper ? *place - nodes.part_bytes : *place;
+    for (PotreeNodeEntry& entry : nodes.entries) entry.byte_offset -= start;
+    // A part file of an earlier try (its place was not known then) is not this try's.
+    std::filesystem::remove(part_path);
+  } else {
+    const std::filesystem::path temp = temporaryPathFor(part_path);
+    try {
+      OctreeBinWriter part(temp, 0);
+      nodes.roots = buildChunkRange(state, first, last, shards, plan.build, *sampler, part,
+                                    {.descending = false, .at = 0}, nodes.entries, nullptr);
+      part.close();
+      nodes.part_bytes = part.size();
+      std::filesystem::rename(temp, part_path);
+    } catch (...) {
+      std::error_code ignored;
+      std::filesystem::remove(temp, ignored);
+      throw;
+    }
   }
-  // Written after the part: the finish task trusts a part only with its nodes file, which
-  // states the part's size.
+  // Written after the part: the place and finish tasks trust a part only with its nodes file,
+  // which states the part's size.
+  std::filesystem::remove(groupPlacedPath(plan, group));
   writeGroupNodes(groupNodesPath(plan, group), nodes);
-  std::uint64_t points = 0;
-  for (std::size_t c = first; c < last; ++c) points += state.chunks[c].points;
-  return points;
+  BuildSummary summary{.placed = nodes.placed};
+  for (std::size_t c = first; c < last; ++c) summary.points += state.chunks[c].points;
+  return summary;
 }
 
 // Copies `length` bytes of `from` to `to_fd` at `offset` (copy_file_range: in the kernel, or
@@ -297,40 +360,63 @@ void copyInto(const std::filesystem::path& from, std::uint64_t length, int to_fd
   ::close(in);
 }
 
-// Where each group's part of octree.bin starts (the sizes its build stated), and the end.
-std::vector<std::uint64_t> partOffsets(const DistributedPlan& plan, std::size_t groups) {
-  std::vector<std::uint64_t> offsets{0};
-  for (std::size_t g = 0; g < groups; ++g) {
-    const std::filesystem::path part = groupPartPath(plan, g);
-    const std::uint64_t bytes = readGroupPartBytes(groupNodesPath(plan, g));
-    std::error_code error;
-    const std::uint64_t size = std::filesystem::file_size(part, error);
-    if (error || size != bytes) {
-      throw std::runtime_error(part.string() + ": expected " + std::to_string(bytes) + " bytes (" +
-                               groupNodesPath(plan, g).string() + "), found " +
-                               (error ? error.message() : std::to_string(size)) + "; run build " +
-                               std::to_string(g) + " again");
-    }
-    offsets.push_back(offsets.back() + bytes);
+// Where each group's part starts in the assembled octree.bin (from the sizes its build stated:
+// up from the start below the split, down from the end from it on), and the gap between the two
+// sides that the top levels fill.
+struct PartPlaces {
+  std::vector<std::uint64_t> start;
+  std::vector<GroupPartHead> parts;
+  std::uint64_t gap_begin = 0;
+  std::uint64_t gap_end = 0;
+};
+
+PartPlaces partPlaces(const DistributedPlan& plan, const ChunkGroups& groups,
+                      std::uint64_t octree_bytes) {
+  PartPlaces places;
+  const std::size_t count = groups.groups.size();
+  for (std::size_t g = 0; g < count; ++g) {
+    places.parts.push_back(readGroupPartHead(groupNodesPath(plan, g)));
   }
-  return offsets;
+  places.start.resize(count);
+  std::uint64_t at = 0, end = octree_bytes;
+  for (std::size_t g = 0; g < groups.split; ++g) {
+    places.start[g] = at;
+    at += places.parts[g].part_bytes;
+  }
+  for (std::size_t g = count; g-- > groups.split;) {
+    end -= std::min(end, places.parts[g].part_bytes);
+    places.start[g] = end;
+  }
+  places.gap_begin = at;
+  places.gap_end = end;
+  if (at > end) {
+    throw std::runtime_error((plan.work_dir / "build").string() +
+                             ": the groups' parts take more than the chunks' " +
+                             std::to_string(octree_bytes) + " bytes; run the builds again");
+  }
+  return places;
 }
 
-// The part of group `group` copied to its place in the work directory's octree.bin: the
-// groups' places are known once every build ran, so the copies run side by side instead of
-// one after the other in the finish task (at 10^11 points, hours of copying on one machine).
-// Written at a fixed offset, a run again writes the same bytes.
-std::uint64_t runPlace(const DistributedPlan& plan, std::size_t group) {
-  const ChunkGroups groups = readChunkGroups(chunksFilePath(plan));
-  const std::vector<std::uint64_t> offsets = partOffsets(plan, groups.groups.size());
+// The part file of `group` copied to its place in the work directory's octree.bin, then marked
+// as placed. Written at a fixed offset, a copy run again writes the same bytes.
+void copyPart(const DistributedPlan& plan, std::size_t group, const PartPlaces& places) {
+  const std::filesystem::path part = groupPartPath(plan, group);
+  const std::uint64_t bytes = places.parts[group].part_bytes;
+  std::error_code error;
+  const std::uint64_t size = std::filesystem::file_size(part, error);
+  if (error || size != bytes) {
+    throw std::runtime_error(part.string() + ": expected " + std::to_string(bytes) + " bytes (" +
+                             groupNodesPath(plan, group).string() + "), found " +
+                             (error ? error.message() : std::to_string(size)) + "; run build " +
+                             std::to_string(group) + " again");
+  }
   const std::filesystem::path assembled = assembledOctreePath(plan);
   const int fd = ::open(assembled.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
   if (fd < 0) {
     throw std::runtime_error(assembled.string() + ": cannot open: " + std::strerror(errno));
   }
   try {
-    copyInto(groupPartPath(plan, group), offsets[group + 1] - offsets[group], fd, offsets[group],
-             assembled);
+    copyInto(part, bytes, fd, places.start[group], assembled);
   } catch (...) {
     ::close(fd);
     throw;
@@ -338,42 +424,57 @@ std::uint64_t runPlace(const DistributedPlan& plan, std::size_t group) {
   if (::close(fd) != 0) {
     throw std::runtime_error(assembled.string() + ": cannot write: " + std::strerror(errno));
   }
-  return offsets[group + 1] - offsets[group];
+  writeFileAtomically(groupPlacedPath(plan, group), "");
 }
 
-// The placed parts (or, when they are not all there, the parts copied now one after the
-// other), then the top levels, hierarchy.bin and metadata.json, in a partial directory renamed
-// to the output (potree_converter.cpp does the same locally).
+bool partInPlace(const DistributedPlan& plan, const PartPlaces& places, std::size_t group) {
+  std::error_code error;
+  return places.parts[group].placed || std::filesystem::exists(groupPlacedPath(plan, group), error);
+}
+
+// The part of a group whose build could not write it in place, copied there: the places are
+// known once every build ran, so the copies run side by side instead of one after the other in
+// the finish task (at 10^11 points, hours of copying on one machine). Nothing to do for a group
+// its build placed.
+std::uint64_t runPlace(const DistributedPlan& plan, std::size_t group) {
+  const ConvertPlan state = loadConvertState(plan, true);
+  const ChunkGroups groups = readChunkGroups(chunksFilePath(plan));
+  const PartPlaces places = partPlaces(plan, groups, octreeBytes(state));
+  if (places.parts[group].placed) return 0;
+  copyPart(plan, group, places);
+  return places.parts[group].part_bytes;
+}
+
+// The parts not yet in place copied (when the place stage did not run), the top levels written
+// into the gap between the two sides of the assembled octree.bin, then hierarchy.bin and
+// metadata.json in a partial directory renamed to the output, octree.bin moved into it (a
+// rename: the work directory is on the same file system by default). potree_converter.cpp does
+// the same locally.
 std::uint64_t runFinish(const DistributedPlan& plan) {
   ConvertPlan state = loadConvertState(plan, true);
   for (std::size_t r = 0; r < plan.ranges.size(); ++r) {
     mergeStats(statsFilePath(plan, r), state.stats);
   }
   const ChunkGroups groups = readChunkGroups(chunksFilePath(plan));
-  const std::vector<std::uint64_t> offsets = partOffsets(plan, groups.groups.size());
-  const std::filesystem::path target = plan.output;
-  checkPotreeOutput(target);
-  std::filesystem::create_directories(target.parent_path());
-  removeStalePartialOutputs(target);
-  TemporaryDirectory temp(partialOutputPath(target));
-  const std::filesystem::path octree_path = temp.path() / "octree.bin";
-  // The placed file moves into the output (a rename: the work directory is on the same file
-  // system by default), cut back to the parts (an earlier finish may have appended to it).
-  std::error_code error;
+  const std::uint64_t octree_bytes = octreeBytes(state);
+  const PartPlaces places = partPlaces(plan, groups, octree_bytes);
   const std::filesystem::path assembled = assembledOctreePath(plan);
-  const bool placed = std::filesystem::exists(assembled, error) &&
-                      std::filesystem::file_size(assembled, error) >= offsets.back() && !error;
-  if (placed) std::filesystem::rename(assembled, octree_path, error);
-  const bool moved = placed && !error;
-  if (moved) std::filesystem::resize_file(octree_path, offsets.back());
-  OctreeBinWriter octree(octree_path, 0, moved);
+  std::error_code error;
+  const bool existed = std::filesystem::exists(assembled, error);
+  for (std::size_t g = 0; g < groups.groups.size(); ++g) {
+    if (!existed && partInPlace(plan, places, g)) {
+      // An earlier finish moved the file out and then failed: what the builds placed is gone.
+      throw std::runtime_error(assembled.string() + ": missing, with the part of build " +
+                               std::to_string(g) + " in it; run the builds again");
+    }
+    if (!partInPlace(plan, places, g)) copyPart(plan, g, places);
+  }
   std::vector<PotreeNodeEntry> entries;
   std::vector<ChunkRoot> roots;
   for (std::size_t g = 0; g < groups.groups.size(); ++g) {
     GroupNodes nodes = readGroupNodes(groupNodesPath(plan, g));
-    if (!moved) octree.appendFile(groupPartPath(plan, g));
     for (PotreeNodeEntry& entry : nodes.entries) {
-      entry.byte_offset += offsets[g];
+      entry.byte_offset += places.start[g];
       entries.push_back(std::move(entry));
     }
     for (ChunkRoot& root : nodes.roots) roots.push_back(std::move(root));
@@ -383,11 +484,39 @@ std::uint64_t runFinish(const DistributedPlan& plan) {
                              std::to_string(state.chunks.size()) + " chunks, the builds gave " +
                              std::to_string(roots.size()));
   }
-  const auto sampler = makeSampler(plan.build.sampling);
-  buildTopLevels(state, roots, *sampler, octree, entries);
+  {
+    OctreeBinWriter octree(assembled, 0, OctreeBinWriter::Open::kExisting);
+    octree.seek(places.gap_begin);
+    const auto sampler = makeSampler(plan.build.sampling);
+    buildTopLevels(state, roots, *sampler, octree, entries);
+    if (octree.cursor() != places.gap_end) {
+      throw std::runtime_error(assembled.string() + ": the top levels took " +
+                               std::to_string(octree.cursor() - places.gap_begin) +
+                               " bytes, the gap between the parts is " +
+                               std::to_string(places.gap_end - places.gap_begin) +
+                               "; run the builds again");
+    }
+    octree.close();
+  }
+  // Cut back to the records (an earlier run may have left a longer file).
+  std::filesystem::resize_file(assembled, octree_bytes);
   if (entries.empty()) entries.push_back({.name = "r"});  // an empty input: a root, no points
-  octree.close();
-  writePotreeIndex(state, entries, target.filename().string(), plan.projection, temp, target);
+
+  const std::filesystem::path target = plan.output;
+  checkPotreeOutput(target);
+  std::filesystem::create_directories(target.parent_path());
+  removeStalePartialOutputs(target);
+  TemporaryDirectory temp(partialOutputPath(target));
+  const std::filesystem::path octree_path = temp.path() / "octree.bin";
+  std::filesystem::rename(assembled, octree_path);
+  try {
+    writePotreeIndex(state, entries, target.filename().string(), plan.projection, temp, target);
+  } catch (...) {
+    // Back where a finish run again finds it.
+    std::error_code ignored;
+    std::filesystem::rename(octree_path, assembled, ignored);
+    throw;
+  }
   return state.points;
 }
 
@@ -430,13 +559,18 @@ std::string runDistributedTask(const DistributedPlan& plan, const std::vector<Co
   if (stage == "count") points = runCount(plan, inputs, part);
   if (stage == "chunks") points = runChunks(plan);
   if (stage == "distribute") points = runDistribute(plan, inputs, part);
-  if (stage == "build") points = runBuild(plan, part);
+  std::string extra;
+  if (stage == "build") {
+    const BuildSummary build = runBuild(plan, part);
+    points = build.points;
+    extra = std::string(", \"placed\": ") + (build.placed ? "true" : "false");
+  }
   if (stage == "place") points = runPlace(plan, part);
   if (stage == "finish") points = runFinish(plan);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return "{\"stage\": \"" + std::string(stage) + "\", \"part\": " + std::to_string(part) +
          ", \"parts\": " + std::to_string(parts) + ", \"points\": " + std::to_string(points) +
-         ", \"seconds\": " + std::to_string(seconds) + "}";
+         ", \"seconds\": " + std::to_string(seconds) + extra + "}";
 }
 
 }  // namespace parallax

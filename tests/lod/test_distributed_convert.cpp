@@ -110,6 +110,81 @@ TEST(DistributedConvert, TasksRunAgainGiveTheSameOctree) {
   }
 }
 
+// The stages before the builds, every task in order.
+void runTasksBeforeBuild(const DistributedPlan& plan, const std::vector<ConvertInput>& inputs) {
+  for (std::string_view stage : distributedStages()) {
+    if (stage == "build") return;
+    const std::size_t parts = distributedStageParts(plan, stage);
+    for (std::size_t part = 0; part < parts; ++part) runDistributedTask(plan, inputs, stage, part);
+  }
+}
+
+bool builtInPlace(const DistributedPlan& plan, std::size_t group) {
+  const bool placed = readGroupPartHead(groupNodesPath(plan, group)).placed;
+  EXPECT_NE(placed, std::filesystem::exists(groupPartPath(plan, group))) << "group " << group;
+  return placed;
+}
+
+TEST(DistributedConvert, BuildsWriteStraightIntoOctreeBinWhenTheyKnowTheirPlace) {
+  Inputs in;
+  PotreeConvertOptions local;
+  local.build = smallChunks();
+  convertToPotree(in.inputs, in.dir / "local" / "octree", local);
+  const DistributedPlan plan =
+      makeDistributedPlan(in.inputs, in.dir / "out" / "octree", in.dir / "work", smallChunks(), 8);
+  writeDistributedPlan(plan);
+
+  // From both ends, as the driver's two lanes run them: each group's neighbours towards its
+  // end of the file are done, so every build writes in place and the place stage has no copy.
+  runTasksBeforeBuild(plan, in.inputs);
+  const ChunkGroups groups = readChunkGroups(chunksFilePath(plan));
+  const std::size_t count = groups.groups.size();
+  ASSERT_GT(groups.split, 1u);
+  ASSERT_LT(groups.split, count - 1);
+  EXPECT_EQ(groups.groups[groups.split].first, topLevelsSplit(groups.chunks));
+  for (std::size_t low = 0, high = count; low < groups.split || high > groups.split;) {
+    if (low < groups.split) runDistributedTask(plan, in.inputs, "build", low++);
+    if (high > groups.split) runDistributedTask(plan, in.inputs, "build", --high);
+  }
+  for (std::size_t g = 0; g < count; ++g) EXPECT_TRUE(builtInPlace(plan, g)) << "group " << g;
+  for (std::size_t g = 0; g < count; ++g) runDistributedTask(plan, in.inputs, "place", g);
+  runDistributedTask(plan, in.inputs, "finish", 0);
+  expectSameOctree(in.dir / "local" / "octree", in.dir / "out" / "octree");
+
+  // Up from the split: the upper side's groups but the last do not know their place yet and
+  // write parts. Once the lower side has run too, the finish copies the parts the place stage
+  // did not (none ran here).
+  std::filesystem::remove_all(in.dir / "out");
+  clearTaskFiles(plan.work_dir);
+  runTasksBeforeBuild(plan, in.inputs);
+  for (std::size_t g = groups.split; g < count; ++g)
+    runDistributedTask(plan, in.inputs, "build", g);
+  for (std::size_t g = 0; g < groups.split; ++g) runDistributedTask(plan, in.inputs, "build", g);
+  for (std::size_t g = 0; g < count; ++g) {
+    EXPECT_EQ(builtInPlace(plan, g), g < groups.split || g == count - 1) << "group " << g;
+  }
+  runDistributedTask(plan, in.inputs, "finish", 0);
+  expectSameOctree(in.dir / "local" / "octree", in.dir / "out" / "octree");
+
+  // The same with the place stage: it copies the parts and marks them, and the finish copies
+  // nothing again.
+  std::filesystem::remove_all(in.dir / "out");
+  clearTaskFiles(plan.work_dir);
+  runTasksBeforeBuild(plan, in.inputs);
+  // Down from the last group: the lower side's groups but the first write parts.
+  for (std::size_t g = count; g-- > 0;) runDistributedTask(plan, in.inputs, "build", g);
+  for (std::size_t g = 0; g < count; ++g) {
+    EXPECT_EQ(builtInPlace(plan, g), g == 0 || g >= groups.split) << "group " << g;
+  }
+  for (std::size_t g = 0; g < count; ++g) runDistributedTask(plan, in.inputs, "place", g);
+  for (std::size_t g = 0; g < count; ++g) {
+    EXPECT_EQ(std::filesystem::exists(groupPlacedPath(plan, g)), g > 0 && g < groups.split)
+        << "group " << g;
+  }
+  runDistributedTask(plan, in.inputs, "finish", 0);
+  expectSameOctree(in.dir / "local" / "octree", in.dir / "out" / "octree");
+}
+
 TEST(DistributedConvert, RangesOfAFileHoldItsPointsInOrder) {
   Inputs in;
   for (const auto& input : in.inputs) {

@@ -171,6 +171,17 @@ TEST_P(PotreeConverterRoundTrip, KeepsEveryPointExactlyOnceInAConsistentHierarch
   const PotreeLayout layout = PotreeLayout::fromCloud(cloud);
   expectConsistent(walked, layout.recordSize(), 30'000);
   EXPECT_EQ(pointMultiset(decodeAll(walked, layout)), pointMultiset(cloud));
+  // The nodes above the chunks lie between the two sides of the chunks (topLevelsSplit): the
+  // root is followed by the upper side's chunks unless there is one chunk.
+  for (const WalkedNode& node : walked.nodes) {
+    if (node.name != "r") continue;
+    if (GetParam().one_chunk) {
+      EXPECT_EQ(node.offset + node.size, walked.octree.size());
+    } else {
+      EXPECT_LT(node.offset + node.size, walked.octree.size());
+      EXPECT_GT(node.offset, 0u);
+    }
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(

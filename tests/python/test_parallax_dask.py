@@ -152,6 +152,13 @@ class DistributedConvertTest(unittest.TestCase):
                 if tasks == "7":
                     self.assertEqual(len({t["worker"] for t in ran}), 2)
                 self.assertEqual(sum(t["stage"] == "scan" for t in ran), ranges)
+                # The builds write into octree.bin from both ends: the first of each lane
+                # always in place (nothing before it on its side), the rest in place when their
+                # neighbour was done; only the others' parts are copied by the place stage.
+                builds = {t["part"]: t["placed"] for t in ran if t["stage"] == "build"}
+                self.assertTrue(builds[0] and builds[max(builds)], builds)
+                self.assertEqual(sorted(t["part"] for t in ran if t["stage"] == "place"),
+                                 sorted(part for part, placed in builds.items() if not placed))
                 # The work directory is gone; only the octree is left.
                 self.assertEqual(os.listdir(os.path.dirname(output)), ["octree"])
 
