@@ -9,6 +9,10 @@ it):
 
   - per-point stages (scan, count, distribute, build, place): their task seconds summed, per
     point, scale with N and divide over the workers; a stage cannot end before its largest task;
+  - the place copy only for the builds that could not write in place: the driver's two lanes
+    write in place, so a share of 1 - 2 / workers of the points is copied. Its time per point
+    comes from the report's place tasks (per point copied), or --place-ns where it has none
+    (two workers copy nothing);
   - per-task overhead: the wall time of a stage beyond its work spread evenly over the workers
     (process start, Dask's dispatch, the shared directory), times the tasks per worker;
   - serial parts: the plan, the cube and chunks merges (per range), and the finish task (top
@@ -43,12 +47,15 @@ def measure(tasks, points, stage_wall, workers):
     """Per-point seconds of each stage, per-task overhead, serial seconds."""
     model = {"per_point": {}, "largest": {}, "overhead": 0.0}
     overheads = []
+    copied = sum(t.get("points", 0) for t in tasks if t["stage"] == "build"
+                 and not t.get("placed"))
     for stage in RANGE_STAGES + GROUP_STAGES:
         mine = [t for t in tasks if t["stage"] == stage]
         if not mine:
             continue
         work = sum(t["seconds"] for t in mine)
-        model["per_point"][stage] = work / points
+        # The place tasks' time per point they copied (their builds' points).
+        model["per_point"][stage] = work / (copied if stage == "place" and copied else points)
         model["largest"][stage] = max(t["seconds"] for t in mine)
         ideal = max(work / workers, model["largest"][stage])
         overheads.append(max(0.0, stage_wall[stage] - ideal) / (len(mine) / workers))
@@ -67,8 +74,8 @@ def predict(model, n, workers, record_bytes, memory_mb, plan_seconds):
     largest_chunk = model["per_point"]["build"] * max_chunk
     seconds = plan_seconds + model["merge_per_range"] * tasks
     for stage, per_point in model["per_point"].items():
-        work = per_point * n
-        floor = largest_chunk if stage == "build" else per_point * n / tasks
+        work = per_point * n * (max(0.0, 1 - 2 / workers) if stage == "place" else 1)
+        floor = largest_chunk if stage == "build" else work / tasks
         seconds += max(work / workers, floor) + model["overhead"] * tasks / workers
     seconds += model["finish_per_point"] * n
     return seconds, largest_chunk
@@ -82,9 +89,14 @@ def main():
     parser.add_argument("--record-bytes", type=int, default=30,
                         help="octree.bin record (30: parallax generate's scan layout)")
     parser.add_argument("--memory-mb", type=int, default=1024, help="--memory of every task")
+    parser.add_argument("--place-ns", type=float, default=32.0,
+                        help="place copy per point copied where the report has no place task "
+                        "(32: 3.2 CPU s for 100 M points' parts, measured 2026-11-24)")
     options = parser.parse_args()
     report, tasks, points, stage_wall, measured_workers = load(options.report)
     model = measure(tasks, points, stage_wall, measured_workers)
+    model["per_point"].setdefault("place", options.place_ns * 1e-9)
+    model["largest"].setdefault("place", 0.0)
     print(f"measured: {points} points on {measured_workers} workers, "
           f"{report.get('seconds', 0):.1f} s")
     for stage, per_point in model["per_point"].items():
@@ -110,7 +122,9 @@ def main():
         for workers in (int(w) for w in options.workers.split(",")):
             seconds, largest = predict(model, n, workers, options.record_bytes,
                                        options.memory_mb, plan_seconds)
-            serial = sum(model["per_point"].values()) * n + model["finish_per_point"] * n
+            # One process copies nothing: no place stage in the serial time.
+            serial = (sum(v for k, v in model["per_point"].items() if k != "place") * n +
+                      model["finish_per_point"] * n)
             print(f"  {workers:5d} workers: {seconds / 3600:8.2f} h = {seconds:9.0f} s "
                   f"(speed-up {serial / seconds:6.1f}; largest task {largest:.1f} s)")
 

@@ -298,8 +298,9 @@ BuildSummary runBuild(const DistributedPlan& plan, std::size_t group) {
     // The nodes file states offsets into the part, wherever it was written.
     const std::uint64_t start = upper ? *place - nodes.part_bytes : *place;
     for (PotreeNodeEntry& entry : nodes.entries) entry.byte_offset -= start;
-    // A part file of an earlier try (its place was not known then) is not this try's.
-    std::filesystem::remove(part_path);
+    // A part file an earlier try left (its place was not known then) stays: a try of the same
+    // build running at once (Dask runs a task again when it thinks its worker lost) may be about
+    // to state it in the nodes file. Which one counts is what the last nodes file written says.
   } else {
     const std::filesystem::path temp = temporaryPathFor(part_path);
     try {

@@ -119,6 +119,7 @@ void runTasksBeforeBuild(const DistributedPlan& plan, const std::vector<ConvertI
   }
 }
 
+// Whether the build of `group` wrote in place (in a fresh work directory: a part file then).
 bool builtInPlace(const DistributedPlan& plan, std::size_t group) {
   const bool placed = readGroupPartHead(groupNodesPath(plan, group)).placed;
   EXPECT_NE(placed, std::filesystem::exists(groupPartPath(plan, group))) << "group " << group;
