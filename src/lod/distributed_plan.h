@@ -11,9 +11,12 @@
 //   chunks          the counts merged: the chunks, in groups for the builds   chunks.json
 //   distribute RANGE  the range's records, one shard per chunk;              shards/range_R/
 //                   its attributes' ranges                                    stats/range_R.bin
-//   build GROUP     the chunks of one group: octree.bin part, nodes, roots    build/group_G.*
-//   place GROUP     the group's part copied to its offset in octree.bin       build/octree.bin
-//   finish          octree.bin moved, top levels, hierarchy, metadata         the output
+//   build GROUP     the chunks of one group: their nodes in octree.bin at     build/octree.bin
+//                   their offset if known (topLevelsSplit), else in a part;   build/group_G.*
+//                   nodes, roots
+//   place GROUP     a part its build could not place copied to its offset     build/octree.bin
+//   finish          top levels into the gap, octree.bin moved, hierarchy,     the output
+//                   metadata
 //
 // Every task reads files only and writes its own under a temporary name, renamed when complete:
 // run again (after a crash, or twice at once on two workers) it writes the same bytes. The build

@@ -13,8 +13,8 @@
 
 namespace parallax {
 
-// The stages, in the order they run; "scan", "count", "distribute" take a range, "build" a
-// group, the others part 0 only.
+// The stages, in the order they run; "scan", "count", "distribute" take a range, "build" and
+// "place" a group, the others part 0 only.
 const std::vector<std::string_view>& distributedStages();
 
 // How many parts a stage has: the plan's ranges, the groups chunks.json made (readable once the
@@ -22,7 +22,8 @@ const std::vector<std::string_view>& distributedStages();
 std::size_t distributedStageParts(const DistributedPlan& plan, std::string_view stage);
 
 // Runs part `part` of `stage`. `inputs` are the plan's inputs with their filters (the command
-// line builds them from plan.filter). Returns a one-line JSON summary (points, files, seconds).
+// line builds them from plan.filter). Returns a one-line JSON summary (points, seconds; for a
+// build, whether it wrote in place: "placed").
 // Throws InputError for bad input (the message the local conversion gives), std::runtime_error
 // for missing or damaged task files, std::invalid_argument for an unknown stage or part.
 std::string runDistributedTask(const DistributedPlan& plan, const std::vector<ConvertInput>& inputs,
