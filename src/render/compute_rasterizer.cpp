@@ -250,7 +250,7 @@ void ComputeRasterizer::ensureBuffers(int width, int height, bool hq) {
   }
 }
 
-// The batch flags' bytes per batch: a bit per point (four words for each of the workgroup's 32
+// The batch flags' bytes per batch: a bit per point (eight words for each of the workgroup's 16
 // invocations).
 constexpr GLsizeiptr kFlagBytesPerBatch = kBatchPoints / 8;
 
