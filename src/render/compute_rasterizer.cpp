@@ -250,8 +250,9 @@ void ComputeRasterizer::ensureBuffers(int width, int height, bool hq) {
   }
 }
 
-// The batch flags' bytes per batch: two words for each of the workgroup's 64 invocations.
-constexpr GLsizeiptr kFlagBytesPerBatch = 64 * 8;
+// The batch flags' bytes per batch: a bit per point (eight words for each of the workgroup's 16
+// invocations).
+constexpr GLsizeiptr kFlagBytesPerBatch = kBatchPoints / 8;
 
 void ComputeRasterizer::ensureFlags(std::uint32_t batches) {
   if (batches <= flag_capacity_) return;
@@ -441,7 +442,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
           1) *
       kBatchPoints;
 
-  // The batch flags (see the shader): two words per batch of the work, cleared per frame; and
+  // The batch flags (see the shader): a bit per point of the work, cleared per frame; and
   // the batches' order, a slot per batch.
   std::vector<std::uint32_t> flag_bases;
   std::uint32_t batch_total = 0;
