@@ -38,7 +38,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         break;
       case 1:
         parallax::readGroupNodes(path);
-        parallax::readGroupPartBytes(path);
+        parallax::readGroupPartHead(path);
         break;
       case 2: {
         std::vector<std::uint64_t> counts(parallax::ConvertPlan::kGridCells, 0);
