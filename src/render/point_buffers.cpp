@@ -110,25 +110,28 @@ std::vector<std::uint32_t> mortonOrder(const PointCloud& cloud) {
 
 std::vector<float> localSpacing(const std::vector<glm::dvec3>& p) {
   std::vector<float> spacing(p.size(), 0.0f);
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, p.size(), kSpacingBlock * 16), [&](const auto& range) {
-        std::vector<double> gaps;
-        for (std::size_t start = range.begin(); start < range.end(); start += kSpacingBlock) {
-          const std::size_t end = std::min({start + kSpacingBlock, p.size()});
-          gaps.clear();
-          for (std::size_t i = start + 1; i < end; ++i) {
-            const double gap = glm::length(p[i] - p[i - 1]);
-            if (gap > 0) gaps.push_back(gap);  // duplicates say nothing about spacing
-          }
-          // A median ignores the jumps of the Morton curve between distant cells.
-          double value = 0.0;
-          if (!gaps.empty()) {
-            std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
-            value = gaps[gaps.size() / 2];
-          }
-          for (std::size_t i = start; i < end; ++i) spacing[i] = float(value);
-        }
-      });
+  const std::size_t blocks = (p.size() + kSpacingBlock - 1) / kSpacingBlock;
+  // Split by whole blocks: a range of points starts where TBB's split fell, which depends on the
+  // threads' timing, and blocks starting there gave another picture on every run.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks, 16), [&](const auto& range) {
+    std::vector<double> gaps;
+    for (std::size_t block = range.begin(); block < range.end(); ++block) {
+      const std::size_t start = block * kSpacingBlock;
+      const std::size_t end = std::min(start + kSpacingBlock, p.size());
+      gaps.clear();
+      for (std::size_t i = start + 1; i < end; ++i) {
+        const double gap = glm::length(p[i] - p[i - 1]);
+        if (gap > 0) gaps.push_back(gap);  // duplicates say nothing about spacing
+      }
+      // A median ignores the jumps of the Morton curve between distant cells.
+      double value = 0.0;
+      if (!gaps.empty()) {
+        std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+        value = gaps[gaps.size() / 2];
+      }
+      for (std::size_t i = start; i < end; ++i) spacing[i] = float(value);
+    }
+  });
   return spacing;
 }
 

@@ -4,6 +4,7 @@
 // seen from a few metres, where a float-only pipeline is off by many pixels.
 #include <gtest/gtest.h>
 
+#include <random>
 #include <set>
 
 #include "render/draw_set.h"
@@ -261,6 +262,31 @@ TEST(PointBuffers, MortonOrderInterleavesXThenYThenZ) {
   const PointCloud cloud =
       makeCloud({{0, 0, 1}, {1, 1, 0}, {0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 1}}, {0, 0, 0}, 1.0);
   EXPECT_EQ(mortonOrder(cloud), (std::vector<std::uint32_t>{2, 4, 3, 1, 0, 5}));
+}
+
+TEST(PointBuffers, LocalSpacingIsTheMedianGapOfEachBlockOf32FromTheFirstPoint) {
+  // Points along a line with gaps that change at every point, some repeated (no gap).
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> gap(0.001, 1.0);
+  std::vector<glm::dvec3> points;
+  double x = 0.0;
+  for (int i = 0; i < 100'003; ++i) {
+    if (i % 7 != 3) x += gap(random);
+    points.push_back({x, 0.5 * x, 2.0});
+  }
+  std::vector<float> expected(points.size());
+  for (std::size_t start = 0; start < points.size(); start += 32) {
+    const std::size_t end = std::min(start + 32, points.size());
+    std::vector<double> gaps;
+    for (std::size_t i = start + 1; i < end; ++i) {
+      const double d = glm::length(points[i] - points[i - 1]);
+      if (d > 0) gaps.push_back(d);
+    }
+    std::sort(gaps.begin(), gaps.end());
+    for (std::size_t i = start; i < end; ++i) expected[i] = float(gaps[gaps.size() / 2]);
+  }
+  // The same every run, whatever the threads do (adaptive point sizes come from it).
+  for (int run = 0; run < 4; ++run) EXPECT_EQ(localSpacing(points), expected) << "run " << run;
 }
 
 TEST(PointBuffers, ChunksHoldAtMostTheirLimitAndEveryPoint) {
