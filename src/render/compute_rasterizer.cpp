@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -10,6 +11,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <thread>
 
 #include "render/compute_rasterizer_glsl.h"
 #include "render/filter_uniforms.h"
@@ -165,11 +167,23 @@ float largestPointSize(const DrawItem& item, const std::vector<Eye>& eyes, std::
   return float(std::clamp(largest, double(settings.min_size_px), double(settings.max_size_px)));
 }
 
+// The threads llvmpipe runs a dispatch on (as Mesa sets them: LP_NUM_THREADS, else the CPUs,
+// at most 16), or 1 for a GPU, which takes the workgroups in order on all its cores at once.
+// A wrong count only costs speed (see the shader's slotOf).
+int llvmpipeThreads() {
+  const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  if (!renderer || !std::strstr(renderer, "llvmpipe")) return 1;
+  int threads = int(std::thread::hardware_concurrency());
+  if (const char* set = std::getenv("LP_NUM_THREADS")) threads = std::atoi(set);
+  return std::clamp(threads, 1, 16);
+}
+
 }  // namespace
 
 ComputeRasterizer::ComputeRasterizer(const ComputeRasterizerOptions& options) : options_(options) {
   atomic64_ = options.allow_64bit_atomics && hasExtension("GL_NV_shader_atomic_int64") &&
               hasExtension("GL_ARB_gpu_shader_int64");
+  cpu_threads_ = llvmpipeThreads();
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_ssbo_bytes_);
   glCreateTextures(GL_TEXTURE_BUFFER, kTextureUnits, textures_);
   glCreateTextures(GL_TEXTURE_BUFFER, 6, views_);
@@ -517,6 +531,8 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     const GLint batch_base_location = shader.uniform("u_batch_base");
     const GLint id_base_location = shader.uniform("u_id_base");
     const GLint flag_base_location = shader.uniform("u_flag_base");
+    const GLint run_length_location = shader.uniform("u_run_length");
+    glUniform1ui(shader.uniform("u_thread_count"), GLuint(cpu_threads_));
     for (int unit = 0; unit < kTextureUnits; ++unit)
       glBindTextureUnit(GLuint(unit), textures_[unit]);
     if (!atomic64_) {
@@ -568,7 +584,9 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
         glUniform1ui(batch_base_location, GLuint(first / kBatchPoints));
         glUniform1ui(id_base_location, GLuint(item_ids_[w.item] + first));
         glUniform1ui(flag_base_location, GLuint(flag_bases[n] + first / kBatchPoints));
-        glDispatchCompute(GLuint((count + kBatchPoints - 1) / kBatchPoints), 1, 1);
+        const GLuint groups = GLuint((count + kBatchPoints - 1) / kBatchPoints);
+        glUniform1ui(run_length_location, cpu_threads_ > 1 ? groups / GLuint(cpu_threads_) : 0);
+        glDispatchCompute(groups, 1, 1);
         if (pass == 1) ++stats.draw_calls;
       }
     }

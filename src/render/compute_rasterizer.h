@@ -97,6 +97,7 @@ class ComputeRasterizer final : public Rasterizer {
 
   ComputeRasterizerOptions options_;
   bool atomic64_ = false;
+  int cpu_threads_ = 1;  // llvmpipe's threads (1: a GPU; see llvmpipeThreads)
   std::map<std::uint32_t, ShaderProgram> programs_, resolve_programs_;
   // Buffer textures re-pointed at each chunk range: positions, colours, normals, extras, batches,
   // GPS times.

@@ -85,6 +85,19 @@ layout(std430, binding = 7) coherent buffer BatchFlags { uint batch_flags[]; };
 uniform uint u_flag_base;  // the range's first batch among the frame's batches (its first slot)
 bool may_win = false;
 
+// llvmpipe cuts a dispatch into one run of u_run_length consecutive workgroups per thread
+// (u_thread_count runs side by side; the rest one at a time after them). Run t's k-th workgroup
+// takes slot k * u_thread_count + t, so that the threads walk the batches' front-to-back order
+// together (each alone, a thread started in the middle of the order and drew points behind the
+// ones the other had not yet drawn) and share pass 2's flagged points, most of them in the
+// front batches, evenly. u_run_length 0: the slots in order (a GPU).
+uniform uint u_run_length;
+uniform uint u_thread_count;
+uint slotOf(uint group) {
+  if (group >= u_run_length * u_thread_count) return group;
+  return (group % u_run_length) * u_thread_count + group / u_run_length;
+}
+
 #if HQ
 // Sums of the blended colours (0-255 a channel) and their count, one plane each.
 layout(std430, binding = 3) coherent buffer SumR { uint sum_r[]; };
@@ -359,7 +372,7 @@ bool drawPoint(uint i, uint views) {
 }
 
 void main() {
-  uint slot = u_flag_base + gl_WorkGroupID.x;
+  uint slot = u_flag_base + slotOf(gl_WorkGroupID.x);
   uint range_batch = texelFetch(t_batch_order, int(slot)).x;
   // This invocation's flags (see BatchFlags): one bit for each of its 256 points.
   uint flag_word = 8u * (gl_WorkGroupSize.x * slot + gl_LocalInvocationID.x);
