@@ -96,6 +96,31 @@ class LoopbackCluster:
             process.wait(timeout=STARTUP_SECONDS)
 
 
+class BuildOrderTest(unittest.TestCase):
+    """The driver's order of the builds (no cluster): two lanes from the ends of octree.bin."""
+
+    def test_two_workers_take_one_lane_each_and_each_goes_on_with_its_neighbour(self):
+        from parallax_dask.driver import BuildFromBothEnds
+        order = BuildFromBothEnds(groups=7, split=3)  # lower 0 1 2, upper 6 5 4 3
+        self.assertEqual(order.first(2), [0, 6])
+        self.assertEqual(order.next(6), 5)  # the upper lane finished first: it goes on
+        self.assertEqual(order.next(0), 1)
+        self.assertEqual(order.next(1), 2)
+        self.assertEqual(order.next(2), 4)  # the lower lane is done: the upper lane's next
+        self.assertEqual(order.next(5), 3)
+        self.assertIsNone(order.next(4))
+        self.assertIsNone(order.next(3))
+
+    def test_more_workers_than_lanes_start_from_both_ends_in_turn(self):
+        from parallax_dask.driver import BuildFromBothEnds
+        order = BuildFromBothEnds(groups=5, split=2)
+        self.assertEqual(order.first(8), [0, 4, 1, 3, 2])  # every group, none twice
+        self.assertIsNone(order.next(0))
+        one_side = BuildFromBothEnds(groups=3, split=3)  # one chunk side only
+        self.assertEqual(one_side.first(2), [0, 1])
+        self.assertEqual(one_side.next(0), 2)
+
+
 class DistributedConvertTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
