@@ -3,7 +3,8 @@
 A `dask scheduler` and two `dask worker` processes are started by each test (ports chosen by
 the scheduler, read back from its scheduler file), each in its own session so that the whole
 process group goes at the end, whatever happened. Outputs are compared byte for byte with
-`parallax convert` on this machine.
+`parallax convert` on this machine. BuildOrderTest checks the driver's order of the builds alone,
+without a cluster.
 
 Environment: PARALLAX_EXECUTABLE (the built parallax), PARALLAX_TEST_TMP (a scratch folder);
 PYTHONPATH holds python/ (the driver); the interpreter imports distributed.
