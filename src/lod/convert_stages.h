@@ -144,7 +144,6 @@ class OctreeBinWriter {
   void close();
   // The end of the furthest byte written (with kExisting, at least the file's size when opened).
   std::uint64_t size() const { return size_; }
-  const std::filesystem::path& path() const { return path_; }
 
  private:
   std::filesystem::path path_;

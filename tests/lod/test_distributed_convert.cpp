@@ -42,9 +42,12 @@ OctreeBuildOptions smallChunks() {
   return options;
 }
 
-// Every task of every stage, in order, as the driver runs them.
-void runAllTasks(const DistributedPlan& plan, const std::vector<ConvertInput>& inputs) {
+// Every task of every stage, in order, as the driver runs them; with `until`, the stages before
+// that one only.
+void runAllTasks(const DistributedPlan& plan, const std::vector<ConvertInput>& inputs,
+                 std::string_view until = {}) {
   for (std::string_view stage : distributedStages()) {
+    if (stage == until) return;
     const std::size_t parts = distributedStageParts(plan, stage);
     for (std::size_t part = 0; part < parts; ++part) runDistributedTask(plan, inputs, stage, part);
   }
@@ -91,14 +94,21 @@ TEST(DistributedConvert, WritesTheLocalBytesForAnyNumberOfTasks) {
   }
 }
 
-TEST(DistributedConvert, TasksRunAgainGiveTheSameOctree) {
-  Inputs in;
+// The local build of `in` (the reference, in local/octree) and the plan of `tasks` tasks for the
+// same inputs (to out/octree, work directory work/), written.
+DistributedPlan planBesideTheLocalBuild(const Inputs& in, std::size_t tasks) {
   PotreeConvertOptions local;
   local.build = smallChunks();
   convertToPotree(in.inputs, in.dir / "local" / "octree", local);
-  const DistributedPlan plan =
-      makeDistributedPlan(in.inputs, in.dir / "out" / "octree", in.dir / "work", smallChunks(), 4);
+  DistributedPlan plan = makeDistributedPlan(in.inputs, in.dir / "out" / "octree", in.dir / "work",
+                                             smallChunks(), tasks);
   writeDistributedPlan(plan);
+  return plan;
+}
+
+TEST(DistributedConvert, TasksRunAgainGiveTheSameOctree) {
+  Inputs in;
+  const DistributedPlan plan = planBesideTheLocalBuild(in, 4);
   runAllTasks(plan, in.inputs);
   // Every task again (a retry after a crash, or a second run of a task Dask thought lost),
   // then the finish again over the finished output.
@@ -107,15 +117,6 @@ TEST(DistributedConvert, TasksRunAgainGiveTheSameOctree) {
   // No temporary name is left in the work directory.
   for (const auto& entry : std::filesystem::recursive_directory_iterator(in.dir / "work")) {
     EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
-  }
-}
-
-// The stages before the builds, every task in order.
-void runTasksBeforeBuild(const DistributedPlan& plan, const std::vector<ConvertInput>& inputs) {
-  for (std::string_view stage : distributedStages()) {
-    if (stage == "build") return;
-    const std::size_t parts = distributedStageParts(plan, stage);
-    for (std::size_t part = 0; part < parts; ++part) runDistributedTask(plan, inputs, stage, part);
   }
 }
 
@@ -128,16 +129,11 @@ bool builtInPlace(const DistributedPlan& plan, std::size_t group) {
 
 TEST(DistributedConvert, BuildsWriteStraightIntoOctreeBinWhenTheyKnowTheirPlace) {
   Inputs in;
-  PotreeConvertOptions local;
-  local.build = smallChunks();
-  convertToPotree(in.inputs, in.dir / "local" / "octree", local);
-  const DistributedPlan plan =
-      makeDistributedPlan(in.inputs, in.dir / "out" / "octree", in.dir / "work", smallChunks(), 8);
-  writeDistributedPlan(plan);
+  const DistributedPlan plan = planBesideTheLocalBuild(in, 8);
 
   // From both ends, as the driver's two lanes run them: each group's neighbours towards its
   // end of the file are done, so every build writes in place and the place stage has no copy.
-  runTasksBeforeBuild(plan, in.inputs);
+  runAllTasks(plan, in.inputs, "build");
   const ChunkGroups groups = readChunkGroups(chunksFilePath(plan));
   const std::size_t count = groups.groups.size();
   ASSERT_GT(groups.split, 1u);
@@ -157,7 +153,7 @@ TEST(DistributedConvert, BuildsWriteStraightIntoOctreeBinWhenTheyKnowTheirPlace)
   // did not (none ran here).
   std::filesystem::remove_all(in.dir / "out");
   clearTaskFiles(plan.work_dir);
-  runTasksBeforeBuild(plan, in.inputs);
+  runAllTasks(plan, in.inputs, "build");
   for (std::size_t g = groups.split; g < count; ++g)
     runDistributedTask(plan, in.inputs, "build", g);
   for (std::size_t g = 0; g < groups.split; ++g) runDistributedTask(plan, in.inputs, "build", g);
@@ -171,7 +167,7 @@ TEST(DistributedConvert, BuildsWriteStraightIntoOctreeBinWhenTheyKnowTheirPlace)
   // nothing again.
   std::filesystem::remove_all(in.dir / "out");
   clearTaskFiles(plan.work_dir);
-  runTasksBeforeBuild(plan, in.inputs);
+  runAllTasks(plan, in.inputs, "build");
   // Down from the last group: the lower side's groups but the first write parts.
   for (std::size_t g = count; g-- > 0;) runDistributedTask(plan, in.inputs, "build", g);
   for (std::size_t g = 0; g < count; ++g) {
