@@ -103,11 +103,15 @@ std::size_t topLevelsSplit(const std::vector<ChunkPlan>& chunks) {
   return split;
 }
 
+std::uint64_t chunkRecordBytes(const ConvertPlan& plan, std::size_t first, std::size_t last) {
+  std::uint64_t points = 0;
+  for (std::size_t c = first; c < last; ++c) points += plan.chunks[c].points;
+  return points * plan.layout.recordSize();
+}
+
 std::uint64_t nonRootBytes(const ConvertPlan& plan, std::size_t first, std::size_t last,
                            const std::vector<ChunkRoot>& roots) {
-  std::uint64_t bytes = 0;
-  for (std::size_t c = first; c < last; ++c) bytes += plan.chunks[c].points;
-  bytes *= plan.layout.recordSize();
+  std::uint64_t bytes = chunkRecordBytes(plan, first, last);
   for (const ChunkRoot& root : roots) bytes -= root.records.size();
   return bytes;
 }
@@ -316,11 +320,9 @@ std::vector<ChunkRoot> buildChunks(const ConvertPlan& plan, const std::filesyste
       buildChunkRange(plan, 0, split, mapped, options, sampler, octree,
                       {.descending = false, .at = 0}, entries, bar.get());
   const std::uint64_t lower = nonRootBytes(plan, 0, split, roots);
-  std::uint64_t total = 0;
-  for (const ChunkPlan& chunk : plan.chunks) total += chunk.points * plan.layout.recordSize();
-  std::vector<ChunkRoot> upper =
-      buildChunkRange(plan, split, chunks, mapped, options, sampler, octree,
-                      {.descending = true, .at = total}, entries, bar.get());
+  std::vector<ChunkRoot> upper = buildChunkRange(
+      plan, split, chunks, mapped, options, sampler, octree,
+      {.descending = true, .at = chunkRecordBytes(plan, 0, chunks)}, entries, bar.get());
   for (ChunkRoot& root : upper) roots.push_back(std::move(root));
   octree.seek(lower);
   return roots;

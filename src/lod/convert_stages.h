@@ -231,6 +231,8 @@ std::vector<ChunkRoot> buildChunkRange(const ConvertPlan& plan, std::size_t firs
                                        const Sampler& sampler, OctreeBinWriter& octree,
                                        ChunkPlacement placement,
                                        std::vector<PotreeNodeEntry>& entries, Progress* bar);
+// The records of the chunks [first, last) in bytes (all of them: octree.bin's size).
+std::uint64_t chunkRecordBytes(const ConvertPlan& plan, std::size_t first, std::size_t last);
 // The bytes the chunks [first, last) wrote to octree.bin, from their roots.
 std::uint64_t nonRootBytes(const ConvertPlan& plan, std::size_t first, std::size_t last,
                            const std::vector<ChunkRoot>& roots);

@@ -246,11 +246,9 @@ ChunkRecords readShards(const DistributedPlan& plan, const ConvertPlan& state, s
   return records;
 }
 
-// The bytes of octree.bin the chunks of the plan take (their records; topLevelsSplit).
+// The size of octree.bin: every chunk's records (topLevelsSplit).
 std::uint64_t octreeBytes(const ConvertPlan& state) {
-  std::uint64_t points = 0;
-  for (const ChunkPlan& chunk : state.chunks) points += chunk.points;
-  return points * state.layout.recordSize();
+  return chunkRecordBytes(state, 0, state.chunks.size());
 }
 
 // Where group `group` writes in the assembled octree.bin, if the builds it depends on are done:
