@@ -49,6 +49,12 @@ std::uint32_t load32(const RangeReader& in, std::uint64_t offset) {
   return value;
 }
 
+// How many fixed-size chunks hold `points`: counted before the list is made, which a lying
+// point count could make larger than memory.
+std::uint64_t fixedChunkCount(std::uint64_t points, std::uint64_t chunk_size) {
+  return chunk_size == 0 ? 0 : points / chunk_size + (points % chunk_size != 0);
+}
+
 // Fixed-size chunks: the points of each (the last one holds the rest).
 std::vector<laz::LazChunk> fixedChunks(std::uint64_t points, std::uint64_t chunk_size) {
   std::vector<laz::LazChunk> chunks;
@@ -121,14 +127,15 @@ bool readChunkTable(LazSource& s, std::uint64_t chunks_start, std::string& note)
            "the header's point count or the chunk table is wrong");
     }
   } else {
-    chunks = fixedChunks(s.records.point_count, s.vlr.chunk_size);
-    if (chunks.size() != count) {
+    const std::uint64_t expected = fixedChunkCount(s.records.point_count, s.vlr.chunk_size);
+    if (expected != count) {
       fail(s, table + 4, "LAZ chunk table",
-           std::to_string(chunks.size()) + " chunks of " + std::to_string(s.vlr.chunk_size) +
+           std::to_string(expected) + " chunks of " + std::to_string(s.vlr.chunk_size) +
                " points for the header's " + std::to_string(s.records.point_count) + " points",
            std::to_string(count) + " chunks",
            "the header's point count or the chunk table is wrong");
     }
+    chunks = fixedChunks(s.records.point_count, s.vlr.chunk_size);
   }
   std::uint64_t offset = chunks_start;
   for (std::uint32_t i = 0; i < count; ++i) {
@@ -230,6 +237,15 @@ std::unique_ptr<LazSource> openLazSource(RangeReader in, LasHeader header) {
   if (points > 0 && (bytes < s->rawRecordLength() || points > kMaxPointsPerByte * bytes)) {
     fail(*s, chunks_start, "point data",
          "enough bytes for the header's " + std::to_string(points) + " points",
+         std::to_string(bytes) + " bytes", note);
+  }
+  // Every chunk starts with its first point's raw record.
+  const std::uint64_t chunk_count = fixedChunkCount(points, vlr.chunk_size);
+  if (chunk_count > bytes / std::max<std::size_t>(1, s->rawRecordLength())) {
+    fail(*s, chunks_start, "point data",
+         "enough bytes for the " + std::to_string(chunk_count) + " chunks of " +
+             std::to_string(vlr.chunk_size) + " points the header's " + std::to_string(points) +
+             " points take (a raw record each at least)",
          std::to_string(bytes) + " bytes", note);
   }
   s->chunks = fixedChunks(points, vlr.chunk_size);

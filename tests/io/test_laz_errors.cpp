@@ -167,6 +167,22 @@ TEST(LazFile, LyingChunkTableIsAnError) {
     EXPECT_NE(errorOf(bad).expected.find("at most"), std::string::npos);
   }
   {
+    // A header's point count far beyond the file: the chunks it would take are counted, not
+    // listed (a fuzzed file with 2^31 points in chunks of 16 asked for 2 GB), and named.
+    std::string bad = good;
+    const std::uint32_t legacy = 4'000'000'000u;
+    std::memcpy(bad.data() + 107, &legacy, 4);
+    if (header.version_minor >= 4) {
+      const std::uint64_t count = legacy;
+      std::memcpy(bad.data() + 247, &count, 8);
+    }
+    const InputErrorInfo e = errorOf(bad);
+    EXPECT_EQ(e.byte_offset, table + 4);
+    EXPECT_NE(e.expected.find("8000000 chunks of 500 points for the header's 4000000000 points"),
+              std::string::npos)
+        << e.expected;
+  }
+  {
     // Variable chunks whose counts do not add up to the header's.
     const LazBuilder v;
     std::string bad = v.build({500, 565}, true);
