@@ -251,6 +251,13 @@ std::uint64_t octreeBytes(const ConvertPlan& state) {
   return chunkRecordBytes(state, 0, state.chunks.size());
 }
 
+// The error of nodes files whose parts add up to more than octree.bin holds (damaged files).
+[[noreturn]] void partsOverflow(const DistributedPlan& plan, std::uint64_t octree_bytes) {
+  throw std::runtime_error((plan.work_dir / "build").string() +
+                           ": the groups' parts take more than the chunks' " +
+                           std::to_string(octree_bytes) + " bytes; run the builds again");
+}
+
 // Where group `group` writes in the assembled octree.bin, if the builds it depends on are done:
 // below the split, where the parts of the groups before it end (its first byte); from the split
 // on, where those after it start (its last byte's end). Unknown while one of them is missing.
@@ -265,9 +272,7 @@ std::optional<std::uint64_t> knownPlace(const DistributedPlan& plan, const Chunk
     bytes += readGroupPartHead(groupNodesPath(plan, g)).part_bytes;
   }
   if (bytes > octree_bytes) {
-    throw std::runtime_error((plan.work_dir / "build").string() +
-                             ": the groups' parts take more than the chunks' " +
-                             std::to_string(octree_bytes) + " bytes; run the builds again");
+    partsOverflow(plan, octree_bytes);
   }
   return upper ? octree_bytes - bytes : bytes;
 }
@@ -389,9 +394,7 @@ PartPlaces partPlaces(const DistributedPlan& plan, const ChunkGroups& groups,
   places.gap_begin = at;
   places.gap_end = end;
   if (at > end) {
-    throw std::runtime_error((plan.work_dir / "build").string() +
-                             ": the groups' parts take more than the chunks' " +
-                             std::to_string(octree_bytes) + " bytes; run the builds again");
+    partsOverflow(plan, octree_bytes);
   }
   return places;
 }
@@ -461,12 +464,13 @@ std::uint64_t runFinish(const DistributedPlan& plan) {
   std::error_code error;
   const bool existed = std::filesystem::exists(assembled, error);
   for (std::size_t g = 0; g < groups.groups.size(); ++g) {
-    if (!existed && partInPlace(plan, places, g)) {
+    if (!partInPlace(plan, places, g)) {
+      copyPart(plan, g, places);
+    } else if (!existed) {
       // An earlier finish moved the file out and then failed: what the builds placed is gone.
       throw std::runtime_error(assembled.string() + ": missing, with the part of build " +
                                std::to_string(g) + " in it; run the builds again");
     }
-    if (!partInPlace(plan, places, g)) copyPart(plan, g, places);
   }
   std::vector<PotreeNodeEntry> entries;
   std::vector<ChunkRoot> roots;
