@@ -145,6 +145,16 @@ DistributedPlan makeDistributedPlan(const std::vector<ConvertInput>& inputs,
   return plan;
 }
 
+std::uint64_t jsonCount(const nlohmann::json& value, std::uint64_t max) {
+  if (!value.is_number_unsigned() || value.get<std::uint64_t>() > max) {
+    // A JSON type error, as a wrong type is: the readers name the file when they catch it.
+    throw nlohmann::json::type_error::create(
+        302, value.dump() + " where a whole number from 0 to " + std::to_string(max) + " belongs",
+        &value);
+  }
+  return value.get<std::uint64_t>();
+}
+
 void writeDistributedPlan(const DistributedPlan& plan) {
   nlohmann::json inputs = nlohmann::json::array();
   for (const PlannedInput& input : plan.inputs) {
@@ -199,7 +209,7 @@ DistributedPlan readDistributedPlan(const std::filesystem::path& path) {
     for (const nlohmann::json& input : json.at("inputs")) {
       plan.inputs.push_back(
           {.path = input.at("path").get<std::string>(),
-           .points = input.at("points").get<std::uint64_t>(),
+           .points = jsonCount(input.at("points")),
            .quantization = quantizationFrom(input.at("quantization")),
            .layout = PotreeLayout::fromPlanJson(input.at("layout"), path.string()),
            .splittable = input.at("splittable").get<bool>()});
@@ -211,14 +221,14 @@ DistributedPlan readDistributedPlan(const std::filesystem::path& path) {
       throw std::runtime_error("an unknown sampling method");
     }
     plan.build.spacing = build.at("spacing").get<double>();
-    plan.build.max_node_points = build.at("max_node_points").get<std::uint32_t>();
-    plan.build.memory_bytes = build.at("memory_bytes").get<std::uint64_t>();
-    plan.build.max_chunk_points = build.at("max_chunk_points").get<std::uint64_t>();
+    plan.build.max_node_points = std::uint32_t(jsonCount(build.at("max_node_points"), UINT32_MAX));
+    plan.build.memory_bytes = jsonCount(build.at("memory_bytes"));
+    plan.build.max_chunk_points = jsonCount(build.at("max_chunk_points"));
     plan.projection = json.at("projection").get<std::string>();
     for (const nlohmann::json& range : json.at("ranges")) {
-      const InputRange r{.input = range.at(0).get<std::size_t>(),
-                         .first = range.at(1).get<std::uint64_t>(),
-                         .last = range.at(2).get<std::uint64_t>()};
+      const InputRange r{.input = std::size_t(jsonCount(range.at(0))),
+                         .first = jsonCount(range.at(1)),
+                         .last = jsonCount(range.at(2))};
       if (r.input >= plan.inputs.size() || r.first > r.last ||
           r.last > plan.inputs[r.input].points ||
           (r.first > 0 && !plan.inputs[r.input].splittable)) {
@@ -226,7 +236,7 @@ DistributedPlan readDistributedPlan(const std::filesystem::path& path) {
       }
       plan.ranges.push_back(r);
     }
-    plan.build_tasks = std::max<std::size_t>(1, json.at("build_tasks").get<std::size_t>());
+    plan.build_tasks = std::max<std::size_t>(1, std::size_t(jsonCount(json.at("build_tasks"))));
   } catch (const std::exception& e) {
     throw InputError({.file = path.string(),
                       .expected = std::string("a conversion plan (") + kPlanFormat + " version " +

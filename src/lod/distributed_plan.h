@@ -30,6 +30,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -82,6 +83,12 @@ std::filesystem::path planPath(const std::filesystem::path& work_dir);
 void writeDistributedPlan(const DistributedPlan& plan);
 // Throws InputError naming the file for a missing or malformed plan.
 DistributedPlan readDistributedPlan(const std::filesystem::path& path);
+
+// A count in a task file's JSON: a whole number from 0 to `max`. Anything else (a fraction, a
+// negative number, 1e36) throws nlohmann::json::type_error, as another wrong type does;
+// converting it as it is would be undefined.
+std::uint64_t jsonCount(const nlohmann::json& value,
+                        std::uint64_t max = std::numeric_limits<std::uint64_t>::max());
 
 // Writes `bytes` to `path` through a unique temporary name beside it and a rename.
 void writeFileAtomically(const std::filesystem::path& path, std::string_view bytes);

@@ -274,12 +274,12 @@ ChunkGroups readChunkGroups(const std::filesystem::path& path) {
   ChunkGroups result;
   try {
     for (const nlohmann::json& chunk : json.at("chunks")) {
-      result.chunks.push_back({chunk.at(0).get<std::string>(), chunk.at(1).get<std::uint64_t>()});
+      result.chunks.push_back({chunk.at(0).get<std::string>(), jsonCount(chunk.at(1))});
     }
     for (const nlohmann::json& group : json.at("groups")) {
-      result.groups.emplace_back(group.at(0).get<std::size_t>(), group.at(1).get<std::size_t>());
+      result.groups.emplace_back(jsonCount(group.at(0)), jsonCount(group.at(1)));
     }
-    result.split = json.at("split").get<std::size_t>();
+    result.split = std::size_t(jsonCount(json.at("split")));
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(path.string() + ": a damaged task file (" + e.what() + ")");
   }
@@ -310,8 +310,7 @@ void writeScanSummary(const std::filesystem::path& path, const ScanSummary& scan
 ScanSummary readScanSummary(const std::filesystem::path& path) {
   const nlohmann::json json = parseTaskJson(path);
   try {
-    return {.points = json.at("points").get<std::uint64_t>(),
-            .bounds = boundsFrom(json.at("bounds"))};
+    return {.points = jsonCount(json.at("points")), .bounds = boundsFrom(json.at("bounds"))};
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(path.string() + ": a damaged task file (" + e.what() + ")");
   }
@@ -330,7 +329,7 @@ ConvertPlan loadConvertState(const DistributedPlan& plan, bool with_chunks) {
   const nlohmann::json cube = parseTaskJson(cube_path);
   ConvertPlan state;
   try {
-    state.points = cube.at("points").get<std::uint64_t>();
+    state.points = jsonCount(cube.at("points"));
     state.bounds = boundsFrom(cube.at("bounds"));
     state.layout = PotreeLayout::fromPlanJson(cube.at("layout"), cube_path.string());
   } catch (const nlohmann::json::exception& e) {

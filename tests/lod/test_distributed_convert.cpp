@@ -238,6 +238,19 @@ TEST(DistributedConvert, MissingOrDamagedTaskFilesAreNamed) {
               std::string::npos)
         << e.what();
   }
+  // A count that is no whole number (a fuzzed chunks.json: converting 1e36 was undefined).
+  const auto chunks = chunksFilePath(plan);
+  writeFileAtomically(chunks, R"({"chunks":[["r0",5]],"groups":[[0,1e36]],"split":0})");
+  try {
+    readChunkGroups(chunks);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(chunks.string() + ": a damaged task file"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("1e+36 where a whole number"), std::string::npos)
+        << e.what();
+  }
   EXPECT_THROW(runDistributedTask(plan, in.inputs, "scan", plan.ranges.size()),
                std::invalid_argument);
   EXPECT_THROW(runDistributedTask(plan, in.inputs, "sort", 0), std::invalid_argument);
