@@ -216,6 +216,18 @@ class Nginx {
     return lines;
   }
 
+  // The access log once it holds at least `lines` lines (or after 5 s, as it is): nginx writes
+  // a request's line after sending the response, so a client can be done before its line is.
+  std::vector<AccessLine> accessLogOf(std::size_t lines) const {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    std::vector<AccessLine> log = accessLog();
+    while (log.size() < lines && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      log = accessLog();
+    }
+    return log;
+  }
+
  private:
   void writeConfig(const Options& o) {
     const std::string d = dir_.string();
