@@ -50,6 +50,7 @@ export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/scripts/lsan.supp:print_s
 
 logs=$(mktemp -d "${TMPDIR:-/tmp}/parallax-test.XXXXXX")
 summary=()
+failure_lines=()
 failed_stages=0
 tests_passed=0
 tests_failed=0
@@ -155,7 +156,14 @@ run_ctest() {
   elif [[ $rc -ne 0 ]]; then
     tests_failed=$((tests_failed + 1))
   fi
-  [[ $rc -eq 0 ]] || status=FAILED
+  if [[ $rc -ne 0 ]]; then
+    status=FAILED
+    # The failed tests' names and their assertion messages, repeated at the end of the run: a
+    # CI log that keeps only its tail still says what failed.
+    failure_lines+=("$name: $(grep -A 1000 'The following tests FAILED' "$log" | tail -n +2 |
+      grep -E '^[[:space:]]+[0-9]+ - ' | sed -E 's/^[[:space:]]+//' | paste -sd ';' -)")
+    mapfile -t -O "${#failure_lines[@]}" failure_lines < <(grep -E -A 4 ': Failure$' "$log" | head -n 60)
+  fi
   record "$name ctest${line:+ (${total:-?} tests: $((${total:-0} - ${failed:-0} - skipped)) passed, ${failed:-?} failed, $skipped skipped)}" \
     "$status" $(($(now) - start))
 }
@@ -259,6 +267,10 @@ if [[ ${#skip_lines[@]} -gt 0 ]]; then
   echo "skipped tests ($unexpected_skips unexpected; allow one on a machine that lacks what it needs"
   echo "with PARALLAX_ALLOWED_SKIPS='NAME-OR-PATTERN ...'):"
   printf '%s\n' "${skip_lines[@]}"
+fi
+if [[ ${#failure_lines[@]} -gt 0 ]]; then
+  echo "failed tests, and their messages:"
+  printf '%s\n' "${failure_lines[@]}"
 fi
 if [[ $failed_stages -eq 0 ]]; then
   echo "all stages passed"

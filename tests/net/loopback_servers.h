@@ -228,6 +228,20 @@ class Nginx {
     return log;
   }
 
+  // The access log once no line has come for 300 ms (or after 5 s, as it is): for counts a test
+  // cannot know beforehand, read after its clients are done, whose last lines may still be due.
+  std::vector<AccessLine> settledAccessLog() const {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+    std::vector<AccessLine> log = accessLog();
+    while (std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      std::vector<AccessLine> again = accessLog();
+      if (again.size() == log.size()) break;
+      log = std::move(again);
+    }
+    return log;
+  }
+
  private:
   void writeConfig(const Options& o) {
     const std::string d = dir_.string();

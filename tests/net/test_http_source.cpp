@@ -130,7 +130,7 @@ TEST(HttpSource, AdjacentPrefetchesShareOneRequest) {
   EXPECT_EQ(stats.merged_requests, 1u);
   EXPECT_EQ(stats.bytes_received, 1u + 12388u + 10u);
   int merged_lines = 0;
-  for (const test::AccessLine& line : s.nginx->accessLog()) {
+  for (const test::AccessLine& line : s.nginx->accessLogOf(stats.requests)) {
     merged_lines += line.range == "\"bytes=4096-16483\"" && line.status == 206;
   }
   EXPECT_EQ(merged_lines, 1);
@@ -376,7 +376,7 @@ TEST(HttpSource, TlsIsVerifiedByDefault) {
   EXPECT_EQ(readRange(*source, 2000, 100), slice(bytes, 2000, 100));
   EXPECT_EQ(readRange(*source, 0, 100), slice(bytes, 0, 100));
   EXPECT_EQ(readRange(*source, 4000, 96), slice(bytes, 4000, 96));
-  const std::vector<test::AccessLine> log = nginx.accessLog();
+  const std::vector<test::AccessLine> log = nginx.accessLogOf(source->stats().requests);
   ASSERT_FALSE(log.empty());
   EXPECT_EQ(log.back().protocol, "HTTP/2.0") << "ALPN offered h2, and the client took it";
 }
