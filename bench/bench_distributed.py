@@ -8,7 +8,7 @@ Starts a Dask cluster on loopback once (a scheduler and --workers single-threade
 cluster is there before a conversion; Dask's statistical worker profiler off, as a deployment
 that does not look at the dashboard's profile would set it, unless --worker-profile), then
 alternates `parallax convert IN -o DIR/local --threads T` and `python3 -m parallax_dask IN -o
-DIR/dask --scheduler ...`, checks that both outputs are the same bytes, and prints for each run the
+DIR/dask --scheduler ...` (each after a sync, and going first in turns), checks that both outputs are the same bytes, and prints for each run the
 wall time, the CPU time (the local process; the driver, its plan and every worker with the tasks it
 ran, from /proc), their ratios and the load average (other work on the machine shows there). The
 best of each is compared at the end. The last Dask run's report (every task's time) is written for
@@ -144,14 +144,23 @@ def main():
             for out in (local_out, dask_out):
                 shutil.rmtree(os.path.dirname(out), ignore_errors=True)
             load = os.getloadavg()[0]
-            local = timed([parallax, "convert", options.input, "-o", local_out, "--threads",
-                           str(options.threads), "--memory", str(options.memory), "-q"])
-            dask = timed([sys.executable, "-m", "parallax_dask", options.input, "-o", dask_out,
-                          "--scheduler", cluster.address, "--parallax", parallax, "--tasks",
-                          str(options.tasks), "--build-tasks",
-                          str(options.build_tasks or options.tasks), "--task-threads",
-                          str(options.task_threads), "--memory", str(options.memory),
-                          "--report", report, "-q"], env, cluster)
+            local_command = [parallax, "convert", options.input, "-o", local_out, "--threads",
+                             str(options.threads), "--memory", str(options.memory), "-q"]
+            dask_command = [sys.executable, "-m", "parallax_dask", options.input, "-o", dask_out,
+                            "--scheduler", cluster.address, "--parallax", parallax, "--tasks",
+                            str(options.tasks), "--build-tasks",
+                            str(options.build_tasks or options.tasks), "--task-threads",
+                            str(options.task_threads), "--memory", str(options.memory),
+                            "--report", report, "-q"]
+            # Each side starts with no dirty pages of the other's output still being written
+            # back, and they take turns at going first: otherwise the second of each pair pays
+            # for the first's 3 GB of writes.
+            times = {}
+            for side in (("local", "dask") if run % 2 == 0 else ("dask", "local")):
+                os.sync()
+                times[side] = (timed(local_command) if side == "local"
+                               else timed(dask_command, env, cluster))
+            local, dask = times["local"], times["dask"]
             local_times.append(local[0])
             dask_times.append(dask[0])
             identical = same_tree(local_out, dask_out)
