@@ -269,10 +269,10 @@ std::optional<std::uint64_t> knownPlace(const DistributedPlan& plan, const Chunk
   for (std::size_t g = from; g < to; ++g) {
     std::error_code error;
     if (!std::filesystem::exists(groupNodesPath(plan, g), error)) return std::nullopt;
-    bytes += readGroupPartHead(groupNodesPath(plan, g)).part_bytes;
-  }
-  if (bytes > octree_bytes) {
-    partsOverflow(plan, octree_bytes);
+    // Checked before it is added, so no sum of damaged sizes can wrap around.
+    const std::uint64_t part = readGroupPartHead(groupNodesPath(plan, g)).part_bytes;
+    if (part > octree_bytes - bytes) partsOverflow(plan, octree_bytes);
+    bytes += part;
   }
   return upper ? octree_bytes - bytes : bytes;
 }
@@ -382,20 +382,21 @@ PartPlaces partPlaces(const DistributedPlan& plan, const ChunkGroups& groups,
     places.parts.push_back(readGroupPartHead(groupNodesPath(plan, g)));
   }
   places.start.resize(count);
+  // Each part must fit in what is left between the two sides (damaged nodes files may say
+  // otherwise): checked before it is placed, so no sum can wrap around.
   std::uint64_t at = 0, end = octree_bytes;
   for (std::size_t g = 0; g < groups.split; ++g) {
+    if (places.parts[g].part_bytes > end - at) partsOverflow(plan, octree_bytes);
     places.start[g] = at;
     at += places.parts[g].part_bytes;
   }
   for (std::size_t g = count; g-- > groups.split;) {
-    end -= std::min(end, places.parts[g].part_bytes);
+    if (places.parts[g].part_bytes > end - at) partsOverflow(plan, octree_bytes);
+    end -= places.parts[g].part_bytes;
     places.start[g] = end;
   }
   places.gap_begin = at;
   places.gap_end = end;
-  if (at > end) {
-    partsOverflow(plan, octree_bytes);
-  }
   return places;
 }
 

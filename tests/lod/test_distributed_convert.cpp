@@ -182,6 +182,39 @@ TEST(DistributedConvert, BuildsWriteStraightIntoOctreeBinWhenTheyKnowTheirPlace)
   expectSameOctree(in.dir / "local" / "octree", in.dir / "out" / "octree");
 }
 
+// Sets the part size a nodes file states (after its 8-byte tag), as a damaged file might.
+void statePartBytes(const std::filesystem::path& nodes, std::uint64_t bytes) {
+  std::fstream file(nodes, std::ios::in | std::ios::out | std::ios::binary);
+  file.seekp(8);
+  file.write(reinterpret_cast<const char*>(&bytes), sizeof bytes);
+  ASSERT_TRUE(file.good()) << nodes;
+}
+
+TEST(DistributedConvert, PartSizesThatCannotFitAreAnErrorEvenWhereTheirSumWrapsAround) {
+  Inputs in;
+  const DistributedPlan plan = planBesideTheLocalBuild(in, 8);
+  runAllTasks(plan, in.inputs, "place");
+  const ChunkGroups groups = readChunkGroups(chunksFilePath(plan));
+  ASSERT_GE(groups.split, 3u);
+  // Group 0's part said to be 2^64 minus group 1's: the two add up to 0 in 64 bits, which
+  // would put group 2 at the start of the file, over group 0.
+  const std::uint64_t second = readGroupPartHead(groupNodesPath(plan, 1)).part_bytes;
+  ASSERT_GT(second, 0u);
+  statePartBytes(groupNodesPath(plan, 0), std::uint64_t(0) - second);
+  for (const char* stage : {"build", "finish"}) {
+    SCOPED_TRACE(stage);
+    try {
+      runDistributedTask(plan, in.inputs, stage, stage == std::string("build") ? 2 : 0);
+      FAIL() << "no error";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("the groups' parts take more than the chunks'"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_FALSE(std::filesystem::exists(in.dir / "out" / "octree"));
+}
+
 TEST(DistributedConvert, RangesOfAFileHoldItsPointsInOrder) {
   Inputs in;
   for (const auto& input : in.inputs) {
