@@ -181,10 +181,11 @@ int runRender(const RenderCommandOptions& o) {
   std::fprintf(stderr, "parallax render: rasterizer %s%s%s\n",
                last_stats.rasterizer == RasterizerKind::Compute ? "compute" : "points (GL_POINTS)",
                last_stats.fallback_reason.empty() ? "" : ": ", last_stats.fallback_reason.c_str());
-  if (last_stats.fallback_chunks) {
+  if (last_stats.large_splats) {
     std::fprintf(stderr,
-                 "parallax render: %u chunks with points over %g pixels drawn by GL_POINTS\n",
-                 last_stats.fallback_chunks, double(ComputeRasterizer::kMaxSplatPx));
+                 "parallax render: %llu splats wider than %g pixels drawn a workgroup each\n",
+                 static_cast<unsigned long long>(last_stats.large_splats),
+                 double(ComputeRasterizer::kInlineSplatPx));
   }
   if (measurements) {
     std::fprintf(stderr, "parallax render: drew %zu measurements and %zu annotations of %s%s\n",

@@ -43,6 +43,7 @@ enum Binding : GLuint {
   kColorBinding = 2,
   kSumBinding = 3,  // to 6
   kFlagBinding = 7,
+  kLargeBinding = 8,
 };
 
 constexpr std::uint32_t kEmpty = ~0u;
@@ -75,6 +76,9 @@ struct Variant {
   bool lighting = false, orthographic = false, round = false, splat = false;
   bool hq = false, reset = false;
   bool view_shift = false;  // every view's clip x from view 0's clip (viewShifts)
+  bool list_large = false;  // pass 1 lists splats wider than kInlineSplatPx (LargeSplats)
+  bool large = false;       // the large splats' program
+  float max_splat = 1.0f;   // the GL's largest point (one per context: not in the key)
   unsigned filter = 0;      // FilterPart bits (filter_uniforms.h)
 
   std::uint32_t key() const {
@@ -82,7 +86,8 @@ struct Variant {
            std::uint32_t(color) << 6 | std::uint32_t(size) << 9 | std::uint32_t(lighting) << 11 |
            std::uint32_t(orthographic) << 12 | std::uint32_t(round) << 13 |
            std::uint32_t(splat) << 14 | std::uint32_t(hq) << 15 | std::uint32_t(reset) << 16 |
-           std::uint32_t(view_shift) << 17 | std::uint32_t(filter) << 21;
+           std::uint32_t(view_shift) << 17 | std::uint32_t(list_large) << 18 |
+           std::uint32_t(large) << 19 | std::uint32_t(filter) << 21;
   }
   std::string defines() const {
     auto define = [](const char* name, int value) {
@@ -92,9 +97,11 @@ struct Variant {
            define("COLOR_MODE", color) + define("SIZE_MODE", size) + define("LIGHTING", lighting) +
            define("ORTHOGRAPHIC", orthographic) + define("ROUND", round) + define("SPLAT", splat) +
            define("HQ", hq) + define("RESET", reset) + define("VIEW_SHIFT", view_shift) +
-           filterDefines(filter) + "#define BATCH_POINTS " + std::to_string(kBatchPoints) +
-           "u\n#define MAX_SPLAT " + std::to_string(ComputeRasterizer::kMaxSplatPx) +
-           "\n#define TIED_MARK " + std::to_string(kTied) + "u\n";
+           define("LIST_LARGE", list_large) + define("LARGE", large) + filterDefines(filter) +
+           "#define BATCH_POINTS " + std::to_string(kBatchPoints) + "u\n#define MAX_SPLAT " +
+           std::to_string(max_splat) + "\n#define INLINE_SPLAT " +
+           std::to_string(ComputeRasterizer::kInlineSplatPx) + "\n#define TIED_MARK " +
+           std::to_string(kTied) + "u\n";
   }
 };
 
@@ -185,6 +192,10 @@ ComputeRasterizer::ComputeRasterizer(const ComputeRasterizerOptions& options) : 
               hasExtension("GL_ARB_gpu_shader_int64");
   cpu_threads_ = llvmpipeThreads();
   glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_ssbo_bytes_);
+  // GL_POINTS clamps gl_PointSize to this range; the splats clamp to the same.
+  GLfloat point_range[2] = {1.0f, 1.0f};
+  glGetFloatv(GL_POINT_SIZE_RANGE, point_range);
+  max_point_px_ = std::max(point_range[1], 1.0f);
   glCreateTextures(GL_TEXTURE_BUFFER, kTextureUnits, textures_);
   glCreateTextures(GL_TEXTURE_BUFFER, 6, views_);
   glCreateTextures(GL_TEXTURE_BUFFER, 1, &order_view_);
@@ -198,21 +209,13 @@ ComputeRasterizer::~ComputeRasterizer() {
   glDeleteTextures(1, &order_view_);
   glDeleteTextures(1, &ids_view_);
   if (vao_) glDeleteVertexArrays(1, &vao_);
-  const GLuint buffers[] = {depths_, ids_, colors_, sums_, flags_, order_};
-  glDeleteBuffers(6, buffers);
+  const GLuint buffers[] = {depths_, ids_, colors_, sums_, flags_, order_, large_};
+  glDeleteBuffers(7, buffers);
 }
 
 std::string ComputeRasterizer::unsupported(const RenderSettings& settings, int canvas_width,
                                            int canvas_height) const {
   if (settings.samples > 1) return "multisampling (--msaa) is drawn by GL_POINTS only";
-  if (settings.size_mode == PointSizeMode::Fixed && settings.point_size_px > kMaxSplatPx) {
-    return "points larger than " + std::to_string(int(kMaxSplatPx)) +
-           " pixels are drawn faster by GL_POINTS";
-  }
-  if (settings.size_mode != PointSizeMode::Fixed && settings.min_size_px > kMaxSplatPx) {
-    return "a minimum point size over " + std::to_string(int(kMaxSplatPx)) +
-           " pixels is drawn faster by GL_POINTS";
-  }
   // One SSBO binding per buffer: 8 bytes a pixel on the 64-bit path, 4 on the other.
   const std::int64_t pixel_bytes = atomic64_ ? 8 : 4;
   const std::int64_t limit =
@@ -277,6 +280,14 @@ void ComputeRasterizer::ensureFlags(std::uint32_t batches) {
   glNamedBufferStorage(flags_, GLsizeiptr(flag_capacity_) * kFlagBytesPerBatch, nullptr, 0);
   glCreateBuffers(1, &order_);
   glNamedBufferStorage(order_, GLsizeiptr(flag_capacity_) * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
+}
+
+void ComputeRasterizer::ensureLargeSplats(std::uint32_t splats) {
+  if (splats <= large_capacity_) return;
+  if (large_) glDeleteBuffers(1, &large_);
+  large_capacity_ = std::max(splats, large_capacity_ * 2);
+  glCreateBuffers(1, &large_);
+  glNamedBufferStorage(large_, 16 + GLsizeiptr(large_capacity_) * 32, nullptr, 0);
 }
 
 void ComputeRasterizer::clearBuffers(bool hq) {
@@ -410,6 +421,10 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     double eye_z = 0.0;  // of the chunk's centre in the first view
   };
   std::vector<Work> work;
+  // Whether any point may be wider than an inline splat: only then is the list of large splats
+  // made (and its count read back).
+  bool any_large = variant.splat && settings.size_mode == PointSizeMode::Fixed &&
+                   settings.point_size_px > kInlineSplatPx;
   const std::size_t last_item = std::min(frame.last_item, draw_set.items.size());
   const std::size_t item_count =
       frame.items.empty() ? (last_item > frame.first_item ? last_item - frame.first_item : 0)
@@ -425,12 +440,10 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
       ++stats.chunks_culled;
       continue;
     }
-    if (settings.size_mode != PointSizeMode::Fixed &&
-        largestPointSize(item, eyes, visible, settings, camera) > kMaxSplatPx) {
-      stats.fallback_items.push_back(index);
-      continue;
-    }
     if (item.chunk->count == 0) continue;
+    if (settings.size_mode != PointSizeMode::Fixed && !any_large) {
+      any_large = largestPointSize(item, eyes, visible, settings, camera) > kInlineSplatPx;
+    }
     work.push_back({index, visible, 0.0});
     stats.points_drawn += item.chunk->count;
     ++stats.chunks_drawn;
@@ -483,8 +496,17 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   const double z_min = draw_set.bounds.min[2];
   const double z_extent = std::max(draw_set.bounds.size()[2], 1e-12);
   bindBuffers(hq);
-  for (int pass = 1; pass <= 2; ++pass) {
-    variant.pass = pass;
+  variant.list_large = any_large;
+  variant.max_splat = max_point_px_;
+  if (any_large) {
+    ensureLargeSplats(kInitialLargeSplats);
+    glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kLargeBinding, large_, 0,
+                      16 + GLsizeiptr(large_capacity_) * 32);
+  }
+  // One pass of the points over every range of the work (variant.pass).
+  const auto dispatch_points = [&]() {
+    // Pass 2 colours the points; pass 1 colours the large splats it lists.
+    const bool needs_colors = variant.pass == 2 || variant.list_large;
     const std::uint32_t key = variant.key();
     if (!programs_.count(key)) {
       programs_.emplace(
@@ -502,6 +524,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     glUniform2f(shader.uniform("u_size_clamp"), std::max(settings.min_size_px, 1.0f),
                 settings.max_size_px);
     glUniform1f(shader.uniform("u_hq_range"), settings.hq_depth_range);
+    glUniform1ui(shader.uniform("u_large_capacity"), large_capacity_);
     std::optional<FilterUniforms> filter_uniforms;
     if (variant.filter) filter_uniforms.emplace(shader, settings.filter, draw_set);
     float viewports[4 * kMaxViews], pixels_per_unit[kMaxViews], coeffs[4 * kMaxViews];
@@ -564,11 +587,11 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
         const std::size_t count = std::min<std::size_t>(range_points, chunk.count - first);
         glTextureBufferRange(textures_[kPositions], GL_RGB32F, chunk.buffer,
                              GLintptr(chunk.positions_offset + first * 12), GLsizeiptr(count * 12));
-        if (pass == 2 && draw_set.has_colors) {
+        if (needs_colors && draw_set.has_colors) {
           glTextureBufferRange(textures_[kColors], GL_RGBA8, chunk.buffer,
                                GLintptr(chunk.colors_offset + first * 4), GLsizeiptr(count * 4));
         }
-        if (pass == 2 && draw_set.has_normals) {
+        if (needs_colors && draw_set.has_normals) {
           glTextureBufferRange(textures_[kNormals], GL_R32UI, chunk.buffer,
                                GLintptr(chunk.normals_offset + first * 4), GLsizeiptr(count * 4));
         }
@@ -587,11 +610,101 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
         const GLuint groups = GLuint((count + kBatchPoints - 1) / kBatchPoints);
         glUniform1ui(run_length_location, cpu_threads_ > 1 ? groups / GLuint(cpu_threads_) : 0);
         glDispatchCompute(groups, 1, 1);
-        if (pass == 1) ++stats.draw_calls;
+        if (variant.pass == 1) ++stats.draw_calls;
       }
     }
+  };
+  // The large splats' pass (variant.pass) over the `splats` pass 1 listed.
+  const auto dispatch_large = [&](std::uint32_t splats) {
+    Variant large;
+    large.pass = variant.pass;
+    large.atomic64 = atomic64_;
+    large.views = variant.views;
+    large.round = variant.round;
+    large.splat = true;
+    large.hq = hq;
+    large.reset = variant.reset;
+    large.list_large = true;
+    large.large = true;
+    large.max_splat = max_point_px_;
+    const std::uint32_t key = large.key();
+    if (!programs_.count(key)) {
+      programs_.emplace(
+          key, ShaderProgram({{GL_COMPUTE_SHADER, "compute_rasterizer_large.comp",
+                               withDefines(glsl::kComputeRasterizer,
+                                           large.defines() + glsl::pointShadingFunctions())}}));
+    }
+    const ShaderProgram& shader = program(key, false);
+    glUseProgram(shader.id());
+    glUniform1i(shader.uniform("u_canvas_width"), frame.canvas_width);
+    glUniform1f(shader.uniform("u_hq_range"), settings.hq_depth_range);
+    glUniform1ui(shader.uniform("u_large_capacity"), large_capacity_);
+    float viewports[4 * kMaxViews], coeffs[4 * kMaxViews];
+    for (std::size_t v = 0; v < eyes.size(); ++v) {
+      const Viewport& vp = eyes[v].viewport;
+      viewports[4 * v + 0] = float(vp.x), viewports[4 * v + 1] = float(vp.y);
+      viewports[4 * v + 2] = float(vp.width), viewports[4 * v + 3] = float(vp.height);
+      const glm::dmat4& p = eyes[v].projection;
+      coeffs[4 * v + 0] = float(p[2][2]), coeffs[4 * v + 1] = float(p[3][2]);
+      coeffs[4 * v + 2] = float(p[2][3]), coeffs[4 * v + 3] = float(p[3][3]);
+    }
+    glUniform4fv(shader.uniform("u_viewport"), GLsizei(eyes.size()), viewports);
+    glUniform4fv(shader.uniform("u_depth_coeffs"), GLsizei(eyes.size()), coeffs);
+    if (!atomic64_) {
+      glBindTextureUnit(kDepthKeys, views_[0]);
+      glBindTextureUnit(kIdKeys, ids_view_);
+    }
+    // A workgroup a splat, each looping on to the splats a whole dispatch further on.
+    glDispatchCompute(std::min<std::uint32_t>(splats, 65535u), 1, 1);
+    if (variant.pass == 1) ++stats.draw_calls;
+  };
+  const auto large_count = [&]() {
+    std::uint32_t count = 0;
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    glGetNamedBufferSubData(large_, 0, 4, &count);
+    return count;
+  };
+  const auto clear_large_count = [&]() {
+    const std::uint32_t zero_count = 0;
+    glClearNamedBufferSubData(large_, GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero_count);
+  };
+
+  variant.pass = 1;
+  if (any_large) clear_large_count();
+  dispatch_points();
+  std::uint32_t large_splats = 0;
+  if (any_large) {
+    large_splats = large_count();
+    if (large_splats > large_capacity_) {
+      // The list overflowed: the splats past its end were not drawn. Pass 1 again, with room for
+      // all, or, past one binding, with every splat inline. Drawing a point twice in pass 1
+      // changes nothing (its key is already the minimum or behind it) but to mark its pixels as
+      // tied, which only sends them through pass 2's atomics.
+      const GLsizeiptr binding_limit =
+          std::min<GLsizeiptr>(GLsizeiptr(max_ssbo_bytes_), GLsizeiptr(options_.max_range_bytes));
+      if (16 + GLsizeiptr(large_splats) * 32 <= binding_limit) {
+        ensureLargeSplats(large_splats);
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kLargeBinding, large_, 0,
+                          16 + GLsizeiptr(large_capacity_) * 32);
+        clear_large_count();
+      } else {
+        variant.list_large = false;
+        large_splats = 0;
+      }
+      dispatch_points();
+      if (variant.list_large) large_splats = large_count();
+    }
+  }
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  if (large_splats) {
+    dispatch_large(large_splats);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
   }
+  variant.pass = 2;
+  dispatch_points();
+  if (large_splats) dispatch_large(large_splats);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  stats.large_splats = large_splats;
 
   // The resolve: the visibility buffer into the bound framebuffer, view by view.
   Variant resolve;

@@ -21,10 +21,13 @@
 // A resolve pass then writes colour, eye depth and depth into the bound framebuffer.
 //
 // Every colour mode, lighting, the point filter, fixed, attenuated and adaptive sizes are computed
-// as the GL_POINTS shader does. Points up to kMaxSplatPx pixels are splats (square, or round by
-// the same disc test as GL_POINTS); a chunk whose points may be larger is left to GL_POINTS
-// (RasterStats::fallback_items) and a fixed size beyond it makes the frame unsupported. HQ mode
-// blends, per pixel, every point within a relative depth range of the front-most one.
+// as the GL_POINTS shader does, and every size GL_POINTS draws is a splat here too (square, or
+// round by the same disc test), up to the GL's largest point (GL_POINT_SIZE_RANGE, 255 pixels on
+// llvmpipe), so no look is left to GL_POINTS. A splat up to kInlineSplatPx wide is walked by the
+// invocation that reads its point; a wider one is listed by pass 1 and drawn by a workgroup of
+// its own (the LARGE program: its invocations share the splat's pixels), with the same depth
+// key, id and colour, so the picture does not depend on which way a splat went. HQ mode blends,
+// per pixel, every point within a relative depth range of the front-most one.
 //
 // Bindings: attributes through buffer textures and the visibility buffer through SSBOs, each
 // bound range at most `max_range_bytes` (llvmpipe binds at most 128 MiB to one SSBO).
@@ -61,9 +64,12 @@ struct PointRef {
 
 class ComputeRasterizer final : public Rasterizer {
  public:
-  // Largest point drawn as a splat (pixels): beyond it GL_POINTS is cheaper on llvmpipe (see
-  // NOTES.md, "Compute rasterizer", for the measurement).
-  static constexpr float kMaxSplatPx = 8.0f;
+  // Widest splat (pixels) the invocation that reads its point draws itself; wider ones are listed
+  // and drawn a workgroup each (see NOTES.md, "Large splats", for the measurement).
+  static constexpr float kInlineSplatPx = 8.0f;
+  // Splats listed in the first try of a frame; the list grows to what a frame needed, up to one
+  // SSBO binding (beyond it the frame draws every splat inline).
+  static constexpr std::uint32_t kInitialLargeSplats = 1u << 16;
   // Views drawn in one pass (a stereo pair needs two).
   static constexpr std::size_t kMaxViews = 4;
 
@@ -76,9 +82,11 @@ class ComputeRasterizer final : public Rasterizer {
   std::string unsupported(const RenderSettings& settings, int canvas_width,
                           int canvas_height) const override;
   // Clears the visibility buffer (unless frame.accumulate), runs both passes over the frame's
-  // items and resolves into the bound framebuffer. Chunks left to GL_POINTS are listed in
-  // fallback_items, not drawn: the caller draws them after (with the depth test).
+  // items (and the large splats' passes) and resolves into the bound framebuffer.
   RasterStats draw(const RasterFrame& frame) override;
+
+  // The largest point size (pixels) both rasterizers draw: GL_POINT_SIZE_RANGE's maximum.
+  float maxPointSize() const { return max_point_px_; }
 
   // True where the 64-bit path runs (the context has the extensions and the options allow it).
   bool uses64BitAtomics() const { return atomic64_; }
@@ -93,6 +101,7 @@ class ComputeRasterizer final : public Rasterizer {
   void ensureBuffers(int width, int height, bool hq);
   void clearBuffers(bool hq);
   void ensureFlags(std::uint32_t batches);
+  void ensureLargeSplats(std::uint32_t splats);
   void bindBuffers(bool hq) const;
 
   ComputeRasterizerOptions options_;
@@ -113,6 +122,10 @@ class ComputeRasterizer final : public Rasterizer {
   GLuint order_ = 0, order_view_ = 0;  // the batches' order, a uint per batch, and its texture
   GLuint ids_view_ = 0;  // the ids as a buffer texture (pass 2 reads whether a pixel is tied)
   std::uint32_t flag_capacity_ = 0;
+  // The large splats' list: a count, then two uvec4 a splat (see the shader's LargeSplats).
+  GLuint large_ = 0;
+  std::uint32_t large_capacity_ = 0;
+  float max_point_px_ = 1.0f;
   int width_ = 0, height_ = 0;
   bool has_sums_ = false;
   std::int64_t max_ssbo_bytes_ = 0;

@@ -10,7 +10,13 @@ namespace parallax::glsl {
 //               0: 32-bit atomics, depth first, then the id and colour of the front-most point
 //   VIEWS       1..4, every point is projected into each view that sees its batch
 //   COLOR_MODE, SIZE_MODE, LIGHTING, ORTHOGRAPHIC, FILTER: as in the GL_POINTS pass
-//   SPLAT       0: 1-pixel points; 1: square or (ROUND) round splats up to MAX_SPLAT pixels
+//   SPLAT       0: 1-pixel points; 1: square or (ROUND) round splats up to MAX_SPLAT pixels (the
+//               largest point GL_POINTS draws): a point's pixels up to INLINE_SPLAT pixels wide
+//               are walked by the invocation that reads it
+//   LIST_LARGE  1: pass 1 lists each larger splat (its window position, size, key, id and colour)
+//               in LargeSplats instead, and pass 2 skips it; the LARGE program then draws the list
+//   LARGE       1: the large-splat program: a workgroup a listed splat, its invocations share its
+//               pixels (pass 1: depth, pass 2: attributes, as touchPixel does for any point)
 //   HQ          1: pass 2 blends every point within u_hq_range of the front-most one
 //   RESET       1: progressive drawing on top of an earlier part: a point that brings a pixel
 //               nearer clears what the pixel held (32-bit path: its id, colour and sums)
@@ -30,7 +36,13 @@ const char* const kComputeRasterizer = R"glsl(#version 450 core
 // fewer invocations. CPU time of passes 1 and 2 together, 10 M points at 1080p, shapes run side
 // by side: 64 invocations of 64 points 326-404 ms, 32 of 128 317-352 ms, 16 of 256 308-342 ms;
 // 8 of 512 was worse than 16 of 256 (317 against 295 ms).
+#if LARGE
+// A splat of up to 255 x 255 pixels: 64 invocations take consecutive pixels of its rows, so a
+// vector of 8 lanes writes 8 neighbouring pixels.
+layout(local_size_x = 64) in;
+#else
 layout(local_size_x = 16) in;
+#endif
 const uint kPointsPerInvocation = BATCH_POINTS / 16u;
 
 // Point attributes through buffer textures, bound to one range of one chunk: on llvmpipe a
@@ -84,6 +96,21 @@ layout(std430, binding = 2) coherent buffer Colors { uint colors[]; };  // packU
 layout(std430, binding = 7) coherent buffer BatchFlags { uint batch_flags[]; };
 uniform uint u_flag_base;  // the range's first batch among the frame's batches (its first slot)
 bool may_win = false;
+
+// Splats wider than INLINE_SPLAT pixels, listed by pass 1 (LIST_LARGE) and drawn by the LARGE
+// program: one invocation walking a point's 255 x 255 pixels would hold up the seven other lanes
+// of its vector for as long, and a workgroup shares them instead. Two uvec4 a splat: (window x,
+// window y, size, depth key) as float bits and key, then (id, packed colour, eye depth bits,
+// view). large_count counts every splat pass 1 tried to list, so the renderer sees a list that
+// overflowed u_large_capacity (and draws the frame again with room for all).
+#if LIST_LARGE || LARGE
+layout(std430, binding = 8) coherent buffer LargeSplats {
+  uint large_count;
+  uint large_unused[3];
+  uvec4 large_splats[];
+};
+uniform uint u_large_capacity;
+#endif
 
 // llvmpipe cuts a dispatch into one run of u_run_length consecutive workgroups per thread
 // (u_thread_count runs side by side; the rest one at a time after them). Run t's k-th workgroup
@@ -216,8 +243,16 @@ float eyeDepthOf(uint key, int v) {
 }
 #endif
 
-// What one point does to one pixel it covers. `color_ready` and `color` carry the point's colour,
-// fetched once on first need (most points never need it: they are behind).
+// The point's packed colour, computed on first need (most points never need it: they are
+// behind). A listed large splat carries its colour from pass 1: always ready.
+void needColor(uint i, vec3 p, int v, inout bool ready, inout uint color) {
+#if !LARGE
+  if (!ready) color = packUnorm4x8(vec4(pointColor(i, p, v), 1.0)), ready = true;
+#endif
+}
+
+// What one point does to one pixel it covers. `color_ready` and `color` carry the point's colour
+// (needColor).
 void touchPixel(uint pixel, uint key, uint id, uint i, vec3 p, int v, float eye_depth,
                 inout bool color_ready, inout uint color) {
 #if PASS == 1
@@ -257,7 +292,7 @@ void touchPixel(uint pixel, uint key, uint id, uint i, vec3 p, int v, float eye_
 #endif
 #if HQ
   if (eye_depth <= eyeDepthOf(front, v) * (1.0 + u_hq_range)) {
-    if (!color_ready) color = packUnorm4x8(vec4(pointColor(i, p, v), 1.0)), color_ready = true;
+    needColor(i, p, v, color_ready, color);
     atomicAdd(sum_r[pixel], color & 0xffu);
     atomicAdd(sum_g[pixel], (color >> 8) & 0xffu);
     atomicAdd(sum_b[pixel], (color >> 16) & 0xffu);
@@ -270,12 +305,13 @@ void touchPixel(uint pixel, uint key, uint id, uint i, vec3 p, int v, float eye_
 #if ATOMIC64
   // The one point whose key won writes its colour: no race, no atomic.
   if (visibility[pixel] == (uint64_t(key) << 32 | uint64_t(id))) {
-    colors[pixel] = packUnorm4x8(vec4(pointColor(i, p, v), 1.0));
+    needColor(i, p, v, color_ready, color);
+    colors[pixel] = color;
   }
 #else
   // Exact depth ties: the lowest id and the lowest packed colour win, the same every run.
   if (key == front) {
-    if (!color_ready) color = packUnorm4x8(vec4(pointColor(i, p, v), 1.0)), color_ready = true;
+    needColor(i, p, v, color_ready, color);
 #if SOLE_WINNER_STORES
     if (texelFetch(t_id_keys, int(pixel)).x == ~0u) {
       ids[pixel] = id;  // the only point at this key: no other writes the pixel
@@ -291,6 +327,27 @@ void touchPixel(uint pixel, uint key, uint id, uint i, vec3 p, int v, float eye_
 #endif
 }
 
+// The pixels whose centres lie inside a point's square of `size` pixels centred at `window`
+// (GL's point rule), within view v: from..to inclusive, empty where from > to.
+void splatPixels(vec2 window, float size, int v, out ivec2 from, out ivec2 to) {
+  vec4 vp = u_viewport[v];
+  vec2 first = ceil(window - 0.5 * size - 0.5), last = ceil(window + 0.5 * size - 0.5) - 1.0;
+  from = max(ivec2(first), ivec2(vp.xy));
+  to = min(ivec2(last), ivec2(vp.xy + vp.zw) - 1);
+}
+
+// Round points: whether pixel (x, y)'s centre is inside the disc (GL_POINTS' fragment shader
+// discards outside dot(d, d) > 0.25 of gl_PointCoord).
+bool insideSplat(int x, int y, vec2 window, float size) {
+#if ROUND
+  vec2 d = (vec2(x, y) + 0.5 - window) / size;
+  return dot(d, d) <= 0.25;
+#else
+  return true;
+#endif
+}
+
+#if !LARGE
 void drawInView(uint i, uint id, vec3 p, int v, vec4 first_clip) {
 #if VIEW_SHIFT
   vec4 clip = vec4(first_clip.x + dot(u_view_shift[v], first_clip.zw), first_clip.yzw);
@@ -317,24 +374,35 @@ void drawInView(uint i, uint id, vec3 p, int v, vec4 first_clip) {
 #endif
   bool color_ready = false;
   uint color = 0u;
-  ivec2 low = ivec2(vp.xy), high = ivec2(vp.xy + vp.zw) - 1;
 #if SPLAT
-  // The pixels whose centres lie inside the point's square (GL's point rule), within the view.
   float size = min(pointSize(i, p, v), MAX_SPLAT);
-  vec2 first = ceil(window - 0.5 * size - 0.5), last = ceil(window + 0.5 * size - 0.5) - 1.0;
-  ivec2 from = max(ivec2(first), low), to = min(ivec2(last), high);
+#if LIST_LARGE
+  if (size > INLINE_SPLAT) {
+#if PASS == 1
+    uint slot = atomicAdd(large_count, 1u);
+    // Past the capacity the splat is not drawn: the renderer sees the count and draws the frame
+    // again with room for it.
+    if (slot < u_large_capacity) {
+      needColor(i, p, v, color_ready, color);
+      large_splats[2u * slot] = uvec4(floatBitsToUint(window), floatBitsToUint(size), key);
+      large_splats[2u * slot + 1u] = uvec4(id, color, floatBitsToUint(eye_depth), uint(v));
+    }
+#endif
+    return;  // pass 2: the LARGE program draws it
+  }
+#endif
+  ivec2 from, to;
+  splatPixels(window, size, v, from, to);
   for (int y = from.y; y <= to.y; ++y) {
     for (int x = from.x; x <= to.x; ++x) {
-#if ROUND
-      vec2 d = (vec2(x, y) + 0.5 - window) / size;
-      if (dot(d, d) > 0.25) continue;
-#endif
+      if (!insideSplat(x, y, window, size)) continue;
       touchPixel(uint(y) * uint(u_canvas_width) + uint(x), key, id, i, p, v, eye_depth,
                  color_ready, color);
     }
   }
 #else
   ivec2 q = ivec2(ceil(window - 1.0));
+  ivec2 low = ivec2(vp.xy), high = ivec2(vp.xy + vp.zw) - 1;
   if (any(lessThan(q, low)) || any(greaterThan(q, high))) return;
   touchPixel(uint(q.y) * uint(u_canvas_width) + uint(q.x), key, id, i, p, v, eye_depth,
              color_ready, color);
@@ -436,6 +504,32 @@ void main() {
   }
 #endif
 }
+#else  // LARGE
+// One workgroup a listed splat (and every gl_NumWorkGroups.x-th after it), its invocations
+// taking consecutive pixels of its rows: the same touchPixel, key, id and colour as the point
+// would have had drawn inline, so the picture does not depend on which way a splat went.
+void main() {
+  uint count = min(large_count, u_large_capacity);
+  for (uint s = gl_WorkGroupID.x; s < count; s += gl_NumWorkGroups.x) {
+    uvec4 a = large_splats[2u * s], b = large_splats[2u * s + 1u];
+    vec2 window = uintBitsToFloat(a.xy);
+    float size = uintBitsToFloat(a.z);
+    int v = int(b.w);
+    ivec2 from, to;
+    splatPixels(window, size, v, from, to);
+    if (any(greaterThan(from, to))) continue;
+    uint row = uint(to.x - from.x + 1), pixels = row * uint(to.y - from.y + 1);
+    bool color_ready = true;
+    uint color = b.y;
+    for (uint k = gl_LocalInvocationID.x; k < pixels; k += gl_WorkGroupSize.x) {
+      int x = from.x + int(k % row), y = from.y + int(k / row);
+      if (!insideSplat(x, y, window, size)) continue;
+      touchPixel(uint(y) * uint(u_canvas_width) + uint(x), a.w, b.x, 0u, vec3(0.0), v,
+                 uintBitsToFloat(b.z), color_ready, color);
+    }
+  }
+}
+#endif
 )glsl";
 
 // Writes the visibility buffer into the framebuffer: colour, eye depth for eye-dome lighting,

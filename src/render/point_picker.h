@@ -85,13 +85,13 @@ struct PickRequest {
 // gives a depth only. When the last frame was not the compute rasterizer's (or not this frame),
 // the frame is drawn again with it, offscreen: the same settings give the same points, sizes and
 // front-most order (the compute shader sizes and tests points as the GL_POINTS shader does), so
-// the id read is the point the picture shows, not a guess from a depth. Where the compute
-// rasterizer cannot draw these settings (points over ComputeRasterizer::kMaxSplatPx pixels), it
-// draws them as 1-pixel points: the pick is then the point whose centre is nearest the pixel,
-// front-most first, which is still one exact source point. Chunks that a compute frame leaves to
-// GL_POINTS (large adaptive points) are not pickable. That redraw becomes the renderer's last
-// frame: a caller that composites the last frame again (Renderer::composite) must draw its own
-// frame again instead.
+// the id read is the point the picture shows, not a guess from a depth: every pixel a splat
+// covers (any size mode, square or round, each stereo eye) names its front-most point. Where the
+// compute rasterizer cannot draw the frame at all (a canvas beyond one binding of its visibility
+// buffer), it draws 1-pixel points: the pick is then the point whose centre is nearest the
+// pixel, front-most first, which is still one exact source point. That redraw becomes the
+// renderer's last frame: a caller that composites the last frame again (Renderer::composite)
+// must draw its own frame again instead.
 std::optional<PickResult> pickPoint(Renderer& renderer, PickSource& source, const DrawSet& draw_set,
                                     std::span<const View> views, Composition composition,
                                     const RenderSettings& settings, int width, int height,

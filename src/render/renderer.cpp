@@ -185,18 +185,8 @@ FrameStats Renderer::render(const DrawSet& draw_set, std::span<const View> views
   raster.first_item = part.first_item;
   raster.last_item = part.last_item;
   raster.accumulate = accumulate;
-  RasterStats pass = compute ? computeRasterizer().draw(raster) : point_pass_.draw(raster);
-  if (!pass.fallback_items.empty()) {
-    // Chunks whose points may be larger than the compute splats: GL_POINTS, depth-tested against
-    // what the compute rasterizer resolved.
-    RasterFrame rest = raster;
-    rest.items = pass.fallback_items;
-    const RasterStats large = point_pass_.draw(rest);
-    pass.points_drawn += large.points_drawn;
-    pass.chunks_drawn += large.chunks_drawn;
-    pass.draw_calls += large.draw_calls;
-    stats.fallback_chunks = std::uint32_t(pass.fallback_items.size());
-  }
+  const RasterStats pass = compute ? computeRasterizer().draw(raster) : point_pass_.draw(raster);
+  stats.large_splats = pass.large_splats;
   stats.points_drawn = pass.points_drawn;
   stats.chunks_drawn = pass.chunks_drawn;
   stats.chunks_culled = pass.chunks_culled;

@@ -35,7 +35,7 @@ struct FrameStats {
   // Why the compute rasterizer did not draw although asked (explicitly or by auto); empty
   // otherwise. Also says when --hq was ignored.
   std::string fallback_reason;
-  std::uint32_t fallback_chunks = 0;  // chunks of a compute frame drawn by GL_POINTS (large points)
+  std::uint64_t large_splats = 0;  // compute: splats wide enough to be drawn a workgroup each
 };
 
 // Which part of a draw set a frame draws: progressive refinement draws the most important items

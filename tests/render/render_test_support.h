@@ -78,6 +78,13 @@ inline PointCloud makeWavySheet(int side, std::array<double, 3> center) {
   return cloud;
 }
 
+// A frame asked of one rasterizer was drawn by it: none falls back silently (Auto may choose).
+inline void expectDrawnBy(const FrameStats& stats, RasterizerKind asked) {
+  if (asked == RasterizerKind::Auto) return;
+  EXPECT_EQ(stats.rasterizer, asked) << "asked for " << rasterizerKindName(asked)
+                                     << ", drawn by the other: " << stats.fallback_reason;
+}
+
 // Renders one mono view of `cloud` into a width x height image.
 inline RgbaImage renderImage(const PointCloud& cloud, const Camera& camera, int width, int height,
                              const RenderSettings& settings,
@@ -87,7 +94,9 @@ inline RgbaImage renderImage(const PointCloud& cloud, const Camera& camera, int 
   Renderer renderer;
   RenderTarget target(width, height);
   const View view{camera, {0, 0, width, height}};
-  renderer.render(gpu, std::span(&view, 1), settings, target.framebuffer(), width, height);
+  expectDrawnBy(
+      renderer.render(gpu, std::span(&view, 1), settings, target.framebuffer(), width, height),
+      settings.rasterizer);
   return {width, height, target.readRgba()};
 }
 

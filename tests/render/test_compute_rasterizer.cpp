@@ -2,8 +2,10 @@
 // - 1-pixel points: the same pixels lit and the same colours (agreement >= 0.99; the rest are
 //   pixels where two points' depths tie within float rounding) in every colour mode, with
 //   lighting, eye-dome lighting, orthographic projection and every stereo mode;
-// - splats of 2-8 pixels, square and round, light exactly GL_POINTS' pixels;
-// - larger points: the fall-back (auto chooses GL_POINTS, or a chunk is drawn by GL_POINTS);
+// - splats of 2-255 pixels, square and round, light exactly GL_POINTS' pixels, those over
+//   kInlineSplatPx through the large splats' list (which grows, or gives way to inline drawing
+//   past one binding, with the same picture);
+// - only multisampling and an oversized canvas leave a frame to GL_POINTS;
 // - picking names the exact point, in either eye;
 // - bound ranges, progressive parts, the point filter and exact ties give the same picture.
 #include <gtest/gtest.h>
@@ -175,8 +177,9 @@ TEST(ComputeVsPoints, EveryStereoMode) {
   expectAgreement("orthographic side by side", onePixel(ColorMode::Rgb), ortho, stereo, 256, 128);
 }
 
-// Isolated points (no overlap) at positions off the pixel grid: every splat size and shape
-// lights exactly the pixels GL_POINTS lights.
+// Points at positions off the pixel grid, isolated up to 27 pixels: every splat size and shape
+// lights exactly the pixels GL_POINTS lights (one uniform colour: where larger splats overlap, at
+// equal depth, either may win), up to the GL's largest point, which both clamp to.
 TEST(ComputeVsPoints, SplatsLightTheSamePixelsAsSquareAndRoundPoints) {
   std::vector<std::array<double, 3>> world;
   for (int j = 0; j < 6; ++j) {
@@ -190,27 +193,36 @@ TEST(ComputeVsPoints, SplatsLightTheSamePixelsAsSquareAndRoundPoints) {
   camera.projection = Projection::Orthographic;
   camera.ortho_height = 2.0;
   for (const PointShape shape : {PointShape::Square, PointShape::Round}) {
-    for (const float size : {2.0f, 3.0f, 4.5f, 5.0f, 6.0f, 7.0f, 8.0f}) {
+    for (const float size :
+         {2.0f, 3.0f, 4.5f, 5.0f, 6.0f, 7.0f, 8.0f, 9.0f, 12.5f, 17.0f, 26.0f, 40.0f, 300.0f}) {
       RenderSettings settings = onePixel(ColorMode::Uniform);
       settings.point_size_px = size;
       settings.shape = shape;
       const Drawn points = draw(cloud, camera, 160, 160, settings, RasterizerKind::Points);
       const Drawn compute = draw(cloud, camera, 160, 160, settings, RasterizerKind::Compute);
       ASSERT_EQ(compute.stats.rasterizer, RasterizerKind::Compute);
+      EXPECT_EQ(compute.stats.large_splats,
+                size > ComputeRasterizer::kInlineSplatPx ? world.size() : 0u)
+          << size << " px";
       const Agreement agreement = compare(points.image, compute.image, settings.background, 0);
       // Squares are exact. A disc's edge may pass through a pixel centre: the two compute
-      // gl_PointCoord differently, so such a pixel may go either way (one seen at 7 px).
-      EXPECT_LE(agreement.lit - agreement.same, shape == PointShape::Square ? 0u : 2u)
+      // gl_PointCoord differently, so such a pixel may go either way (one seen at 7 px), and a
+      // large disc's edge crosses more pixel centres.
+      const std::size_t allowed =
+          shape == PointShape::Square ? 0u : std::size_t(2 + 36 * std::min(size, 40.0f) / 20);
+      EXPECT_LE(agreement.lit - agreement.same, allowed)
           << pointShapeName(shape) << " " << size << " px: " << agreement.lit - agreement.same
           << " of " << agreement.lit << " pixels differ";
-      EXPECT_GE(agreement.lit, std::size_t(36 * size * size * 0.7)) << "splats too small";
+      EXPECT_GE(agreement.lit,
+                std::min<std::size_t>(std::size_t(36 * size * size * 0.7), 160 * 160 / 2))
+          << "splats too small";
     }
   }
 }
 
-TEST(ComputeVsPoints, AdaptiveAndAttenuatedSizesWithLargePointsLeftToGlPoints) {
-  // Two clusters of 10 000 points, one near the camera (points of 10+ pixels: GL_POINTS), one
-  // far (1-2 pixels: compute), in chunks of 5000: each chunk goes to one rasterizer.
+TEST(ComputeVsPoints, AdaptiveAndAttenuatedSizesOfAnySizeAreSplats) {
+  // Two clusters of 10 000 points, one near the camera (points of 10+ pixels: listed as large
+  // splats), one far (1-2 pixels: drawn inline), in chunks of 5000, overlapping at random depths.
   std::mt19937_64 random(3);
   std::uniform_real_distribution<double> unit(-0.2, 0.2);
   std::vector<std::array<double, 3>> world;
@@ -221,17 +233,65 @@ TEST(ComputeVsPoints, AdaptiveAndAttenuatedSizesWithLargePointsLeftToGlPoints) {
   Camera camera;
   camera.lookAt({0.1, -0.7, 0.15}, {0.0, 2.5, 0.0}, {0, 0, 1});
   for (const PointSizeMode mode : {PointSizeMode::Adaptive, PointSizeMode::Attenuated}) {
-    RenderSettings settings = onePixel(ColorMode::Rgb);
-    settings.size_mode = mode;
-    settings.adaptive_scale = 3.0f;
-    settings.world_size = 0.05f;
-    const Drawn points = draw(cloud, camera, 128, 128, settings, RasterizerKind::Points);
-    const Drawn compute = draw(cloud, camera, 128, 128, settings, RasterizerKind::Compute);
-    ASSERT_EQ(compute.stats.rasterizer, RasterizerKind::Compute);
-    EXPECT_EQ(compute.stats.fallback_chunks, 2u) << pointSizeModeName(mode);
-    EXPECT_EQ(compute.stats.chunks_drawn, 4u) << pointSizeModeName(mode);
-    const Agreement agreement = compare(points.image, compute.image, settings.background, 1);
-    EXPECT_GE(agreement.colorAgreement(), 0.99) << pointSizeModeName(mode);
+    for (const PointShape shape : {PointShape::Square, PointShape::Round}) {
+      RenderSettings settings = onePixel(ColorMode::Rgb);
+      settings.size_mode = mode;
+      settings.shape = shape;
+      settings.adaptive_scale = 3.0f;
+      settings.world_size = 0.05f;
+      settings.max_size_px = 255.0f;
+      settings.lighting = true;
+      const std::string name =
+          std::string(pointSizeModeName(mode)) + " " + std::string(pointShapeName(shape));
+      const Drawn points = draw(cloud, camera, 128, 128, settings, RasterizerKind::Points);
+      const Drawn compute = draw(cloud, camera, 128, 128, settings, RasterizerKind::Compute);
+      ASSERT_EQ(compute.stats.rasterizer, RasterizerKind::Compute) << name;
+      EXPECT_EQ(compute.stats.chunks_drawn, 4u) << name;
+      EXPECT_GT(compute.stats.large_splats, 1000u) << name;
+      EXPECT_LT(compute.stats.large_splats, 10000u) << name << ": the far points are inline";
+      const Agreement agreement = compare(points.image, compute.image, settings.background, 1);
+      EXPECT_GE(agreement.colorAgreement(), 0.99)
+          << name << ": " << agreement.same << " of " << agreement.lit << " pixels agree";
+    }
+  }
+}
+
+// More large splats than the list first holds: it grows and the frame is drawn again; past one
+// binding (here lowered to 1 MiB: 32 767 splats) every splat is drawn inline. The same picture
+// every way, and the same as GL_POINTS'.
+TEST(ComputeRasterizer, AFullListOfLargeSplatsGrowsOrGivesWayToInlineSplats) {
+  const PointCloud cloud = denseCloud(ComputeRasterizer::kInitialLargeSplats + 9000);
+  RenderSettings settings = onePixel(ColorMode::Rgb);
+  settings.point_size_px = 9.5f;
+  const Drawn points = draw(cloud, boxCamera(), 128, 128, settings, RasterizerKind::Points);
+  headlessContext();
+  for (const std::size_t binding : {std::size_t(128) << 20, std::size_t(1) << 20}) {
+    ComputeRasterizerOptions options;
+    options.max_range_bytes = binding;
+    Renderer renderer(options);
+    GpuPointCloud gpu(cloud, smallChunks());
+    RenderTarget target(128, 128);
+    settings.rasterizer = RasterizerKind::Compute;
+    std::uint64_t first_count = 0;
+    for (int frame = 0; frame < 2; ++frame) {  // the second frame starts with the grown list
+      const FrameStats stats =
+          renderer.render(gpu.drawSet(), stereoFrame(boxCamera(), {}, 128, 128), settings,
+                          target.framebuffer(), 128, 128);
+      ASSERT_EQ(stats.rasterizer, RasterizerKind::Compute);
+      if (binding > (std::size_t(1) << 20)) {
+        // Every point in view (all but a few at the box's corners) is a large splat.
+        EXPECT_GT(stats.large_splats, cloud.count - 100);
+        if (frame == 0) first_count = stats.large_splats;
+        EXPECT_EQ(stats.large_splats, first_count);
+      } else {
+        EXPECT_EQ(stats.large_splats, 0u) << "past one binding every splat is inline";
+      }
+      const Agreement agreement =
+          compare(points.image, {128, 128, target.readRgba()}, settings.background, 1);
+      EXPECT_GE(agreement.colorAgreement(), 0.99)
+          << "binding " << binding << ", frame " << frame << ": " << agreement.same << " of "
+          << agreement.lit;
+    }
   }
 }
 
@@ -247,12 +307,15 @@ TEST(ComputeRasterizer, AutoChoosesComputeAndFallsBackWhereItCannotDraw) {
     EXPECT_EQ(stats.rasterizer, RasterizerKind::Points);
     EXPECT_NE(stats.fallback_reason.find("multisampling"), std::string::npos);
   }
-  RenderSettings large = settings;
-  large.point_size_px = 12.0f;
-  const FrameStats large_stats =
-      draw(cloud, boxCamera(), 64, 64, large, RasterizerKind::Auto).stats;
-  EXPECT_EQ(large_stats.rasterizer, RasterizerKind::Points);
-  EXPECT_NE(large_stats.fallback_reason.find("larger than"), std::string::npos);
+  // Any point size: splats, up to the GL's largest point.
+  for (const float size : {12.0f, 255.0f}) {
+    RenderSettings large = settings;
+    large.point_size_px = size;
+    const FrameStats large_stats =
+        draw(cloud, boxCamera(), 64, 64, large, RasterizerKind::Auto).stats;
+    EXPECT_EQ(large_stats.rasterizer, RasterizerKind::Compute) << large_stats.fallback_reason;
+    EXPECT_GT(large_stats.large_splats, 0u);
+  }
   RenderSettings hq_points = settings;
   hq_points.hq = true;
   const FrameStats hq_stats =

@@ -81,7 +81,9 @@ std::vector<std::pair<std::string, PointFilter>> filters() {
 std::vector<std::uint8_t> renderOf(Renderer& renderer, const DrawSet& draw_set, const View& view,
                                    const RenderSettings& settings) {
   RenderTarget target(kSize, kSize);
-  renderer.render(draw_set, std::span(&view, 1), settings, target.framebuffer(), kSize, kSize);
+  test::expectDrawnBy(
+      renderer.render(draw_set, std::span(&view, 1), settings, target.framebuffer(), kSize, kSize),
+      settings.rasterizer);
   return target.readRgba();
 }
 

@@ -46,8 +46,9 @@ RgbaImage renderStereoImage(const PointCloud& cloud, const Camera& camera,
   GpuPointCloud gpu(cloud);
   Renderer renderer;
   RenderTarget target(width, kSize);
-  renderer.render(gpu.drawSet(), stereoFrame(camera, stereo, width, kSize), settings,
-                  target.framebuffer(), width, kSize);
+  expectDrawnBy(renderer.render(gpu.drawSet(), stereoFrame(camera, stereo, width, kSize), settings,
+                                target.framebuffer(), width, kSize),
+                settings.rasterizer);
   return {width, kSize, target.readRgba()};
 }
 

@@ -124,6 +124,8 @@ class RenderFilters : public ::testing::TestWithParam<std::string> {
                   std::to_string(kWidth) + " --height " + std::to_string(kHeight) +
                   " --rasterizer " + GetParam() + " " + scene.cameraOptions() + " " + options);
     EXPECT_EQ(r.exit_code, 0) << r.err;
+    // The rasterizer asked for drew (none falls back silently).
+    EXPECT_NE(r.err.find("parallax render: rasterizer " + GetParam()), std::string::npos) << r.err;
     return readPng(png);
   }
 
