@@ -117,6 +117,79 @@ TEST(ViewerWindow, DistanceToolClickingTwoPointsPrintsTheirDistance) {
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
 }
 
+// The viewer's own look (no size, shape or lighting option: round points sized to the local
+// spacing, lit) on the demo's scanned scene: the distance tool's two clicks land on the points
+// drawn there, which `parallax pick` with the same look finds at exactly those pixels (the splat
+// covers them, distance_px 0), and the distance is theirs.
+TEST(ViewerWindow, DistanceOnTheDemoSceneInTheViewersDefaultLook) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto cloud = dir / "scene.ply";
+  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " generate -q -o " + cloud.string() +
+                " --points 300000"),
+            0);
+  const std::vector<std::string> camera = {"--width",    "640",      "--height", "400",   "--eye",
+                                           "10,-120,45", "--target", "0,0,0",    "--fov", "50"};
+  // What the viewer chooses for a cloud with normals, spelled out for `pick` (whose default look
+  // is render's 1-pixel points).
+  const std::string viewer_look = " --size-mode adaptive --shape round --lighting";
+  std::array<nlohmann::json, 2> expected;
+  const std::array<std::string, 2> pixels = {"260,250", "400,300"};
+  for (int i = 0; i < 2; ++i) {
+    std::string args = " pick " + cloud.string() + " --pixel " + pixels[i] + " --json" +
+                       " --radius 0" + viewer_look;
+    for (const std::string& option : camera) args += " " + option;
+    const auto json = dir / ("pick" + std::to_string(i) + ".json");
+    ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + args + " > " + json.string()), 0);
+    expected[i] = nlohmann::json::parse(readFile(json));
+    ASSERT_TRUE(expected[i].at("found").get<bool>()) << pixels[i] << ": " << expected[i].dump();
+    EXPECT_EQ(expected[i].at("distance_px").get<double>(), 0.0) << expected[i].dump();
+  }
+  auto point = [&](int i) {
+    const nlohmann::json& p = expected[i].at("point");
+    return std::array<double, 3>{p.at("x").get<double>(), p.at("y").get<double>(),
+                                 p.at("z").get<double>()};
+  };
+  const auto a = point(0), b = point(1);
+  const double distance = std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
+                                    (b[2] - a[2]) * (b[2] - a[2]));
+  ASSERT_GT(distance, 1.0) << "the two pixels picked nearly the same point";
+
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  std::vector<std::string> view_args = {cloud.string(), "--no-vsync", "--tool", "distance"};
+  view_args.insert(view_args.end(), camera.begin(), camera.end());
+  ViewerProcess viewer(dir, display.name(), view_args, "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+  viewer.key("g");  // the panel off the picture
+  for (int i = 0; i < 2; ++i) {
+    viewer.click(expected[i].at("point_pixel")[0], expected[i].at("point_pixel")[1]);
+    ASSERT_TRUE(viewer.logged("parallax view: distance point " + std::to_string(i + 1) + ": "))
+        << viewer.log();
+  }
+  viewer.key("Return");
+  ASSERT_TRUE(viewer.logged(" m (2 points)", 10s)) << viewer.log();
+  const std::string log = viewer.log();
+  EXPECT_EQ(log.find("picked nothing"), std::string::npos) << log;
+  for (int i = 0; i < 2; ++i) {
+    const std::string prefix = "parallax view: distance point " + std::to_string(i + 1) + ": ";
+    std::istringstream line(log.substr(log.find(prefix) + prefix.size()));
+    double x = 0, y = 0, z = 0;
+    line >> x >> y >> z;
+    EXPECT_EQ(x, point(i)[0]) << log;
+    EXPECT_EQ(y, point(i)[1]) << log;
+    EXPECT_EQ(z, point(i)[2]) << log;
+  }
+  const std::string prefix = "parallax view: distance ";
+  const auto at = log.find(" m (2 points)");
+  const auto start = log.rfind(prefix, at) + prefix.size();
+  EXPECT_NEAR(std::stod(log.substr(start, at - start)), distance, 5e-7) << log;
+  EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
+}
+
 // The profile tool: two clicks and Enter extract the points within the corridor at once; their
 // count is the count of the file's points within --profile-width / 2 of the line, horizontally
 // (measure/height_profile.h), counted here from the PLY's own text.
