@@ -75,11 +75,12 @@ struct Variant {
   int color = 5, size = 0;
   bool lighting = false, orthographic = false, round = false, splat = false;
   bool hq = false, reset = false;
-  bool view_shift = false;  // every view's clip x from view 0's clip (viewShifts)
-  bool list_large = false;  // pass 1 lists splats wider than kInlineSplatPx (LargeSplats)
-  bool large = false;       // the large splats' program
-  float max_splat = 1.0f;   // the GL's largest point (one per context: not in the key)
-  unsigned filter = 0;      // FilterPart bits (filter_uniforms.h)
+  bool view_shift = false;    // every view's clip x from view 0's clip (viewShifts)
+  bool list_large = false;    // pass 1 lists splats wider than kInlineSplatPx (LargeSplats)
+  bool large = false;         // the large splats' program
+  bool node_spacing = false;  // adaptive sizes from every item's node spacing (NODE_SPACING)
+  float max_splat = 1.0f;     // the GL's largest point (one per context: not in the key)
+  unsigned filter = 0;        // FilterPart bits (filter_uniforms.h)
 
   std::uint32_t key() const {
     return std::uint32_t(pass) | std::uint32_t(atomic64) << 2 | std::uint32_t(views) << 3 |
@@ -87,7 +88,8 @@ struct Variant {
            std::uint32_t(orthographic) << 12 | std::uint32_t(round) << 13 |
            std::uint32_t(splat) << 14 | std::uint32_t(hq) << 15 | std::uint32_t(reset) << 16 |
            std::uint32_t(view_shift) << 17 | std::uint32_t(list_large) << 18 |
-           std::uint32_t(large) << 19 | std::uint32_t(filter) << 21;
+           std::uint32_t(large) << 19 | std::uint32_t(filter) << 21 |
+           std::uint32_t(node_spacing) << 29;
   }
   std::string defines() const {
     auto define = [](const char* name, int value) {
@@ -97,11 +99,11 @@ struct Variant {
            define("COLOR_MODE", color) + define("SIZE_MODE", size) + define("LIGHTING", lighting) +
            define("ORTHOGRAPHIC", orthographic) + define("ROUND", round) + define("SPLAT", splat) +
            define("HQ", hq) + define("RESET", reset) + define("VIEW_SHIFT", view_shift) +
-           define("LIST_LARGE", list_large) + define("LARGE", large) + filterDefines(filter) +
-           "#define BATCH_POINTS " + std::to_string(kBatchPoints) + "u\n#define MAX_SPLAT " +
-           std::to_string(max_splat) + "\n#define INLINE_SPLAT " +
-           std::to_string(ComputeRasterizer::kInlineSplatPx) + "\n#define TIED_MARK " +
-           std::to_string(kTied) + "u\n";
+           define("LIST_LARGE", list_large) + define("LARGE", large) +
+           define("NODE_SPACING", node_spacing) + filterDefines(filter) + "#define BATCH_POINTS " +
+           std::to_string(kBatchPoints) + "u\n#define MAX_SPLAT " + std::to_string(max_splat) +
+           "\n#define INLINE_SPLAT " + std::to_string(ComputeRasterizer::kInlineSplatPx) +
+           "\n#define TIED_MARK " + std::to_string(kTied) + "u\n";
   }
 };
 
@@ -400,10 +402,14 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   variant.filter = filterParts(settings.filter, draw_set);
   const std::optional<std::vector<glm::vec2>> view_shifts = viewShifts(eyes);
   variant.view_shift = view_shifts.has_value();
+  // Octree nodes size adaptive points by their node's spacing: no per-point spacing to read.
+  variant.node_spacing = settings.size_mode == PointSizeMode::Adaptive && !draw_set.items.empty() &&
+                         std::all_of(draw_set.items.begin(), draw_set.items.end(),
+                                     [](const DrawItem& item) { return item.node_spacing > 0.0f; });
   const bool needs_extras =
       variant.color == 2 || variant.color == 4 ||
       (variant.filter & ~(kFilterElevation | kFilterGps | kFilterPlanes | kFilterPolygon)) != 0 ||
-      settings.size_mode == PointSizeMode::Adaptive;
+      (settings.size_mode == PointSizeMode::Adaptive && !variant.node_spacing);
 
   // Ids: the draw set's points in order, whatever this frame draws of it.
   item_ids_.assign(draw_set.items.size() + 1, 0);

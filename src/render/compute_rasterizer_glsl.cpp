@@ -20,6 +20,7 @@ namespace parallax::glsl {
 //   HQ          1: pass 2 blends every point within u_hq_range of the front-most one
 //   RESET       1: progressive drawing on top of an earlier part: a point that brings a pixel
 //               nearer clears what the pixel held (32-bit path: its id, colour and sums)
+//   NODE_SPACING 1: adaptive sizes from u_node_spacing alone (every item is an octree node)
 //   VIEW_SHIFT  1: the views are shifts of view 0 (off-axis stereo): a point is projected once,
 //               each view's clip x derived from view 0's (u_view_shift)
 // No run-time branches on modes: llvmpipe executes both sides of a branch under a mask.
@@ -219,6 +220,10 @@ float pointSize(uint i, vec3 p, int v) {
 #else
 #if SIZE_MODE == 1
   float world = u_world_size;
+#elif NODE_SPACING
+  // Every item is a level-of-detail node: its spacing, and no fetch of the points' own (a texel
+  // fetch is a call on llvmpipe, evaluated even where a select would not use it).
+  float world = u_node_spacing * u_adaptive_scale;
 #else
   float world = (u_node_spacing > 0.0 ? u_node_spacing
                                       : uintBitsToFloat(texelFetch(t_extras, int(i)).y)) *
