@@ -181,11 +181,13 @@ int runRender(const RenderCommandOptions& o) {
   std::fprintf(stderr, "parallax render: rasterizer %s%s%s\n",
                last_stats.rasterizer == RasterizerKind::Compute ? "compute" : "points (GL_POINTS)",
                last_stats.fallback_reason.empty() ? "" : ": ", last_stats.fallback_reason.c_str());
-  if (last_stats.large_splats) {
-    std::fprintf(stderr,
-                 "parallax render: %llu splats wider than %g pixels drawn a workgroup each\n",
-                 static_cast<unsigned long long>(last_stats.large_splats),
-                 double(ComputeRasterizer::kInlineSplatPx));
+  const std::uint64_t large_splats = last_stats.rasterizer == RasterizerKind::Compute
+                                         ? renderer.computeRasterizer().largeSplatsOfLastFrame()
+                                         : 0;
+  if (large_splats) {
+    std::fprintf(
+        stderr, "parallax render: %llu splats wider than %g pixels drawn a workgroup each\n",
+        static_cast<unsigned long long>(large_splats), double(ComputeRasterizer::kInlineSplatPx));
   }
   if (measurements) {
     std::fprintf(stderr, "parallax render: drew %zu measurements and %zu annotations of %s%s\n",

@@ -76,10 +76,11 @@ struct Variant {
   bool lighting = false, orthographic = false, round = false, splat = false;
   bool hq = false, reset = false;
   bool view_shift = false;    // every view's clip x from view 0's clip (viewShifts)
-  bool list_large = false;    // pass 1 lists splats wider than kInlineSplatPx (LargeSplats)
+  bool list_large = false;    // both passes list splats wider than inline_splat (LargeSplats)
   bool large = false;         // the large splats' program
   bool node_spacing = false;  // adaptive sizes from every item's node spacing (NODE_SPACING)
   float max_splat = 1.0f;     // the GL's largest point (one per context: not in the key)
+  float inline_splat = 1.0f;  // inlineSplatPx(views): follows from `views`, not in the key
   unsigned filter = 0;        // FilterPart bits (filter_uniforms.h)
 
   std::uint32_t key() const {
@@ -102,8 +103,8 @@ struct Variant {
            define("LIST_LARGE", list_large) + define("LARGE", large) +
            define("NODE_SPACING", node_spacing) + filterDefines(filter) + "#define BATCH_POINTS " +
            std::to_string(kBatchPoints) + "u\n#define MAX_SPLAT " + std::to_string(max_splat) +
-           "\n#define INLINE_SPLAT " + std::to_string(ComputeRasterizer::kInlineSplatPx) +
-           "\n#define TIED_MARK " + std::to_string(kTied) + "u\n";
+           "\n#define INLINE_SPLAT " + std::to_string(inline_splat) + "\n#define TIED_MARK " +
+           std::to_string(kTied) + "u\n";
   }
 };
 
@@ -284,12 +285,45 @@ void ComputeRasterizer::ensureFlags(std::uint32_t batches) {
   glNamedBufferStorage(order_, GLsizeiptr(flag_capacity_) * 4, nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
-void ComputeRasterizer::ensureLargeSplats(std::uint32_t splats) {
-  if (splats <= large_capacity_) return;
+float ComputeRasterizer::inlineSplatPx(std::size_t views) {
+  // llvmpipe ends every loop of a shader invocation once all its loops together have run 65 535
+  // iterations (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS, one counter shared by every loop): the
+  // points after that would be dropped without a word. An invocation walks 256 points, each
+  // with a loop over the views and, per view, rows and pixels of an n x n splat: n + n^2 a view,
+  // so 256 ((n + n^2) views + views + 1) must stay under it (n = 8 up to 3 views, 7 for 4).
+  float n = kInlineSplatPx;
+  while (n > 1 && (n + n * n) * float(views) + float(views) + 1 > 255) n -= 1;
+  return n;
+}
+
+std::uint32_t ComputeRasterizer::largeSplatsPerGroup() const {
+  // The records of a group within one SSBO binding, and at least a batch's points in every view
+  // (a range is whole batches: the smallest group is one batch).
+  const std::int64_t limit =
+      std::min<std::int64_t>(max_ssbo_bytes_, std::int64_t(options_.max_range_bytes));
+  const std::int64_t smallest = std::int64_t(kBatchPoints) * kMaxViews;
+  return std::uint32_t(std::max<std::int64_t>(
+      std::min<std::int64_t>((limit - kLargeHeaderBytes) / kLargeSplatBytes,
+                             options_.large_splats_per_group),
+      smallest));
+}
+
+void ComputeRasterizer::ensureLargeSplats() {
+  const std::uint32_t capacity = largeSplatsPerGroup();
+  if (large_ && capacity == large_capacity_) return;
   if (large_) glDeleteBuffers(1, &large_);
-  large_capacity_ = std::max(splats, large_capacity_ * 2);
+  large_capacity_ = capacity;
   glCreateBuffers(1, &large_);
-  glNamedBufferStorage(large_, 16 + GLsizeiptr(large_capacity_) * 32, nullptr, 0);
+  glNamedBufferStorage(large_, kLargeHeaderBytes + GLsizeiptr(capacity) * kLargeSplatBytes, nullptr,
+                       0);
+}
+
+std::uint64_t ComputeRasterizer::largeSplatsOfLastFrame() const {
+  if (!listed_large_splats_) return 0;
+  std::uint32_t header[2] = {0, 0};
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  glGetNamedBufferSubData(large_, 0, sizeof header, header);
+  return header[1];
 }
 
 void ComputeRasterizer::clearBuffers(bool hq) {
@@ -429,8 +463,9 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   std::vector<Work> work;
   // Whether any point may be wider than an inline splat: only then is the list of large splats
   // made (and its count read back).
+  const float inline_splat = inlineSplatPx(eyes.size());
   bool any_large = variant.splat && settings.size_mode == PointSizeMode::Fixed &&
-                   settings.point_size_px > kInlineSplatPx;
+                   settings.point_size_px > inline_splat;
   const std::size_t last_item = std::min(frame.last_item, draw_set.items.size());
   const std::size_t item_count =
       frame.items.empty() ? (last_item > frame.first_item ? last_item - frame.first_item : 0)
@@ -448,7 +483,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     }
     if (item.chunk->count == 0) continue;
     if (settings.size_mode != PointSizeMode::Fixed && !any_large) {
-      any_large = largestPointSize(item, eyes, visible, settings, camera) > kInlineSplatPx;
+      any_large = largestPointSize(item, eyes, visible, settings, camera) > inline_splat;
     }
     work.push_back({index, visible, 0.0});
     stats.points_drawn += item.chunk->count;
@@ -468,12 +503,13 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   // Ranges of whole batches, each section within the binding limit (positions are the widest).
   GLint max_texels = 0;
   glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &max_texels);
+  // Where large splats are listed, a range's points in all views fit the list too.
+  std::size_t range_limit =
+      std::min<std::size_t>(options_.max_range_bytes / 12, std::size_t(max_texels));
+  if (any_large)
+    range_limit = std::min<std::size_t>(range_limit, largeSplatsPerGroup() / eyes.size());
   const std::size_t range_points =
-      std::max<std::size_t>(
-          std::min<std::size_t>(options_.max_range_bytes / 12, std::size_t(max_texels)) /
-              kBatchPoints,
-          1) *
-      kBatchPoints;
+      std::max<std::size_t>(range_limit / kBatchPoints, 1) * kBatchPoints;
 
   // The batch flags (see the shader): a bit per point of the work, cleared per frame; and
   // the batches' order, a slot per batch.
@@ -504,15 +540,72 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   bindBuffers(hq);
   variant.list_large = any_large;
   variant.max_splat = max_point_px_;
+  variant.inline_splat = inline_splat;
   if (any_large) {
-    ensureLargeSplats(kInitialLargeSplats);
+    ensureLargeSplats();
+    // The count and the frame's total start at 0 (the flushes reset the count).
+    const std::uint32_t zero_header = 0;
+    glClearNamedBufferSubData(large_, GL_R32UI, 0, kLargeHeaderBytes, GL_RED_INTEGER,
+                              GL_UNSIGNED_INT, &zero_header);
     glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kLargeBinding, large_, 0,
-                      16 + GLsizeiptr(large_capacity_) * 32);
+                      kLargeHeaderBytes + GLsizeiptr(large_capacity_) * kLargeSplatBytes);
+    glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, large_);
   }
+  // Draws the splats listed since the last flush (variant.pass), on the GPU's own count: a
+  // one-invocation program turns it into the indirect dispatch's size (a workgroup a splat) and
+  // sets it back to 0, so no count is read back and the list is free for the next ranges.
+  const auto flush_large = [&]() {
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    if (!large_args_program_) {
+      large_args_program_.emplace(std::vector<ShaderSource>{
+          {GL_COMPUTE_SHADER, "compute_rasterizer_large_args.comp", glsl::kLargeSplatArgs}});
+    }
+    glUseProgram(large_args_program_->id());
+    glUniform1ui(large_args_program_->uniform("u_pass"), GLuint(variant.pass));
+    glDispatchCompute(1, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_COMMAND_BARRIER_BIT);
+    Variant large;
+    large.pass = variant.pass;
+    large.atomic64 = atomic64_;
+    large.views = variant.views;
+    large.round = variant.round;
+    large.splat = true;
+    large.hq = hq;
+    large.reset = variant.reset;
+    large.list_large = true;
+    large.large = true;
+    large.max_splat = max_point_px_;
+    large.inline_splat = inline_splat;
+    const std::uint32_t key = large.key();
+    if (!programs_.count(key)) {
+      programs_.emplace(
+          key, ShaderProgram({{GL_COMPUTE_SHADER, "compute_rasterizer_large.comp",
+                               withDefines(glsl::kComputeRasterizer,
+                                           large.defines() + glsl::pointShadingFunctions())}}));
+    }
+    const ShaderProgram& shader = program(key, false);
+    glUseProgram(shader.id());
+    glUniform1i(shader.uniform("u_canvas_width"), frame.canvas_width);
+    glUniform1f(shader.uniform("u_hq_range"), settings.hq_depth_range);
+    glUniform1ui(shader.uniform("u_large_capacity"), large_capacity_);
+    float viewports[4 * kMaxViews], coeffs[4 * kMaxViews];
+    for (std::size_t v = 0; v < eyes.size(); ++v) {
+      const Viewport& vp = eyes[v].viewport;
+      viewports[4 * v + 0] = float(vp.x), viewports[4 * v + 1] = float(vp.y);
+      viewports[4 * v + 2] = float(vp.width), viewports[4 * v + 3] = float(vp.height);
+      const glm::dmat4& p = eyes[v].projection;
+      coeffs[4 * v + 0] = float(p[2][2]), coeffs[4 * v + 1] = float(p[3][2]);
+      coeffs[4 * v + 2] = float(p[2][3]), coeffs[4 * v + 3] = float(p[3][3]);
+    }
+    glUniform4fv(shader.uniform("u_viewport"), GLsizei(eyes.size()), viewports);
+    glUniform4fv(shader.uniform("u_depth_coeffs"), GLsizei(eyes.size()), coeffs);
+    glDispatchComputeIndirect(kLargeArgsOffset);
+    // The next ranges list into the same records: this dispatch has read them first.
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  };
   // One pass of the points over every range of the work (variant.pass).
   const auto dispatch_points = [&]() {
-    // Pass 2 colours the points; pass 1 colours the large splats it lists.
-    const bool needs_colors = variant.pass == 2 || variant.list_large;
+    const bool needs_colors = variant.pass == 2;
     const std::uint32_t key = variant.key();
     if (!programs_.count(key)) {
       programs_.emplace(
@@ -531,6 +624,8 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
                 settings.max_size_px);
     glUniform1f(shader.uniform("u_hq_range"), settings.hq_depth_range);
     glUniform1ui(shader.uniform("u_large_capacity"), large_capacity_);
+    // Splats the list holds since its last flush, at most (a point lists once in each view).
+    std::size_t listed = 0;
     std::optional<FilterUniforms> filter_uniforms;
     if (variant.filter) filter_uniforms.emplace(shader, settings.filter, draw_set);
     float viewports[4 * kMaxViews], pixels_per_unit[kMaxViews], coeffs[4 * kMaxViews];
@@ -589,8 +684,15 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
       if (filter_uniforms) filter_uniforms->setChunk(chunk);
       glTextureBufferRange(textures_[kBatches], GL_RGBA32F, chunk.buffer,
                            GLintptr(chunk.batches_offset), GLsizeiptr(chunk.batch_count) * 32);
+      const std::size_t views_seeing = std::size_t(std::popcount(w.visible));
       for (std::size_t first = 0; first < chunk.count; first += range_points) {
         const std::size_t count = std::min<std::size_t>(range_points, chunk.count - first);
+        if (variant.list_large && listed + count * views_seeing > large_capacity_) {
+          flush_large();
+          glUseProgram(shader.id());
+          listed = 0;
+        }
+        listed += count * views_seeing;
         glTextureBufferRange(textures_[kPositions], GL_RGB32F, chunk.buffer,
                              GLintptr(chunk.positions_offset + first * 12), GLsizeiptr(count * 12));
         if (needs_colors && draw_set.has_colors) {
@@ -619,98 +721,16 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
         if (variant.pass == 1) ++stats.draw_calls;
       }
     }
-  };
-  // The large splats' pass (variant.pass) over the `splats` pass 1 listed.
-  const auto dispatch_large = [&](std::uint32_t splats) {
-    Variant large;
-    large.pass = variant.pass;
-    large.atomic64 = atomic64_;
-    large.views = variant.views;
-    large.round = variant.round;
-    large.splat = true;
-    large.hq = hq;
-    large.reset = variant.reset;
-    large.list_large = true;
-    large.large = true;
-    large.max_splat = max_point_px_;
-    const std::uint32_t key = large.key();
-    if (!programs_.count(key)) {
-      programs_.emplace(
-          key, ShaderProgram({{GL_COMPUTE_SHADER, "compute_rasterizer_large.comp",
-                               withDefines(glsl::kComputeRasterizer,
-                                           large.defines() + glsl::pointShadingFunctions())}}));
-    }
-    const ShaderProgram& shader = program(key, false);
-    glUseProgram(shader.id());
-    glUniform1i(shader.uniform("u_canvas_width"), frame.canvas_width);
-    glUniform1f(shader.uniform("u_hq_range"), settings.hq_depth_range);
-    glUniform1ui(shader.uniform("u_large_capacity"), large_capacity_);
-    float viewports[4 * kMaxViews], coeffs[4 * kMaxViews];
-    for (std::size_t v = 0; v < eyes.size(); ++v) {
-      const Viewport& vp = eyes[v].viewport;
-      viewports[4 * v + 0] = float(vp.x), viewports[4 * v + 1] = float(vp.y);
-      viewports[4 * v + 2] = float(vp.width), viewports[4 * v + 3] = float(vp.height);
-      const glm::dmat4& p = eyes[v].projection;
-      coeffs[4 * v + 0] = float(p[2][2]), coeffs[4 * v + 1] = float(p[3][2]);
-      coeffs[4 * v + 2] = float(p[2][3]), coeffs[4 * v + 3] = float(p[3][3]);
-    }
-    glUniform4fv(shader.uniform("u_viewport"), GLsizei(eyes.size()), viewports);
-    glUniform4fv(shader.uniform("u_depth_coeffs"), GLsizei(eyes.size()), coeffs);
-    if (!atomic64_) {
-      glBindTextureUnit(kDepthKeys, views_[0]);
-      glBindTextureUnit(kIdKeys, ids_view_);
-    }
-    // A workgroup a splat, each looping on to the splats a whole dispatch further on.
-    glDispatchCompute(std::min<std::uint32_t>(splats, 65535u), 1, 1);
-    if (variant.pass == 1) ++stats.draw_calls;
-  };
-  const auto large_count = [&]() {
-    std::uint32_t count = 0;
-    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    glGetNamedBufferSubData(large_, 0, 4, &count);
-    return count;
-  };
-  const auto clear_large_count = [&]() {
-    const std::uint32_t zero_count = 0;
-    glClearNamedBufferSubData(large_, GL_R32UI, 0, 4, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero_count);
+    if (variant.list_large) flush_large();
   };
 
   variant.pass = 1;
-  if (any_large) clear_large_count();
   dispatch_points();
-  std::uint32_t large_splats = 0;
-  if (any_large) {
-    large_splats = large_count();
-    if (large_splats > large_capacity_) {
-      // The list overflowed: the splats past its end were not drawn. Pass 1 again, with room for
-      // all, or, past one binding, with every splat inline. Drawing a point twice in pass 1
-      // changes nothing (its key is already the minimum or behind it) but to mark its pixels as
-      // tied, which only sends them through pass 2's atomics.
-      const GLsizeiptr binding_limit =
-          std::min<GLsizeiptr>(GLsizeiptr(max_ssbo_bytes_), GLsizeiptr(options_.max_range_bytes));
-      if (16 + GLsizeiptr(large_splats) * 32 <= binding_limit) {
-        ensureLargeSplats(large_splats);
-        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, kLargeBinding, large_, 0,
-                          16 + GLsizeiptr(large_capacity_) * 32);
-        clear_large_count();
-      } else {
-        variant.list_large = false;
-        large_splats = 0;
-      }
-      dispatch_points();
-      if (variant.list_large) large_splats = large_count();
-    }
-  }
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-  if (large_splats) {
-    dispatch_large(large_splats);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-  }
   variant.pass = 2;
   dispatch_points();
-  if (large_splats) dispatch_large(large_splats);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
-  stats.large_splats = large_splats;
+  listed_large_splats_ = any_large;
 
   // The resolve: the visibility buffer into the bound framebuffer, view by view.
   Variant resolve;

@@ -51,6 +51,10 @@ struct ComputeRasterizerOptions {
   std::size_t max_range_bytes = std::size_t(128) << 20;
   // False: the 32-bit path even where 64-bit atomics exist (to compare both on one GPU).
   bool allow_64bit_atomics = true;
+  // Large splats listed before they are drawn, at most (32 bytes each; also within one SSBO
+  // binding, and at least a batch of points in kMaxViews views). A frame's ranges are grouped so
+  // that a group's points in all views fit; tests lower it to exercise several groups.
+  std::uint32_t large_splats_per_group = 1u << 20;
 };
 
 // A point found in the visibility buffer.
@@ -67,9 +71,9 @@ class ComputeRasterizer final : public Rasterizer {
   // Widest splat (pixels) the invocation that reads its point draws itself; wider ones are listed
   // and drawn a workgroup each (see NOTES.md, "Large splats", for the measurement).
   static constexpr float kInlineSplatPx = 8.0f;
-  // Splats listed in the first try of a frame; the list grows to what a frame needed, up to one
-  // SSBO binding (beyond it the frame draws every splat inline).
-  static constexpr std::uint32_t kInitialLargeSplats = 1u << 16;
+  // The widest inline splat for a frame of `views` views: kInlineSplatPx, or less where
+  // llvmpipe's loop limit would cut an invocation's work short (see the definition).
+  static float inlineSplatPx(std::size_t views);
   // Views drawn in one pass (a stereo pair needs two).
   static constexpr std::size_t kMaxViews = 4;
 
@@ -87,6 +91,9 @@ class ComputeRasterizer final : public Rasterizer {
 
   // The largest point size (pixels) both rasterizers draw: GL_POINT_SIZE_RANGE's maximum.
   float maxPointSize() const { return max_point_px_; }
+  // Splats the last frame drew a workgroup each (wider than an inline splat). Reads the count
+  // back from the GPU (a sync): for tests, benchmarks and reports, not for every frame.
+  std::uint64_t largeSplatsOfLastFrame() const;
 
   // True where the 64-bit path runs (the context has the extensions and the options allow it).
   bool uses64BitAtomics() const { return atomic64_; }
@@ -101,7 +108,8 @@ class ComputeRasterizer final : public Rasterizer {
   void ensureBuffers(int width, int height, bool hq);
   void clearBuffers(bool hq);
   void ensureFlags(std::uint32_t batches);
-  void ensureLargeSplats(std::uint32_t splats);
+  void ensureLargeSplats();
+  std::uint32_t largeSplatsPerGroup() const;
   void bindBuffers(bool hq) const;
 
   ComputeRasterizerOptions options_;
@@ -122,9 +130,14 @@ class ComputeRasterizer final : public Rasterizer {
   GLuint order_ = 0, order_view_ = 0;  // the batches' order, a uint per batch, and its texture
   GLuint ids_view_ = 0;  // the ids as a buffer texture (pass 2 reads whether a pixel is tied)
   std::uint32_t flag_capacity_ = 0;
-  // The large splats' list: a count, then two uvec4 a splat (see the shader's LargeSplats).
+  // The large splats' list (the shader's LargeSplats): a header (count, the frame's total, the
+  // indirect dispatch's size), then two uvec4 a splat.
+  static constexpr GLsizeiptr kLargeHeaderBytes = 32, kLargeSplatBytes = 32;
+  static constexpr GLintptr kLargeArgsOffset = 16;
   GLuint large_ = 0;
   std::uint32_t large_capacity_ = 0;
+  bool listed_large_splats_ = false;  // the last frame listed (largeSplatsOfLastFrame)
+  std::optional<ShaderProgram> large_args_program_;  // the count into the dispatch's size
   float max_point_px_ = 1.0f;
   int width_ = 0, height_ = 0;
   bool has_sums_ = false;

@@ -13,8 +13,8 @@ namespace parallax::glsl {
 //   SPLAT       0: 1-pixel points; 1: square or (ROUND) round splats up to MAX_SPLAT pixels (the
 //               largest point GL_POINTS draws): a point's pixels up to INLINE_SPLAT pixels wide
 //               are walked by the invocation that reads it
-//   LIST_LARGE  1: pass 1 lists each larger splat (its window position, size, key, id and colour)
-//               in LargeSplats instead, and pass 2 skips it; the LARGE program then draws the list
+//   LIST_LARGE  1: each pass lists every larger splat (its window position, size, key, id and,
+//               in pass 2, colour) in LargeSplats instead; the LARGE program then draws the list
 //   LARGE       1: the large-splat program: a workgroup a listed splat, its invocations share its
 //               pixels (pass 1: depth, pass 2: attributes, as touchPixel does for any point)
 //   HQ          1: pass 2 blends every point within u_hq_range of the front-most one
@@ -98,16 +98,18 @@ layout(std430, binding = 7) coherent buffer BatchFlags { uint batch_flags[]; };
 uniform uint u_flag_base;  // the range's first batch among the frame's batches (its first slot)
 bool may_win = false;
 
-// Splats wider than INLINE_SPLAT pixels, listed by pass 1 (LIST_LARGE) and drawn by the LARGE
+// Splats wider than INLINE_SPLAT pixels, listed by each pass (LIST_LARGE) and drawn by the LARGE
 // program: one invocation walking a point's 255 x 255 pixels would hold up the seven other lanes
-// of its vector for as long, and a workgroup shares them instead. Two uvec4 a splat: (window x,
-// window y, size, depth key) as float bits and key, then (id, packed colour, eye depth bits,
-// view). large_count counts every splat pass 1 tried to list, so the renderer sees a list that
-// overflowed u_large_capacity (and draws the frame again with room for all).
+// of its vector for as long (and run into llvmpipe's limit on an invocation's loop iterations),
+// and a workgroup shares them instead. Two uvec4 a splat: (window x, window y, size, depth key)
+// as float bits and key, then (id, packed colour, eye depth bits, view). The renderer flushes
+// the list (kLargeSplatArgs, then LARGE) before it could hold more than u_large_capacity.
 #if LIST_LARGE || LARGE
 layout(std430, binding = 8) coherent buffer LargeSplats {
-  uint large_count;
-  uint large_unused[3];
+  uint large_count;   // listed since the last flush
+  uint large_total;   // listed in the frame (ComputeRasterizer::largeSplatsOfLastFrame)
+  uint large_unused[2];
+  uvec4 large_args;   // the LARGE dispatch's workgroups (x, y, z) and the splats it draws
   uvec4 large_splats[];
 };
 uniform uint u_large_capacity;
@@ -383,17 +385,20 @@ void drawInView(uint i, uint id, vec3 p, int v, vec4 first_clip) {
   float size = min(pointSize(i, p, v), MAX_SPLAT);
 #if LIST_LARGE
   if (size > INLINE_SPLAT) {
-#if PASS == 1
+    // Pass 1 cannot tell here whether the splat wins a pixel: it is flagged, so that pass 2
+    // lists it again (with its colour).
+    may_win = true;
+#if PASS == 2
+    needColor(i, p, v, color_ready, color);
+#endif
     uint slot = atomicAdd(large_count, 1u);
-    // Past the capacity the splat is not drawn: the renderer sees the count and draws the frame
-    // again with room for it.
+    // The renderer's groups of ranges keep the list within its capacity; the test only guards
+    // the buffer's end.
     if (slot < u_large_capacity) {
-      needColor(i, p, v, color_ready, color);
       large_splats[2u * slot] = uvec4(floatBitsToUint(window), floatBitsToUint(size), key);
       large_splats[2u * slot + 1u] = uvec4(id, color, floatBitsToUint(eye_depth), uint(v));
     }
-#endif
-    return;  // pass 2: the LARGE program draws it
+    return;
   }
 #endif
   ivec2 from, to;
@@ -510,19 +515,19 @@ void main() {
 #endif
 }
 #else  // LARGE
-// One workgroup a listed splat (and every gl_NumWorkGroups.x-th after it), its invocations
-// taking consecutive pixels of its rows: the same touchPixel, key, id and colour as the point
-// would have had drawn inline, so the picture does not depend on which way a splat went.
+// One workgroup a listed splat, its invocations taking consecutive pixels of its rows: the same
+// touchPixel, key, id and colour as the point would have had drawn inline, so the picture does
+// not depend on which way a splat went.
 void main() {
-  uint count = min(large_count, u_large_capacity);
-  for (uint s = gl_WorkGroupID.x; s < count; s += gl_NumWorkGroups.x) {
+  uint s = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  if (s < min(large_args.w, u_large_capacity)) {
     uvec4 a = large_splats[2u * s], b = large_splats[2u * s + 1u];
     vec2 window = uintBitsToFloat(a.xy);
     float size = uintBitsToFloat(a.z);
     int v = int(b.w);
     ivec2 from, to;
     splatPixels(window, size, v, from, to);
-    if (any(greaterThan(from, to))) continue;
+    if (any(greaterThan(from, to))) return;
     uint row = uint(to.x - from.x + 1), pixels = row * uint(to.y - from.y + 1);
     bool color_ready = true;
     uint color = b.y;
@@ -535,6 +540,27 @@ void main() {
   }
 }
 #endif
+)glsl";
+
+// The large splats listed since the last flush into the size of the LARGE program's indirect
+// dispatch (a workgroup a splat, rows of at most 65 535 workgroups), added to the frame's total
+// in pass 1 (pass 2 lists the flagged ones again), and the count back to 0 for the next ranges. One invocation: the count is read on the GPU,
+// never waited for on the CPU.
+const char* const kLargeSplatArgs = R"glsl(#version 450 core
+layout(local_size_x = 1) in;
+layout(std430, binding = 8) coherent buffer LargeSplats {
+  uint large_count;
+  uint large_total;
+  uint large_unused[2];
+  uvec4 large_args;
+};
+uniform uint u_pass;
+void main() {
+  uint n = large_count;
+  if (u_pass == 1u) large_total += n;
+  large_args = uvec4(min(n, 65535u), (n + 65534u) / 65535u, 1u, n);
+  large_count = 0u;
+}
 )glsl";
 
 // Writes the visibility buffer into the framebuffer: colour, eye depth for eye-dome lighting,

@@ -6,5 +6,6 @@ namespace parallax::glsl {
 
 extern const char* const kComputeRasterizer;
 extern const char* const kComputeResolve;
+extern const char* const kLargeSplatArgs;
 
 }  // namespace parallax::glsl

@@ -33,8 +33,6 @@ struct RasterStats {
   std::uint32_t chunks_drawn = 0;   // chunks that at least one view sees
   std::uint32_t chunks_culled = 0;  // chunks that no view sees
   std::uint32_t draw_calls = 0;     // GL_POINTS: one per chunk and view; compute: dispatches
-  // Compute: splats wider than ComputeRasterizer::kInlineSplatPx, drawn a workgroup each.
-  std::uint64_t large_splats = 0;
 };
 
 // One frame's input to a rasterizer.

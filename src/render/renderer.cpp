@@ -186,7 +186,6 @@ FrameStats Renderer::render(const DrawSet& draw_set, std::span<const View> views
   raster.last_item = part.last_item;
   raster.accumulate = accumulate;
   const RasterStats pass = compute ? computeRasterizer().draw(raster) : point_pass_.draw(raster);
-  stats.large_splats = pass.large_splats;
   stats.points_drawn = pass.points_drawn;
   stats.chunks_drawn = pass.chunks_drawn;
   stats.chunks_culled = pass.chunks_culled;

@@ -35,7 +35,6 @@ struct FrameStats {
   // Why the compute rasterizer did not draw although asked (explicitly or by auto); empty
   // otherwise. Also says when --hq was ignored.
   std::string fallback_reason;
-  std::uint64_t large_splats = 0;  // compute: splats wide enough to be drawn a workgroup each
 };
 
 // Which part of a draw set a frame draws: progressive refinement draws the most important items

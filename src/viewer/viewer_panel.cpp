@@ -127,9 +127,6 @@ void drawRasterizerPanel(Session& s, const FrameStats& stats) {
   ImGui::Text("drawn by %s",
               stats.rasterizer == RasterizerKind::Compute ? "the compute rasterizer" : "GL_POINTS");
   if (!stats.fallback_reason.empty()) ImGui::TextWrapped("(%s)", stats.fallback_reason.c_str());
-  if (stats.large_splats) {
-    ImGui::Text("%llu large splats", static_cast<unsigned long long>(stats.large_splats));
-  }
   if (s.settings.rasterizer != RasterizerKind::Points) ImGui::Checkbox("HQ splats", &s.settings.hq);
 }
 
