@@ -429,8 +429,11 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   variant.lighting = settings.lighting && draw_set.has_normals;
   variant.orthographic = camera.projection == Projection::Orthographic;
   variant.round = settings.shape == PointShape::Round;
-  // 1-pixel points skip the splat loop; so do sizes below 1 (GL_POINTS rounds them up to 1).
-  variant.splat = settings.size_mode != PointSizeMode::Fixed || settings.point_size_px > 1.0f;
+  // 1-pixel squares skip the splat loop; so do sizes below 1 (GL_POINTS rounds them up to 1). A
+  // 1-pixel disc does not: GL_POINTS drops it where its centre is off the pixel's by more than
+  // half a pixel.
+  variant.splat = settings.size_mode != PointSizeMode::Fixed || settings.point_size_px > 1.0f ||
+                  settings.shape == PointShape::Round;
   variant.hq = hq;
   variant.reset = frame.accumulate && !atomic64_;
   variant.filter = filterParts(settings.filter, draw_set);

@@ -156,6 +156,10 @@ TEST(ComputeVsPoints, LightingEyeDomeLightingAndOrthographic) {
   ortho.ortho_height = 2.5;
   RenderSettings lit_ortho = lit;
   expectAgreement("orthographic lighting", lit_ortho, ortho);
+  // A 1-pixel disc lights its pixel only where its centre is within half a pixel of the pixel's.
+  RenderSettings round = onePixel(ColorMode::Rgb);
+  round.shape = PointShape::Round;
+  expectAgreement("1-pixel round", round);
 }
 
 TEST(ComputeVsPoints, EveryStereoMode) {
