@@ -160,6 +160,8 @@ r = json.load(sys.stdin)
 parts = [r.get("rasterizer", "?")]
 if r.get("rasterizer") == "compute":
     parts.append("64-bit atomics" if r.get("atomic64") else "32-bit atomics")
+    if r.get("fallback_chunks"):
+        parts.append("%d of %d chunks by GL_POINTS" % (r["fallback_chunks"], r["chunks_drawn"]))
 if "median_ms" in r:
     parts.append("median %.2f ms, p90 %.2f ms, worst %.2f ms" % (r["median_ms"], r["p90_ms"], r["worst_ms"]))
 else:
@@ -274,9 +276,9 @@ run() {
   step generate-demo 30 "$parallax" generate -q -o "$demo" --points "$demo_points"
   local size=(--width "$width" --height "$height")
   step random-compute 30 "$parallax" bench render --points "$random_points" "${size[@]}" --rasterizer compute --json
-  step orbit-compute-atomic64 30 "$parallax" bench render "$demo" --look viewer --rasterizer compute --orbit "$orbit" "${size[@]}" --json
-  step orbit-compute-atomic32 30 "$parallax" bench render "$demo" --look viewer --rasterizer compute --no-atomic64 --orbit "$orbit" "${size[@]}" --json
-  step orbit-points 30 "$parallax" bench render "$demo" --look viewer --rasterizer points --orbit "$orbit" "${size[@]}" --json
+  step orbit-compute-atomic64 30 "$parallax" bench render "$demo" --rasterizer compute --orbit "$orbit" "${size[@]}" --json
+  step orbit-compute-atomic32 30 "$parallax" bench render "$demo" --rasterizer compute --no-atomic64 --orbit "$orbit" "${size[@]}" --json
+  step orbit-points 30 "$parallax" bench render "$demo" --rasterizer points --orbit "$orbit" "${size[@]}" --json
   step orbit-stereo-sbs 30 "$parallax" bench render "$demo" --look viewer --stereo sbs --orbit "$orbit" "${size[@]}" --json
   step orbit-viewer-look 30 "$parallax" bench render "$demo" --look viewer --orbit "$orbit" "${size[@]}" --json
   rm -f "$demo"

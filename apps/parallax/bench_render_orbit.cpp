@@ -169,6 +169,9 @@ int runBenchRenderFileOrbit(const FileOrbitBenchOptions& o, const DrawSet& draw_
         {"atomic64", atomic64},
         {"allow_atomic64", o.compute.allow_64bit_atomics},
         {"fallback_reason", look.stats.fallback_reason},
+        // Chunks of a compute frame whose points may exceed the largest splat: GL_POINTS drew them.
+        {"fallback_chunks", look.stats.fallback_chunks},
+        {"chunks_drawn", look.stats.chunks_drawn},
         {"settings", lookJson(o.look, o.settings, o.stereo)},
         {"median_ms", t.median_ms},
         {"p90_ms", t.p90_ms},
@@ -195,6 +198,12 @@ int runBenchRenderFileOrbit(const FileOrbitBenchOptions& o, const DrawSet& draw_
   std::printf("look (%s): %s\n", o.look.c_str(), lookLine(o.settings, o.stereo).c_str());
   if (!look.stats.fallback_reason.empty()) {
     std::printf("compute asked, GL_POINTS drew: %s\n", look.stats.fallback_reason.c_str());
+  }
+  if (look.stats.fallback_chunks) {
+    std::printf(
+        "%u of %u chunks with points over %g pixels drawn by GL_POINTS in the look's frames\n",
+        look.stats.fallback_chunks, look.stats.chunks_drawn,
+        double(ComputeRasterizer::kMaxSplatPx));
   }
   std::printf("%-30s %-8s %9s %9s %9s %9s %11s\n", "frame times (ms)", "drawn by", "median", "p90",
               "worst", "cpu", "M points/s");
