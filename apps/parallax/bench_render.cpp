@@ -1,7 +1,26 @@
-// `parallax bench render [--points N] [--width W] [--height H] [--repeat R]
-//                        [--rasterizer points|compute|auto] [--order morton|random|both]
-//                        [--point-size S] [--shape square|round] [--hq] [--json]`:
-// the renderer's throughput beside a same-run reference.
+// `parallax bench render [INPUT] [--look render|viewer] [--orbit N] [--json] [LOOK OPTIONS]`:
+// the renderer's frame times beside a same-run reference.
+//
+// INPUT, a point file (PLY, LAS, LAZ, text): opened as `parallax render` opens it
+// (render_scene.h: a file over --budget through its octree, below), drawn whole every frame with
+// the look of the options (every look option of `view` and `render`: --size-mode, --shape,
+// --point-size, --lighting, --edl, --color, the filters, --stereo MODE, --rasterizer, ...).
+// `--look viewer` gives what `parallax view` shows for that cloud (render_settings.h viewerLook:
+// round points sized to the local spacing, lit where the cloud has normals, unless the options
+// say otherwise); the default `--look render` reads the options as `render` does (1-pixel
+// squares, unlit). `--orbit N`: N frames of the camera turning around the cloud's centre
+// (2 degrees a frame), without it --repeat frames from the still default camera. Each frame is
+// interleaved with a reference (bench_render_orbit.h: the same look drawn by GL_POINTS where
+// compute drew, else 1-pixel unlit squares): a table of median, p90 and worst frame times and the
+// ratio, or with --json one object (median_ms, p90_ms, worst_ms, settings, rasterizer, atomic64,
+// reference, ratio, load_average). `--no-atomic64`: the compute rasterizer's 32-bit path even
+// where GL_NV_shader_atomic_int64 is offered.
+//
+// INPUT, a Potree directory or COPC file (or its URL): level of detail (bench_render_lod.cpp),
+// a frame beside the same points drawn plainly, or with --orbit the viewer's streaming orbit.
+//
+// Without INPUT: `[--points N] [--width W] [--height H] [--repeat R] [--order
+// morton|random|both]`, the throughput of N random points:
 //
 // --rasterizer points: the renderer with GL_POINTS beside a bare GL_POINTS loop (below).
 // --rasterizer compute (auto: compute wherever it supports the settings): the renderer with the
@@ -18,7 +37,8 @@
 //   reference  one buffer of interleaved vec3 float + rgba8, a shader that only transforms and
 //              passes the colour through, gl_PointSize 1, one draw call;
 //   renderer   Renderer::render: chunked buffers, chunk-relative positions, the full point shader
-//              (--color rgb, fixed 1-pixel points), frustum culling, and the copy into the target.
+//              (the look options: --color rgb, fixed 1-pixel points by default), frustum
+//              culling, and the copy into the target.
 // Both are measured with the points in file (random) order and in Morton order, since llvmpipe's
 // tile cache makes the order matter more than anything the shader does.
 //
@@ -29,9 +49,6 @@
 // stereo / (2 x mono) above 1 is work the stereo path adds.
 //
 // `--filter-toggle [--returns ...]`: what toggling a point filter costs (bench_render_filter.h).
-//
-// `parallax bench render DIR [--budget N]`: level of detail on a Potree directory instead
-// (bench_render_lod.cpp).
 #include <time.h>
 
 #include <algorithm>
@@ -49,37 +66,40 @@
 #include <nlohmann/json.hpp>
 #include "bench_render_filter.h"
 #include "bench_render_lod.h"
+#include "bench_render_orbit.h"
 #include "bench_timing.h"
 #include "commands.h"
 #include "core/point_cloud.h"
-#include "filter_options.h"
+#include "lod/octree_open.h"
+#include "lod/octree_url.h"
+#include "network_options.h"
 #include "render/gl_context.h"
 #include "render/point_buffers.h"
 #include "render/renderer.h"
 #include "render/shader_program.h"
 #include "render/stereo.h"
+#include "render/view_extent.h"
+#include "render_options.h"
+#include "render_scene.h"
 
 namespace parallax::cli {
 namespace {
 
 struct RenderBenchOptions {
+  std::string input;  // a point file, Potree directory or COPC file; empty: random points
   std::uint64_t points = 4'000'000;
   int width = 1920, height = 1080;
   int repeat = 5;
-  std::vector<std::string> stereo;  // modes to compare with mono
-  std::string directory;            // a Potree directory: the level-of-detail benchmark
-  std::uint64_t budget = 3'000'000;
-  double min_node_size = 30.0;
-  std::string rasterizer = "auto";
-  std::string order;  // morton|random|both; empty: both, or morton with --json
-  float point_size = 1.0f;
-  std::string shape = "square";
-  bool hq = false;
+  std::vector<std::string> stereo;  // random points, octree: modes to compare with mono
+  std::string order;                // morton|random|both; empty: both, or morton with --json
   bool json = false;
-  int orbit_frames = 0;        // with a directory: an orbit of this many streamed frames
-  double frame_budget_ms = 0;  // with --orbit: progressive refinement's time budget (0: none)
+  int orbit_frames = 0;        // an orbit of this many frames (0: none)
+  double frame_budget_ms = 0;  // with an octree's --orbit: progressive refinement's budget
   bool filter_toggle = false;  // frames with and without the filter (bench_render_filter.h)
-  FilterOptions filter;
+  std::string look = "render";
+  bool no_atomic64 = false;
+  RenderOptions render;  // the look: every option of `view` and `render`
+  LodOptions lod;
 };
 
 using Clock = std::chrono::steady_clock;
@@ -225,7 +245,8 @@ nlohmann::json benchStereo(const RenderBenchOptions& o, const PointCloud& cloud,
   RenderTarget target(o.width, o.height);
   // One renderer each: the composed modes' canvas is twice as wide, and one renderer alternating
   // between the sizes would reallocate its framebuffers every frame.
-  Renderer mono_renderer, stereo_renderer;
+  const ComputeRasterizerOptions compute{.allow_64bit_atomics = !o.no_atomic64};
+  Renderer mono_renderer(compute), stereo_renderer(compute);
   for (const StereoMode mode : modes) {
     StereoSettings stereo;
     stereo.mode = mode;
@@ -264,7 +285,7 @@ nlohmann::json benchStereo(const RenderBenchOptions& o, const PointCloud& cloud,
   return results;
 }
 
-int runBenchRender(const RenderBenchOptions& o) {
+std::vector<StereoMode> stereoModesFrom(const RenderBenchOptions& o) {
   std::vector<StereoMode> modes;
   for (const std::string& name : o.stereo) {
     const auto mode = parseStereoMode(name);
@@ -273,43 +294,121 @@ int runBenchRender(const RenderBenchOptions& o) {
                                   stereoModeNames() + ", not mono)");
     }
     if (*mode == StereoMode::QuadBuffer) {
-      std::printf("quad-buffer needs a stereo window, headless has none: measuring sbs instead\n");
+      if (!o.json) {
+        std::printf(
+            "quad-buffer needs a stereo window, headless has none: measuring sbs instead\n");
+      }
       modes.push_back(StereoMode::SideBySide);
     } else {
       modes.push_back(*mode);
     }
   }
-  RenderSettings settings;
-  settings.color = ColorMode::Rgb;
-  settings.point_size_px = o.point_size;
-  const auto shape = parsePointShape(o.shape);
-  const auto rasterizer = parseRasterizerKind(o.rasterizer);
-  if (!shape) throw std::invalid_argument("--shape: '" + o.shape + "' (use square|round)");
-  if (!rasterizer) {
-    throw std::invalid_argument("--rasterizer: '" + o.rasterizer + "' (use points|compute|auto)");
+  return modes;
+}
+
+// The settings of the look options, with the viewer's choice on top for --look viewer (what
+// `parallax view` shows for a cloud with these traits).
+RenderSettings lookSettings(const RenderBenchOptions& o, const CLI::App& command,
+                            double typical_spacing, LookTraits traits) {
+  const RenderSettings asked = renderSettingsFrom(o.render, typical_spacing);
+  if (o.look == "render") return asked;
+  return viewerLook(asked, asked, viewerLookChoiceFrom(command), traits);
+}
+
+// A point file (or an octree) opened as `parallax render` opens it, then its orbit (a file:
+// bench_render_orbit.h; an octree: bench_render_lod.h).
+int runBenchRenderInput(const RenderBenchOptions& o, const CLI::App& command,
+                        const std::vector<StereoMode>& modes) {
+  configureNetworkFrom(o.lod);
+  checkOctreeUrl(o.input);
+  RenderOptions render = o.render;
+  // An orbit (or a still file) draws one stereo mode; without an orbit an octree compares each.
+  const bool one_view_mode = o.orbit_frames > 0 || !isOctreePath(o.input);
+  if (one_view_mode && modes.size() > 1) {
+    throw std::invalid_argument("--stereo: an orbit draws one stereo mode, " +
+                                std::to_string(modes.size()) + " were given");
   }
-  settings.shape = *shape;
-  settings.rasterizer = *rasterizer;
-  settings.hq = o.hq;
+  if (one_view_mode && !modes.empty()) render.stereo = std::string(stereoModeName(modes.front()));
+  const StereoSettings stereo = headlessStereoSettings(render, true, "bench render");
+  const ComputeRasterizerOptions compute{.allow_64bit_atomics = !o.no_atomic64};
+  const double aspect = double(o.width) / o.height;
+
+  RenderSource source =
+      openRenderSource({.input = o.input, .quiet = o.json, .command = "bench render"}, o.lod);
+  if (source.lod()) {
+    const Octree& octree = *source.octree;
+    // As the viewer sizes an octree's attenuated points before any node is drawn: spacing / 4.
+    const RenderSettings settings = lookSettings(
+        o, command, octree.info().spacing / 8.0,
+        {.spacing_known = octree.info().spacing > 0, .has_normals = octree.info().has_normals});
+    return runBenchRenderLod({.directory = o.input,
+                              .budget = o.lod.budget,
+                              .min_node_size = o.lod.min_node_size,
+                              .width = o.width,
+                              .height = o.height,
+                              .repeat = o.repeat,
+                              .stereo = o.orbit_frames > 0 ? std::vector<StereoMode>{} : modes,
+                              .settings = settings,
+                              .orbit_frames = o.orbit_frames,
+                              .frame_budget_ms = o.frame_budget_ms,
+                              .orbit_stereo = stereo,
+                              .camera = cameraFrom(render, viewExtentOf(octree), aspect),
+                              .look = o.look,
+                              .compute = compute,
+                              .json = o.json},
+                             *source.octree);
+  }
+  auto context = GlContext::createHeadless();
+  RenderScene scene = uploadRenderSource(source, false);
+  const RenderSettings settings = lookSettings(
+      o, command, scene.whole.typical_spacing,
+      {.spacing_known = scene.gpu->typicalSpacing() > 0, .has_normals = scene.gpu->hasNormals()});
+  const bool orbit = o.orbit_frames > 0;
+  return runBenchRenderFileOrbit({.input = o.input,
+                                  .points = scene.points,
+                                  .frames = orbit ? o.orbit_frames : o.repeat,
+                                  .degrees_per_frame = orbit ? kOrbitDegreesPerFrame : 0.0,
+                                  .width = o.width,
+                                  .height = o.height,
+                                  .look = o.look,
+                                  .settings = settings,
+                                  .stereo = stereo,
+                                  .compute = compute,
+                                  .json = o.json,
+                                  .gl_renderer = context->renderer()},
+                                 scene.whole, cameraFrom(render, scene.extent, aspect));
+}
+
+int runBenchRender(const RenderBenchOptions& o, const CLI::App& command) {
+  if (command.count("--orbit") && o.orbit_frames < 1) {
+    throw std::invalid_argument("--orbit " + std::to_string(o.orbit_frames) +
+                                ": an orbit needs at least 1 frame");
+  }
+  if (o.look != "render" && o.look != "viewer") {
+    throw std::invalid_argument("--look: unknown look '" + o.look +
+                                "' (use render: the options as `render` reads them, or viewer: "
+                                "what `view` shows)");
+  }
+  if (o.orbit_frames > 0 && o.input.empty()) {
+    throw std::invalid_argument(
+        "--orbit needs a point file or an octree (random points only "
+        "measure throughput)");
+  }
+  const std::vector<StereoMode> modes = stereoModesFrom(o);
+  if (!o.input.empty()) return runBenchRenderInput(o, command, modes);
+
+  // Random points: the throughput of the renderer (the look options apply; 1-pixel squares by
+  // default). Their spacing is computed at upload; they have no normals.
+  RenderSettings settings = lookSettings(o, command, 0.025, {.spacing_known = true});
   if (o.filter_toggle) {
+    RenderSettings steady = settings;
+    steady.filter = PointFilter{};  // the filter is what is toggled
     return runBenchRenderFilter({.points = o.points,
                                  .width = o.width,
                                  .height = o.height,
                                  .repeat = o.repeat,
-                                 .settings = settings,
-                                 .filter = pointFilterFrom(o.filter, FilterTarget::Gpu)});
-  }
-  if (!o.directory.empty()) {
-    return runBenchRenderLod({.directory = o.directory,
-                              .budget = o.budget,
-                              .min_node_size = o.min_node_size,
-                              .width = o.width,
-                              .height = o.height,
-                              .repeat = o.repeat,
-                              .stereo = modes,
-                              .settings = settings,
-                              .orbit_frames = o.orbit_frames,
-                              .frame_budget_ms = o.frame_budget_ms});
+                                 .settings = steady,
+                                 .filter = settings.filter});
   }
   const std::string order = o.order.empty() ? (o.json ? "morton" : "both") : o.order;
   if (order != "morton" && order != "random" && order != "both") {
@@ -328,7 +427,8 @@ int runBenchRender(const RenderBenchOptions& o) {
   camera.fitToBounds(cloud.bounds, double(o.width) / o.height);
   const View view{camera, {0, 0, o.width, o.height}};
   RenderTarget target(o.width, o.height);
-  Renderer renderer, reference_renderer;
+  const ComputeRasterizerOptions compute{.allow_64bit_atomics = !o.no_atomic64};
+  Renderer renderer(compute), reference_renderer(compute);
   const RasterizerKind chosen =
       renderer.chooseRasterizer(settings, o.width, o.height, Composition::Direct);
   const double mpoints = double(o.points) / 1e6;
@@ -389,9 +489,13 @@ int runBenchRender(const RenderBenchOptions& o) {
               {"order", sorted ? "morton" : "random"},
               {"rasterizer", ours_name},
               {"asked", rasterizerKindName(settings.rasterizer)},
-              {"point_size", o.point_size},
-              {"shape", o.shape},
-              {"hq", o.hq},
+              {"point_size", settings.point_size_px},
+              {"shape", pointShapeName(settings.shape)},
+              {"hq", settings.hq},
+              {"atomic64", chosen == RasterizerKind::Compute &&
+                               renderer.computeRasterizer().uses64BitAtomics()},
+              {"allow_atomic64", !o.no_atomic64},
+              {"settings", lookJson(o.look, settings, {})},
               {"frame_ms", ours.wall_s * 1e3},
               {"cpu_ms", ours.cpu_s * 1e3},
               {"points_per_second", double(o.points) / ours.wall_s},
@@ -414,63 +518,70 @@ int runBenchRender(const RenderBenchOptions& o) {
 Command addBenchRenderCommand(CLI::App& bench) {
   auto options = std::make_shared<RenderBenchOptions>();
   Command command;
-  command.subcommand = bench.add_subcommand(
+  CLI::App* sub = bench.add_subcommand(
       "render",
-      "Point throughput of the renderer (compute vs GL_POINTS, or GL_POINTS vs a bare loop)");
-  command.subcommand->add_option("--points", options->points, "Random points to draw")
+      "Frame times of the renderer: random points' throughput (compute vs GL_POINTS, or GL_POINTS "
+      "vs a bare loop), or a point file or octree orbited with the viewer's look");
+  command.subcommand = sub;
+  sub->add_option("input", options->input,
+                  "Point file (PLY, LAS, LAZ or text; opened as `render` opens it: over --budget "
+                  "through its octree), Potree 2.0 directory or COPC file (or its http(s) URL). "
+                  "Without it: random points");
+  sub->add_option("--points", options->points, "Without an input: random points to draw")
       ->check(CLI::Range(std::uint64_t(1), std::uint64_t(200'000'000)))
       ->capture_default_str();
-  command.subcommand->add_option("--width", options->width, "Framebuffer width")
+  sub->add_option("--width", options->width, "Framebuffer width")
       ->check(CLI::Range(1, 16384))
       ->capture_default_str();
-  command.subcommand->add_option("--height", options->height, "Framebuffer height")
+  sub->add_option("--height", options->height, "Framebuffer height")
       ->check(CLI::Range(1, 16384))
       ->capture_default_str();
-  command.subcommand->add_option("--repeat,-n", options->repeat, "Timed frames (median shown)")
+  sub->add_option("--repeat,-n", options->repeat,
+                  "Timed frames (median shown); a point file without --orbit: still frames")
       ->check(CLI::Range(1, 1000))
       ->capture_default_str();
-  command.subcommand->add_option(
-      "--stereo", options->stereo,
-      "Also compare mono with this stereo mode (" + stereoModeNames() + "; repeatable)");
-  command.subcommand->add_option(
-      "directory", options->directory,
-      "A Potree 2.0 directory or a COPC file (or its http(s) URL): time level-of-detail frames "
-      "against the same points drawn plainly");
-  command.subcommand->add_option("--budget", options->budget, "With a directory: the point budget")
-      ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 40))
-      ->capture_default_str();
-  command.subcommand
-      ->add_option("--min-node-size", options->min_node_size,
-                   "With a directory: smallest node drawn, pixels")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  command.subcommand
-      ->add_option("--rasterizer", options->rasterizer,
-                   "points (beside a bare GL_POINTS loop) or compute / auto (beside GL_POINTS)")
-      ->capture_default_str();
-  command.subcommand->add_option("--order", options->order,
-                                 "Point order: morton, random or both (default: both; morton "
-                                 "with --json)");
-  command.subcommand->add_option("--point-size", options->point_size, "Point size in pixels")
-      ->check(CLI::Range(1.0f, 255.0f))
-      ->capture_default_str();
-  command.subcommand->add_option("--shape", options->shape, "square|round")->capture_default_str();
-  command.subcommand->add_flag("--hq", options->hq, "High-quality blending (compute)");
-  command.subcommand->add_flag("--json", options->json,
-                               "Print one JSON object (points_per_second: the median rate)");
-  command.subcommand->add_option(
-      "--orbit", options->orbit_frames,
-      "With a directory: orbit the cloud for this many streamed frames, as the viewer does");
-  command.subcommand
-      ->add_option("--frame-budget", options->frame_budget_ms,
-                   "With --orbit: progressive refinement's time budget per moving frame, ms")
+  sub->add_option("--order", options->order,
+                  "Random points' order: morton, random or both (default: both; morton with "
+                  "--json)");
+  sub->add_flag("--json", options->json,
+                "Print one JSON object (random points: points_per_second, the median rate; an "
+                "orbit: median_ms, p90_ms, worst_ms, settings, rasterizer, atomic64)");
+  sub->add_option("--orbit", options->orbit_frames,
+                  "A point file or octree: N frames of the camera orbiting the cloud's centre, "
+                  "2 degrees a frame (an octree streamed as the viewer does); median, p90 and "
+                  "worst frame times");
+  sub->add_option("--frame-budget", options->frame_budget_ms,
+                  "With an octree's --orbit: progressive refinement's time budget per moving "
+                  "frame, ms")
       ->check(CLI::NonNegativeNumber);
-  command.subcommand->add_flag(
-      "--filter-toggle", options->filter_toggle,
-      "Frames with and without the filter options below (default --returns first), toggled "
-      "every other frame: frame times and the bytes uploaded");
-  addFilterOptions(*command.subcommand, options->filter, "drawn (with --filter-toggle)");
-  command.run = [options] { return runBenchRender(*options); };
+  sub->add_option("--look", options->look,
+                  "render: the look options as `render` reads them (1-pixel squares, unlit, by "
+                  "default); viewer: what `view` shows, round points sized to the local spacing "
+                  "(unless --size-mode, --point-size or --shape is given) lit where the cloud has "
+                  "normals (unless --lighting is given)")
+      ->capture_default_str();
+  sub->add_flag("--no-atomic64", options->no_atomic64,
+                "Compute rasterizer: the 32-bit path even where GL_NV_shader_atomic_int64 is "
+                "offered (the JSON's atomic64 says which path drew)");
+  sub->add_flag("--filter-toggle", options->filter_toggle,
+                "Random points: frames with and without the filter options (default --returns "
+                "first), toggled every other frame: frame times and the bytes uploaded");
+  // Every look option of `view` and `render` (--size-mode, --shape, --point-size, --lighting,
+  // --edl, --color, the filters, --rasterizer, the camera ...) and the level of detail's; --stereo
+  // is the bench's own: repeatable.
+  addRenderOptions(*sub, options->render);
+  sub->remove_option(sub->get_option("--stereo"));
+  sub->add_option("--stereo", options->stereo,
+                  "Stereo mode (" + stereoModeNames() +
+                      "): random points and octrees compare mono with each mode given "
+                      "(repeatable); an orbit or a point file draws in it");
+  addLodOptions(*sub, options->lod);
+  sub->footer(
+      "Each figure comes with a same-run reference: random points beside a bare GL_POINTS loop "
+      "(or, drawn by compute, beside GL_POINTS); a point file's frames interleaved with the same "
+      "look drawn by GL_POINTS (where compute drew) or with 1-pixel unlit squares (where GL_POINTS "
+      "drew); an octree's level-of-detail frame beside the same points drawn plainly.");
+  command.run = [options, sub] { return runBenchRender(*options, *sub); };
   return command;
 }
 

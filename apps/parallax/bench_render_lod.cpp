@@ -13,7 +13,9 @@
 // a frame around the cloud's centre, each frame LodScene::update() (streaming, never waiting)
 // and the renderer, with progressive refinement (render/progressive.h) within --frame-budget ms
 // when given; then, the camera still, the frames until the picture is complete. Prints the
-// frame times (median, 90th percentile, worst) and the points drawn a frame.
+// frame times (median, 90th percentile, worst) and the points drawn a frame; with --json, one
+// JSON object instead (median_ms, p90_ms, worst_ms, the look, which rasterizer drew and whether
+// with 64-bit atomics). The orbit draws in the stereo mode of --stereo MODE (one mode).
 #include "bench_render_lod.h"
 
 #include <algorithm>
@@ -22,8 +24,9 @@
 #include <cstring>
 #include <vector>
 
-#include "lod/octree_open.h"
-#include "lod/octree_url.h"
+#include <nlohmann/json.hpp>
+#include "bench_render_orbit.h"
+#include "bench_timing.h"
 #include "network_options.h"
 #include "render/gl_context.h"
 #include "render/lod_scene.h"
@@ -39,11 +42,6 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-double median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return values[values.size() / 2];
 }
 
 // The points of `nodes` as one cloud (positions and colours), for the plain reference.
@@ -76,7 +74,7 @@ void benchFrame(const LodRenderBenchOptions& o, Octree& octree, const Camera& ca
   lod_settings.selection.min_node_size_px = o.min_node_size;
   LodScene scene(octree);
   RenderTarget target(o.width, o.height);
-  Renderer renderer;
+  Renderer renderer(o.compute);
 
   auto start = Clock::now();
   scene.finishLoading(frame.views, lod_settings);
@@ -103,7 +101,7 @@ void benchFrame(const LodRenderBenchOptions& o, Octree& octree, const Camera& ca
   const NodeSelection selection = selectNodes(octree.nodes(), views, lod_settings.selection, {});
   const GpuPointCloud plain(mergeNodes(octree, selection.nodes));
   const DrawSet plain_set = plain.drawSet();
-  Renderer plain_renderer;
+  Renderer plain_renderer(o.compute);
   for (int i = 0; i <= o.repeat; ++i) {
     start = Clock::now();
     plain_renderer.render(plain_set, frame, settings, target.framebuffer(), o.width, o.height);
@@ -121,27 +119,23 @@ void benchFrame(const LodRenderBenchOptions& o, Octree& octree, const Camera& ca
       draw_s * 1e3, (update_s + draw_s) * 1e3, plain_s * 1e3, (update_s + draw_s) / plain_s);
 }
 
-double percentile(std::vector<double> values, double fraction) {
-  std::sort(values.begin(), values.end());
-  return values[std::min(values.size() - 1, std::size_t(fraction * double(values.size())))];
-}
-
 void benchOrbit(const LodRenderBenchOptions& o, Octree& octree, Camera camera) {
   LodFrameSettings lod_settings;
   lod_settings.selection.point_budget = o.budget;
   lod_settings.selection.min_node_size_px = o.min_node_size;
   LodScene scene(octree);
   RenderTarget target(o.width, o.height);
-  Renderer renderer;
+  Renderer renderer(o.compute);
   ProgressiveSettings progressive_settings;
   if (o.frame_budget_ms > 0) progressive_settings.frame_budget_s = o.frame_budget_ms / 1e3;
   ProgressiveRefinement progressive(progressive_settings);
   const bool refine = o.frame_budget_ms > 0;
   std::vector<double> frame_times, points_drawn;
   std::string rasterizer;
+  bool atomic64 = false;
   auto frame = [&](bool moving) {
     const auto start = Clock::now();
-    const StereoFrame views = stereoFrame(camera, {}, o.width, o.height);
+    const StereoFrame views = stereoFrame(camera, o.orbit_stereo, o.width, o.height);
     const DrawSet& draw_set = scene.update(views.views, lod_settings);
     const FramePart part = refine ? progressive.plan(draw_set, moving) : FramePart{};
     FrameStats stats;
@@ -153,15 +147,17 @@ void benchOrbit(const LodRenderBenchOptions& o, Octree& octree, Camera camera) {
     glFinish();
     if (refine) progressive.record(stats.points_drawn, secondsSince(draw_start));
     rasterizer = stats.rasterizer == RasterizerKind::Compute ? "compute" : "points";
+    // Asked only where compute drew (computeRasterizer() would make one).
+    atomic64 = stats.rasterizer == RasterizerKind::Compute &&
+               renderer.computeRasterizer().uses64BitAtomics();
     return std::pair<double, std::uint64_t>(secondsSince(start), stats.points_drawn);
   };
   // Warm-up: the first picture of the whole cloud, loaded (what the viewer shows first).
-  scene.finishLoading(stereoFrame(camera, {}, o.width, o.height).views, lod_settings);
+  const std::vector<double> load_before = loadAverage();
+  scene.finishLoading(stereoFrame(camera, o.orbit_stereo, o.width, o.height).views, lod_settings);
   frame(true);
-  const glm::dvec3 up = camera.world_up;
   for (int i = 0; i < o.orbit_frames; ++i) {
-    camera.orbit(glm::radians(2.0), 0.0, OrbitMode::Turntable);
-    camera.world_up = up;
+    orbitStep(camera);
     const auto [seconds, points] = frame(true);
     frame_times.push_back(seconds);
     points_drawn.push_back(double(points));
@@ -174,37 +170,64 @@ void benchOrbit(const LodRenderBenchOptions& o, Octree& octree, Camera camera) {
     ++still_frames;
   }
   const double complete_s = secondsSince(stop);
+  const FrameTimeSummary t = summarizeFrames(frame_times);
+  if (o.json) {
+    const nlohmann::json result = {
+        {"bench", "render"},
+        {"mode", "orbit"},
+        {"input", o.directory},
+        {"points", octree.info().point_count},
+        {"budget", o.budget},
+        {"frame_budget_ms", o.frame_budget_ms},
+        {"width", o.width},
+        {"height", o.height},
+        {"frames", t.frames},
+        {"degrees_per_frame", kOrbitDegreesPerFrame},
+        {"asked", rasterizerKindName(o.settings.rasterizer)},
+        {"rasterizer", rasterizer},
+        {"atomic64", atomic64},
+        {"allow_atomic64", o.compute.allow_64bit_atomics},
+        {"settings", lookJson(o.look, o.settings, o.orbit_stereo)},
+        {"median_ms", t.median_ms},
+        {"p90_ms", t.p90_ms},
+        {"worst_ms", t.worst_ms},
+        {"points_drawn", percentile(points_drawn, 0.5)},
+        {"still_frames", still_frames},
+        {"complete_ms", complete_s * 1e3},
+        {"load_average", {{"before", load_before}, {"after", loadAverage()}}}};
+    std::printf("%s\n", result.dump().c_str());
+    return;
+  }
+  std::printf("look (%s): %s\n", o.look.c_str(), lookLine(o.settings, o.orbit_stereo).c_str());
   std::printf(
       "orbit  %d frames (%s%s): frame median %.1f ms, p90 %.1f ms, worst %.1f ms; points a "
       "frame median %.2f M; still: complete after %d frames, %.0f ms\n",
       o.orbit_frames, rasterizer.c_str(),
       refine ? (", budget " + std::to_string(int(o.frame_budget_ms)) + " ms").c_str() : "",
-      percentile(frame_times, 0.5) * 1e3, percentile(frame_times, 0.9) * 1e3,
-      percentile(frame_times, 1.0) * 1e3, percentile(points_drawn, 0.5) / 1e6, still_frames,
+      t.median_ms, t.p90_ms, t.worst_ms, percentile(points_drawn, 0.5) / 1e6, still_frames,
       complete_s * 1e3);
 }
 
 }  // namespace
 
-int runBenchRenderLod(const LodRenderBenchOptions& o) {
-  checkOctreeUrl(o.directory);
-  auto octree = openOctree(o.directory);
+int runBenchRenderLod(const LodRenderBenchOptions& o, Octree& octree) {
   auto context = GlContext::createHeadless();
-  std::printf("bench render: %s, %llu points, budget %llu, %dx%d, median of %d frames, on %s\n",
-              o.directory.c_str(), static_cast<unsigned long long>(octree->info().point_count),
-              static_cast<unsigned long long>(o.budget), o.width, o.height, o.repeat,
-              context->renderer().c_str());
-  const Camera camera = defaultCameraFor(viewExtentOf(*octree), double(o.width) / o.height);
+  if (!o.json) {
+    std::printf("bench render: %s, %llu points, budget %llu, %dx%d, median of %d frames, on %s\n",
+                o.directory.c_str(), static_cast<unsigned long long>(octree.info().point_count),
+                static_cast<unsigned long long>(o.budget), o.width, o.height, o.repeat,
+                context->renderer().c_str());
+  }
   if (o.orbit_frames > 0) {
-    benchOrbit(o, *octree, camera);
+    benchOrbit(o, octree, o.camera);
     return 0;
   }
   const RenderSettings& settings = o.settings;
-  benchFrame(o, *octree, camera, {}, settings);
+  benchFrame(o, octree, o.camera, {}, settings);
   for (const StereoMode mode : o.stereo) {
     StereoSettings stereo;
     stereo.mode = mode;
-    benchFrame(o, *octree, camera, stereo, settings);
+    benchFrame(o, octree, o.camera, stereo, settings);
   }
   return 0;
 }

@@ -1,10 +1,11 @@
 // Timing helpers of the render benchmarks (bench_render*.cpp): process CPU time, the load
-// average beside each figure, medians.
+// average beside each figure, medians and percentiles.
 #pragma once
 
 #include <time.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <fstream>
 #include <vector>
 
@@ -27,6 +28,14 @@ inline std::vector<double> loadAverage() {
 inline double median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   return values.empty() ? 0.0 : values[values.size() / 2];
+}
+
+// The value below which `fraction` of `values` lie: 0.5 the (upper) median, 1.0 the largest. For
+// one set of values, a larger fraction never gives a smaller value. 0 for no values.
+inline double percentile(std::vector<double> values, double fraction) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  return values[std::min(values.size() - 1, std::size_t(fraction * double(values.size())))];
 }
 
 }  // namespace parallax::cli

@@ -71,9 +71,9 @@ int runView(const ViewCommandOptions& o, const CLI::App& command,
   };
   // Unlike `render` (whose fixed 1-pixel, unlit default scripts rely on), the viewer shows
   // surfaces by default: adaptive size and lighting where the cloud allows, unless asked otherwise.
-  viewer.choose_size = command.count("--size-mode") == 0 && command.count("--point-size") == 0 &&
-                       command.count("--shape") == 0;
-  viewer.choose_lighting = command.count("--lighting") == 0;
+  const ViewerLookChoice choice = viewerLookChoiceFrom(command);
+  viewer.choose_size = choice.size;
+  viewer.choose_lighting = choice.lighting;
   return runViewer(viewer);
 }
 

@@ -133,6 +133,12 @@ OctreeCacheSettings octreeCacheSettingsFrom(const LodOptions& o) {
   return settings;
 }
 
+ViewerLookChoice viewerLookChoiceFrom(const CLI::App& command) {
+  return {.size = command.count("--size-mode") == 0 && command.count("--point-size") == 0 &&
+                  command.count("--shape") == 0,
+          .lighting = command.count("--lighting") == 0};
+}
+
 StereoSettings stereoSettingsFrom(const RenderOptions& o) {
   const auto mode = parseStereoMode(o.stereo);
   if (!mode) {

@@ -68,6 +68,11 @@ void addRenderOptions(CLI::App& command, RenderOptions& options);
 // Validated settings; throws std::invalid_argument naming the option and its allowed values.
 RenderSettings renderSettingsFrom(const RenderOptions& options, double typical_spacing);
 
+// What the viewer's look (render_settings.h viewerLook) may choose after `command` parsed
+// addRenderOptions: the size unless --size-mode, --point-size or --shape was given, the lighting
+// unless --lighting was (either way). `parallax view` and `bench render --look viewer`.
+ViewerLookChoice viewerLookChoiceFrom(const CLI::App& command);
+
 // Validated stereo settings (automatic values left at 0); throws std::invalid_argument naming the
 // option and its allowed values.
 StereoSettings stereoSettingsFrom(const RenderOptions& options);

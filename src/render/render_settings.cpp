@@ -73,6 +73,16 @@ std::string_view rasterizerKindName(RasterizerKind kind) {
   return nameOf(kRasterizers, kind);
 }
 
+RenderSettings viewerLook(RenderSettings settings, const RenderSettings& asked,
+                          ViewerLookChoice choice, LookTraits traits) {
+  if (choice.size) {
+    settings.size_mode = traits.spacing_known ? PointSizeMode::Adaptive : asked.size_mode;
+    settings.shape = traits.spacing_known ? PointShape::Round : asked.shape;
+  }
+  if (choice.lighting) settings.lighting = traits.has_normals;
+  return settings;
+}
+
 std::string colorModeNames() {
   // Appended piece by piece: `"|" + std::string(text)` builds a temporary by inserting at its
   // front, which GCC 12 at -O2 misreads as an overlapping memcpy (-Wrestrict, GCC bug 105329).

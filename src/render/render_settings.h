@@ -55,6 +55,30 @@ struct RenderSettings {
   friend bool operator==(const RenderSettings&, const RenderSettings&) = default;
 };
 
+// Which parts of the look the viewer chooses for each cloud it opens: those the user left open
+// (`parallax view` without --size-mode, --point-size or --shape: the size; without --lighting:
+// the lighting).
+struct ViewerLookChoice {
+  bool size = false;
+  bool lighting = false;
+};
+
+// What the viewer needs to know of a cloud to choose its look.
+struct LookTraits {
+  bool spacing_known = false;  // a local spacing (a whole cloud's, or an octree's) is known
+  bool has_normals = false;
+};
+
+// The viewer's look: `settings` with, where `choice` leaves it to the viewer, round points sized
+// to the local spacing (adaptive) where the spacing is known (otherwise `asked`'s size mode and
+// shape), and lighting exactly where the cloud has normals. `asked` is what the options gave
+// before any cloud was opened, so that a second cloud without a known spacing does not keep the
+// first one's choice. Round discs of the local spacing close a scanned surface without the blocky
+// look squares of that size have where the scan is sparse. `parallax view` (through the viewer)
+// and `parallax bench render --look viewer` both call this: the figures watch what people see.
+RenderSettings viewerLook(RenderSettings settings, const RenderSettings& asked,
+                          ViewerLookChoice choice, LookTraits traits);
+
 // "rgb", "elevation", ... ; std::nullopt for an unknown name.
 std::optional<ColorMode> parseColorMode(std::string_view name);
 std::optional<PointSizeMode> parsePointSizeMode(std::string_view name);

@@ -68,13 +68,9 @@ void placeCamera(Session& s, bool first) {
 
 // The look of a newly opened cloud, where the options leave it to the viewer.
 void chooseLook(Session& s, bool spacing_known, bool has_normals) {
-  if (s.options->choose_size) {
-    // Round discs of the local spacing close a scanned surface without the blocky look squares
-    // of that size have where the scan is sparse.
-    s.settings.size_mode = spacing_known ? PointSizeMode::Adaptive : s.options->settings.size_mode;
-    s.settings.shape = spacing_known ? PointShape::Round : s.options->settings.shape;
-  }
-  if (s.options->choose_lighting) s.settings.lighting = has_normals;
+  s.settings = viewerLook(s.settings, s.options->settings,
+                          {.size = s.options->choose_size, .lighting = s.options->choose_lighting},
+                          {.spacing_known = spacing_known, .has_normals = has_normals});
 }
 
 void setTitle(Session& s, const std::filesystem::path& path) {

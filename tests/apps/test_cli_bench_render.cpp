@@ -1,0 +1,208 @@
+// `parallax bench render` on a point file and an octree, end to end on small inputs: the look
+// (the viewer's choice with --look viewer, the options' otherwise), the orbit's JSON (frame-time
+// order, the frames, the size, the reference), and clear errors for bad options. No figure is
+// asserted: only what the command must say about what it measured.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "support/run_parallax.h"
+#include "support/temp_dir.h"
+
+namespace parallax::test {
+namespace {
+
+// A 10 x 10 grid of points 0.5 apart without normals: the spacing is known, no lighting.
+std::string gridPly() {
+  std::ostringstream ply;
+  ply << "ply\nformat ascii 1.0\nelement vertex 100\nproperty float x\nproperty float y\n"
+         "property float z\nend_header\n";
+  for (int i = 0; i < 10; ++i) {
+    for (int j = 0; j < 10; ++j) ply << 0.5 * i << ' ' << 0.5 * j << ' ' << 0.1 * i << '\n';
+  }
+  return ply.str();
+}
+
+// The generated scan (20 000 points, with normals and colours) in `dir`.
+std::filesystem::path generatedScan(const TempDir& dir) {
+  const auto ply = dir / "scan.ply";
+  const RunResult run =
+      runParallax(dir, "generate -q -o " + quoted(ply.string()) + " --points 20000 --seed 3");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  return ply;
+}
+
+void expectOrderedFrameTimes(const nlohmann::json& json) {
+  ASSERT_TRUE(json["median_ms"].is_number()) << json;
+  ASSERT_TRUE(json["p90_ms"].is_number()) << json;
+  ASSERT_TRUE(json["worst_ms"].is_number()) << json;
+  EXPECT_GT(json["median_ms"].get<double>(), 0.0);
+  EXPECT_LE(json["median_ms"].get<double>(), json["p90_ms"].get<double>());
+  EXPECT_LE(json["p90_ms"].get<double>(), json["worst_ms"].get<double>());
+}
+
+// The rasterizer that drew, and the 64-bit atomics only where compute drew.
+void expectRasterizerReported(const nlohmann::json& json) {
+  const std::string rasterizer = json["rasterizer"].get<std::string>();
+  EXPECT_TRUE(rasterizer == "compute" || rasterizer == "points") << rasterizer;
+  ASSERT_TRUE(json["atomic64"].is_boolean()) << json;
+  if (rasterizer == "points") {
+    EXPECT_FALSE(json["atomic64"].get<bool>());
+  }
+}
+
+TEST(CliBenchRender, ViewerLookOrbitOfAFileWithNormalsIsRoundAdaptiveAndLit) {
+  TempDir dir;
+  const auto ply = generatedScan(dir);
+  const RunResult run = runParallax(dir, "bench render " + quoted(ply.string()) +
+                                             " --look viewer --orbit 3 --json --width 64 "
+                                             "--height 48");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);  // one object, nothing else on stdout
+  expectOrderedFrameTimes(json);
+  EXPECT_EQ(json["mode"], "orbit");
+  EXPECT_EQ(json["frames"], 3);
+  EXPECT_EQ(json["width"], 64);
+  EXPECT_EQ(json["height"], 48);
+  EXPECT_EQ(json["points"], 20000);
+  EXPECT_EQ(json["points_drawn"], 20000);  // the whole cloud every frame
+  EXPECT_EQ(json["settings"]["look"], "viewer");
+  EXPECT_EQ(json["settings"]["size_mode"], "adaptive");
+  EXPECT_EQ(json["settings"]["shape"], "round");
+  EXPECT_EQ(json["settings"]["lighting"], true);
+  EXPECT_EQ(json["settings"]["stereo"], "mono");
+  expectRasterizerReported(json);
+  // The same-run reference and the ratio to it.
+  EXPECT_EQ(json["reference"]["rasterizer"], "points");
+  EXPECT_TRUE(json["reference"]["name"].is_string());
+  EXPECT_LE(json["reference"]["median_ms"].get<double>(),
+            json["reference"]["p90_ms"].get<double>());
+  EXPECT_GT(json["ratio"].get<double>(), 0.0);
+  EXPECT_EQ(json["load_average"]["before"].size(), 3u);
+}
+
+TEST(CliBenchRender, ViewerLookLeavesWhatTheOptionsSay) {
+  TempDir dir;
+  const auto ply = generatedScan(dir);
+  const RunResult run = runParallax(dir, "bench render " + quoted(ply.string()) +
+                                             " --look viewer --shape square --lighting=false "
+                                             "--orbit 2 --json --width 32 --height 32");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  EXPECT_EQ(json["settings"]["size_mode"], "fixed");
+  EXPECT_EQ(json["settings"]["shape"], "square");
+  EXPECT_EQ(json["settings"]["lighting"], false);
+}
+
+TEST(CliBenchRender, ViewerLookOfACloudWithoutNormalsIsUnlit) {
+  TempDir dir;
+  const auto ply = dir.write("grid.ply", gridPly());
+  const RunResult run = runParallax(dir, "bench render " + quoted(ply.string()) +
+                                             " --look viewer --orbit 2 --json --width 32 "
+                                             "--height 32 --stereo sbs");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  expectOrderedFrameTimes(json);
+  EXPECT_EQ(json["points"], 100);
+  EXPECT_EQ(json["settings"]["size_mode"], "adaptive");
+  EXPECT_EQ(json["settings"]["shape"], "round");
+  EXPECT_EQ(json["settings"]["lighting"], false);
+  EXPECT_EQ(json["settings"]["stereo"], "sbs");
+}
+
+TEST(CliBenchRender, RenderLookIsTheOptionsAsRenderReadsThem) {
+  TempDir dir;
+  const auto ply = dir.write("grid.ply", gridPly());
+  const RunResult run = runParallax(dir, "bench render " + quoted(ply.string()) +
+                                             " --json --width 32 --height 32 -n 2 --edl "
+                                             "--color elevation --rasterizer points");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  expectOrderedFrameTimes(json);
+  EXPECT_EQ(json["mode"], "still");
+  EXPECT_EQ(json["frames"], 2);
+  EXPECT_EQ(json["rasterizer"], "points");
+  EXPECT_EQ(json["atomic64"], false);
+  EXPECT_EQ(json["settings"]["look"], "render");
+  EXPECT_EQ(json["settings"]["size_mode"], "fixed");
+  EXPECT_EQ(json["settings"]["shape"], "square");
+  EXPECT_EQ(json["settings"]["lighting"], false);
+  EXPECT_EQ(json["settings"]["edl"], true);
+  EXPECT_EQ(json["settings"]["color"], "elevation");
+}
+
+TEST(CliBenchRender, OrbitOfAnOctreeGivesOrderedFrameTimesAndTheViewerLook) {
+  TempDir dir;
+  const auto ply = generatedScan(dir);
+  const auto octree = dir / "scan_octree";
+  const RunResult convert =
+      runParallax(dir, "convert -q " + quoted(ply.string()) + " -o " + quoted(octree.string()));
+  ASSERT_EQ(convert.exit_code, 0) << convert.err;
+  const RunResult run = runParallax(dir, "bench render " + quoted(octree.string()) +
+                                             " --look viewer --orbit 3 --json --width 64 "
+                                             "--height 48 --budget 5000");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  expectOrderedFrameTimes(json);
+  EXPECT_EQ(json["frames"], 3);
+  EXPECT_EQ(json["points"], 20000);
+  EXPECT_EQ(json["budget"], 5000);
+  // (A 20 000-point octree may be one node: the budget cannot cut below it.)
+  EXPECT_GT(json["points_drawn"].get<double>(), 0.0);
+  EXPECT_LE(json["points_drawn"].get<double>(), 20000.0);
+  EXPECT_EQ(json["settings"]["size_mode"], "adaptive");
+  EXPECT_EQ(json["settings"]["shape"], "round");
+  expectRasterizerReported(json);
+}
+
+// Option errors: status 1 and the option named, as `render` reports its own (bad input is 2).
+TEST(CliBenchRender, OrbitOfNoFramesIsAnOptionError) {
+  TempDir dir;
+  const auto ply = dir.write("grid.ply", gridPly());
+  const RunResult run = runParallax(dir, "bench render " + quoted(ply.string()) + " --orbit 0");
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.err.find("--orbit 0: an orbit needs at least 1 frame"), std::string::npos)
+      << run.err;
+  EXPECT_EQ(run.out, "");
+}
+
+TEST(CliBenchRender, UnknownLookIsAnOptionError) {
+  TempDir dir;
+  const auto ply = dir.write("grid.ply", gridPly());
+  const RunResult run =
+      runParallax(dir, "bench render " + quoted(ply.string()) + " --look potree --orbit 2");
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.err.find("--look: unknown look 'potree' (use render"), std::string::npos)
+      << run.err;
+}
+
+TEST(CliBenchRender, OrbitOfTwoStereoModesIsAnOptionError) {
+  TempDir dir;
+  const auto ply = dir.write("grid.ply", gridPly());
+  const RunResult run = runParallax(
+      dir, "bench render " + quoted(ply.string()) + " --orbit 2 --stereo sbs --stereo anaglyph");
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.err.find("--stereo: an orbit draws one stereo mode, 2 were given"),
+            std::string::npos)
+      << run.err;
+}
+
+TEST(CliBenchRender, OrbitOfRandomPointsIsAnOptionError) {
+  TempDir dir;
+  const RunResult run = runParallax(dir, "bench render --points 1000 --orbit 2");
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.err.find("--orbit needs a point file or an octree"), std::string::npos) << run.err;
+}
+
+TEST(CliBenchRender, MissingFileIsABadInputError) {
+  TempDir dir;
+  const RunResult run = runParallax(
+      dir, "bench render " + quoted((dir / "no_such_file.ply").string()) + " --orbit 2");
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_NE(run.err.find("no_such_file.ply"), std::string::npos) << run.err;
+}
+
+}  // namespace
+}  // namespace parallax::test
