@@ -160,8 +160,8 @@ r = json.load(sys.stdin)
 parts = [r.get("rasterizer", "?")]
 if r.get("rasterizer") == "compute":
     parts.append("64-bit atomics" if r.get("atomic64") else "32-bit atomics")
-    if r.get("fallback_chunks"):
-        parts.append("%d of %d chunks by GL_POINTS" % (r["fallback_chunks"], r["chunks_drawn"]))
+    if r.get("large_splats"):
+        parts.append("%d large splats" % r["large_splats"])
 if "median_ms" in r:
     parts.append("median %.2f ms, p90 %.2f ms, worst %.2f ms" % (r["median_ms"], r["p90_ms"], r["worst_ms"]))
 else:

@@ -149,6 +149,9 @@ int runBenchRenderFileOrbit(const FileOrbitBenchOptions& o, const DrawSet& draw_
   const bool compute = look.stats.rasterizer == RasterizerKind::Compute;
   // Only asked of a compute rasterizer that drew (computeRasterizer() would make one).
   const bool atomic64 = compute && ours.computeRasterizer().uses64BitAtomics();
+  // Splats of the look's last frame wider than an inline splat (read back once, after the run).
+  const std::uint64_t large_splats =
+      compute ? ours.computeRasterizer().largeSplatsOfLastFrame() : 0;
   const double ratio = t.median_ms > 0 ? r.median_ms / t.median_ms : 0.0;
   const char* motion = o.degrees_per_frame > 0 ? "orbit" : "still";
 
@@ -169,8 +172,8 @@ int runBenchRenderFileOrbit(const FileOrbitBenchOptions& o, const DrawSet& draw_
         {"atomic64", atomic64},
         {"allow_atomic64", o.compute.allow_64bit_atomics},
         {"fallback_reason", look.stats.fallback_reason},
-        // Chunks of a compute frame whose points may exceed the largest splat: GL_POINTS drew them.
-        {"fallback_chunks", look.stats.fallback_chunks},
+        // Splats of the last frame drawn a workgroup each (wider than an inline splat).
+        {"large_splats", large_splats},
         {"chunks_drawn", look.stats.chunks_drawn},
         {"settings", lookJson(o.look, o.settings, o.stereo)},
         {"median_ms", t.median_ms},
@@ -199,11 +202,10 @@ int runBenchRenderFileOrbit(const FileOrbitBenchOptions& o, const DrawSet& draw_
   if (!look.stats.fallback_reason.empty()) {
     std::printf("compute asked, GL_POINTS drew: %s\n", look.stats.fallback_reason.c_str());
   }
-  if (look.stats.fallback_chunks) {
-    std::printf(
-        "%u of %u chunks with points over %g pixels drawn by GL_POINTS in the look's frames\n",
-        look.stats.fallback_chunks, look.stats.chunks_drawn,
-        double(ComputeRasterizer::kMaxSplatPx));
+  if (large_splats) {
+    std::printf("%llu splats over %g pixels drawn a workgroup each in the look's last frame\n",
+                static_cast<unsigned long long>(large_splats),
+                double(ComputeRasterizer::kInlineSplatPx));
   }
   std::printf("%-30s %-8s %9s %9s %9s %9s %11s\n", "frame times (ms)", "drawn by", "median", "p90",
               "worst", "cpu", "M points/s");
