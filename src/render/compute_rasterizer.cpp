@@ -103,8 +103,9 @@ struct Variant {
            define("LIST_LARGE", list_large) + define("LARGE", large) +
            define("NODE_SPACING", node_spacing) + filterDefines(filter) + "#define BATCH_POINTS " +
            std::to_string(kBatchPoints) + "u\n#define MAX_SPLAT " + std::to_string(max_splat) +
-           "\n#define INLINE_SPLAT " + std::to_string(inline_splat) + "\n#define TIED_MARK " +
-           std::to_string(kTied) + "u\n";
+           "\n#define INLINE_SPLAT " + std::to_string(inline_splat) +
+           "\n#define LARGE_SPLATS_PER_GROUP 64u\n#define TIED_MARK " + std::to_string(kTied) +
+           "u\n";
   }
 };
 
@@ -302,10 +303,10 @@ std::uint32_t ComputeRasterizer::largeSplatsPerGroup() const {
   const std::int64_t limit =
       std::min<std::int64_t>(max_ssbo_bytes_, std::int64_t(options_.max_range_bytes));
   const std::int64_t smallest = std::int64_t(kBatchPoints) * kMaxViews;
-  return std::uint32_t(std::max<std::int64_t>(
-      std::min<std::int64_t>((limit - kLargeHeaderBytes) / kLargeSplatBytes,
-                             options_.large_splats_per_group),
-      smallest));
+  return std::uint32_t(
+      std::max<std::int64_t>(std::min<std::int64_t>((limit - kLargeHeaderBytes) / kLargeSplatBytes,
+                                                    options_.large_splats_per_group),
+                             smallest));
 }
 
 void ComputeRasterizer::ensureLargeSplats() {

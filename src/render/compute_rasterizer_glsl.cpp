@@ -515,19 +515,23 @@ void main() {
 #endif
 }
 #else  // LARGE
-// One workgroup a listed splat, its invocations taking consecutive pixels of its rows: the same
-// touchPixel, key, id and colour as the point would have had drawn inline, so the picture does
-// not depend on which way a splat went.
+// A workgroup takes LARGE_SPLATS_PER_GROUP listed splats one after the other, its invocations
+// taking consecutive pixels of each one's rows: the same touchPixel, key, id and colour as the
+// point would have had drawn inline, so the picture does not depend on which way a splat went.
+// Several splats a workgroup, because llvmpipe spends about 4 us on a workgroup whatever it
+// draws; not more, because an invocation's loops stop after 65 535 iterations in all there
+// (64 splats of 255 x 255 pixels: 64 x 1 017).
 void main() {
-  uint s = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-  if (s < min(large_args.w, u_large_capacity)) {
+  uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  uint last = min(min(large_args.w, u_large_capacity), (group + 1u) * LARGE_SPLATS_PER_GROUP);
+  for (uint s = group * LARGE_SPLATS_PER_GROUP; s < last; ++s) {
     uvec4 a = large_splats[2u * s], b = large_splats[2u * s + 1u];
     vec2 window = uintBitsToFloat(a.xy);
     float size = uintBitsToFloat(a.z);
     int v = int(b.w);
     ivec2 from, to;
     splatPixels(window, size, v, from, to);
-    if (any(greaterThan(from, to))) return;
+    if (any(greaterThan(from, to))) continue;
     uint row = uint(to.x - from.x + 1), pixels = row * uint(to.y - from.y + 1);
     bool color_ready = true;
     uint color = b.y;
@@ -543,7 +547,8 @@ void main() {
 )glsl";
 
 // The large splats listed since the last flush into the size of the LARGE program's indirect
-// dispatch (a workgroup a splat, rows of at most 65 535 workgroups), added to the frame's total
+// dispatch (a workgroup for 64 splats, rows of at most 65 535 workgroups), added to the frame's
+// total
 // in pass 1 (pass 2 lists the flagged ones again), and the count back to 0 for the next ranges. One invocation: the count is read on the GPU,
 // never waited for on the CPU.
 const char* const kLargeSplatArgs = R"glsl(#version 450 core
@@ -558,7 +563,8 @@ uniform uint u_pass;
 void main() {
   uint n = large_count;
   if (u_pass == 1u) large_total += n;
-  large_args = uvec4(min(n, 65535u), (n + 65534u) / 65535u, 1u, n);
+  uint groups = (n + 63u) / 64u;  // LARGE_SPLATS_PER_GROUP
+  large_args = uvec4(min(groups, 65535u), (groups + 65534u) / 65535u, 1u, n);
   large_count = 0u;
 }
 )glsl";
