@@ -66,6 +66,7 @@ int runView(const ViewCommandOptions& o, const CLI::App& command,
   // The measurement file's camera for the first cloud, unless camera options are given.
   std::optional<Camera> saved = viewer.measurements.camera;
   if (!render.eye.empty() || !render.camera_file.empty()) saved.reset();
+  viewer.initial_camera_fits = !saved && render.eye.empty() && render.camera_file.empty();
   viewer.initial_camera = [render, saved](const ViewExtent& extent, double aspect) {
     return saved ? *saved : cameraFrom(render, extent, aspect);
   };
