@@ -346,15 +346,18 @@ void drawPanel(Session& s, const FrameStats& stats) {
 }
 
 void drawEmptyWindowMessage(const Session& s) {
+  // In the middle of the part of the window the panel leaves free.
   const ImGuiViewport* viewport = ImGui::GetMainViewport();
-  ImGui::SetNextWindowPos(ImVec2(viewport->Size.x * 0.5f, viewport->Size.y * 0.5f),
+  const float left = s.show_panel ? s.panel_right.value_or(0.0f) : 0.0f;
+  const float free_width = std::max(viewport->Size.x - left, viewport->Size.x * 0.3f);
+  const float wrap = std::min(free_width * 0.85f, 520.0f);
+  ImGui::SetNextWindowPos(ImVec2(viewport->Size.x - free_width * 0.5f, viewport->Size.y * 0.5f),
                           ImGuiCond_Always, ImVec2(0.5f, 0.5f));
-  ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(viewport->Size.x * 0.6f, FLT_MAX));
   ImGui::Begin("##empty", nullptr,
                ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoInputs |
                    ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
                    ImGuiWindowFlags_NoSavedSettings);
-  ImGui::PushTextWrapPos(viewport->Size.x * 0.55f);
+  ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + wrap);
   if (s.opening) {
     ImGui::TextUnformatted(("opening " + s.opening->url).c_str());
   } else if (!s.error.empty()) {

@@ -661,6 +661,17 @@ TEST(ViewerWindow, ProgressiveRefinementCompletesThePictureAndTheRKeyCyclesRaste
   const std::size_t at = refined_log.find(marker);
   ASSERT_NE(at, std::string::npos) << refined_log;
   EXPECT_GT(std::stoi(refined_log.substr(at + marker.size())), 2) << refined_log;
+  // The picture's points are those of all its parts, more than its first part drew.
+  const std::size_t points_at = refined_log.find(" parts (", at);
+  ASSERT_NE(points_at, std::string::npos) << refined_log;
+  const std::uint64_t picture_points = std::stoull(refined_log.substr(points_at + 8));
+  const std::string first_marker = "first picture after ";
+  const std::size_t first_at = refined_log.find(first_marker);
+  ASSERT_NE(first_at, std::string::npos) << refined_log;
+  const std::uint64_t first_part_points =
+      std::stoull(refined_log.substr(refined_log.find(" s (", first_at) + 4));
+  EXPECT_GT(picture_points, first_part_points) << refined_log;
+  EXPECT_LE(picture_points, 60000u) << refined_log;
   ASSERT_EQ(whole.pixels.size(), refined.pixels.size());
   ASSERT_FALSE(whole.pixels.empty());
   EXPECT_GT(cloudPixels(whole), 3000u) << "the octree is not drawn";
