@@ -107,7 +107,9 @@ void drawMeasurePanel(Session& s) {
     ImGui::Checkbox("save the camera with it", &m.annotation_camera);
   }
   if (m.tool != MeasureTool::None) {
-    ImGui::TextDisabled("click points (Enter finishes, Backspace removes, Esc cancels)");
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("click points (Enter finishes, Backspace removes, Esc cancels)");
+    ImGui::PopStyleColor();
   }
   if (!m.current.points.empty()) {
     ImGui::Separator();
