@@ -207,9 +207,9 @@ TEST(ViewerWindow, QuadBufferFallsBackToSideBySideAndTheThreeKeyCyclesStereoMode
     std::this_thread::sleep_for(300ms);
   };
   int shot_count = 0;
-  auto screenshot = [&] {
+  auto screenshot = [&](const std::string& name = "p") {
     const auto path = shots / ("parallax-screenshot-" + std::to_string(++shot_count) + ".png");
-    key("p");
+    key(name);
     EXPECT_TRUE(waitFor([&] { return std::filesystem::exists(path); }, 30s))
         << "no screenshot " << path << ": " << readFile(log);
     return readPng(path);
@@ -226,7 +226,19 @@ TEST(ViewerWindow, QuadBufferFallsBackToSideBySideAndTheThreeKeyCyclesStereoMode
   // The fallback is said in words; GLFW's own "format unavailable" is not printed first.
   EXPECT_EQ(readFile(log).find("GLFW error"), std::string::npos) << readFile(log);
   std::this_thread::sleep_for(1s);
-  key("g");  // hide the panel (in sbs it starts collapsed, a title bar over the left eye)
+  // In sbs the panel starts collapsed to its title bar: below it, the window is the picture.
+  const RgbaImage picture = screenshot();
+  const RgbaImage window_shot = screenshot("shift+p");
+  ASSERT_EQ(picture.pixels.size(), window_shot.pixels.size());
+  std::size_t covered = 0;
+  for (int y = 40; y < 400; ++y) {
+    for (int x = 0; x < 400; ++x) {
+      const std::size_t i = (std::size_t(y) * 800 + x) * 4;
+      covered += std::memcmp(&picture.pixels[i], &window_shot.pixels[i], 3) != 0;
+    }
+  }
+  EXPECT_EQ(covered, 0u) << "the panel covers the left eye";
+  key("g");  // hide the panel
   const RgbaImage sbs = screenshot();
   ASSERT_EQ(sbs.width, 800);
   const Coverage left = coverage(sbs, 0, 0, 400, 400), right = coverage(sbs, 400, 0, 800, 400);
