@@ -839,7 +839,11 @@ int runViewer(const ViewerOptions& options) {
     } else {
       s.panel_right = 0.0f;
     }
-    if (!s.cloud && !s.lod) drawEmptyWindowMessage(s);
+    if (!s.cloud && !s.lod) {
+      drawEmptyWindowMessage(s);
+    } else {
+      drawErrorBanner(s);
+    }
     if (s.show_help) drawHelp();
     ImGui::Render();
     glViewport(0, 0, width, height);

@@ -345,6 +345,23 @@ void drawPanel(Session& s, const FrameStats& stats) {
   ImGui::End();
 }
 
+void drawErrorBanner(const Session& s) {
+  if (s.error.empty() || (s.show_panel && s.panel_right.value_or(0.0f) > 0.0f)) return;
+  const ImGuiViewport* viewport = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(ImVec2(viewport->Size.x * 0.5f, 10.0f), ImGuiCond_Always,
+                          ImVec2(0.5f, 0.0f));
+  ImGui::Begin("##error", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoInputs |
+                   ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
+                   ImGuiWindowFlags_NoSavedSettings);
+  ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + std::min(viewport->Size.x * 0.7f, 640.0f));
+  ImGui::PushStyleColor(ImGuiCol_Text, kErrorColor);
+  ImGui::TextUnformatted(s.error.c_str());
+  ImGui::PopStyleColor();
+  ImGui::PopTextWrapPos();
+  ImGui::End();
+}
+
 void drawEmptyWindowMessage(const Session& s) {
   // In the middle of the part of the window the panel leaves free.
   const ImGuiViewport* viewport = ImGui::GetMainViewport();

@@ -167,6 +167,9 @@ bool panelStartsCollapsed(const Session& s);
 // While nothing is shown: what to do (drop a file) and why the last open failed, in the middle
 // of the window where the eye is.
 void drawEmptyWindowMessage(const Session& s);
+// While a cloud is shown and the panel is hidden or collapsed: the last failure to open, at the
+// top of the window (the panel shows it at its top otherwise).
+void drawErrorBanner(const Session& s);
 // The filter part of the panel: a checkbox per class, the clip box editor.
 void drawFilterPanel(Session& s);
 // Prepares the filter panel for a newly opened cloud (s.extent set): the classes it may have
