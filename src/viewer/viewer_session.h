@@ -146,6 +146,16 @@ struct Session {
   MeasureSession measure;
 };
 
+// The session of a window (its user pointer).
+Session& sessionOf(GLFWwindow* window);
+// GLFW callbacks (viewer_input.cpp); installed before ImGui's backend, which chains to them.
+void onKey(GLFWwindow* window, int key, int scancode, int action, int mods);
+void onScroll(GLFWwindow* window, double x, double y);
+void onMouseButton(GLFWwindow* window, int button, int action, int mods);
+void onDrop(GLFWwindow* window, int count, const char** paths);
+// The buttons and keys held now, less those ImGui takes (a field being edited, the panel hovered).
+InputState readInput(GLFWwindow* window);
+
 // Fits the camera to what is shown (F).
 void fitCamera(Session& s);
 // Quad-buffer only where the window has a stereo visual; elsewhere sbs, and the user is told.
