@@ -1,11 +1,14 @@
 // The viewer in a real window under Xvfb, driven with xdotool: it opens a file, draws the panel,
-// turns the view on a mouse drag, writes screenshots on P and quits on Escape; in stereo, it
-// falls back from quad-buffer (Xvfb has no stereo visual) to side by side with a message, and
+// turns the view on a mouse drag, writes screenshots on P (the picture, without the panel; Shift
+// + P the window) and quits on Escape; in stereo, it falls back from quad-buffer (Xvfb has no
+// stereo visual) to side by side with a message and no raw GLFW error, the panel collapsed, and
 // the 3 key cycles the stereo modes. Level of detail: a Potree directory is shown and the , key
 // lowers the point budget live; a file over the budget shows a sample, then switches to its
 // octree once built in the background, and a second visit opens the cached octree at once. The
-// first picture and the F key frame the cloud as it projects. Progressive refinement completes
-// an octree's picture in parts; R cycles the rasterizers.
+// first picture and the F key frame the cloud as it projects, beside the panel. Progressive
+// refinement completes an octree's picture in parts; R cycles the rasterizers. The keys go to
+// the 3D view from the start (Tab, W, 3); Esc closes the help before it quits; a failed open is
+// shown in the middle of the window.
 //
 // Needs the Debian packages xvfb and xdotool; skipped (with the reason) where they are missing.
 // Xvfb picks a free display itself (-displayfd), so parallel runs do not collide.
