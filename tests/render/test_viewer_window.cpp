@@ -742,8 +742,9 @@ TEST(ViewerWindow, CtrlClickPrintsThePickedPoint) {
 }
 
 // The keyboard belongs to the 3D view from the start: Tab enters fly mode (the panel's fields are
-// no Tab stops), W held then flies, 3 cycles the stereo mode; Esc closes the help before it quits.
-TEST(ViewerWindow, KeysGoToTheViewAndEscapeClosesTheHelpFirst) {
+// no Tab stops), W held then flies, 3 cycles the stereo mode; Esc closes an open list of the
+// panel and the help before it quits.
+TEST(ViewerWindow, KeysGoToTheViewAndEscapeClosesAListAndTheHelpFirst) {
   if (!onPath("Xvfb") || !onPath("xdotool")) {
     GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
   }
@@ -761,6 +762,24 @@ TEST(ViewerWindow, KeysGoToTheViewAndEscapeClosesTheHelpFirst) {
   ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
   EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
   const RgbaImage before = viewer.screenshot(shots);
+  // A click on the rasterizer's combo (the panel's first, at the same place in every window)
+  // opens its list; Esc closes the list, not the viewer. (Before the camera moves: the panel's
+  // headline is then one line shorter.)
+  viewer.click(120, 137);
+  const RgbaImage list_open = viewer.windowShot(shots);
+  viewer.key("Escape");
+  const RgbaImage list_closed = viewer.windowShot(shots);
+  ASSERT_EQ(list_closed.width, 640) << "the viewer quit on the Escape that closed the list";
+  std::size_t list_pixels = 0;
+  for (int y = 150; y < 210; ++y) {
+    for (int x = 20; x < 240; ++x) {
+      const std::size_t i = (std::size_t(y) * 640 + x) * 4;
+      list_pixels += std::memcmp(&list_open.pixels[i], &list_closed.pixels[i], 3) != 0;
+    }
+  }
+  EXPECT_GT(list_pixels, 200u) << "no list opened and closed below the combo";
+
+  // The panel clicked, Tab still goes to the view.
   viewer.key("Tab");
   EXPECT_TRUE(viewer.logged("parallax view: fly mode on")) << viewer.log();
   viewer.hold("w", 1.5);
