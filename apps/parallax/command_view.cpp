@@ -66,6 +66,7 @@ int runView(const ViewCommandOptions& o, const CLI::App& command,
   // The measurement file's camera for the first cloud, unless camera options are given.
   std::optional<Camera> saved = viewer.measurements.camera;
   if (!render.eye.empty() || !render.camera_file.empty()) saved.reset();
+  viewer.initial_camera_fits = !saved && render.eye.empty() && render.camera_file.empty();
   viewer.initial_camera = [render, saved](const ViewExtent& extent, double aspect) {
     return saved ? *saved : cameraFrom(render, extent, aspect);
   };
@@ -93,9 +94,11 @@ Command addViewCommand(CLI::App& app) {
   sub->add_option("--screenshot-dir", options->screenshot_dir,
                   "Folder for screenshots (P) and saved cameras")
       ->capture_default_str();
-  sub->add_option("--frame-budget", options->frame_budget_ms,
-                  "Octrees: milliseconds a frame may draw while the camera moves; the picture is "
-                  "completed once it stops (progressive refinement). 0: always draw everything")
+  sub->add_option(
+         "--frame-budget", options->frame_budget_ms,
+         "Milliseconds a frame may draw while the camera moves (an octree's largest nodes, "
+         "a point file's largest-looking chunks); the picture is completed once it stops "
+         "(progressive refinement). 0: always draw everything")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 10000.0));
   sub->add_option("--measurements", options->measurements_file,

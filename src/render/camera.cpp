@@ -1,6 +1,7 @@
 #include "render/camera.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
@@ -139,8 +140,16 @@ void Camera::fitToBounds(const Bounds3& bounds, double aspect) {
   ortho_height = std::max(2.002 * half_height, 2.0 * radius * 1e-3);
 }
 
-void Camera::fitToPoints(std::span<const glm::dvec3> points, double aspect, double margin) {
+void Camera::fitToPoints(std::span<const glm::dvec3> points, double aspect, double margin,
+                         double x_from, double x_to) {
   if (points.empty()) return;
+  assert(x_from < x_to && "fitToPoints: an empty window");
+  // A window [x_from, x_to] of the view: the frame is that of a view `part` as wide, whose centre
+  // is `cx` (in tangents of the view's half-angle, perspective) off the axis. Fitting to it is
+  // the symmetric fit of the points sheared by x - cx z (the window's centre ray becomes the
+  // axis), the camera then moved back by cx d along `right` (see below).
+  const double part = 0.5 * (x_to - x_from), window_centre = 0.5 * (x_from + x_to);
+  aspect *= part;
   const glm::dvec3 f = forward(), r = right(), u = up();
   // Coordinates relative to the first point (large UTM values cancel before the products).
   const glm::dvec3 origin = points.front();
@@ -151,12 +160,15 @@ void Camera::fitToPoints(std::span<const glm::dvec3> points, double aspect, doub
   // so the nearest d is (A - B) / (2 kx) with sx = (A + B) / 2; the same for y; d the larger.
   const double keep = 1.0 - std::clamp(margin, 0.0, 0.9);
   const double ky = std::tan(glm::radians(fov_y_deg) / 2) * keep, kx = ky * aspect;
+  const double cx = projection == Projection::Perspective
+                        ? window_centre * std::tan(glm::radians(fov_y_deg) / 2) * aspect / part
+                        : 0.0;
   double ax = -INFINITY, bx = INFINITY, ay = -INFINITY, by = INFINITY;
   double min_x = INFINITY, max_x = -INFINITY, min_y = INFINITY, max_y = -INFINITY;
   double min_z = INFINITY, max_z = -INFINITY;
   for (const glm::dvec3& point : points) {
     const glm::dvec3 p = point - origin;
-    const double x = glm::dot(p, r), y = glm::dot(p, u), z = glm::dot(p, f);
+    const double z = glm::dot(p, f), x = glm::dot(p, r) - cx * z, y = glm::dot(p, u);
     ax = std::max(ax, x - kx * z);
     bx = std::min(bx, x + kx * z);
     ay = std::max(ay, y - ky * z);
@@ -186,7 +198,9 @@ void Camera::fitToPoints(std::span<const glm::dvec3> points, double aspect, doub
         double most = -INFINITY, least = INFINITY;
         for (const glm::dvec3& point : points) {
           const glm::dvec3 p = point - origin;
-          const double ndc = (glm::dot(p, axis == 0 ? r : u) - shift) / (glm::dot(p, f) + distance);
+          const double depth = glm::dot(p, f);
+          const double across = axis == 0 ? glm::dot(p, r) - cx * depth : glm::dot(p, u);
+          const double ndc = (across - shift) / (depth + distance);
           most = std::max(most, ndc), least = std::min(least, ndc);
         }
         (most + least > 0 ? low : high) = shift;
@@ -202,8 +216,18 @@ void Camera::fitToPoints(std::span<const glm::dvec3> points, double aspect, doub
     // Outside the points, as a perspective camera would be (the view does not depend on it).
     distance = -min_z + size;
   }
-  // The pivot: on the view axis at the depth of the points' middle, so orbits keep them centred.
-  pivot = origin + r * shift_x + u * shift_y + f * (0.5 * (min_z + max_z));
+  // Where the sheared fit put the camera, in the points' own space: the window's centre ray
+  // (tangent cx) passes where the axis passed. Orthographic: the window's centre is
+  // window_centre half-widths of the view to the right of the axis.
+  const double mid_z = 0.5 * (min_z + max_z);
+  const double window_offset = projection == Projection::Perspective
+                                   ? 0.0
+                                   : window_centre * 0.5 * ortho_height * aspect / part;
+  shift_x -= cx * distance + window_offset;
+  // The pivot: on the window's centre ray at the depth of the points' middle, so orbits keep
+  // them centred in the window.
+  pivot =
+      origin + r * (shift_x + cx * (mid_z + distance) + window_offset) + u * shift_y + f * mid_z;
   position = origin + r * shift_x + u * shift_y - f * distance;
   if (projection == Projection::Perspective) {
     // What the view spans at the pivot, for a switch to orthographic.

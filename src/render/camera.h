@@ -84,8 +84,13 @@ struct Camera {
   // ortho_height (in perspective, to the view's height at the pivot). Much tighter than
   // fitToBounds for real scans, whose box corners (sky over the ground, empty corners of an
   // irregular site) are nowhere near a point. Empty `points`: nothing changes.
+  // [x_from, x_to]: the part of the view's width to frame them in, in normalised device
+  // coordinates (-1 the left edge, 1 the right; x_from < x_to), where the rest is covered (the
+  // viewer's panel): the projected extent is centred in that part and fills it as it would fill
+  // a view of that width, and the pivot is on the ray through its centre.
   static constexpr double kFitMargin = 0.03;
-  void fitToPoints(std::span<const glm::dvec3> points, double aspect, double margin = kFitMargin);
+  void fitToPoints(std::span<const glm::dvec3> points, double aspect, double margin = kFitMargin,
+                   double x_from = -1.0, double x_to = 1.0);
 
   // World to eye, in double. Callers subtract chunk origins in double before going to float.
   glm::dmat4 viewMatrix() const;

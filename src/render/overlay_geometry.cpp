@@ -1,5 +1,6 @@
 #include "render/overlay_geometry.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string_view>
 
@@ -147,9 +148,19 @@ std::vector<OverlayVertex> overlayTriangles(const OverlayScene& scene, const Vie
     }
   }
   // Labels (they need a font), then markers on top: a label's box may fall on a vertex of
-  // another segment, whose marker must stay visible.
+  // another segment, whose marker must stay visible. Labels never overlap: each is placed at its
+  // anchor or, where an earlier-placed one is, moved a line up or down (a polygon's short edges
+  // and its area, side by side); one that finds no free place within a few lines is left out.
+  // The scene's last labels are placed first: a measurement lists its totals last
+  // (measurementLabels), and they matter more than its segments.
   const std::vector<OverlayLabel> no_labels;
-  for (const OverlayLabel& label : glyphs ? scene.labels : no_labels) {
+  const std::vector<OverlayLabel>& labels = glyphs ? scene.labels : no_labels;
+  struct Box {
+    float x0, y0, x1, y1;
+  };
+  std::vector<Box> placed;
+  for (std::size_t k = labels.size(); k-- > 0;) {
+    const OverlayLabel& label = labels[k];
     const glm::dvec3 eye = t.eye(label.anchor);
     if (!t.inFront(eye) || label.text.empty()) continue;
     const ProjectedPoint p = t.project(eye);
@@ -160,10 +171,25 @@ std::vector<OverlayVertex> overlayTriangles(const OverlayScene& scene, const Vie
     for (unsigned c : codepoints) width += glyphs->glyph(c).advance;
     // Whole pixels: the atlas's texels land on the target's pixels, so the text stays crisp.
     const float left = std::round(float(p.x) + kLabelOffsetPx);
-    const float bottom = std::round(float(p.y) + kLabelOffsetPx);
+    const float step = glyphs->lineHeight() + 2 * kLabelPaddingPx + 1;
+    std::optional<Box> free_box;
+    for (int attempt = 0; attempt < 7 && !free_box; ++attempt) {
+      const float shift = float((attempt + 1) / 2) * (attempt % 2 ? -step : step);
+      const float bottom = std::round(float(p.y) + kLabelOffsetPx) + shift;
+      const Box box{left - kLabelPaddingPx, bottom - kLabelPaddingPx,
+                    left + width + kLabelPaddingPx,
+                    bottom + glyphs->lineHeight() + kLabelPaddingPx};
+      const bool overlaps = std::any_of(placed.begin(), placed.end(), [&](const Box& other) {
+        return box.x0 < other.x1 && other.x0 < box.x1 && box.y0 < other.y1 && other.y0 < box.y1;
+      });
+      if (!overlaps) free_box = box;
+    }
+    if (!free_box) continue;
+    placed.push_back(*free_box);
+    const float bottom = free_box->y0 + kLabelPaddingPx;
     const float top = bottom + glyphs->lineHeight();
-    pushRect(out, left - kLabelPaddingPx, bottom - kLabelPaddingPx, left + width + kLabelPaddingPx,
-             top + kLabelPaddingPx, depth, tx, ty, {0, 0, 0, 0.6f * label.color[3]});
+    pushRect(out, free_box->x0, free_box->y0, free_box->x1, free_box->y1, depth, tx, ty,
+             {0, 0, 0, 0.6f * label.color[3]});
     float pen = left;
     for (unsigned c : codepoints) {
       const OverlayGlyph& g = glyphs->glyph(c);

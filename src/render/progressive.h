@@ -1,4 +1,4 @@
-// Progressive refinement for level-of-detail frames (as CloudCompare and Potree do): while the
+// Progressive refinement for level-of-detail frames and whole clouds (as CloudCompare and Potree do): while the
 // camera moves, each frame draws the most important items of the draw set (a LodScene lists its
 // nodes in priority order) that fit a time budget at the rate measured on the last frames; once
 // the camera stops, the rest is drawn on top of the same picture, a budget at a time, until the
@@ -10,10 +10,12 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "render/draw_set.h"
 #include "render/renderer.h"
+#include "render/view.h"
 
 namespace parallax {
 
@@ -24,6 +26,16 @@ struct ProgressiveSettings {
   // two cores of llvmpipe, so the first frame is about the budget there and far under it on a GPU.
   double initial_points_per_second = 30e6;
 };
+
+// A whole cloud's draw set (a GpuPointCloud's chunks, in file order) reordered for progressive
+// refinement, as a LodScene orders its nodes: the chunks that look largest first (their box's
+// diagonal over the distance from the nearest eye to the box, which is 0 for an eye inside it),
+// those outside every view's frustum last (the renderer skips them; they cost the budget
+// nothing). Everything else is `draw_set`'s. The same camera gives the same order, so a still
+// camera's picture is completed on top of the parts already drawn, and the finished picture is
+// that of the whole set: chunks do not overlap in depth order differently by being drawn later
+// (the depth test decides, and equal depths are rare enough to be a few pixels at most).
+DrawSet prioritizedDrawSet(const DrawSet& draw_set, std::span<const View> views);
 
 class ProgressiveRefinement {
  public:

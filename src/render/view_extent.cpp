@@ -51,17 +51,18 @@ ViewExtent viewExtentOf(const Octree& octree, std::size_t max_points) {
   return extent;
 }
 
-void fitCamera(Camera& camera, const ViewExtent& extent, double aspect) {
+void fitCamera(Camera& camera, const ViewExtent& extent, double aspect, double x_from,
+               double x_to) {
   if (!extent.points.empty()) {
-    camera.fitToPoints(extent.points, aspect);
+    camera.fitToPoints(extent.points, aspect, Camera::kFitMargin, x_from, x_to);
   } else {
     camera.fitToBounds(extent.bounds, aspect);
   }
 }
 
-Camera defaultCameraFor(const ViewExtent& extent, double aspect) {
+Camera defaultCameraFor(const ViewExtent& extent, double aspect, double x_from, double x_to) {
   Camera camera = defaultCameraFor(extent.bounds, aspect);
-  fitCamera(camera, extent, aspect);
+  fitCamera(camera, extent, aspect, x_from, x_to);
   return camera;
 }
 

@@ -32,9 +32,13 @@ ViewExtent viewExtentOf(const PointCloud& cloud, std::size_t max_points = kViewE
 ViewExtent viewExtentOf(const Octree& octree, std::size_t max_points = kViewExtentPoints);
 
 // Fits `camera` (its orientation kept) to the extent's points, or to its bounds when it has none.
-void fitCamera(Camera& camera, const ViewExtent& extent, double aspect);
+// [x_from, x_to]: the part of the view's width to fit into (Camera::fitToPoints; the bounds'
+// fit ignores it).
+void fitCamera(Camera& camera, const ViewExtent& extent, double aspect, double x_from = -1.0,
+               double x_to = 1.0);
 
 // The default view (render/camera.h defaultCameraFor's direction), fitted to the extent.
-Camera defaultCameraFor(const ViewExtent& extent, double aspect);
+Camera defaultCameraFor(const ViewExtent& extent, double aspect, double x_from = -1.0,
+                        double x_to = 1.0);
 
 }  // namespace parallax

@@ -31,17 +31,21 @@ void showValues(const Measurement& m) {
     case MeasurementKind::Distance:
     case MeasurementKind::Profile:
       for (std::size_t i = 0; i < v.segments.size(); ++i) {
-        ImGui::Text("segment %zu: %.3f m", i + 1, v.segments[i]);
+        ImGui::TextWrapped("segment %zu: %.3f m 3D", i + 1, v.segments[i]);
       }
-      ImGui::Text("total %.3f m (horizontal %.3f m, dz %.3f m)", v.total, v.horizontal, v.dz);
-      if (m.kind == MeasurementKind::Profile) ImGui::Text("corridor %.3f m wide", m.profile_width);
+      // Wrapped, never cut: the panel may be narrower than the line.
+      ImGui::TextWrapped("total %.3f m 3D, %.3f m horizontal, dz %.3f m", v.total, v.horizontal,
+                         v.dz);
+      if (m.kind == MeasurementKind::Profile) {
+        ImGui::TextWrapped("corridor %.3f m wide", m.profile_width);
+      }
       break;
     case MeasurementKind::Height:
-      ImGui::Text("dz %.3f m, horizontal %.3f m, distance %.3f m", v.dz, v.horizontal, v.total);
+      ImGui::TextWrapped("dz %.3f m, horizontal %.3f m, 3D %.3f m", v.dz, v.horizontal, v.total);
       break;
     case MeasurementKind::Area:
-      ImGui::Text("area 3D %.3f m², projected %.3f m²", v.area_3d, v.area_projected);
-      ImGui::Text("perimeter %.3f m (%zu edges)", v.total, v.segments.size());
+      ImGui::TextWrapped("area 3D %.3f m², on the ground %.3f m²", v.area_3d, v.area_projected);
+      ImGui::TextWrapped("perimeter %.3f m 3D (%zu edges)", v.total, v.segments.size());
       break;
     case MeasurementKind::Angle:
       ImGui::Text("angle %.2f°", v.angle_deg);
@@ -75,7 +79,8 @@ void plotProfile(const HeightProfile& profile) {
     const float y = origin.y + margin + h - float((p.position.z - z0) / dz) * h;
     draw->AddRectFilled({x, y}, {x + 2, y + 2}, IM_COL32(255, 160, 50, 255));
   }
-  ImGui::Text("%.2f m long, heights %.3f .. %.3f", s1 - s0, z0, z1);
+  // Stations are horizontal distances along the line (the plot's x axis).
+  ImGui::TextWrapped("%.3f m horizontal along the line, heights %.3f .. %.3f m", s1 - s0, z0, z1);
 }
 
 }  // namespace
@@ -102,7 +107,9 @@ void drawMeasurePanel(Session& s) {
     ImGui::Checkbox("save the camera with it", &m.annotation_camera);
   }
   if (m.tool != MeasureTool::None) {
-    ImGui::TextDisabled("click points (Enter finishes, Backspace removes, Esc cancels)");
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("click points (Enter finishes, Backspace removes, Esc cancels)");
+    ImGui::PopStyleColor();
   }
   if (!m.current.points.empty()) {
     ImGui::Separator();
@@ -132,13 +139,17 @@ void drawMeasurePanel(Session& s) {
     ImGui::Text("%zu measurements", m.document.measurements.size());
     for (std::size_t i = 0; i < m.document.measurements.size(); ++i) {
       const Measurement& item = m.document.measurements[i];
-      const std::string text = std::to_string(i + 1) + ". " +
-                               (item.name.empty() ? "" : item.name + ": ") +
-                               describeMeasurement(item, 3);
+      const std::string text =
+          std::to_string(i + 1) + ". " +
+          (item.name.empty() ? std::string(measurementKindName(item.kind)) : item.name);
       ImGui::PushID(int(i));
       if (ImGui::Selectable(text.c_str(), m.selected == i)) {
         m.selected = m.selected == i ? std::nullopt : std::optional<std::size_t>(i);
       }
+      // The values below the name, wrapped: a Selectable would cut them at the panel's edge.
+      ImGui::Indent();
+      ImGui::TextWrapped("%s", describeMeasurement(item, 3).c_str());
+      ImGui::Unindent();
       ImGui::PopID();
     }
   }
@@ -154,8 +165,8 @@ void drawMeasurePanel(Session& s) {
         if (!profile->error.empty()) {
           ImGui::TextWrapped("profile: %s", profile->error.c_str());
         } else {
-          ImGui::Text("%zu points, from %s", profile->profile.samples.size(),
-                      profile->source.c_str());
+          ImGui::TextWrapped("%zu points, from %s", profile->profile.samples.size(),
+                             profile->source.c_str());
           plotProfile(profile->profile);
           if (ImGui::Button("Export CSV")) exportProfile(s, false);
           ImGui::SameLine();

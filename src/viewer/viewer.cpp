@@ -6,6 +6,7 @@
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
+#include <imgui_internal.h>  // ClosePopupToLevel: Esc closes an open list
 
 #include <algorithm>
 #include <array>
@@ -43,23 +44,51 @@ Session& sessionOf(GLFWwindow* window) {
   return *static_cast<Session*>(glfwGetWindowUserPointer(window));
 }
 
-double windowAspect(const Session& s) {
+// The first eye's view of the window (the whole window in mono) and the fraction of its width
+// right of the panel; 1 where the panel is hidden, or where it leaves too little to fit into.
+struct FreeView {
+  double aspect = 1;  // the view's projection aspect
+  double free_fraction = 1;
+};
+
+FreeView freeView(const Session& s) {
   int width = 1, height = 1;
   glfwGetFramebufferSize(s.window, &width, &height);
-  return double(width) / std::max(height, 1);
+  const StereoFrame frame =
+      stereoFrame(s.camera, s.stereo, std::max(width, 1), std::max(height, 1));
+  const View& view = frame.views.front();
+  FreeView free{view.aspect(), 1.0};
+  const double panel_right = !s.show_panel             ? 0.0
+                             : s.panel_right           ? double(*s.panel_right)
+                             : panelStartsCollapsed(s) ? 0.0
+                                                       : 10.0 + panelWidth();
+  // Viewport x is in output pixels for the modes drawn into the output's halves; the composed
+  // modes draw each eye full size from x 0, as the window shows it.
+  const double covered =
+      std::clamp(panel_right - view.viewport.x, 0.0, double(view.viewport.width));
+  const double fraction = 1.0 - covered / std::max(view.viewport.width, 1);
+  // Under about a third left free, a cloud framed there would be a thumbnail: the whole view.
+  if (fraction >= 0.35) free.free_fraction = fraction;
+  return free;
 }
 
 void fitCamera(Session& s) {
-  parallax::fitCamera(s.camera, s.extent, windowAspect(s));
+  const FreeView free = freeView(s);
+  parallax::fitCamera(s.camera, s.extent, free.aspect, 1.0 - 2.0 * free.free_fraction, 1.0);
 }
 
 // The first camera for a newly opened cloud (s.extent): the command line's for the first file.
 void placeCamera(Session& s, bool first) {
-  const double aspect = windowAspect(s);
+  const FreeView free = freeView(s);
+  const double x_from = 1.0 - 2.0 * free.free_fraction;
   if (first && s.options->initial_camera) {
-    s.camera = s.options->initial_camera(s.extent, aspect);
+    s.camera = s.options->initial_camera(s.extent, free.aspect);
+    // A fitted camera, not one the user gave: fitted again into the part right of the panel.
+    if (s.options->initial_camera_fits && x_from > -1.0) {
+      parallax::fitCamera(s.camera, s.extent, free.aspect, x_from, 1.0);
+    }
   } else {
-    s.camera = defaultCameraFor(s.extent, aspect);
+    s.camera = defaultCameraFor(s.extent, free.aspect, x_from, 1.0);
   }
   const auto size = s.extent.bounds.size();
   s.controller.fly_speed =
@@ -154,8 +183,10 @@ void pollOpeningUrl(Session& s) {
     s.status = "opened the octree " + opening.url + " (" +
                std::to_string(s.octree->info().point_count) + " points)";
     setTitle(s, opening.url);
+    s.error.clear();
   } catch (const std::exception& e) {
     s.status = "cannot open " + opening.url + ": " + e.what();
+    s.error = s.status;
   }
   std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
 }
@@ -214,6 +245,7 @@ void pollBuild(Session& s) {
   s.build.reset();
   if (!status.error.empty()) {
     s.status = "building the octree failed: " + status.error;
+    s.error = s.status;
   } else {
     try {
       const std::filesystem::path directory = location->directory();
@@ -223,6 +255,7 @@ void pollBuild(Session& s) {
       s.status = "switched to the level-of-detail octree in " + directory.string() + text;
     } catch (const std::exception& e) {
       s.status = std::string("cannot open the octree just built: ") + e.what();
+      s.error = s.status;
     }
   }
   std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
@@ -247,176 +280,13 @@ void openFile(Session& s, const std::filesystem::path& path, bool first) {
           "opened " + path.string() + " (" + std::to_string(s.cloud->pointCount()) + " points)";
       setTitle(s, path);
     }
+    s.error.clear();
   } catch (const std::exception& e) {
     // Keep whatever was shown before; say why the new file is not.
     s.status = std::string("cannot open ") + path.string() + ": " + e.what();
+    s.error = s.status;
   }
   std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
-}
-
-// Quad-buffer only where the window has a stereo visual; elsewhere sbs, and the user is told.
-void setStereoMode(Session& s, StereoMode mode) {
-  if (mode == StereoMode::QuadBuffer && !s.quad_buffer) {
-    s.status =
-        "quad-buffer stereo: this display offers no stereo (GL_STEREO) visual; showing sbs (side "
-        "by side) instead";
-    mode = StereoMode::SideBySide;
-  } else {
-    s.status = "stereo " + std::string(stereoModeName(mode));
-  }
-  s.stereo.mode = mode;
-  std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
-}
-
-void setRasterizer(Session& s, RasterizerKind kind) {
-  s.settings.rasterizer = kind;
-  int width = 1, height = 1;
-  glfwGetFramebufferSize(s.window, &width, &height);
-  const Composition composition =
-      stereoFrame(s.camera, s.stereo, std::max(width, 1), std::max(height, 1)).composition;
-  std::string reason;
-  const RasterizerKind drawing =
-      s.renderer->chooseRasterizer(s.settings, width, height, composition, &reason);
-  s.status =
-      "rasterizer " + std::string(rasterizerKindName(kind)) + ": " +
-      (drawing == RasterizerKind::Compute ? "the compute rasterizer draws" : "GL_POINTS draws") +
-      (reason.empty() ? "" : " (" + reason + ")");
-  std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
-}
-
-void cycleStereoMode(Session& s) {
-  const auto& modes = allStereoModes();
-  auto next = std::find(modes.begin(), modes.end(), s.stereo.mode) + 1;
-  if (next != modes.end() && *next == StereoMode::QuadBuffer && !s.quad_buffer) ++next;
-  setStereoMode(s, next == modes.end() ? modes.front() : *next);
-}
-
-// Scales the eye separation or the convergence distance, automatic values first made explicit.
-void scaleStereo(Session& s, double separation_factor, double convergence_factor) {
-  const StereoSettings resolved = resolvedStereo(s.stereo, s.camera);
-  s.stereo.eye_separation = resolved.eye_separation * separation_factor;
-  s.stereo.convergence = resolved.convergence * convergence_factor;
-  char text[160];
-  std::snprintf(text, sizeof text, "stereo eye separation %.4g, convergence %.4g",
-                s.stereo.eye_separation, s.stereo.convergence);
-  s.status = text;
-  std::fprintf(stderr, "parallax view: %s\n", text);
-}
-
-void onKey(GLFWwindow* window, int key, int, int action, int mods) {
-  if ((action != GLFW_PRESS && action != GLFW_REPEAT) || ImGui::GetIO().WantCaptureKeyboard) return;
-  Session& s = sessionOf(window);
-  // Held keys repeat only for the stereo adjustments.
-  const bool adjust = key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET ||
-                      key == GLFW_KEY_MINUS || key == GLFW_KEY_EQUAL;
-  if (action == GLFW_REPEAT && !adjust) return;
-  if (measureKey(s, key, mods)) return;
-  switch (key) {
-    case GLFW_KEY_3:
-      cycleStereoMode(s);
-      break;
-    case GLFW_KEY_LEFT_BRACKET:
-      scaleStereo(s, 1.0 / 1.1, 1.0);
-      break;
-    case GLFW_KEY_RIGHT_BRACKET:
-      scaleStereo(s, 1.1, 1.0);
-      break;
-    case GLFW_KEY_MINUS:
-      scaleStereo(s, 1.0, 1.0 / 1.1);
-      break;
-    case GLFW_KEY_EQUAL:
-      scaleStereo(s, 1.0, 1.1);
-      break;
-    case GLFW_KEY_R: {
-      const RasterizerKind next =
-          s.settings.rasterizer == RasterizerKind::Auto      ? RasterizerKind::Compute
-          : s.settings.rasterizer == RasterizerKind::Compute ? RasterizerKind::Points
-                                                             : RasterizerKind::Auto;
-      setRasterizer(s, next);
-      break;
-    }
-    case GLFW_KEY_X:
-      s.stereo.swap_eyes = !s.stereo.swap_eyes;
-      s.status = s.stereo.swap_eyes ? "stereo eyes swapped" : "stereo eyes not swapped";
-      break;
-    case GLFW_KEY_COMMA:
-    case GLFW_KEY_PERIOD: {
-      std::uint64_t& budget = s.lod_settings.selection.point_budget;
-      budget = key == GLFW_KEY_COMMA ? std::max<std::uint64_t>(budget / 2, 1) : budget * 2;
-      s.status = "point budget " + std::to_string(budget);
-      std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
-      break;
-    }
-    case GLFW_KEY_ESCAPE:
-      glfwSetWindowShouldClose(window, GLFW_TRUE);
-      break;
-    case GLFW_KEY_H:
-      s.show_help = !s.show_help;
-      break;
-    case GLFW_KEY_G:
-      s.show_panel = !s.show_panel;
-      break;
-    case GLFW_KEY_F:
-      fitCamera(s);
-      break;
-    case GLFW_KEY_TAB:
-      s.controller.fly = !s.controller.fly;
-      break;
-    case GLFW_KEY_P:
-      s.screenshot_requested = true;
-      break;
-    case GLFW_KEY_V:
-      s.vsync = !s.vsync;
-      glfwSwapInterval(s.vsync ? 1 : 0);
-      break;
-    case GLFW_KEY_O:
-      s.camera.projection = s.camera.projection == Projection::Perspective
-                                ? Projection::Orthographic
-                                : Projection::Perspective;
-      break;
-    case GLFW_KEY_T:
-      s.controller.orbit_mode =
-          s.controller.orbit_mode == OrbitMode::Turntable ? OrbitMode::Free : OrbitMode::Turntable;
-      break;
-    default:
-      break;
-  }
-}
-
-void onScroll(GLFWwindow* window, double, double y) {
-  if (ImGui::GetIO().WantCaptureMouse) return;
-  sessionOf(window).scroll_steps += y;
-}
-
-void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
-  if (ImGui::GetIO().WantCaptureMouse || button != GLFW_MOUSE_BUTTON_LEFT) return;
-  Session& s = sessionOf(window);
-  MeasureSession& measure = s.measure;
-  if (measure.tool != MeasureTool::None && !(mods & GLFW_MOD_CONTROL)) {
-    // With a tool, a click (press and release within a few pixels) adds a point; a drag still
-    // orbits. No double-click pivot meanwhile: two quick clicks are two points.
-    double x = 0, y = 0;
-    glfwGetCursorPos(window, &x, &y);
-    if (action == GLFW_PRESS) {
-      measure.press_valid = true;
-      measure.press_x = x, measure.press_y = y;
-    } else if (action == GLFW_RELEASE && measure.press_valid) {
-      measure.press_valid = false;
-      if (std::hypot(x - measure.press_x, y - measure.press_y) <= 4.0) {
-        measure.click_requested = true;
-        measure.click_x = x, measure.click_y = y;
-      }
-    }
-    return;
-  }
-  if (action != GLFW_PRESS) return;
-  if (mods & GLFW_MOD_CONTROL) {
-    s.point_pick_requested = true;  // not also half of a double-click
-    return;
-  }
-  const double now = glfwGetTime();
-  if (now - s.last_click_time < 0.35) s.pick_requested = true;
-  s.last_click_time = now;
 }
 
 // Ctrl + click and the measurement tools: answered in the frame of the click, after the frame is
@@ -471,11 +341,6 @@ void pickPointAt(Session& s, int x, int y, int width, int height) {
   s.status = "picked a point (panel: Picked point)";
 }
 
-void onDrop(GLFWwindow* window, int count, const char** paths) {
-  Session& s = sessionOf(window);
-  if (count > 0) s.dropped.emplace_back(paths[0]);  // one cloud at a time: the first file
-}
-
 void writeScreenshot(Session& s, int width, int height) {
   std::vector<std::uint8_t> bottom_up(std::size_t(width) * height * 4);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
@@ -499,26 +364,7 @@ void writeScreenshot(Session& s, int width, int height) {
   } catch (const std::exception& e) {
     s.status = std::string("screenshot failed: ") + e.what();
   }
-  std::printf("%s\n", s.status.c_str());
-  std::fflush(stdout);
-}
-
-InputState readInput(GLFWwindow* window) {
-  InputState input;
-  glfwGetCursorPos(window, &input.cursor_x, &input.cursor_y);
-  const ImGuiIO& io = ImGui::GetIO();
-  auto key = [&](int k) { return !io.WantCaptureKeyboard && glfwGetKey(window, k) == GLFW_PRESS; };
-  auto button = [&](int b) {
-    return !io.WantCaptureMouse && glfwGetMouseButton(window, b) == GLFW_PRESS;
-  };
-  input.left = button(GLFW_MOUSE_BUTTON_LEFT);
-  input.right = button(GLFW_MOUSE_BUTTON_RIGHT);
-  input.middle = button(GLFW_MOUSE_BUTTON_MIDDLE);
-  input.shift = key(GLFW_KEY_LEFT_SHIFT) || key(GLFW_KEY_RIGHT_SHIFT);
-  input.forward = key(GLFW_KEY_W), input.back = key(GLFW_KEY_S);
-  input.left_key = key(GLFW_KEY_A), input.right_key = key(GLFW_KEY_D);
-  input.down = key(GLFW_KEY_Q), input.up = key(GLFW_KEY_E);
-  return input;
+  std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
 }
 
 void onGlfwError(int code, const char* description) {
@@ -546,8 +392,13 @@ int runViewer(const ViewerOptions& options) {
   glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, debug ? GLFW_TRUE : GLFW_FALSE);
   const bool want_quad_buffer = options.stereo.mode == StereoMode::QuadBuffer;
   glfwWindowHint(GLFW_STEREO, want_quad_buffer ? GLFW_TRUE : GLFW_FALSE);
+  // Without a stereo visual the first try fails with GLFW's "format unavailable" (0x10009): that
+  // is the expected case of the fallback below, which tells the user in words, so it is not
+  // printed raw.
+  if (want_quad_buffer) glfwSetErrorCallback(nullptr);
   GLFWwindow* window =
       glfwCreateWindow(options.width, options.height, options.title.c_str(), nullptr, nullptr);
+  glfwSetErrorCallback(onGlfwError);
   if (!window && want_quad_buffer) {
     // GLFW_STEREO is a hard constraint: without a stereo visual no window at all. Try again
     // without; the session then falls back to sbs.
@@ -614,7 +465,6 @@ int runViewer(const ViewerOptions& options) {
   if (!options.input.empty()) openFile(s, options.input, true);
 
   auto last = std::chrono::steady_clock::now();
-  double frame_seconds = 0;
   FrameStats stats;
   bool busy = true;  // drew points or had input last frame: poll; otherwise wait for events
   while (!glfwWindowShouldClose(window)) {
@@ -628,6 +478,9 @@ int runViewer(const ViewerOptions& options) {
     const auto now = std::chrono::steady_clock::now();
     const double dt = std::chrono::duration<double>(now - last).count();
     last = now;
+    // A moving camera's frame lasts from this frame's start to the next's, all included.
+    if (s.moved_last_frame) s.moving_frames.add(dt);
+    s.moved_last_frame = false;
 
     int width = 0, height = 0;
     glfwGetFramebufferSize(window, &width, &height);
@@ -636,6 +489,10 @@ int runViewer(const ViewerOptions& options) {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
+    if (s.close_popups) {
+      s.close_popups = false;
+      ImGui::ClosePopupToLevel(0, true);
+    }
 
     const InputState input = readInput(window);
     busy = input.left || input.right || input.middle ||
@@ -674,7 +531,8 @@ int runViewer(const ViewerOptions& options) {
       // a picture refined progressively until it is complete.
       const bool streaming = s.lod && !s.lod->complete();
       bool changed = s.drawn != now_showing;
-      const bool refining = s.lod && s.frame_budget_ms > 0 && !s.progressive.complete();
+      if (changed && s.drawn && s.drawn->camera != now_showing.camera) s.moved_last_frame = true;
+      const bool refining = s.frame_budget_ms > 0 && !s.progressive.complete();
       bool draw = streaming || changed || refining;
       if (!draw &&
           !s.renderer->composite(frame.views, s.settings, 0, width, height, frame.composition)) {
@@ -683,8 +541,10 @@ int runViewer(const ViewerOptions& options) {
       if (draw) {
         const auto start = std::chrono::steady_clock::now();
         const DrawSet* draw_set = &s.draw_set;
+        DrawSet prioritized;
         FramePart part;
-        bool refine = false;
+        // A whole cloud (or a preview) is refined too: its chunks, largest-looking first.
+        bool refine = s.frame_budget_ms > 0;
         if (s.lod) {
           const DrawSet& streamed = s.lod->update(frame.views, s.lod_settings);
           s.lod_stats = s.lod->stats();
@@ -693,8 +553,11 @@ int runViewer(const ViewerOptions& options) {
             draw_set = &streamed;
             s.cloud.reset();
             s.cloud_points.reset();
-            refine = s.frame_budget_ms > 0;
           }
+        }
+        if (refine && draw_set == &s.draw_set) {
+          prioritized = prioritizedDrawSet(s.draw_set, frame.views);
+          draw_set = &prioritized;
         }
         if (refine) {
           ProgressiveSettings progressive = s.progressive.settings();
@@ -709,7 +572,9 @@ int runViewer(const ViewerOptions& options) {
           s.renderer->composite(frame.views, s.settings, 0, width, height, frame.composition);
         } else {
           stats = s.renderer->render(*draw_set, frame, s.settings, 0, width, height, part);
-          s.picture_parts = part.accumulate ? s.picture_parts + 1 : 1;
+          if (!part.accumulate) s.picture_start = start, s.picture_points = 0, s.picture_parts = 0;
+          ++s.picture_parts;
+          s.picture_points += stats.points_drawn;
         }
         if (refine) {
           // The rate is measured on finished drawing (a GPU queues the work otherwise).
@@ -719,12 +584,18 @@ int runViewer(const ViewerOptions& options) {
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
           if (s.progressive.complete() && s.picture_parts > 1 && !s.refined_picture_reported) {
             s.refined_picture_reported = true;
-            std::fprintf(stderr, "parallax view: first picture refined to completion in %d parts\n",
-                         s.picture_parts);
+            std::fprintf(
+                stderr,
+                "parallax view: first picture refined to completion in %d parts (%llu points, "
+                "%.3f s)\n",
+                s.picture_parts, static_cast<unsigned long long>(s.picture_points),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - s.picture_start)
+                    .count());
           }
         }
-        frame_seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        s.picture_seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - s.picture_start)
+                .count();
         s.drawn = now_showing;
         busy = true;
         if (!s.first_picture_reported && stats.points_drawn > 0) {
@@ -756,7 +627,21 @@ int runViewer(const ViewerOptions& options) {
       if (picked) measureClick(s, *picked);
       busy = true;  // the overlay changed: the next frame shows it
     }
-    if (s.show_panel) drawPanel(s, frame_seconds, stats);
+    // P: the picture alone, read before the panel is drawn over it; Shift + P: the window.
+    if (s.screenshot_requested && !s.screenshot_with_panel) {
+      s.screenshot_requested = false;
+      writeScreenshot(s, width, height);
+    }
+    if (s.show_panel) {
+      drawPanel(s, stats);
+    } else {
+      s.panel_right = 0.0f;
+    }
+    if (!s.cloud && !s.lod) {
+      drawEmptyWindowMessage(s);
+    } else {
+      drawErrorBanner(s);
+    }
     if (s.show_help) drawHelp();
     ImGui::Render();
     glViewport(0, 0, width, height);
@@ -767,6 +652,13 @@ int runViewer(const ViewerOptions& options) {
     }
     glfwSwapBuffers(window);
     startBuild(s);
+  }
+  // What a moving camera felt like, in the figures of `parallax bench render --orbit`.
+  if (const FrameTimeSummary moving = s.moving_frames.summary(); moving.frames > 0) {
+    std::fprintf(stderr,
+                 "parallax view: frames while moving: median %.1f ms, p90 %.1f ms, worst %.1f ms "
+                 "(last %zu frames)\n",
+                 moving.median_s * 1e3, moving.p90_s * 1e3, moving.worst_s * 1e3, moving.frames);
   }
   if (s.build && !s.build->status().finished) {
     // The conversion cannot be interrupted and may take minutes: end the process here (what a

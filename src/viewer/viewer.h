@@ -27,6 +27,9 @@ struct ViewerOptions {
   // The first camera for a cloud with this extent (bounds and a sample of points), at this aspect
   // ratio; empty: the default direction fitted to the points as they project.
   std::function<Camera(const ViewExtent&, double aspect)> initial_camera;
+  // initial_camera fits the extent (no camera given by the user): the viewer fits it again, its
+  // direction kept, into the part of the window right of the panel. False: used as it comes.
+  bool initial_camera_fits = true;
   // A look that shows surfaces, chosen for each cloud opened (the `view` command asks for it
   // unless the user chose the size, shape or lighting): round points sized to the local spacing
   // (`settings.size_mode` adaptive, `shape` round) where the spacing is known, and lit by their

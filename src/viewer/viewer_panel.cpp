@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cfloat>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -32,20 +33,28 @@ const char* const kHelp =
     "  H      this help\n"
     "  G      show or hide the panel\n"
     "  F      fit the cloud in view\n"
-    "  Tab    fly mode (W A S D, Q E down/up, shift faster; drag to look)\n"
+    "  Tab    fly mode (W A S D, Q E down/up, shift faster; drag to look); the keys go to\n"
+    "         the 3D view, except while a field of the panel is being edited\n"
     "  O      perspective / orthographic\n"
     "  T      turntable / free orbit\n"
     "  V      vsync on / off\n"
-    "  P      screenshot (PNG, path shown in the panel)\n"
+    "  P      screenshot of the picture (PNG, without the panel; path on stderr and in\n"
+    "         the panel); shift + P: the window as seen, panel included\n"
     "  3      stereo mode: mono, sbs, sbs-squeezed, tb, anaglyph, ... (cycles)\n"
     "  [ ]    stereo eye separation smaller / larger\n"
     "  - =    stereo convergence nearer / farther\n"
     "  X      swap the eyes\n"
     "  , .    point budget halved / doubled (level of detail)\n"
     "  R      rasterizer: auto, compute, points (cycles)\n"
-    "  Esc    quit (while measuring: cancel the measurement)\n"
+    "  Esc    close this help or an open list; cancel a measurement being drawn;\n"
+    "         otherwise quit\n"
     "Drop a point file or a Potree directory on the window to open it; `parallax view URL`\n"
     "streams a Potree directory from a web server.";
+
+// Wide enough for the widest label beside its field ("eye separation ([ ])") and a usable field.
+constexpr float kPanelWidth = 400.0f;
+constexpr const char* kWidestLabel = "eye separation ([ ])";
+const ImVec4 kErrorColor(1.0f, 0.35f, 0.35f, 1.0f);
 
 template <class Enum, std::size_t N>
 bool comboOf(const char* label, Enum& value, const std::array<Enum, N>& values,
@@ -171,18 +180,59 @@ void drawPickedPanel(const Session& s) {
 
 }  // namespace
 
-void drawPanel(Session& s, double frame_seconds, const FrameStats& stats) {
+float panelWidth() {
+  return kPanelWidth;
+}
+
+bool panelStartsCollapsed(const Session& s) {
+  const StereoMode mode = s.stereo.mode;
+  return mode == StereoMode::SideBySide || mode == StereoMode::SideBySideSqueezed ||
+         mode == StereoMode::TopBottom;
+}
+
+void drawPanel(Session& s, const FrameStats& stats) {
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_FirstUseEver);
-  ImGui::Begin("Parallax");
-  ImGui::Text("%s", s.loaded_name.empty() ? "(no cloud: drop a file here)" : s.loaded_name.c_str());
-  // The last frame that drew points (frames that reuse the picture cost next to nothing).
-  ImGui::Text("frame %.1f ms, %.1f FPS", frame_seconds * 1e3,
-              frame_seconds > 0 ? 1.0 / frame_seconds : 0.0);
+  ImGui::SetNextWindowCollapsed(panelStartsCollapsed(s), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(kPanelWidth, 0), ImGuiCond_FirstUseEver);
+  // The keyboard belongs to the 3D view (Tab, WASD, 3, H...) until a field is clicked: the panel
+  // takes no focus when it appears and none of its fields is a Tab stop.
+  if (!ImGui::Begin("Parallax", nullptr, ImGuiWindowFlags_NoFocusOnAppearing)) {
+    s.panel_right = 0.0f;  // collapsed: a title bar only
+    ImGui::End();
+    return;
+  }
+  s.panel_right = ImGui::GetWindowPos().x + ImGui::GetWindowSize().x;
+  ImGui::PushAllowKeyboardFocus(false);
+  // Every label in full beside its field (fields take what the labels leave).
+  ImGui::PushItemWidth(
+      -(ImGui::CalcTextSize(kWidestLabel).x + ImGui::GetStyle().ItemInnerSpacing.x));
+  ImGui::TextWrapped(
+      "%s", s.loaded_name.empty() ? "(no cloud: drop a file here)" : s.loaded_name.c_str());
+  // The last failure to open, first, where the eye is.
+  if (!s.error.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kErrorColor);
+    ImGui::TextWrapped("%s", s.error.c_str());
+    ImGui::PopStyleColor();
+  }
+  // The picture shown: its points (every part of a refined one) and how long it took from the
+  // start of its first part to the end of its last; then the frames of a moving camera.
   const std::uint64_t total =
       s.octree ? s.octree->info().point_count : (s.cloud ? s.cloud->pointCount() : 0);
-  ImGui::Text("points drawn %llu of %llu", static_cast<unsigned long long>(stats.points_drawn),
-              static_cast<unsigned long long>(total));
+  const bool refining = s.frame_budget_ms > 0 && s.picture_parts > 0 && !s.progressive.complete();
+  ImGui::TextWrapped(
+      "picture %llu points of %llu%s, drawn in %.1f ms%s",
+      static_cast<unsigned long long>(s.picture_points), static_cast<unsigned long long>(total),
+      refining ? " so far" : "", s.picture_seconds * 1e3,
+      s.picture_parts > 1 ? (" (" + std::to_string(s.picture_parts) + " parts)").c_str() : "");
+  const FrameTimeSummary moving = s.moving_frames.summary();
+  if (moving.frames > 0) {
+    ImGui::TextWrapped(
+        "moving: %.1f FPS; frame median %.1f ms, p90 %.1f ms, worst %.1f ms (last %zu)",
+        1.0 / std::max(moving.median_s, 1e-6), moving.median_s * 1e3, moving.p90_s * 1e3,
+        moving.worst_s * 1e3, moving.frames);
+  } else {
+    ImGui::TextDisabled("moving: (frame times once the camera moves)");
+  }
   ImGui::Text("GPU memory %.1f MB", (s.cloud ? double(s.cloud->gpuBytes()) / 1e6 : 0.0) +
                                         (s.lod ? double(s.lod_stats.gpu_bytes) / 1e6 : 0.0));
   if (ImGui::Checkbox("vsync (V)", &s.vsync)) glfwSwapInterval(s.vsync ? 1 : 0);
@@ -286,7 +336,51 @@ void drawPanel(Session& s, double frame_seconds, const FrameStats& stats) {
   ImGui::SameLine();
   if (ImGui::Button("screenshot (P)")) s.screenshot_requested = true;
   if (!s.status.empty()) ImGui::TextWrapped("%s", s.status.c_str());
-  ImGui::TextDisabled("H: keys and mouse");
+  ImGui::TextDisabled("H: keys and mouse; drag the panel's edge to widen it");
+  ImGui::PopItemWidth();
+  ImGui::PopAllowKeyboardFocus();
+  ImGui::End();
+}
+
+void drawErrorBanner(const Session& s) {
+  if (s.error.empty() || (s.show_panel && s.panel_right.value_or(0.0f) > 0.0f)) return;
+  const ImGuiViewport* viewport = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(ImVec2(viewport->Size.x * 0.5f, 10.0f), ImGuiCond_Always,
+                          ImVec2(0.5f, 0.0f));
+  ImGui::Begin("##error", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoInputs |
+                   ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
+                   ImGuiWindowFlags_NoSavedSettings);
+  ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + std::min(viewport->Size.x * 0.7f, 640.0f));
+  ImGui::PushStyleColor(ImGuiCol_Text, kErrorColor);
+  ImGui::TextUnformatted(s.error.c_str());
+  ImGui::PopStyleColor();
+  ImGui::PopTextWrapPos();
+  ImGui::End();
+}
+
+void drawEmptyWindowMessage(const Session& s) {
+  // In the middle of the part of the window the panel leaves free.
+  const ImGuiViewport* viewport = ImGui::GetMainViewport();
+  const float left = s.show_panel ? s.panel_right.value_or(0.0f) : 0.0f;
+  const float free_width = std::max(viewport->Size.x - left, viewport->Size.x * 0.3f);
+  const float wrap = std::min(free_width * 0.85f, 520.0f);
+  ImGui::SetNextWindowPos(ImVec2(viewport->Size.x - free_width * 0.5f, viewport->Size.y * 0.5f),
+                          ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+  ImGui::Begin("##empty", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoInputs |
+                   ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing |
+                   ImGuiWindowFlags_NoSavedSettings);
+  ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + wrap);
+  if (s.opening) {
+    ImGui::TextUnformatted(("opening " + s.opening->url).c_str());
+  } else if (!s.error.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kErrorColor);
+    ImGui::TextUnformatted(s.error.c_str());
+    ImGui::PopStyleColor();
+  }
+  ImGui::TextUnformatted("Drop a point file or a Potree directory here (H: keys and mouse)");
+  ImGui::PopTextWrapPos();
   ImGui::End();
 }
 

@@ -7,6 +7,7 @@
 #include <GLFW/glfw3.h>
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <future>
 #include <memory>
@@ -19,6 +20,7 @@
 #include "lod/octree.h"
 #include "lod/octree_cache.h"
 #include "render/camera.h"
+#include "render/frame_times.h"
 #include "render/lod_scene.h"
 #include "render/point_buffers.h"
 #include "render/point_picker.h"
@@ -68,6 +70,15 @@ struct Session {
   double frame_budget_ms = 0;
   int picture_parts = 0;
   bool refined_picture_reported = false;
+  // The picture shown, for the panel's headline: the points in it (every part of a refined
+  // picture) and the seconds from the start of its first part to the end of its last.
+  std::uint64_t picture_points = 0;
+  double picture_seconds = 0;
+  std::chrono::steady_clock::time_point picture_start;
+  // The frames of a moving camera (start of one frame to the start of the next, everything
+  // included: what the user feels), summarised in the panel as `bench render --orbit` does.
+  FrameTimes moving_frames;
+  bool moved_last_frame = false;
   RenderSettings settings;
   StereoSettings stereo;
   bool quad_buffer = false;  // the window has left and right back buffers
@@ -76,8 +87,16 @@ struct Session {
   CameraController controller;
   std::string loaded_name;
   std::string status;  // last message for the user: errors, screenshot paths
+  // The last open that failed (empty once a cloud opens): shown at the top of the panel and,
+  // while nothing is shown, in the middle of the window.
+  std::string error;
   bool show_help = false, show_panel = true, vsync = true;
+  bool close_popups = false;  // Esc with a list of the panel open: the next frame closes it
+  // The panel's right edge in window pixels while it is shown and expanded (0 when collapsed):
+  // the first view and F frame the cloud in the part of the window right of it.
+  std::optional<float> panel_right;  // nullopt: not drawn yet (its default place is assumed)
   bool screenshot_requested = false;
+  bool screenshot_with_panel = false;  // Shift + P: the window as seen, panel included
   int screenshot_count = 0;
   double scroll_steps = 0;
   std::vector<std::string> dropped;
@@ -127,6 +146,16 @@ struct Session {
   MeasureSession measure;
 };
 
+// The session of a window (its user pointer).
+Session& sessionOf(GLFWwindow* window);
+// GLFW callbacks (viewer_input.cpp); installed before ImGui's backend, which chains to them.
+void onKey(GLFWwindow* window, int key, int scancode, int action, int mods);
+void onScroll(GLFWwindow* window, double x, double y);
+void onMouseButton(GLFWwindow* window, int button, int action, int mods);
+void onDrop(GLFWwindow* window, int count, const char** paths);
+// The buttons and keys held now, less those ImGui takes (a field being edited, the panel hovered).
+InputState readInput(GLFWwindow* window);
+
 // Fits the camera to what is shown (F).
 void fitCamera(Session& s);
 // Quad-buffer only where the window has a stereo visual; elsewhere sbs, and the user is told.
@@ -137,7 +166,20 @@ void setRasterizer(Session& s, RasterizerKind kind);
 
 // The panel (G): file, frame time, level of detail, every render setting, stereo, camera,
 // filters.
-void drawPanel(Session& s, double frame_seconds, const FrameStats& stats);
+void drawPanel(Session& s, const FrameStats& stats);
+// The panel's width before it is first drawn (then what it was drawn with): wide enough for
+// every label beside its field.
+float panelWidth();
+// In the stereo modes that show each eye in its own half of the window (sbs, sbs-squeezed, tb)
+// the panel starts collapsed to its title bar: over one eye and not the other it would cover
+// most of that eye and break the fusion. A click on its title bar opens it.
+bool panelStartsCollapsed(const Session& s);
+// While nothing is shown: what to do (drop a file) and why the last open failed, in the middle
+// of the window where the eye is.
+void drawEmptyWindowMessage(const Session& s);
+// While a cloud is shown and the panel is hidden or collapsed: the last failure to open, at the
+// top of the window (the panel shows it at its top otherwise).
+void drawErrorBanner(const Session& s);
 // The filter part of the panel: a checkbox per class, the clip box editor.
 void drawFilterPanel(Session& s);
 // Prepares the filter panel for a newly opened cloud (s.extent set): the classes it may have

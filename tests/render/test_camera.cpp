@@ -213,6 +213,44 @@ TEST(Camera, FitToPointsFillsTheViewOnOneAxisCentredWithTheMargin) {
   }
 }
 
+// Fitted into a part of the view (the viewer's panel covers the rest): centred in that part and
+// filling it as a view of its width would be filled, the pivot on the ray through its middle.
+TEST(Camera, FitToPointsIntoAPartOfTheViewCentresThemThere) {
+  std::mt19937_64 random(17);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const double keep = 1.0 - Camera::kFitMargin;
+  for (int trial = 0; trial < 40; ++trial) {
+    const std::vector<glm::dvec3> points = scanLikePoints(random);
+    Camera camera;
+    camera.lookAt({0, 0, 0}, {unit(random), unit(random), -std::abs(unit(random)) - 0.2},
+                  {0, 0, 1});
+    camera.projection = trial % 2 ? Projection::Orthographic : Projection::Perspective;
+    camera.fov_y_deg = 30 + 40 * std::abs(unit(random));
+    const double aspect = 0.5 + 2.0 * std::abs(unit(random));
+    const double x_from = -0.6 + 0.5 * std::abs(unit(random)), x_to = 1.0;  // 40-65 % covered
+    const double half = 0.5 * (x_to - x_from), centre = 0.5 * (x_from + x_to);
+    const glm::dquat orientation = camera.orientation;
+    camera.fitToPoints(points, aspect, Camera::kFitMargin, x_from, x_to);
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    EXPECT_EQ(camera.orientation, orientation);
+    const Projected p = project(camera, points, aspect);
+    EXPECT_TRUE(p.all_ahead);
+    const double tolerance = 1e-6;
+    // Inside the part less its margin, reaching it on one axis, centred in the part on x.
+    EXPECT_GE(p.min_x, centre - half * keep - tolerance);
+    EXPECT_LE(p.max_x, centre + half * keep + tolerance);
+    EXPECT_LE(std::max(-p.min_y, p.max_y), keep + tolerance);
+    EXPECT_TRUE(p.max_x - p.min_x >= 2 * half * keep - tolerance ||
+                p.max_y - p.min_y >= 2 * keep - tolerance);
+    EXPECT_NEAR(p.min_x + p.max_x, 2 * centre, 1e-6);
+    EXPECT_NEAR(p.min_y + p.max_y, 0.0, 1e-6);
+    // The pivot projects to the part's middle.
+    const Projected pivot = project(camera, std::vector<glm::dvec3>{camera.pivot}, aspect);
+    EXPECT_NEAR(pivot.max_x, centre, 1e-7);
+    EXPECT_NEAR(pivot.max_y, 0.0, 1e-7);
+  }
+}
+
 TEST(Camera, FitToPointsIsTighterThanTheBoxForAScan) {
   std::mt19937_64 random(5);
   const std::vector<glm::dvec3> points = scanLikePoints(random);

@@ -193,5 +193,56 @@ TEST(OverlayGeometry, SegmentThroughTheNearPlaneIsClippedNotMirrored) {
   EXPECT_NEAR(centre->eye_depth, 20.0, 1e-9);
 }
 
+// A font of identical boxes: every glyph 6 x 10 pixels, 7 apart, lines 12 high.
+class BoxGlyphs : public OverlayGlyphs {
+ public:
+  BoxGlyphs() { glyph_ = {0, 0, 6, 10, 0, 0, 1, 1, 7}; }
+  const OverlayGlyph& glyph(unsigned) const override { return glyph_; }
+  float lineHeight() const override { return 12.0f; }
+
+ private:
+  OverlayGlyph glyph_;
+};
+
+// Labels never overlap: the last placed at its anchor (a measurement's total), those that would
+// cover it moved a line away; none dropped while a free line is near.
+TEST(OverlayGeometry, LabelsAtTheSamePlaceAreMovedApart) {
+  const View view{frontCamera(), {0, 0, kWidth, kHeight}};
+  const ClipRange range{1, 100};
+  OverlayScene scene;
+  scene.labels.push_back({utm(0, 0, 0), "12.345 m", {1, 1, 1, 1}});
+  scene.labels.push_back({utm(0, 0, 0), "6.789 m", {1, 1, 1, 1}});
+  scene.labels.push_back({utm(0, 0, 0), "area 42 m2", {1, 1, 1, 1}});
+  const BoxGlyphs glyphs;
+  const auto triangles = overlayTriangles(scene, view, range, &glyphs);
+  // The dark boxes behind the texts: six solid black vertices each.
+  struct Box {
+    float x0, y0, x1, y1;
+  };
+  std::vector<Box> boxes;
+  for (std::size_t i = 0; i + 6 <= triangles.size(); i += 6) {
+    const OverlayVertex& v = triangles[i];
+    if (v.u >= 0 || v.color[0] != 0 || v.color[1] != 0 || v.color[2] != 0) continue;
+    Box box{INFINITY, INFINITY, -INFINITY, -INFINITY};
+    for (std::size_t k = i; k < i + 6; ++k) {
+      box.x0 = std::min(box.x0, triangles[k].x), box.x1 = std::max(box.x1, triangles[k].x);
+      box.y0 = std::min(box.y0, triangles[k].y), box.y1 = std::max(box.y1, triangles[k].y);
+    }
+    boxes.push_back(box);
+  }
+  ASSERT_EQ(boxes.size(), 3u);
+  // The first box is the last label's, at its anchor: 8 pixels up-right, 3 of padding.
+  EXPECT_FLOAT_EQ(boxes[0].x0, kWidth / 2.0f + 8 - 3);
+  EXPECT_FLOAT_EQ(boxes[0].y0, kHeight / 2.0f + 8 - 3);
+  EXPECT_FLOAT_EQ(boxes[0].x1 - boxes[0].x0, 10 * 7 + 6);
+  for (std::size_t a = 0; a < boxes.size(); ++a) {
+    for (std::size_t b = a + 1; b < boxes.size(); ++b) {
+      const bool overlap = boxes[a].x0 < boxes[b].x1 && boxes[b].x0 < boxes[a].x1 &&
+                           boxes[a].y0 < boxes[b].y1 && boxes[b].y0 < boxes[a].y1;
+      EXPECT_FALSE(overlap) << "labels " << a << " and " << b << " overlap";
+    }
+  }
+}
+
 }  // namespace
 }  // namespace parallax::test

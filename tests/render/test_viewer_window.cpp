@@ -1,11 +1,14 @@
 // The viewer in a real window under Xvfb, driven with xdotool: it opens a file, draws the panel,
-// turns the view on a mouse drag, writes screenshots on P and quits on Escape; in stereo, it
-// falls back from quad-buffer (Xvfb has no stereo visual) to side by side with a message, and
+// turns the view on a mouse drag, writes screenshots on P (the picture, without the panel; Shift
+// + P the window) and quits on Escape; in stereo, it falls back from quad-buffer (Xvfb has no
+// stereo visual) to side by side with a message and no raw GLFW error, the panel collapsed, and
 // the 3 key cycles the stereo modes. Level of detail: a Potree directory is shown and the , key
 // lowers the point budget live; a file over the budget shows a sample, then switches to its
 // octree once built in the background, and a second visit opens the cached octree at once. The
-// first picture and the F key frame the cloud as it projects. Progressive refinement completes
-// an octree's picture in parts; R cycles the rasterizers.
+// first picture and the F key frame the cloud as it projects, beside the panel. Progressive
+// refinement completes an octree's picture in parts; R cycles the rasterizers. The keys go to
+// the 3D view from the start (Tab, W, 3); Esc closes the help before it quits; a failed open is
+// shown in the middle of the window.
 //
 // Needs the Debian packages xvfb and xdotool; skipped (with the reason) where they are missing.
 // Xvfb picks a free display itself (-displayfd), so parallel runs do not collide.
@@ -78,9 +81,9 @@ TEST(ViewerWindow, OpensDrawsThePanelTurnsOnDragAndTakesScreenshots) {
   auto xdo = [&](const std::string& args) {
     return run(env + "xdotool " + args + " > /dev/null 2>&1");
   };
-  auto screenshot = [&](int n) {
+  auto screenshot = [&](int n, const std::string& key = "p") {
     const auto path = shots / ("parallax-screenshot-" + std::to_string(n) + ".png");
-    EXPECT_EQ(xdo("key --window " + window + " p"), 0);
+    EXPECT_EQ(xdo("key --window " + window + " " + key), 0);
     EXPECT_TRUE(waitFor([&] { return std::filesystem::exists(path); }, 30s))
         << "no screenshot " << path << ": " << readFile(dir / "viewer.log");
     return readPng(path);
@@ -104,6 +107,7 @@ TEST(ViewerWindow, OpensDrawsThePanelTurnsOnDragAndTakesScreenshots) {
       0);
   std::this_thread::sleep_for(500ms);
   const RgbaImage after = screenshot(2);
+  const RgbaImage window_shot = screenshot(3, "shift+p");
 
   ASSERT_EQ(before.width, 800);
   ASSERT_EQ(before.height, 480);
@@ -112,9 +116,17 @@ TEST(ViewerWindow, OpensDrawsThePanelTurnsOnDragAndTakesScreenshots) {
     const std::uint8_t* p = &image.pixels[(std::size_t(y) * image.width + x) * 4];
     return std::array<int, 3>{p[0], p[1], p[2]};
   };
-  // The panel (ImGui's dark window) is drawn at the top left over the white background.
-  const auto panel = pixel(before, 60, 60);
-  EXPECT_LT(panel[0] + panel[1] + panel[2], 3 * 80) << "no panel at the top left";
+  // P writes the picture alone: the panel (ImGui's dark window, at the top left over the white
+  // background) is in Shift + P's picture of the window only. Each path is printed on stderr.
+  EXPECT_EQ(pixel(before, 60, 60), (std::array<int, 3>{255, 255, 255})) << "a panel in the picture";
+  const auto panel = pixel(window_shot, 60, 60);
+  EXPECT_LT(panel[0] + panel[1] + panel[2], 3 * 80) << "no panel at the top left of the window";
+  for (int n = 1; n <= 3; ++n) {
+    const auto path = shots / ("parallax-screenshot-" + std::to_string(n) + ".png");
+    EXPECT_NE(readFile(dir / "viewer.log").find("parallax view: screenshot: " + path.string()),
+              std::string::npos)
+        << readFile(dir / "viewer.log");
+  }
   // The cloud is drawn, and the drag turned it: the part right of the panel changed.
   std::size_t cloud_pixels = 0, changed = 0;
   for (int y = 0; y < before.height; ++y) {
@@ -131,6 +143,10 @@ TEST(ViewerWindow, OpensDrawsThePanelTurnsOnDragAndTakesScreenshots) {
   xdo("key --window " + window + " Escape");
   EXPECT_EQ(viewer.wait(20s), 0) << "the viewer did not quit on Escape: "
                                  << readFile(dir / "viewer.log");
+  // The drag's frames, summarised on the way out as the orbit benchmark does.
+  EXPECT_NE(readFile(dir / "viewer.log").find("parallax view: frames while moving: median "),
+            std::string::npos)
+      << readFile(dir / "viewer.log");
 }
 
 // Where the cloud's pixels (not the background's colour) are: count, and the middle of their
@@ -194,9 +210,9 @@ TEST(ViewerWindow, QuadBufferFallsBackToSideBySideAndTheThreeKeyCyclesStereoMode
     std::this_thread::sleep_for(300ms);
   };
   int shot_count = 0;
-  auto screenshot = [&] {
+  auto screenshot = [&](const std::string& name = "p") {
     const auto path = shots / ("parallax-screenshot-" + std::to_string(++shot_count) + ".png");
-    key("p");
+    key(name);
     EXPECT_TRUE(waitFor([&] { return std::filesystem::exists(path); }, 30s))
         << "no screenshot " << path << ": " << readFile(log);
     return readPng(path);
@@ -210,8 +226,22 @@ TEST(ViewerWindow, QuadBufferFallsBackToSideBySideAndTheThreeKeyCyclesStereoMode
       logged("quad-buffer stereo: this display offers no stereo (GL_STEREO) visual; "
              "showing sbs (side by side) instead"))
       << readFile(log);
+  // The fallback is said in words; GLFW's own "format unavailable" is not printed first.
+  EXPECT_EQ(readFile(log).find("GLFW error"), std::string::npos) << readFile(log);
   std::this_thread::sleep_for(1s);
-  key("g");  // hide the panel: the whole picture is the cloud's
+  // In sbs the panel starts collapsed to its title bar: below it, the window is the picture.
+  const RgbaImage picture = screenshot();
+  const RgbaImage window_shot = screenshot("shift+p");
+  ASSERT_EQ(picture.pixels.size(), window_shot.pixels.size());
+  std::size_t covered = 0;
+  for (int y = 40; y < 400; ++y) {
+    for (int x = 0; x < 400; ++x) {
+      const std::size_t i = (std::size_t(y) * 800 + x) * 4;
+      covered += std::memcmp(&picture.pixels[i], &window_shot.pixels[i], 3) != 0;
+    }
+  }
+  EXPECT_EQ(covered, 0u) << "the panel covers the left eye";
+  key("g");  // hide the panel
   const RgbaImage sbs = screenshot();
   ASSERT_EQ(sbs.width, 800);
   const Coverage left = coverage(sbs, 0, 0, 400, 400), right = coverage(sbs, 400, 0, 800, 400);
@@ -360,23 +390,63 @@ PixelBox cloudBox(const RgbaImage& image) {
   return box;
 }
 
-// What a fitted view looks like: nothing at the border, centred, one axis filled up to the
-// margin (Camera::kFitMargin of the half-size each side), give or take the 2-pixel points.
-void expectFramed(const PixelBox& box, int width, int height, const std::string& what) {
+// What a fitted view looks like in the part [x_begin, width) of the window: nothing at its
+// border, centred in it, one axis filled up to the margin (Camera::kFitMargin of the half-size
+// each side), give or take the 2-pixel points.
+void expectFramed(const PixelBox& box, int x_begin, int width, int height,
+                  const std::string& what) {
   SCOPED_TRACE(what);
   ASSERT_GE(box.x1, 0) << "nothing drawn";
-  EXPECT_GT(box.x0, 0);
+  EXPECT_GT(box.x0, x_begin);
   EXPECT_GT(box.y0, 0);
   EXPECT_LT(box.x1, width - 1);
   EXPECT_LT(box.y1, height - 1);
-  EXPECT_LE(std::abs(box.x0 - (width - 1 - box.x1)), 3) << box.x0 << ".." << box.x1;
+  EXPECT_LE(std::abs((box.x0 - x_begin) - (width - 1 - box.x1)), 3) << box.x0 << ".." << box.x1;
   EXPECT_LE(std::abs(box.y0 - (height - 1 - box.y1)), 3) << box.y0 << ".." << box.y1;
-  const double fill =
-      std::max(double(box.x1 - box.x0 + 1) / width, double(box.y1 - box.y0 + 1) / height);
+  const double fill = std::max(double(box.x1 - box.x0 + 1) / (width - x_begin),
+                               double(box.y1 - box.y0 + 1) / height);
   EXPECT_GE(fill, 1.0 - Camera::kFitMargin - 3.0 / height);
   EXPECT_LE(fill, 1.0 - Camera::kFitMargin + 3.0 / height);
 }
 
+// The grid's box as the default camera fitted into [x_begin, width) draws it (CPU projection).
+PixelBox projectedGrid(int x_begin, int width, int height) {
+  ViewExtent extent;
+  for (int j = 0; j < 60; ++j) {
+    for (int i = 0; i < 60; ++i) {
+      const double x = i / 59.0 - 0.5, y = j / 59.0 - 0.5;
+      extent.points.emplace_back(x, y, 0.3 * (0.5 - x * x - y * y));
+      extent.bounds.extend(x, y, 0.3 * (0.5 - x * x - y * y));
+    }
+  }
+  const double aspect = double(width) / height;
+  const Camera camera = defaultCameraFor(extent, aspect, 2.0 * x_begin / width - 1.0, 1.0);
+  const glm::dmat4 to_clip =
+      camera.projectionMatrix(aspect, camera.clipRange(extent.bounds)) * camera.viewMatrix();
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  for (const glm::dvec3& p : extent.points) {
+    const glm::dvec4 clip = to_clip * glm::dvec4(p, 1.0);
+    const double px = (clip.x / clip.w + 1) * 0.5 * width;
+    const double py = (1 - clip.y / clip.w) * 0.5 * height;
+    x0 = std::min(x0, px), x1 = std::max(x1, px), y0 = std::min(y0, py), y1 = std::max(y1, py);
+  }
+  return {int(std::lround(x0)), int(std::lround(y0)), int(std::lround(x1)), int(std::lround(y1))};
+}
+
+// The panel's right edge in a picture of the window (Shift + P): on a row through its title bar
+// (the cloud, framed right of the panel, leaves the top rows white), the rightmost pixel that
+// is not the white background, plus one.
+int panelRight(const RgbaImage& window) {
+  const int y = 14;
+  for (int x = window.width - 1; x >= 0; --x) {
+    const std::uint8_t* p = &window.pixels[(std::size_t(y) * window.width + x) * 4];
+    if (p[0] != 255 || p[1] != 255 || p[2] != 255) return x + 1;
+  }
+  return 0;
+}
+
+// The first picture and F frame the cloud in the part of the window the panel leaves free (the
+// panel starts open at the top left); with the panel hidden, F frames it in the whole window.
 TEST(ViewerWindow, FirstPictureAndTheFKeyFrameTheCloud) {
   if (!onPath("Xvfb") || !onPath("xdotool")) {
     GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
@@ -395,47 +465,38 @@ TEST(ViewerWindow, FirstPictureAndTheFKeyFrameTheCloud) {
                        "viewer.log");
   ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
   EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
-  viewer.key("g");  // hide the panel: the whole picture is the cloud's
   std::this_thread::sleep_for(500ms);
-  const RgbaImage first = viewer.screenshot(shots);
+  const RgbaImage first = viewer.screenshot(shots);  // the picture, without the panel
   ASSERT_EQ(first.width, width);
+  const int panel = panelRight(viewer.windowShot(shots));
+  ASSERT_GT(panel, 100) << "no panel";
+  ASSERT_LT(panel, width / 2 + 20) << "the panel (or the cloud) reaches the top right";
   const PixelBox box = cloudBox(first);
-  expectFramed(box, width, height, "first picture");
+  expectFramed(box, panel, width, height, "first picture, beside the panel");
+  // The same box from the grid's points projected on the CPU with the default camera fitted
+  // into the part right of the panel.
+  const PixelBox expected = projectedGrid(panel, width, height);
+  EXPECT_NEAR(box.x0, expected.x0, 2.0);
+  EXPECT_NEAR(box.x1 + 1, expected.x1, 2.0);
+  EXPECT_NEAR(box.y0, expected.y0, 2.0);
+  EXPECT_NEAR(box.y1 + 1, expected.y1, 2.0);
 
-  // The same box from the grid's points projected on the CPU with the default camera.
-  ViewExtent extent;
-  for (int j = 0; j < 60; ++j) {
-    for (int i = 0; i < 60; ++i) {
-      const double x = i / 59.0 - 0.5, y = j / 59.0 - 0.5;
-      extent.points.emplace_back(x, y, 0.3 * (0.5 - x * x - y * y));
-      extent.bounds.extend(x, y, 0.3 * (0.5 - x * x - y * y));
-    }
-  }
-  const double aspect = double(width) / height;
-  const Camera camera = defaultCameraFor(extent, aspect);
-  const glm::dmat4 to_clip =
-      camera.projectionMatrix(aspect, camera.clipRange(extent.bounds)) * camera.viewMatrix();
-  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-  for (const glm::dvec3& p : extent.points) {
-    const glm::dvec4 clip = to_clip * glm::dvec4(p, 1.0);
-    const double px = (clip.x / clip.w + 1) * 0.5 * width;
-    const double py = (1 - clip.y / clip.w) * 0.5 * height;
-    x0 = std::min(x0, px), x1 = std::max(x1, px), y0 = std::min(y0, py), y1 = std::max(y1, py);
-  }
-  EXPECT_NEAR(box.x0, x0, 2.0);
-  EXPECT_NEAR(box.x1 + 1, x1, 2.0);
-  EXPECT_NEAR(box.y0, y0, 2.0);
-  EXPECT_NEAR(box.y1 + 1, y1, 2.0);
-
-  // Turned and zoomed in, then F: framed again from the new direction.
-  viewer.drag(400, 240, 520, 300);
+  // Turned and zoomed in, then F: framed again from the new direction, beside the panel.
+  viewer.drag(600, 240, 700, 300);
   viewer.scroll(3);
   const PixelBox turned = cloudBox(viewer.screenshot(shots));
-  EXPECT_FALSE(turned.x0 > 0 && turned.x1 < width - 1 && turned.y0 > 0 && turned.y1 < height - 1)
-      << "zoomed in, the cloud should reach past the window";
+  EXPECT_FALSE(turned.x0 > panel && turned.x1 < width - 1 && turned.y0 > 0 &&
+               turned.y1 < height - 1)
+      << "zoomed in, the cloud should reach past the free part";
   viewer.key("f");
   std::this_thread::sleep_for(300ms);
-  expectFramed(cloudBox(viewer.screenshot(shots)), width, height, "after F");
+  expectFramed(cloudBox(viewer.screenshot(shots)), panel, width, height, "after F");
+
+  // The panel hidden, F frames the cloud in the whole window.
+  viewer.key("g");
+  viewer.key("f");
+  std::this_thread::sleep_for(300ms);
+  expectFramed(cloudBox(viewer.screenshot(shots)), 0, width, height, "after G and F");
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
 }
 
@@ -493,11 +554,14 @@ TEST(ViewerWindow, CommandLineFiltersReachTheViewer) {
   }
 }
 
-// Pixels of the points right of the panel (x >= 345): all but the white background.
+// The panel's right edge (10 + its 400 pixels) and a little more.
+constexpr int kRightOfPanel = 415;
+
+// Pixels of the points right of the panel: all but the white background.
 std::size_t pointPixelsRightOfPanel(const RgbaImage& image) {
   std::size_t count = 0;
   for (int y = 0; y < image.height; ++y) {
-    for (int x = 345; x < image.width; ++x) {
+    for (int x = kRightOfPanel; x < image.width; ++x) {
       const std::uint8_t* p = &image.pixels[(std::size_t(y) * image.width + x) * 4];
       count += p[0] != 255 || p[1] != 255 || p[2] != 255;
     }
@@ -506,14 +570,14 @@ std::size_t pointPixelsRightOfPanel(const RgbaImage& image) {
 }
 
 // The centre of the panel's legend swatch of `classification` (the square of its colour left
-// of its checkbox, x < 345), or {-1, -1}.
+// of its checkbox, left of the panel's edge), or {-1, -1}.
 std::array<int, 2> legendSwatch(const RgbaImage& image, int classification) {
   const std::array<float, 3> rgb = classColor(classification);
   std::array<int, 3> want{};
   for (std::size_t k = 0; k < 3; ++k) want[k] = int(rgb[k] * 255.0f + 0.5f);  // as ImGui rounds
   int x0 = image.width, x1 = -1, y0 = image.height, y1 = -1;
   for (int y = 0; y < image.height; ++y) {
-    for (int x = 0; x < std::min(345, image.width); ++x) {
+    for (int x = 0; x < std::min(kRightOfPanel, image.width); ++x) {
       const std::uint8_t* p = &image.pixels[(std::size_t(y) * image.width + x) * 4];
       if (p[0] == want[0] && p[1] == want[1] && p[2] == want[2]) {
         x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
@@ -546,7 +610,7 @@ TEST(ViewerWindow, ClickingAClassCheckboxInThePanelChangesThePicture) {
   EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
   // The filters are near the panel's end: scrolled to it (the panel is taller than the window).
   viewer.scrollDownAt(150, 300, 15);
-  const RgbaImage before = viewer.screenshot(shots);
+  const RgbaImage before = viewer.windowShot(shots);  // the panel included
   const std::size_t all = pointPixelsRightOfPanel(before);
   ASSERT_GT(all, 2000u) << "the grid is not drawn";
   const std::array<int, 2> swatch = legendSwatch(before, 6);
@@ -612,6 +676,17 @@ TEST(ViewerWindow, ProgressiveRefinementCompletesThePictureAndTheRKeyCyclesRaste
   const std::size_t at = refined_log.find(marker);
   ASSERT_NE(at, std::string::npos) << refined_log;
   EXPECT_GT(std::stoi(refined_log.substr(at + marker.size())), 2) << refined_log;
+  // The picture's points are those of all its parts, more than its first part drew.
+  const std::size_t points_at = refined_log.find(" parts (", at);
+  ASSERT_NE(points_at, std::string::npos) << refined_log;
+  const std::uint64_t picture_points = std::stoull(refined_log.substr(points_at + 8));
+  const std::string first_marker = "first picture after ";
+  const std::size_t first_at = refined_log.find(first_marker);
+  ASSERT_NE(first_at, std::string::npos) << refined_log;
+  const std::uint64_t first_part_points =
+      std::stoull(refined_log.substr(refined_log.find(" s (", first_at) + 4));
+  EXPECT_GT(picture_points, first_part_points) << refined_log;
+  EXPECT_LE(picture_points, 60000u) << refined_log;
   ASSERT_EQ(whole.pixels.size(), refined.pixels.size());
   ASSERT_FALSE(whole.pixels.empty());
   EXPECT_GT(cloudPixels(whole), 3000u) << "the octree is not drawn";
@@ -664,6 +739,100 @@ TEST(ViewerWindow, CtrlClickPrintsThePickedPoint) {
   const std::string red = "red=" + std::to_string(expected.at("point").at("red").get<int>()) + " ";
   EXPECT_NE(log.find(red), std::string::npos) << log;
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
+}
+
+// The keyboard belongs to the 3D view from the start: Tab enters fly mode (the panel's fields are
+// no Tab stops), W held then flies, 3 cycles the stereo mode; Esc closes an open list of the
+// panel and the help before it quits.
+TEST(ViewerWindow, KeysGoToTheViewAndEscapeClosesAListAndTheHelpFirst) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto cloud = dir.write("grid.ply", gridPly());
+  const auto shots = dir.path() / "shots";
+  std::filesystem::create_directories(shots);
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  ViewerProcess viewer(
+      dir, display.name(),
+      {cloud.string(), "--width", "640", "--height", "400", "--screenshot-dir", shots.string(),
+       "--background", "255,255,255", "--point-size", "3", "--no-vsync"},
+      "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+  const RgbaImage before = viewer.screenshot(shots);
+  // A click on the rasterizer's combo (the panel's first, at the same place in every window)
+  // opens its list; Esc closes the list, not the viewer. (Before the camera moves: the panel's
+  // headline is then one line shorter.)
+  viewer.click(120, 137);
+  const RgbaImage list_open = viewer.windowShot(shots);
+  viewer.key("Escape");
+  const RgbaImage list_closed = viewer.windowShot(shots);
+  ASSERT_EQ(list_closed.width, 640) << "the viewer quit on the Escape that closed the list";
+  std::size_t list_pixels = 0;
+  for (int y = 150; y < 210; ++y) {
+    for (int x = 20; x < 240; ++x) {
+      const std::size_t i = (std::size_t(y) * 640 + x) * 4;
+      list_pixels += std::memcmp(&list_open.pixels[i], &list_closed.pixels[i], 3) != 0;
+    }
+  }
+  EXPECT_GT(list_pixels, 200u) << "no list opened and closed below the combo";
+
+  // The panel clicked, Tab still goes to the view.
+  viewer.key("Tab");
+  EXPECT_TRUE(viewer.logged("parallax view: fly mode on")) << viewer.log();
+  viewer.hold("w", 1.5);
+  const RgbaImage flown = viewer.screenshot(shots);
+  ASSERT_EQ(flown.pixels.size(), before.pixels.size());
+  // Flown: the picture moved (a field with the keyboard would have taken the W instead).
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < flown.pixels.size(); i += 4) {
+    changed += std::memcmp(&flown.pixels[i], &before.pixels[i], 3) != 0;
+  }
+  EXPECT_GT(changed, cloudPixels(before) / 4) << "W did not fly";
+  viewer.key("3");
+  EXPECT_TRUE(viewer.logged("parallax view: stereo sbs")) << viewer.log();
+
+  // H opens the help; Esc closes it and the viewer goes on (it still answers P), the next quits.
+  viewer.key("h");
+  viewer.key("Escape");
+  const RgbaImage after_help = viewer.windowShot(shots);
+  EXPECT_EQ(after_help.width, 640) << "the viewer quit on the Escape that closed the help";
+  EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on the second Escape: " << viewer.log();
+}
+
+// A file that cannot be opened is said where the eye is: in the middle of the empty window (in
+// the error colour), not only at the bottom of the panel.
+TEST(ViewerWindow, AFailedOpenIsShownInTheMiddleOfTheWindow) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto shots = dir.path() / "shots";
+  std::filesystem::create_directories(shots);
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  const auto missing = dir / "no-such-cloud.ply";
+  ViewerProcess viewer(dir, display.name(),
+                       {missing.string(), "--width", "800", "--height", "480", "--screenshot-dir",
+                        shots.string(), "--no-vsync"},
+                       "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: cannot open " + missing.string())) << viewer.log();
+  viewer.key("g");  // the panel hidden: what is left in the middle is the message
+  const RgbaImage window = viewer.windowShot(shots);
+  ASSERT_EQ(window.width, 800);
+  // Reddish text (the error colour, 255, 89, 89) in the middle third of the window.
+  std::size_t red = 0;
+  for (int y = window.height / 3; y < 2 * window.height / 3; ++y) {
+    for (int x = window.width / 4; x < 3 * window.width / 4; ++x) {
+      const std::uint8_t* p = &window.pixels[(std::size_t(y) * window.width + x) * 4];
+      red += p[0] > 180 && p[1] < 130 && p[2] < 130;
+    }
+  }
+  EXPECT_GT(red, 100u) << "no error text in the middle of the window";
+  EXPECT_EQ(viewer.quit(), 0) << viewer.log();
 }
 
 }  // namespace

@@ -229,6 +229,25 @@ class ViewerProcess {
         << "no screenshot " << path << ": " << log();
     return readPng(path);
   }
+  // Shift + P: the window as seen, the panel included (P writes the picture alone).
+  RgbaImage windowShot(const std::filesystem::path& shots) {
+    const auto path = shots / ("parallax-screenshot-" + std::to_string(++shots_) + ".png");
+    key("shift+p");
+    EXPECT_TRUE(waitFor([&] { return std::filesystem::exists(path); }, std::chrono::seconds(30)))
+        << "no window screenshot " << path << ": " << log();
+    return readPng(path);
+  }
+  // Holds `name` down for `seconds` (fly mode's W A S D move while held).
+  void hold(const std::string& name, double seconds) {
+    EXPECT_EQ(run(env_ + "xdotool keydown --window " + window_ + " " + name + " sleep " +
+                  std::to_string(seconds) + " keyup --window " + window_ + " " + name +
+                  " > /dev/null 2>&1"),
+              0)
+        << name;
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  }
+  // Waits up to `timeout` for the viewer to end; its exit status, or -1 while it runs.
+  int wait(std::chrono::milliseconds timeout) { return viewer_.wait(timeout); }
   int quit() {
     // xdotool may fail on the key release when the window is already gone: the exit status of
     // the viewer is what counts.
