@@ -7,7 +7,10 @@
 #include <algorithm>
 #include <cstddef>
 #include <fstream>
+#include <utility>
 #include <vector>
+
+#include "render/frame_times.h"
 
 namespace parallax::cli {
 
@@ -32,10 +35,9 @@ inline double median(std::vector<double> values) {
 
 // The value below which `fraction` of `values` lie: 0.5 the (upper) median, 1.0 the largest. For
 // one set of values, a larger fraction never gives a smaller value. 0 for no values.
+// The benchmarks' percentiles are the viewer's (render/frame_times.h); 0 for no values.
 inline double percentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  return values[std::min(values.size() - 1, std::size_t(fraction * double(values.size())))];
+  return values.empty() ? 0.0 : framePercentile(std::move(values), fraction);
 }
 
 }  // namespace parallax::cli
