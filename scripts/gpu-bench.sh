@@ -25,7 +25,8 @@
 #       100 M-point cloud converted to a Potree octree, both under $TMPDIR (default /tmp), never
 #       $OUT; then `bench render` on random points (compute, 64-bit atomics) and orbits of the
 #       demo cloud at 1280x720: compute with 64-bit atomics, compute with --no-atomic64, GL_POINTS,
-#       `--stereo sbs`, and the viewer's default look (--look viewer, --rasterizer auto); then
+#       `--stereo sbs`, and the viewer's default look (--look viewer, --rasterizer auto; again with
+#       --no-atomic64); then
 #       the 100 M-point octree orbited with --look viewer, a 3 M budget, at 1920x1080.
 #     --quick: the same steps at a small scale (200 k and 2 M points, 320x240, short orbits):
 #     what was tested on llvmpipe with the kit's libraries (`run --quick --allow-llvmpipe` here).
@@ -281,6 +282,7 @@ run() {
   step orbit-points 30 "$parallax" bench render "$demo" --rasterizer points --orbit "$orbit" "${size[@]}" --json
   step orbit-stereo-sbs 30 "$parallax" bench render "$demo" --look viewer --stereo sbs --orbit "$orbit" "${size[@]}" --json
   step orbit-viewer-look 30 "$parallax" bench render "$demo" --look viewer --orbit "$orbit" "${size[@]}" --json
+  step orbit-viewer-look-atomic32 30 "$parallax" bench render "$demo" --look viewer --no-atomic64 --orbit "$orbit" "${size[@]}" --json
   rm -f "$demo"
   step generate-big 60 "$parallax" generate -q -o "$big" --points "$big_points"
   step convert-big 120 "$parallax" convert -q "$big" -o "$octree"

@@ -24,9 +24,9 @@
 // as the GL_POINTS shader does, and every size GL_POINTS draws is a splat here too (square, or
 // round by the same disc test), up to the GL's largest point (GL_POINT_SIZE_RANGE, 255 pixels on
 // llvmpipe), so no look is left to GL_POINTS. A splat up to kInlineSplatPx wide is walked by the
-// invocation that reads its point; a wider one is listed by pass 1 and drawn by a workgroup of
-// its own (the LARGE program: its invocations share the splat's pixels), with the same depth
-// key, id and colour, so the picture does not depend on which way a splat went. HQ mode blends,
+// invocation that reads its point; a wider one is listed by the pass and drawn by the LARGE
+// program after each group of ranges (its invocations share a splat's pixels), with the same
+// depth key, id and colour, so the picture does not depend on which way a splat went. HQ mode blends,
 // per pixel, every point within a relative depth range of the front-most one.
 //
 // Bindings: attributes through buffer textures and the visibility buffer through SSBOs, each

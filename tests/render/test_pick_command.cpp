@@ -302,12 +302,13 @@ TEST(PickCommand, NearestPointWithinTheRadiusAndNothingOnTheBackground) {
   EXPECT_EQ(answer.at("point_pixel"), nlohmann::json({centre->x, centre->y}));
   EXPECT_EQ(answer.at("point").at("intensity"), 77);
   EXPECT_EQ(answer.at("point").at("x").get<double>(), world(p, 0));
-  // Points of 12 pixels, more than the compute rasterizer draws: GL_POINTS draws the picture and
-  // the pick is made on 1-pixel points, the point whose centre is nearest.
+  // Points of 12 pixels: the splat covers the pixel two to the right of its centre, which names
+  // the point itself (distance 0), as the picture shows it.
   answer = pick(dir, las.string(), cameraArgs() + beside + " --point-size 12");
   ASSERT_TRUE(answer.at("found").get<bool>()) << answer.dump();
   EXPECT_EQ(answer.at("point").at("intensity"), 77);
-  EXPECT_EQ(answer.at("distance_px"), 2.0);
+  EXPECT_EQ(answer.at("distance_px"), 0.0);
+  EXPECT_EQ(answer.at("point_pixel"), nlohmann::json({centre->x + 2, centre->y}));
   // --radius 1: too far.
   answer = pick(dir, las.string(), cameraArgs() + beside + " --radius 1");
   EXPECT_EQ(answer, nlohmann::json({{"found", false}}));
