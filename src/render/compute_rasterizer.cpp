@@ -555,6 +555,29 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
                       kLargeHeaderBytes + GLsizeiptr(large_capacity_) * kLargeSplatBytes);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, large_);
   }
+  // The views' uniforms, the same for every program of the frame.
+  float viewports[4 * kMaxViews], pixels_per_unit[kMaxViews], coeffs[4 * kMaxViews];
+  for (std::size_t v = 0; v < eyes.size(); ++v) {
+    const Viewport& vp = eyes[v].viewport;
+    viewports[4 * v + 0] = float(vp.x), viewports[4 * v + 1] = float(vp.y);
+    viewports[4 * v + 2] = float(vp.width), viewports[4 * v + 3] = float(vp.height);
+    pixels_per_unit[v] = eyes[v].pixels_per_unit;
+    const glm::dmat4& p = eyes[v].projection;
+    coeffs[4 * v + 0] = float(p[2][2]), coeffs[4 * v + 1] = float(p[3][2]);
+    coeffs[4 * v + 2] = float(p[2][3]), coeffs[4 * v + 3] = float(p[3][3]);
+  }
+  const GLsizei view_count = GLsizei(eyes.size());
+  // A variant's program, compiled on first use.
+  const auto compiled = [&](const Variant& v, const char* name) -> const ShaderProgram& {
+    const std::uint32_t key = v.key();
+    if (!programs_.count(key)) {
+      programs_.emplace(
+          key, ShaderProgram({{GL_COMPUTE_SHADER, name,
+                               withDefines(glsl::kComputeRasterizer,
+                                           v.defines() + glsl::pointShadingFunctions())}}));
+    }
+    return program(key, false);
+  };
   // Draws the splats listed since the last flush (variant.pass), on the GPU's own count: a
   // one-invocation program turns it into the indirect dispatch's size (a workgroup a splat) and
   // sets it back to 0, so no count is read back and the list is free for the next ranges.
@@ -580,29 +603,13 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     large.large = true;
     large.max_splat = max_point_px_;
     large.inline_splat = inline_splat;
-    const std::uint32_t key = large.key();
-    if (!programs_.count(key)) {
-      programs_.emplace(
-          key, ShaderProgram({{GL_COMPUTE_SHADER, "compute_rasterizer_large.comp",
-                               withDefines(glsl::kComputeRasterizer,
-                                           large.defines() + glsl::pointShadingFunctions())}}));
-    }
-    const ShaderProgram& shader = program(key, false);
+    const ShaderProgram& shader = compiled(large, "compute_rasterizer_large.comp");
     glUseProgram(shader.id());
     glUniform1i(shader.uniform("u_canvas_width"), frame.canvas_width);
     glUniform1f(shader.uniform("u_hq_range"), settings.hq_depth_range);
     glUniform1ui(shader.uniform("u_large_capacity"), large_capacity_);
-    float viewports[4 * kMaxViews], coeffs[4 * kMaxViews];
-    for (std::size_t v = 0; v < eyes.size(); ++v) {
-      const Viewport& vp = eyes[v].viewport;
-      viewports[4 * v + 0] = float(vp.x), viewports[4 * v + 1] = float(vp.y);
-      viewports[4 * v + 2] = float(vp.width), viewports[4 * v + 3] = float(vp.height);
-      const glm::dmat4& p = eyes[v].projection;
-      coeffs[4 * v + 0] = float(p[2][2]), coeffs[4 * v + 1] = float(p[3][2]);
-      coeffs[4 * v + 2] = float(p[2][3]), coeffs[4 * v + 3] = float(p[3][3]);
-    }
-    glUniform4fv(shader.uniform("u_viewport"), GLsizei(eyes.size()), viewports);
-    glUniform4fv(shader.uniform("u_depth_coeffs"), GLsizei(eyes.size()), coeffs);
+    glUniform4fv(shader.uniform("u_viewport"), view_count, viewports);
+    glUniform4fv(shader.uniform("u_depth_coeffs"), view_count, coeffs);
     glDispatchComputeIndirect(kLargeArgsOffset);
     // The next ranges list into the same records: this dispatch has read them first.
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
@@ -610,14 +617,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   // One pass of the points over every range of the work (variant.pass).
   const auto dispatch_points = [&]() {
     const bool needs_colors = variant.pass == 2;
-    const std::uint32_t key = variant.key();
-    if (!programs_.count(key)) {
-      programs_.emplace(
-          key, ShaderProgram({{GL_COMPUTE_SHADER, "compute_rasterizer.comp",
-                               withDefines(glsl::kComputeRasterizer,
-                                           variant.defines() + glsl::pointShadingFunctions())}}));
-    }
-    const ShaderProgram& shader = program(key, false);
+    const ShaderProgram& shader = compiled(variant, "compute_rasterizer.comp");
     glUseProgram(shader.id());
     glUniform1i(shader.uniform("u_canvas_width"), frame.canvas_width);
     glUniform3fv(shader.uniform("u_uniform_color"), 1, settings.uniform_color.data());
@@ -632,17 +632,6 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     std::size_t listed = 0;
     std::optional<FilterUniforms> filter_uniforms;
     if (variant.filter) filter_uniforms.emplace(shader, settings.filter, draw_set);
-    float viewports[4 * kMaxViews], pixels_per_unit[kMaxViews], coeffs[4 * kMaxViews];
-    for (std::size_t v = 0; v < eyes.size(); ++v) {
-      const Viewport& vp = eyes[v].viewport;
-      viewports[4 * v + 0] = float(vp.x), viewports[4 * v + 1] = float(vp.y);
-      viewports[4 * v + 2] = float(vp.width), viewports[4 * v + 3] = float(vp.height);
-      pixels_per_unit[v] = eyes[v].pixels_per_unit;
-      const glm::dmat4& p = eyes[v].projection;
-      coeffs[4 * v + 0] = float(p[2][2]), coeffs[4 * v + 1] = float(p[3][2]);
-      coeffs[4 * v + 2] = float(p[2][3]), coeffs[4 * v + 3] = float(p[3][3]);
-    }
-    const GLsizei view_count = GLsizei(eyes.size());
     glUniform4fv(shader.uniform("u_viewport"), view_count, viewports);
     glUniform1fv(shader.uniform("u_pixels_per_unit"), view_count, pixels_per_unit);
     glUniform4fv(shader.uniform("u_depth_coeffs"), view_count, coeffs);

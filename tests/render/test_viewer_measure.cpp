@@ -23,6 +23,26 @@ namespace {
 
 using namespace std::chrono_literals;
 
+// The distance tool's lines for a measurement of two points: each point as the file holds it
+// (exactly `points`, what `parallax pick` gave), then their distance, printed with six decimals.
+void expectTwoPointDistanceLogged(const std::string& log,
+                                  const std::array<std::array<double, 3>, 2>& points,
+                                  double distance) {
+  for (int i = 0; i < 2; ++i) {
+    const std::string prefix = "parallax view: distance point " + std::to_string(i + 1) + ": ";
+    std::istringstream line(log.substr(log.find(prefix) + prefix.size()));
+    double x = 0, y = 0, z = 0;
+    line >> x >> y >> z;
+    EXPECT_EQ(x, points[i][0]) << log;
+    EXPECT_EQ(y, points[i][1]) << log;
+    EXPECT_EQ(z, points[i][2]) << log;
+  }
+  const std::string prefix = "parallax view: distance ";
+  const auto at = log.find(" m (2 points)");
+  const auto start = log.rfind(prefix, at) + prefix.size();
+  EXPECT_NEAR(std::stod(log.substr(start, at - start)), distance, 5e-7) << log;
+}
+
 // With the distance tool (`--tool distance`), clicking two points and pressing Enter prints the
 // two points (the file's values, exactly those `parallax pick` gives for those pixels) and their
 // distance, computed in double from them.
@@ -76,22 +96,8 @@ TEST(ViewerWindow, DistanceToolClickingTwoPointsPrintsTheirDistance) {
   viewer.key("Return");
   ASSERT_TRUE(viewer.logged("parallax view: distance ", 10s) && viewer.logged(" m (2 points)", 10s))
       << viewer.log();
-  const std::string log = viewer.log();
-  for (int i = 0; i < 2; ++i) {
-    const std::string prefix = "parallax view: distance point " + std::to_string(i + 1) + ": ";
-    std::istringstream line(log.substr(log.find(prefix) + prefix.size()));
-    double x = 0, y = 0, z = 0;
-    line >> x >> y >> z;
-    EXPECT_EQ(x, point(i)[0]) << log;
-    EXPECT_EQ(y, point(i)[1]) << log;
-    EXPECT_EQ(z, point(i)[2]) << log;
-  }
+  expectTwoPointDistanceLogged(viewer.log(), {point(0), point(1)}, distance);
   const std::string prefix = "parallax view: distance ";
-  const auto at = log.find(" m (2 points)");
-  const auto start = log.rfind(prefix, at) + prefix.size();
-  const double printed = std::stod(log.substr(start, at - start));
-  // Printed with six decimals.
-  EXPECT_NEAR(printed, distance, 5e-7) << log;
   // Ctrl + E reopens it (the measurement just finished is the selected one); a third click
   // extends the polyline, Enter puts it back: the total of both segments.
   viewer.key("ctrl+e");
@@ -172,21 +178,8 @@ TEST(ViewerWindow, DistanceOnTheDemoSceneInTheViewersDefaultLook) {
   }
   viewer.key("Return");
   ASSERT_TRUE(viewer.logged(" m (2 points)", 10s)) << viewer.log();
-  const std::string log = viewer.log();
-  EXPECT_EQ(log.find("picked nothing"), std::string::npos) << log;
-  for (int i = 0; i < 2; ++i) {
-    const std::string prefix = "parallax view: distance point " + std::to_string(i + 1) + ": ";
-    std::istringstream line(log.substr(log.find(prefix) + prefix.size()));
-    double x = 0, y = 0, z = 0;
-    line >> x >> y >> z;
-    EXPECT_EQ(x, point(i)[0]) << log;
-    EXPECT_EQ(y, point(i)[1]) << log;
-    EXPECT_EQ(z, point(i)[2]) << log;
-  }
-  const std::string prefix = "parallax view: distance ";
-  const auto at = log.find(" m (2 points)");
-  const auto start = log.rfind(prefix, at) + prefix.size();
-  EXPECT_NEAR(std::stod(log.substr(start, at - start)), distance, 5e-7) << log;
+  EXPECT_EQ(viewer.log().find("picked nothing"), std::string::npos) << viewer.log();
+  expectTwoPointDistanceLogged(viewer.log(), {point(0), point(1)}, distance);
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
 }
 
