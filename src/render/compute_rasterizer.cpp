@@ -465,8 +465,8 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     double eye_z = 0.0;  // of the chunk's centre in the first view
   };
   std::vector<Work> work;
-  // Whether any point may be wider than an inline splat: only then is the list of large splats
-  // made (and its count read back).
+  // Whether any point may be wider than an inline splat: only then are large splats listed (and
+  // the ranges cut to fit the list).
   const float inline_splat = inlineSplatPx(eyes.size());
   bool any_large = variant.splat && settings.size_mode == PointSizeMode::Fixed &&
                    settings.point_size_px > inline_splat;
@@ -723,6 +723,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   variant.pass = 2;
   dispatch_points();
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  if (any_large) glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
   listed_large_splats_ = any_large;
 
   // The resolve: the visibility buffer into the bound framebuffer, view by view.
