@@ -1,6 +1,7 @@
 #include "render/compute_rasterizer.h"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <cstdlib>
