@@ -182,17 +182,24 @@ std::vector<glm::dvec3> scanLikePoints(std::mt19937_64& random) {
   return points;
 }
 
+// A camera at the origin looking down at a random direction, orthographic on odd trials, with a
+// field of view of 30-70 degrees.
+Camera randomDownwardCamera(std::mt19937_64& random, int trial) {
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  Camera camera;
+  camera.lookAt({0, 0, 0}, {unit(random), unit(random), -std::abs(unit(random)) - 0.2}, {0, 0, 1});
+  camera.projection = trial % 2 ? Projection::Orthographic : Projection::Perspective;
+  camera.fov_y_deg = 30 + 40 * std::abs(unit(random));
+  return camera;
+}
+
 TEST(Camera, FitToPointsFillsTheViewOnOneAxisCentredWithTheMargin) {
   std::mt19937_64 random(11);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   const double keep = 1.0 - Camera::kFitMargin;
   for (int trial = 0; trial < 40; ++trial) {
     const std::vector<glm::dvec3> points = scanLikePoints(random);
-    Camera camera;
-    camera.lookAt({0, 0, 0}, {unit(random), unit(random), -std::abs(unit(random)) - 0.2},
-                  {0, 0, 1});
-    camera.projection = trial % 2 ? Projection::Orthographic : Projection::Perspective;
-    camera.fov_y_deg = 30 + 40 * std::abs(unit(random));
+    Camera camera = randomDownwardCamera(random, trial);
     const double aspect = 0.5 + 2.0 * std::abs(unit(random));
     const glm::dquat orientation = camera.orientation;
     camera.fitToPoints(points, aspect);
@@ -221,11 +228,7 @@ TEST(Camera, FitToPointsIntoAPartOfTheViewCentresThemThere) {
   const double keep = 1.0 - Camera::kFitMargin;
   for (int trial = 0; trial < 40; ++trial) {
     const std::vector<glm::dvec3> points = scanLikePoints(random);
-    Camera camera;
-    camera.lookAt({0, 0, 0}, {unit(random), unit(random), -std::abs(unit(random)) - 0.2},
-                  {0, 0, 1});
-    camera.projection = trial % 2 ? Projection::Orthographic : Projection::Perspective;
-    camera.fov_y_deg = 30 + 40 * std::abs(unit(random));
+    Camera camera = randomDownwardCamera(random, trial);
     const double aspect = 0.5 + 2.0 * std::abs(unit(random));
     const double x_from = -0.6 + 0.5 * std::abs(unit(random)), x_to = 1.0;  // 40-65 % covered
     const double half = 0.5 * (x_to - x_from), centre = 0.5 * (x_from + x_to);
