@@ -23,6 +23,22 @@ namespace {
 
 using namespace std::chrono_literals;
 
+// With the distance tool: the panel off the picture, a click on each pick's pixel (each logged
+// as a point of the measurement), Enter, and the distance logged.
+void measureBetweenTwoPicks(ViewerProcess& viewer, const nlohmann::json& first,
+                            const nlohmann::json& second) {
+  viewer.key("g");
+  const nlohmann::json* picks[] = {&first, &second};
+  for (int i = 0; i < 2; ++i) {
+    viewer.click(picks[i]->at("point_pixel")[0], picks[i]->at("point_pixel")[1]);
+    ASSERT_TRUE(viewer.logged("parallax view: distance point " + std::to_string(i + 1) + ": "))
+        << viewer.log();
+  }
+  viewer.key("Return");
+  ASSERT_TRUE(viewer.logged("parallax view: distance ", 10s) && viewer.logged(" m (2 points)", 10s))
+      << viewer.log();
+}
+
 // The distance tool's lines for a measurement of two points: each point as the file holds it
 // (exactly `points`, what `parallax pick` gave), then their distance, printed with six decimals.
 void expectTwoPointDistanceLogged(const std::string& log,
@@ -87,15 +103,7 @@ TEST(ViewerWindow, DistanceToolClickingTwoPointsPrintsTheirDistance) {
   ViewerProcess viewer(dir, display.name(), view_args, "viewer.log");
   ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
   EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
-  viewer.key("g");  // the panel off the picture
-  for (int i = 0; i < 2; ++i) {
-    viewer.click(expected[i].at("point_pixel")[0], expected[i].at("point_pixel")[1]);
-    ASSERT_TRUE(viewer.logged("parallax view: distance point " + std::to_string(i + 1) + ": "))
-        << viewer.log();
-  }
-  viewer.key("Return");
-  ASSERT_TRUE(viewer.logged("parallax view: distance ", 10s) && viewer.logged(" m (2 points)", 10s))
-      << viewer.log();
+  ASSERT_NO_FATAL_FAILURE(measureBetweenTwoPicks(viewer, expected[0], expected[1]));
   expectTwoPointDistanceLogged(viewer.log(), {point(0), point(1)}, distance);
   const std::string prefix = "parallax view: distance ";
   // Ctrl + E reopens it (the measurement just finished is the selected one); a third click
@@ -170,14 +178,7 @@ TEST(ViewerWindow, DistanceOnTheDemoSceneInTheViewersDefaultLook) {
   ViewerProcess viewer(dir, display.name(), view_args, "viewer.log");
   ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
   EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
-  viewer.key("g");  // the panel off the picture
-  for (int i = 0; i < 2; ++i) {
-    viewer.click(expected[i].at("point_pixel")[0], expected[i].at("point_pixel")[1]);
-    ASSERT_TRUE(viewer.logged("parallax view: distance point " + std::to_string(i + 1) + ": "))
-        << viewer.log();
-  }
-  viewer.key("Return");
-  ASSERT_TRUE(viewer.logged(" m (2 points)", 10s)) << viewer.log();
+  ASSERT_NO_FATAL_FAILURE(measureBetweenTwoPicks(viewer, expected[0], expected[1]));
   EXPECT_EQ(viewer.log().find("picked nothing"), std::string::npos) << viewer.log();
   expectTwoPointDistanceLogged(viewer.log(), {point(0), point(1)}, distance);
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
