@@ -2,8 +2,9 @@
 // every node loads with the points its entry says, or an InputError; never a crash, a hang, an
 // out-of-bounds read or an allocation beyond what the input's size justifies.
 //
-// The input is a whole file. Seeds in fuzz/corpus/copc/: the two real COPC files of
-// tests/data/laz and a small file written by Parallax with child pages three levels deep.
+// The input is a whole file. Seeds: a small file written by Parallax with child pages three levels
+// deep (fuzz/corpus/copc/) and the two real COPC files of PARALLAX_TEST_DATA/laz
+// (fuzz/CMakeLists.txt lists them).
 #include <cstddef>
 #include <cstdint>
 #include <vector>

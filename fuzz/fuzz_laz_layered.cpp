@@ -9,8 +9,8 @@
 //   bits 4-6: extra bytes (BYTE14) per record, 0-7
 // The point count the reader would expect is the chunk's own (capped, so that the records fit in
 // a few MB); the cap also exercises the decoder's count check. The seeds (fuzz/corpus/
-// laz_layered/) are real chunks: the first four of tests/data/laz/simple.copc.laz (format 7, version 3,
-// first byte 0x01) and small chunks of every format written by the layered encoder.
+// laz_layered/) are small chunks of every format written by Parallax's layered encoder (other
+// writers' chunks reach this decoder through fuzz_laz_reader's and fuzz_copc_reader's real seeds).
 #include <algorithm>
 #include <array>
 #include <cstddef>

@@ -6,7 +6,8 @@
 #   3. build-fuzz/  clang + libFuzzer: the fuzz targets built, the rest of the product checked by
 #                   clang's front end (scripts/syntax_check.py, for clang's warnings); each
 #                   fuzz target runs for a fixed time from a copy of its seed corpus
-#                   fuzz/corpus/<format>/ (with fuzz/<format>.dict when present)
+#                   fuzz/corpus/<format>/ and the real files fuzz/CMakeLists.txt lists from
+#                   PARALLAX_TEST_DATA (with fuzz/<format>.dict when present)
 # Every tree is built with PARALLAX_WERROR=ON (a compiler warning fails the build) and its build
 # log is searched for any other warning (CMake, linker), which fails the stage too.
 # A skipped test is not a passed one: every skip is listed in the summary with its reason, and a
@@ -21,6 +22,8 @@
 # Environment: PARALLAX_JOBS (build and test parallelism, default: nproc),
 #              PARALLAX_FUZZ_SECONDS (per fuzz target, default 15),
 #              PARALLAX_BUILD_DIR (default build; the other trees are its name + -asan, -fuzz),
+#              PARALLAX_TEST_DATA (the folder of other projects' test files, default ../shared/data
+#                beside the repository; read by CMake, cmake/ParallaxTestData.cmake),
 #              PARALLAX_ALLOWED_SKIPS (test names or shell patterns, separated by blanks, that may
 #                skip on this machine, e.g. 'ViewerWindow.*' where there is no Xvfb; default none).
 set -uo pipefail
@@ -47,6 +50,9 @@ export DEBIAN_FRONTEND=noninteractive
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1:strict_string_checks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/scripts/lsan.supp:print_suppressions=0}
+# Golden images are compared, never rewritten, in a test run (scripts/regenerate-golden.sh
+# rewrites them, on its own).
+unset PARALLAX_REGENERATE_GOLDEN
 
 logs=$(mktemp -d "${TMPDIR:-/tmp}/parallax-test.XXXXXX")
 summary=()
@@ -147,6 +153,12 @@ run_ctest() {
   local line total failed skipped_before=$tests_skipped status=ok
   line=$(grep -E '^[0-9]+% tests passed, [0-9]+ tests? failed out of [0-9]+' "$log" | tail -n 1)
   count_skips "$name" "$junit" || status=SKIPPED
+  # Without the JUnit file the skips cannot be counted (a skip would pass as a pass): a failure.
+  if [[ ! -s "$junit" ]]; then
+    echo "---- $name: ctest wrote no JUnit file ($junit): skips cannot be told from passes"
+    status=FAILED
+    tests_failed=$((tests_failed + 1))
+  fi
   local skipped=$((tests_skipped - skipped_before))
   if [[ -n "$line" ]]; then
     failed=$(sed -E 's/.* ([0-9]+) tests? failed.*/\1/' <<<"$line")
@@ -175,7 +187,28 @@ run_fuzzer() {
   kind=${name#fuzz_}
   kind=${kind%_reader}
   corpus=$(mktemp -d "$logs/corpus-$kind.XXXXXX")
-  [[ -d "$root/fuzz/corpus/$kind" ]] && cp -r "$root/fuzz/corpus/$kind/." "$corpus/"
+  # A fuzzer started from an empty corpus finds next to nothing in 15 s, and says nothing about
+  # it: a missing seed folder, or a real seed file missing from PARALLAX_TEST_DATA, fails the run.
+  local problems=() seed_kind seed
+  if [[ -d "$root/fuzz/corpus/$kind" && -n "$(ls -A "$root/fuzz/corpus/$kind")" ]]; then
+    cp -r "$root/fuzz/corpus/$kind/." "$corpus/"
+  else
+    problems+=("no seeds in fuzz/corpus/$kind/: add inputs Parallax made (see fuzz/CMakeLists.txt)")
+  fi
+  while IFS=$'\t' read -r seed_kind seed; do
+    [[ "$seed_kind" == "$kind" ]] || continue
+    if [[ -f "$seed" ]]; then
+      cp "$seed" "$corpus/"
+    else
+      problems+=("seed $seed not found: set PARALLAX_TEST_DATA to the folder of other projects' test files (in CI ../shared/data beside the clone) and reconfigure $fuzz_dir")
+    fi
+  done <"$fuzz_dir/fuzz/fuzz_test_data_seeds.txt"
+  if [[ ${#problems[@]} -gt 0 ]]; then
+    printf -- '---- %s FAILED: %s\n' "$name" "${problems[@]}"
+    tests_failed=$((tests_failed + 1))
+    record "fuzz $name" FAILED 0
+    return
+  fi
   local extra=()
   [[ -f "$root/fuzz/$kind.dict" ]] && extra+=("-dict=$root/fuzz/$kind.dict")
   mkdir -p "$root/$fuzz_dir/artifacts"

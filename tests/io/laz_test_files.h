@@ -1,5 +1,5 @@
-// Helpers of the LAZ tests: the real files of tests/data/laz (see its README), and the raw
-// records a LAZ file decodes to, for byte-for-byte comparisons with a LAS twin or another
+// Helpers of the LAZ tests: the real LAZ files (other projects' in PARALLAX_TEST_DATA/laz, the
+// ones made for Parallax in tests/data/laz; see its README), and the raw records a LAZ file decodes to, for byte-for-byte comparisons with a LAS twin or another
 // decoder.
 #pragma once
 
@@ -13,11 +13,16 @@
 #include "io/las_header.h"
 #include "io/laz_source.h"
 #include "io/range_reader.h"
+#include "support/test_data.h"
 
 namespace parallax::test {
 
+// `name` in tests/data/laz when it was made for Parallax, else in PARALLAX_TEST_DATA/laz (other
+// projects' files; a test fails saying what to set when that folder is missing).
 inline std::filesystem::path lazData(const std::string& name) {
-  return std::filesystem::path(PARALLAX_LAZ_DATA) / name;
+  const std::filesystem::path own = std::filesystem::path(PARALLAX_LAZ_DATA) / name;
+  if (std::filesystem::is_regular_file(own)) return own;
+  return testDataFile("laz/" + name);
 }
 
 inline std::string fileBytes(const std::filesystem::path& path) {

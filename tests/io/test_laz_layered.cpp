@@ -25,6 +25,7 @@
 #include "io/laz/layered_codec.h"
 #include "laz_synthetic_points.h"
 #include "laz_test_file.h"
+#include "support/test_data.h"
 
 namespace parallax::laz {
 namespace {
@@ -36,8 +37,6 @@ using testing::readLazTestFile;
 using testing::SplitMix64;
 using testing::syntheticRecordLength;
 using testing::SyntheticSpec;
-
-const std::string kDataDir = PARALLAX_LAZ_TEST_DATA;
 
 std::string hex(std::span<const std::byte> bytes) {
   static constexpr char kDigits[] = "0123456789abcdef";
@@ -96,7 +95,7 @@ struct ExpectedRecord {
 void expectFileDecodesAsLaszip(const std::string& name, std::size_t points, std::size_t chunks,
                                std::uint64_t checksum, std::vector<ExpectedRecord> expected) {
   SCOPED_TRACE(name);
-  const LazTestFile f = readLazTestFile(kDataDir + "/" + name);
+  const LazTestFile f = readLazTestFile(test::testDataFile(std::string("laz/") + name).string());
   ASSERT_EQ(f.point_count, points);
   ASSERT_EQ(f.chunks.size(), chunks);
   ASSERT_EQ(f.vlr.compressor, 3);
@@ -139,7 +138,7 @@ TEST(LazLayered, ReencodesCopcChunksToTheSameBytes) {
   // These files come from other writers; re-encoding their records gives their chunks back.
   for (const char* name : {"simple.copc.laz", "ellipsoid.copc.laz"}) {
     SCOPED_TRACE(name);
-    const LazTestFile f = readLazTestFile(kDataDir + "/" + name);
+    const LazTestFile f = readLazTestFile(test::testDataFile(std::string("laz/") + name).string());
     const std::vector<std::byte> records = decodeFile(f);
     auto encoder = makeLayeredEncoder(f.vlr.items);
     std::size_t at = 0;

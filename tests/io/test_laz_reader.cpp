@@ -31,10 +31,9 @@ const Twin kTwins[] = {
     {"point-color-time.las.laz", "point-color-time.las", 3, 1065},
     {"extrabytes.laz", "extrabytes.las", 3, 1065},
     {"1815.laz", "1815.las", 1, 1247},
-    // Items of version 1 (POINT10, GPSTIME11, RGB12, BYTE) and chunks of 333 points.
-    {"point-color-time-v1.laz", "point-color-time.las", 3, 1065},
-    {"extrabytes-v1.laz", "extrabytes.las", 3, 1065},
-    // Wave packets (WAVEPACKET13), GPS time jumps and repeats, versions 2 and 1.
+    // Wave packets (WAVEPACKET13), GPS time jumps and repeats, versions 2 and 1 (items of
+    // version 1: POINT10, GPSTIME11, RGB12, WAVEPACKET13); records made for Parallax, compressed
+    // by LASzip (tests/data/laz/README.md).
     {"wavepacket5.laz", "wavepacket5.las", 5, 2000},
     {"wavepacket5-v1.laz", "wavepacket5.las", 5, 2000},
 };
@@ -112,23 +111,6 @@ TEST(LazReader, CopcFilesDecodeAsLaszipThroughTheFileLayer) {
     expectSameCloud(readLaz(lazData(name), {.parallel = false}), all);
     EXPECT_EQ(summarizeLaz(lazData(name)).chunk_size, 0u);  // variable
   }
-}
-
-TEST(LazReader, CompatibilityModeGivesTheLas14Records) {
-  // LASzip's LAS 1.4 compatibility mode: format 7 points stored as format 3 plus extra bytes.
-  const LasHeader header = readLasHeader(lazData("compatibility-format7.laz"));
-  EXPECT_EQ(header.point_format, 3);
-  const std::string expected = test::lasRecords(lazData("format7.las"));
-  ASSERT_EQ(expected.size(), 1065u * 36);
-  EXPECT_EQ(test::firstDifferentRecord(test::lazRecords(lazData("compatibility-format7.laz")),
-                                       expected, 36),
-            -1);
-  const PointCloud las = readLas(lazData("format7.las"));
-  expectSameCloud(readLaz(lazData("compatibility-format7.laz")), las);
-  EXPECT_NE(las.findScalar(las_names::kScannerChannel), nullptr);
-  const LazSummary summary = summarizeLaz(lazData("compatibility-format7.laz"));
-  EXPECT_TRUE(summary.compatibility_mode);
-  EXPECT_EQ(summary.record_format, 7);
 }
 
 TEST(LazReader, ChunkReaderGivesTheSamePointsInBatches) {

@@ -1,4 +1,4 @@
-// Helpers of the COPC tests: the real files of tests/data/laz, bytes of files, and the message
+// Helpers of the COPC tests: the real files of PARALLAX_TEST_DATA/laz, bytes of files, and the message
 // of an expected InputError.
 #pragma once
 
@@ -12,11 +12,13 @@
 #include <vector>
 
 #include "core/error.h"
+#include "support/test_data.h"
 
 namespace parallax::test {
 
+// A real file of other projects (copc.js's, laspy's, laz-perf's) in PARALLAX_TEST_DATA/laz.
 inline std::filesystem::path copcData(const std::string& name) {
-  return std::filesystem::path(PARALLAX_LAZ_DATA) / name;
+  return testDataFile("laz/" + name);
 }
 
 inline std::vector<std::byte> readBytes(const std::filesystem::path& path) {

@@ -18,6 +18,7 @@
 #include "render/image_file.h"
 #include "support/run_parallax.h"
 #include "support/temp_dir.h"
+#include "support/test_data.h"
 
 namespace parallax {
 namespace {
@@ -329,8 +330,7 @@ TEST(HttpOctree, CopcFilesStreamLikeTheLocalFile) {
   test::TempDir dir;
   std::filesystem::create_directories(dir / "www" / "tiles");
   const std::filesystem::path local = dir / "www" / "tiles" / "ellipsoid.copc.laz";
-  std::filesystem::copy_file(std::filesystem::path(PARALLAX_LAZ_DATA) / "ellipsoid.copc.laz",
-                             local);
+  std::filesystem::copy_file(test::testDataFile("laz/ellipsoid.copc.laz"), local);
   Nginx nginx(dir / "nginx", {.root = dir / "www"});
   const std::map<std::string, std::string> env{{"XDG_CACHE_HOME", (dir / "cache").string()}};
   const std::string url = nginx.url("tiles/ellipsoid.copc.laz");

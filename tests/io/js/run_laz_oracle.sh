@@ -45,8 +45,8 @@ case $mode in
     "$parallax" convert "$data/point-time.las" -o "$work/format6.las" --las-version 1.4 -q
     "$parallax" convert "$data/point-time.las" -o "$work/format6.laz" --las-version 1.4 -q
     node "$here/laz_oracle.cjs" compare "$work/format6.laz" "$work/format6.las"
-    "$parallax" convert "$data/format7.las" -o "$work/format7.las" -q
-    "$parallax" convert "$data/format7.las" -o "$work/format7.laz" --laz-chunk 300 -q
+    "$parallax" convert "$work/scan.ply" -o "$work/format7.las" --las-version 1.4 -q
+    "$parallax" convert "$work/scan.ply" -o "$work/format7.laz" --las-version 1.4 --laz-chunk 3000 -q
     node "$here/laz_oracle.cjs" compare "$work/format7.laz" "$work/format7.las"
     "$parallax" convert "$data/point-color-time.las.laz" -o "$work/again.laz" --laz-chunk 100 -q
     node "$here/laz_oracle.cjs" compare "$work/again.laz" "$work/point-color-time.las"
