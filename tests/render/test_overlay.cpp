@@ -38,10 +38,10 @@ Camera frontCamera() {
   return camera;
 }
 
-RenderSettings bigSquares() {
+RenderSettings bigSquares(RasterizerKind rasterizer = RasterizerKind::Points) {
   RenderSettings settings;
   settings.point_size_px = 15;
-  settings.rasterizer = RasterizerKind::Points;
+  settings.rasterizer = rasterizer;
   return settings;
 }
 
@@ -79,14 +79,20 @@ void expectColor(const std::array<int, 3>& got, const std::array<int, 3>& want, 
   }
 }
 
-TEST(OverlayPass, LineLandsOnTheProjectedPixelsAndFadesBehindNearerPoints) {
+// Under both rasterizers: the overlay's occlusion reads the depth each of them leaves (15-pixel
+// squares are the compute rasterizer's large splats).
+class OverlayOcclusion : public ::testing::TestWithParam<RasterizerKind> {};
+
+TEST_P(OverlayOcclusion, LineLandsOnTheProjectedPixelsAndFadesBehindNearerPoints) {
   headlessContext();
   const GpuPointCloud cloud(occluders());
   Renderer renderer;
   renderer.setOverlay(yellowLine());
   RenderTarget target(kWidth, kHeight);
   const View view{frontCamera(), {0, 0, kWidth, kHeight}};
-  renderer.render(cloud, std::span(&view, 1), bigSquares(), target.framebuffer(), kWidth, kHeight);
+  expectDrawnBy(renderer.render(cloud, std::span(&view, 1), bigSquares(GetParam()),
+                                target.framebuffer(), kWidth, kHeight),
+                GetParam());
   const auto rgba = target.readRgba();
 
   // Open line over the background: pure yellow, along the whole projected segment.
@@ -105,6 +111,12 @@ TEST(OverlayPass, LineLandsOnTheProjectedPixelsAndFadesBehindNearerPoints) {
   expectColor(rgbAt(rgba, cpuPixel(view, utm(0, 0, 0))),
               {int(0.3 * 255), int(0.3 * 255), int(0.7 * 255)}, 2, "behind the near point");
 }
+
+INSTANTIATE_TEST_SUITE_P(BothRasterizers, OverlayOcclusion,
+                         ::testing::Values(RasterizerKind::Points, RasterizerKind::Compute),
+                         [](const ::testing::TestParamInfo<RasterizerKind>& param_info) {
+                           return std::string(rasterizerKindName(param_info.param));
+                         });
 
 TEST(OverlayPass, EachStereoEyeDrawsTheLineAtItsOwnProjection) {
   headlessContext();

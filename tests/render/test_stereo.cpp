@@ -47,6 +47,7 @@ RgbaImage renderStereo(const PointCloud& cloud, const Camera& camera, const Ster
   const StereoFrame frame = stereoFrame(camera, stereo, width, height);
   const FrameStats result =
       renderer.render(gpu.drawSet(), frame, settings, target.framebuffer(), width, height);
+  expectDrawnBy(result, settings.rasterizer);
   if (stats) *stats = result;
   return {width, height, target.readRgba()};
 }
