@@ -266,6 +266,25 @@ TEST(PlyReaderErrors, CountLargerThanTheFileCanHoldFailsFastWithoutAllocating) {
   }
 }
 
+// A count a file could plausibly hold (10 M points: 120 MB of columns, which the columns would
+// take with mmap, unseen by a counter of operator new alone) in a file of two points: the error
+// comes before any column is allocated.
+TEST(PlyReaderErrors, PlausibleCountBeyondTheFileAllocatesNoColumns) {
+  for (PlyFormat format : test::kAllPlyFormats) {
+    SCOPED_TRACE(test::formatKeyword(format));
+    std::string file = plyHeader(format, {"element vertex 10000000", "property float x",
+                                          "property float y", "property float z"});
+    PlyBody body(format);
+    body.put(1.0f).put(2.0f).put(3.0f).end().put(4.0f).put(5.0f).put(6.0f).end();
+    file += body.bytes();
+    test::AllocationScope allocations;
+    CaughtInputError caught = readError(file);
+    EXPECT_LT(allocations.bytes(), kFailFastBytes);
+    EXPECT_LT(allocations.largest(), kFailFastBytes);
+    expectMessageHas(caught, {kName, "element 'vertex'"});
+  }
+}
+
 TEST(PlyReaderErrors, HugeCountWithListsFailsFast) {
   std::string file =
       plyHeader(PlyFormat::BinaryLittleEndian,

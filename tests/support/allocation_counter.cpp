@@ -4,9 +4,21 @@
 // and pair among themselves.
 #include "support/allocation_counter.h"
 
+#include <sys/mman.h>
+#include <sys/types.h>
+
 #include <atomic>
 #include <cstdlib>
 #include <new>
+
+// The real functions behind the linker's --wrap (parallax_count_allocations()).
+extern "C" {
+void* __real_malloc(std::size_t size);
+void* __real_calloc(std::size_t count, std::size_t size);
+void* __real_realloc(void* p, std::size_t size);
+void* __real_mmap(void* address, std::size_t length, int protection, int flags, int fd,
+                  off_t offset);
+}
 
 namespace parallax::test {
 namespace {
@@ -14,13 +26,17 @@ namespace {
 std::atomic<std::uint64_t> g_allocated{0};
 std::atomic<std::uint64_t> g_largest{0};
 
-void* allocate(std::size_t size) noexcept {
+void count(std::size_t size) noexcept {
   g_allocated.fetch_add(size, std::memory_order_relaxed);
   std::uint64_t largest = g_largest.load(std::memory_order_relaxed);
   while (size > largest &&
          !g_largest.compare_exchange_weak(largest, size, std::memory_order_relaxed)) {
   }
-  return std::malloc(size == 0 ? 1 : size);
+}
+
+void* allocate(std::size_t size) noexcept {
+  count(size);
+  return __real_malloc(size == 0 ? 1 : size);
 }
 
 }  // namespace
@@ -36,6 +52,28 @@ void resetLargestAllocation() {
 }
 
 }  // namespace parallax::test
+
+extern "C" {
+void* __wrap_malloc(std::size_t size) {
+  parallax::test::count(size);
+  return __real_malloc(size);
+}
+void* __wrap_calloc(std::size_t count, std::size_t size) {
+  parallax::test::count(count * size);
+  return __real_calloc(count, size);
+}
+// The new size is counted whole: an upper bound of what a growth adds.
+void* __wrap_realloc(void* p, std::size_t size) {
+  parallax::test::count(size);
+  return __real_realloc(p, size);
+}
+// Anonymous mappings are memory; a file's mapping is the page cache's.
+void* __wrap_mmap(void* address, std::size_t length, int protection, int flags, int fd,
+                  off_t offset) {
+  if (flags & MAP_ANONYMOUS) parallax::test::count(length);
+  return __real_mmap(address, length, protection, flags, fd, offset);
+}
+}
 
 void* operator new(std::size_t size) {
   if (void* p = parallax::test::allocate(size)) return p;
