@@ -139,11 +139,15 @@ TEST(BackgroundOctreeBuild, FinishesAndHandsOverTheLocation) {
   auto location = std::make_unique<OctreeLocation>(dir / "scan.ply", settings);
   const std::filesystem::path directory = location->directory();
   BackgroundOctreeBuild build(std::move(location), settings.build);
+  // Polled as the viewer's frame loop does, with a bound: a build that never says it finished
+  // fails here rather than hanging the suite (3 000 points take well under a second).
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
   BackgroundOctreeBuild::Status status = build.status();
-  while (!status.finished) {
+  while (!status.finished && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
     status = build.status();
   }
+  ASSERT_TRUE(status.finished) << "not finished after 120 s, at stage '" << status.stage << "'";
   EXPECT_EQ(status.error, "");
   EXPECT_FALSE(status.stage.empty());
   std::unique_ptr<OctreeLocation> done = build.takeLocation();
