@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "io/point_file.h"
 #include "io/test_las_builder.h"
+#include "support/allocation_counter.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
@@ -223,11 +224,18 @@ TEST(LasReader, BadInputIsNamedPrecisely) {
   EXPECT_EQ(info.property, "offset to point data");
   EXPECT_EQ(info.byte_offset, 96u);
 
-  bytes = good;
-  test::putAt(bytes, 107, std::uint32_t(4000000000u));  // far more than the file holds
-  info = errorOf(bytes);
-  EXPECT_EQ(info.property, "number of point records");
-  EXPECT_NE(info.found.find("4000000000"), std::string::npos);
+  // Counts far more than the file holds, and one a file could plausibly hold (10 M points,
+  // columns of hundreds of MB): the error comes before any column is allocated (malloc and mmap
+  // counted, allocation_counter.h).
+  for (const std::uint32_t count : {4000000000u, 10000000u}) {
+    bytes = good;
+    test::putAt(bytes, 107, count);
+    test::AllocationScope allocations;
+    info = errorOf(bytes);
+    EXPECT_LT(allocations.bytes(), 1u << 20) << count;
+    EXPECT_EQ(info.property, "number of point records");
+    EXPECT_NE(info.found.find(std::to_string(count)), std::string::npos);
+  }
 
   EXPECT_EQ(errorOf(good.substr(0, good.size() - 1)).property, "number of point records");
 

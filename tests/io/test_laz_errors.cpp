@@ -13,6 +13,7 @@
 #include "io/laz_reader.h"
 #include "io/laz_test_files.h"
 #include "io/laz_writer.h"
+#include "support/allocation_counter.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
@@ -176,7 +177,9 @@ TEST(LazFile, LyingChunkTableIsAnError) {
       const std::uint64_t count = legacy;
       std::memcpy(bad.data() + 247, &count, 8);
     }
+    test::AllocationScope allocations;  // malloc and mmap counted (allocation_counter.h)
     const InputErrorInfo e = errorOf(bad);
+    EXPECT_LT(allocations.bytes(), 1u << 20);
     EXPECT_EQ(e.byte_offset, table + 4);
     EXPECT_NE(e.expected.find("8000000 chunks of 500 points for the header's 4000000000 points"),
               std::string::npos)
