@@ -1,5 +1,6 @@
-// The overlay pass on llvmpipe: a line's pixels where a CPU projection in double of its
-// endpoints puts them (at UTM coordinates), drawn over points behind it and faded behind points
+// The overlay pass on llvmpipe: a line's pixels where a projection in double of its endpoints,
+// written out in the test from the camera's eye, target and field of view, puts them (at UTM
+// coordinates), drawn over points behind it and faded behind points
 // in front of it, in each eye of a side-by-side stereo frame at that eye's projection; labels
 // in the atlas's font.
 #include <gtest/gtest.h>
@@ -31,13 +32,6 @@ PointCloud occluders() {
   return cloud;
 }
 
-Camera frontCamera() {
-  Camera camera;
-  camera.lookAt(utm(0, 0, 20), utm(0, 0, 0), {0, 1, 0});
-  camera.fov_y_deg = 40;
-  return camera;
-}
-
 RenderSettings bigSquares(RasterizerKind rasterizer = RasterizerKind::Points) {
   RenderSettings settings;
   settings.point_size_px = 15;
@@ -55,15 +49,34 @@ OverlayScene yellowLine() {
   return scene;
 }
 
-// The pixel (top-row-first image coordinates) where `world` lands in `view`, projected here in
-// double with the camera's matrices (independently of the overlay's own projection).
-std::pair<int, int> cpuPixel(const View& view, const glm::dvec3& world) {
-  const glm::dmat4 m =
-      view.camera.projectionMatrix(view.aspect(), ClipRange{1, 100}) * view.camera.viewMatrix();
-  const glm::dvec4 clip = m * glm::dvec4(world, 1.0);
-  const double x = view.viewport.x + (clip.x / clip.w * 0.5 + 0.5) * view.viewport.width;
-  const double y = view.viewport.y + (clip.y / clip.w * 0.5 + 0.5) * view.viewport.height;
-  return {int(std::floor(x)), kHeight - 1 - int(std::floor(y))};
+// The camera of every test, written out: the eye 20 above the origin, looking down at it, +y up
+// in the picture, 40 degrees of vertical field of view.
+constexpr double kEyeHeight = 20.0, kFovYDeg = 40.0;
+
+Camera frontCamera() {
+  Camera camera;
+  camera.lookAt(utm(0, 0, kEyeHeight), utm(0, 0, 0), {0, 1, 0});
+  camera.fov_y_deg = kFovYDeg;
+  return camera;
+}
+
+// The pixel (top-row-first image coordinates) where `world` lands in `view`, projected here from
+// the camera's definition alone (independently of the product's camera matrices and the overlay's
+// projection): looking down -z from kEyeHeight, picture right is +x and up is +y; a point at depth
+// d and lateral offset x is at x / (d tan(fov / 2) aspect) in normalized coordinates. In stereo,
+// `eye_offset` (metres along +x, -half the separation for the left eye) moves the eye and
+// `convergence` skews its frustum so that the plane at that depth has no parallax
+// (src/render/stereo.h): x' = (x - offset) / d + offset / convergence.
+std::pair<int, int> cpuPixel(const View& view, const glm::dvec3& world, double eye_offset = 0.0,
+                             double convergence = 1.0) {
+  const double x = world.x - kEast, y = world.y - kNorth, depth = kEyeHeight - (world.z - kUp);
+  const double tan_half = std::tan(kFovYDeg * 0.5 * std::acos(-1.0) / 180.0);
+  const double aspect = double(view.viewport.width) / view.viewport.height;
+  const double nx = ((x - eye_offset) / depth + eye_offset / convergence) / (tan_half * aspect);
+  const double ny = (y / depth) / tan_half;
+  const double px = view.viewport.x + (nx * 0.5 + 0.5) * view.viewport.width;
+  const double py = view.viewport.y + (ny * 0.5 + 0.5) * view.viewport.height;
+  return {int(std::floor(px)), kHeight - 1 - int(std::floor(py))};
 }
 
 std::array<int, 3> rgbAt(const std::vector<std::uint8_t>& rgba, std::pair<int, int> pixel) {
@@ -138,7 +151,9 @@ TEST(OverlayPass, EachStereoEyeDrawsTheLineAtItsOwnProjection) {
   const auto rgba = target.readRgba();
   int columns[2];
   for (int eye = 0; eye < 2; ++eye) {
-    const auto pixel = cpuPixel(frame.views[std::size_t(eye)], utm(-2, 1, 0));
+    const double offset = (eye == 0 ? -0.5 : 0.5) * stereo.eye_separation;
+    const auto pixel =
+        cpuPixel(frame.views[std::size_t(eye)], utm(-2, 1, 0), offset, stereo.convergence);
     columns[eye] = pixel.first - frame.views[std::size_t(eye)].viewport.x;
     expectColor(rgbAt(rgba, pixel), {255, 0, 255}, 0, "eye " + std::to_string(eye));
     expectColor(rgbAt(rgba, {pixel.first + 4, pixel.second}), {0, 0, 0}, 0,
