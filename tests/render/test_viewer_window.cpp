@@ -322,16 +322,14 @@ TEST(ViewerWindow, ShowsAPotreeDirectoryAndTheCommaKeyLowersTheBudget) {
       << viewer.log();
   EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
   viewer.key("g");  // hide the panel
-  std::this_thread::sleep_for(1s);
-  const std::size_t full = cloudPixels(viewer.screenshot(shots));
+  const std::size_t full = cloudPixels(viewer.settledScreenshot(shots));
   EXPECT_GT(full, 3000u) << "the octree is not drawn";
 
   viewer.key("comma");
   viewer.key("comma");
   viewer.key("comma");
   EXPECT_TRUE(viewer.logged("point budget 12500")) << viewer.log();
-  std::this_thread::sleep_for(1s);
-  const std::size_t reduced = cloudPixels(viewer.screenshot(shots));
+  const std::size_t reduced = cloudPixels(viewer.settledScreenshot(shots));
   EXPECT_GT(reduced, 1000u) << "the cloud is gone at a budget of 12500";
   EXPECT_LT(reduced, full) << "a budget of 12500 draws as much as one of 100000";
   viewer.key("period");
@@ -361,8 +359,7 @@ TEST(ViewerWindow, FileOverTheBudgetShowsASampleThenItsOctreeAndIsCachedForTheNe
     EXPECT_TRUE(viewer.logged("switched to the level-of-detail octree in " + cache.string()))
         << viewer.log();
     viewer.key("g");
-    std::this_thread::sleep_for(1s);
-    EXPECT_GT(cloudPixels(viewer.screenshot(shots)), 1000u) << "no cloud after the switch";
+    EXPECT_GT(cloudPixels(viewer.settledScreenshot(shots)), 1000u) << "no cloud after the switch";
     EXPECT_EQ(viewer.quit(), 0) << viewer.log();
   }
   ViewerProcess again(dir, display.name(), args, "second.log");
@@ -465,8 +462,7 @@ TEST(ViewerWindow, FirstPictureAndTheFKeyFrameTheCloud) {
                        "viewer.log");
   ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
   EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
-  std::this_thread::sleep_for(500ms);
-  const RgbaImage first = viewer.screenshot(shots);  // the picture, without the panel
+  const RgbaImage first = viewer.settledScreenshot(shots);  // the picture, without the panel
   ASSERT_EQ(first.width, width);
   const int panel = panelRight(viewer.windowShot(shots));
   ASSERT_GT(panel, 100) << "no panel";
@@ -489,14 +485,12 @@ TEST(ViewerWindow, FirstPictureAndTheFKeyFrameTheCloud) {
                turned.y1 < height - 1)
       << "zoomed in, the cloud should reach past the free part";
   viewer.key("f");
-  std::this_thread::sleep_for(300ms);
-  expectFramed(cloudBox(viewer.screenshot(shots)), panel, width, height, "after F");
+  expectFramed(cloudBox(viewer.settledScreenshot(shots)), panel, width, height, "after F");
 
   // The panel hidden, F frames the cloud in the whole window.
   viewer.key("g");
   viewer.key("f");
-  std::this_thread::sleep_for(300ms);
-  expectFramed(cloudBox(viewer.screenshot(shots)), 0, width, height, "after G and F");
+  expectFramed(cloudBox(viewer.settledScreenshot(shots)), 0, width, height, "after G and F");
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
 }
 
@@ -543,8 +537,7 @@ TEST(ViewerWindow, CommandLineFiltersReachTheViewer) {
     ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
     EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
     viewer.key("g");  // hide the panel
-    std::this_thread::sleep_for(1s);
-    const std::size_t pixels = cloudPixels(viewer.screenshot(shots));
+    const std::size_t pixels = cloudPixels(viewer.settledScreenshot(shots));
     if (cases[i].drawn) {
       EXPECT_GT(pixels, 1000u) << "case " << i;
     } else {
@@ -620,13 +613,13 @@ TEST(ViewerWindow, ClickingAClassCheckboxInThePanelChangesThePicture) {
   // ImGui's item spacing (8) and the checkbox's half width (about 10) to its right.
   const int checkbox_x = swatch[0] + 10 + 8 + 10;
   viewer.click(checkbox_x, swatch[1]);
-  std::this_thread::sleep_for(1s);
-  const std::size_t without = pointPixelsRightOfPanel(viewer.screenshot(shots));
+  const std::size_t without = pointPixelsRightOfPanel(viewer.settledScreenshot(
+      shots, [&](const RgbaImage& image) { return pointPixelsRightOfPanel(image) < all; }));
   EXPECT_LT(without, all * 3 / 4) << "the building half is still drawn";
   EXPECT_GT(without, all / 10) << "more than the building half went";
   viewer.click(checkbox_x, swatch[1]);
-  std::this_thread::sleep_for(1s);
-  const RgbaImage again = viewer.screenshot(shots);
+  const RgbaImage again = viewer.settledScreenshot(
+      shots, [&](const RgbaImage& image) { return pointPixelsRightOfPanel(image) == all; });
   EXPECT_EQ(pointPixelsRightOfPanel(again), all) << "the building half did not come back";
   EXPECT_EQ(viewer.quit(), 0) << viewer.log();
 }
@@ -655,8 +648,11 @@ TEST(ViewerWindow, ProgressiveRefinementCompletesThePictureAndTheRKeyCyclesRaste
     if (!viewer.hasWindow()) return std::pair<RgbaImage, std::string>{};
     EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
     viewer.key("g");  // hide the panel
-    std::this_thread::sleep_for(1s);
-    RgbaImage image = viewer.screenshot(shots);
+    // The refined picture is complete once the viewer says so; then it no longer changes.
+    if (name == "refined") {
+      EXPECT_TRUE(viewer.logged("first picture refined to completion")) << viewer.log();
+    }
+    RgbaImage image = viewer.settledScreenshot(shots);
     if (name == "refined") {
       viewer.key("r");
       EXPECT_TRUE(viewer.logged("rasterizer auto: the compute rasterizer draws")) << viewer.log();

@@ -229,6 +229,24 @@ class ViewerProcess {
         << "no screenshot " << path << ": " << log();
     return readPng(path);
   }
+  // Screenshots (P) until one equals the screenshot before it and `ready` holds for it, for at
+  // most `timeout`: what was loading has arrived and the last input has been drawn. The picture
+  // the test's assertions then read (the last one taken when none did: they fail, saying what
+  // they saw). A wait on what the test expects to see, never for a fixed time.
+  RgbaImage settledScreenshot(
+      const std::filesystem::path& shots,
+      const std::function<bool(const RgbaImage&)>& ready = [](const RgbaImage&) { return true; },
+      std::chrono::milliseconds timeout = std::chrono::seconds(30)) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    RgbaImage last = screenshot(shots);
+    for (;;) {
+      RgbaImage next = screenshot(shots);
+      const bool settled = next.width == last.width && next.height == last.height &&
+                           next.pixels == last.pixels && ready(next);
+      if (settled || std::chrono::steady_clock::now() >= end) return next;
+      last = std::move(next);
+    }
+  }
   // Shift + P: the window as seen, the panel included (P writes the picture alone).
   RgbaImage windowShot(const std::filesystem::path& shots) {
     const auto path = shots / ("parallax-screenshot-" + std::to_string(++shots_) + ".png");
