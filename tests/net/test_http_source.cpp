@@ -5,7 +5,11 @@
 // environment.
 #include "net/http_byte_source.h"
 
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -350,6 +354,53 @@ TEST(HttpSource, ProxiesComeFromTheEnvironment) {
   const std::vector<test::ProxyLine> log = proxy->log();
   ASSERT_EQ(log.size(), 2u) << "the probe and the read went through the proxy";
   EXPECT_EQ(log[1].range, "bytes=300-329");
+}
+
+// A port that nothing listens on (bound, then closed): the connection is refused.
+int refusedPort() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t length = sizeof address;
+  EXPECT_EQ(::bind(fd, reinterpret_cast<sockaddr*>(&address), length), 0);
+  EXPECT_EQ(::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length), 0);
+  ::close(fd);
+  return ntohs(address.sin_port);
+}
+
+TEST(HttpSource, ARefusedConnectionIsRetriedThenNamed) {
+  auto client = std::make_shared<HttpClient>();
+  const std::string url = "http://127.0.0.1:" + std::to_string(refusedPort()) + "/data.bin";
+  const std::string message =
+      errorOf([&] { HttpByteSource::open(url, client, nullptr, fastRetries(3)); });
+  expectContains(message, {url.c_str(), "connection failed", "3 attempts", "is the server up"});
+}
+
+TEST(HttpSource, RedirectsInALoopEndAtTheLimit) {
+  Served s("    location = /loop.bin { return 302 /loop.bin; }");
+  auto client = std::make_shared<HttpClient>();
+  const std::string message = errorOf(
+      [&] { HttpByteSource::open(s.nginx->url("loop.bin"), client, nullptr, fastRetries(1)); });
+  expectContains(message, {"loop.bin", "Maximum (10) redirects followed"});
+  // curl follows 10 redirects (CURLOPT_MAXREDIRS) and asks no more: 11 requests.
+  EXPECT_EQ(s.nginx->settledAccessLog().size(), 11u);
+}
+
+TEST(HttpSource, NoProxyHostsAreReachedDirectly) {
+  Served s;
+  auto proxy = s.proxy({"--mode", "pass"});
+  ::setenv("http_proxy", ("http://127.0.0.1:" + std::to_string(proxy->port())).c_str(), 1);
+  ::setenv("no_proxy", "127.0.0.1", 1);
+  auto client = std::make_shared<HttpClient>();
+  {
+    const auto source = HttpByteSource::open(s.nginx->url("data.bin"), client, nullptr);
+    EXPECT_EQ(readRange(*source, 300, 30), slice(s.bytes, 300, 30));
+  }
+  ::unsetenv("http_proxy");
+  ::unsetenv("no_proxy");
+  EXPECT_TRUE(proxy->log().empty()) << "no_proxy names the host: nothing goes through the proxy";
+  EXPECT_EQ(s.nginx->accessLogOf(2).size(), 2u) << "the probe and the read, straight to nginx";
 }
 
 TEST(HttpSource, TlsIsVerifiedByDefault) {
