@@ -81,15 +81,27 @@ TEST(ViewerWindow, OpensDrawsThePanelTurnsOnDragAndTakesScreenshots) {
   auto xdo = [&](const std::string& args) {
     return run(env + "xdotool " + args + " > /dev/null 2>&1");
   };
-  auto screenshot = [&](int n, const std::string& key = "p") {
-    const auto path = shots / ("parallax-screenshot-" + std::to_string(n) + ".png");
+  int shot_count = 0;
+  auto screenshot = [&](const std::string& key = "p") {
+    const auto path = shots / ("parallax-screenshot-" + std::to_string(++shot_count) + ".png");
     EXPECT_EQ(xdo("key --window " + window + " " + key), 0);
     EXPECT_TRUE(waitFor([&] { return std::filesystem::exists(path); }, 30s))
         << "no screenshot " << path << ": " << readFile(dir / "viewer.log");
     return readPng(path);
   };
-  // The first picture first (on a loaded machine it can take seconds), then a few more frames
-  // so that the panel has its size.
+  // Screenshots until one equals the one before (the last input drawn, the panel at its size),
+  // for at most 30 s: a wait on the picture itself, not a fixed time.
+  auto settledScreenshot = [&] {
+    const auto end = std::chrono::steady_clock::now() + 30s;
+    RgbaImage last = screenshot();
+    for (;;) {
+      RgbaImage next = screenshot();
+      if (next.pixels == last.pixels || std::chrono::steady_clock::now() >= end) return next;
+      last = std::move(next);
+    }
+  };
+  // The first picture first (on a loaded machine it can take seconds), then frames until the
+  // picture settles (the panel has its size).
   EXPECT_TRUE(waitFor(
       [&] {
         return readFile(dir / "viewer.log").find("parallax view: first picture after") !=
@@ -97,17 +109,15 @@ TEST(ViewerWindow, OpensDrawsThePanelTurnsOnDragAndTakesScreenshots) {
       },
       30s))
       << readFile(dir / "viewer.log");
-  std::this_thread::sleep_for(1s);
-  const RgbaImage before = screenshot(1);
+  const RgbaImage before = settledScreenshot();
 
   // Drag to the right across the part of the window that the panel does not cover.
   ASSERT_EQ(
       xdo("mousemove --window " + window + " 500 240 mousedown 1 mousemove --window " + window +
           " 560 260 sleep 0.3 mousemove --window " + window + " 640 280 sleep 0.3 mouseup 1"),
       0);
-  std::this_thread::sleep_for(500ms);
-  const RgbaImage after = screenshot(2);
-  const RgbaImage window_shot = screenshot(3, "shift+p");
+  const RgbaImage after = settledScreenshot();
+  const RgbaImage window_shot = screenshot("shift+p");
 
   ASSERT_EQ(before.width, 800);
   ASSERT_EQ(before.height, 480);
@@ -121,7 +131,7 @@ TEST(ViewerWindow, OpensDrawsThePanelTurnsOnDragAndTakesScreenshots) {
   EXPECT_EQ(pixel(before, 60, 60), (std::array<int, 3>{255, 255, 255})) << "a panel in the picture";
   const auto panel = pixel(window_shot, 60, 60);
   EXPECT_LT(panel[0] + panel[1] + panel[2], 3 * 80) << "no panel at the top left of the window";
-  for (int n = 1; n <= 3; ++n) {
+  for (int n = 1; n <= shot_count; ++n) {
     const auto path = shots / ("parallax-screenshot-" + std::to_string(n) + ".png");
     EXPECT_NE(readFile(dir / "viewer.log").find("parallax view: screenshot: " + path.string()),
               std::string::npos)
@@ -205,9 +215,10 @@ TEST(ViewerWindow, QuadBufferFallsBackToSideBySideAndTheThreeKeyCyclesStereoMode
   auto xdo = [&](const std::string& args) {
     return run(env + "xdotool " + args + " > /dev/null 2>&1");
   };
+  // Keys are taken in order: what follows a key waits on what it changes (a line of the log, a
+  // screenshot), never a fixed time.
   auto key = [&](const std::string& name) {
     EXPECT_EQ(xdo("key --window " + window + " " + name), 0);
-    std::this_thread::sleep_for(300ms);
   };
   int shot_count = 0;
   auto screenshot = [&](const std::string& name = "p") {
@@ -216,6 +227,15 @@ TEST(ViewerWindow, QuadBufferFallsBackToSideBySideAndTheThreeKeyCyclesStereoMode
     EXPECT_TRUE(waitFor([&] { return std::filesystem::exists(path); }, 30s))
         << "no screenshot " << path << ": " << readFile(log);
     return readPng(path);
+  };
+  auto settledScreenshot = [&] {
+    const auto end = std::chrono::steady_clock::now() + 30s;
+    RgbaImage last = screenshot();
+    for (;;) {
+      RgbaImage next = screenshot();
+      if (next.pixels == last.pixels || std::chrono::steady_clock::now() >= end) return next;
+      last = std::move(next);
+    }
   };
   auto logged = [&](const std::string& text) {
     return waitFor([&] { return readFile(log).find(text) != std::string::npos; }, 10s);
@@ -228,9 +248,8 @@ TEST(ViewerWindow, QuadBufferFallsBackToSideBySideAndTheThreeKeyCyclesStereoMode
       << readFile(log);
   // The fallback is said in words; GLFW's own "format unavailable" is not printed first.
   EXPECT_EQ(readFile(log).find("GLFW error"), std::string::npos) << readFile(log);
-  std::this_thread::sleep_for(1s);
   // In sbs the panel starts collapsed to its title bar: below it, the window is the picture.
-  const RgbaImage picture = screenshot();
+  const RgbaImage picture = settledScreenshot();
   const RgbaImage window_shot = screenshot("shift+p");
   ASSERT_EQ(picture.pixels.size(), window_shot.pixels.size());
   std::size_t covered = 0;
