@@ -17,6 +17,10 @@ parallax_require_package(TBB_FOUND libtbb-dev "oneTBB")
 find_package(CLI11 CONFIG QUIET)
 parallax_require_package(CLI11_FOUND libcli11-dev "CLI11")
 
+# E57's XML section (io/e57/e57_document.cpp).
+find_package(LibXml2 QUIET)
+parallax_require_package(LibXml2_FOUND libxml2-dev "libxml2")
+
 find_package(nlohmann_json CONFIG QUIET)
 parallax_require_package(nlohmann_json_FOUND nlohmann-json3-dev "nlohmann JSON")
 

@@ -9,6 +9,8 @@
 #include <utility>
 
 #include "core/error.h"
+#include "io/e57/e57_reader.h"
+#include "io/e57/e57_writer.h"
 #include "io/las_header.h"
 #include "io/las_reader.h"
 #include "io/las_writer.h"
@@ -64,6 +66,8 @@ const char* pointFormatName(PointFormat format) {
       return "LAZ";
     case PointFormat::Text:
       return "text (XYZ/CSV/PTS)";
+    case PointFormat::E57:
+      return "E57";
     case PointFormat::Unknown:
       break;
   }
@@ -74,12 +78,14 @@ const char* supportedFormatsText() {
   return "supported formats: PLY (ascii, binary little and big endian; .ply), LAS 1.0-1.4, "
          "point formats 0-10 (.las), LAZ (LASzip-compressed LAS; .laz), text with x y z [r g b "
          "...] a line, "
-         "separated by blanks, commas or semicolons (.xyz .txt .csv .asc .pts)";
+         "separated by blanks, commas or semicolons (.xyz .txt .csv .asc .pts), E57 (ASTM E2807; "
+         ".e57)";
 }
 
 PointFormat detectPointFormatFromMemory(std::span<const std::byte> bytes) {
   if (looksLikePly(bytes)) return PointFormat::Ply;
   if (hasLasSignature(bytes)) return looksLikeLaz(bytes) ? PointFormat::Laz : PointFormat::Las;
+  if (looksLikeE57(bytes)) return PointFormat::E57;
   if (looksLikeTextPoints(bytes)) return PointFormat::Text;
   return PointFormat::Unknown;
 }
@@ -112,6 +118,8 @@ std::optional<std::uint64_t> headerPointCount(const std::filesystem::path& path)
       case PointFormat::Las:
       case PointFormat::Laz:
         return readLasHeader(path).point_count;
+      case PointFormat::E57:
+        return E57ChunkReader(path).pointCount();
       default:
         return std::nullopt;
     }
@@ -132,6 +140,8 @@ PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptio
       return readText(path, {.columns = options.text_columns,
                              .progress = options.progress,
                              .parallel = options.parallel});
+    case PointFormat::E57:
+      return readE57(path, {.progress = options.progress});
     case PointFormat::Unknown:
       break;
   }
@@ -144,7 +154,8 @@ PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptio
 }
 
 bool hasPointFilePreview(PointFormat format) {
-  return format == PointFormat::Ply || format == PointFormat::Las || format == PointFormat::Laz;
+  return format == PointFormat::Ply || format == PointFormat::Las || format == PointFormat::Laz ||
+         format == PointFormat::E57;
 }
 
 PointCloud readPointFilePreview(const std::filesystem::path& path, std::uint64_t max_points) {
@@ -153,6 +164,7 @@ PointCloud readPointFilePreview(const std::filesystem::path& path, std::uint64_t
   if (format == PointFormat::Las || format == PointFormat::Laz) {
     return readLasPreview(path, max_points);
   }
+  if (format == PointFormat::E57) return readE57Preview(path, max_points);
   throw InputError({.file = path.string(),
                     .expected = "a PLY, LAS or LAZ file (a sample is read from those only)",
                     .found = pointFormatName(format)});
@@ -166,6 +178,7 @@ PointFormat formatForExtension(const std::filesystem::path& path) {
   if (ext == ".xyz" || ext == ".txt" || ext == ".csv" || ext == ".asc" || ext == ".pts") {
     return PointFormat::Text;
   }
+  if (ext == ".e57") return PointFormat::E57;
   return PointFormat::Unknown;
 }
 
@@ -178,6 +191,8 @@ std::vector<std::string> describeWriteLosses(const PointCloud& cloud,
       return planLasWrite(cloud, {.minor_version = options.las_minor_version}).losses;
     case PointFormat::Text:
       return describeTextLosses(cloud, textOptionsForPath(path));
+    case PointFormat::E57:
+      return describeE57Losses(cloud);
     default:
       return {};  // PLY holds every column of the model
   }
@@ -215,12 +230,15 @@ void writePointFile(const PointCloud& cloud, const std::filesystem::path& path,
       writeText(cloud, path, text);
       return;
     }
+    case PointFormat::E57:
+      writeE57(cloud, path, {.progress = options.progress});
+      return;
     default:
       break;
   }
   throw InputError({.file = path.string(),
                     .expected = "an output name ending in .ply, .las, .laz, .xyz, .txt, .csv, "
-                                ".asc or .pts",
+                                ".asc, .pts or .e57",
                     .found = "'" + path.extension().string() + "'",
                     .hint = supportedFormatsText()});
 }

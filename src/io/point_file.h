@@ -14,9 +14,9 @@
 
 namespace parallax {
 
-enum class PointFormat { Ply, Las, Laz, Text, Unknown };
+enum class PointFormat { Ply, Las, Laz, Text, E57, Unknown };
 
-// "PLY", "LAS", "LAZ", "text (XYZ/CSV/PTS)", "unknown".
+// "PLY", "LAS", "LAZ", "text (XYZ/CSV/PTS)", "E57", "unknown".
 const char* pointFormatName(PointFormat format);
 
 // "supported formats: PLY (...), LAS 1.0-1.4 (...), text ..." for error messages.
@@ -24,7 +24,7 @@ const char* supportedFormatsText();
 
 // Detects the format from the file's first bytes (magic and header), not from its extension:
 // the line "ply" (blanks after it and CR LF allowed) is PLY; "LASF" is LAS, or LAZ when the header
-// says LASzip; a file whose first 64 KiB are printable text with a line of at least three numbers
+// says LASzip; "ASTM-E57" is E57; a file whose first 64 KiB are printable text with a line of at least three numbers
 // is text. Throws InputError when the file cannot be opened.
 PointFormat detectPointFormat(const std::filesystem::path& path);
 

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/point_gather.h"
+#include "io/e57/e57_reader.h"
 #include "io/las_reader.h"
 #include "io/laz_reader.h"
 #include "io/ply_reader.h"
@@ -29,7 +30,9 @@ struct PointStream::State {
     PointCloud node;
     std::uint64_t next_point = 0;
   };
-  std::variant<PlyChunkReader, LasChunkReader, LazChunkReader, TextChunkReader, OctreeNodes> reader;
+  std::variant<PlyChunkReader, LasChunkReader, LazChunkReader, TextChunkReader, E57ChunkReader,
+               OctreeNodes>
+      reader;
   CoordinateSystem crs;
   std::optional<PointFilter> filter;     // absent: every point
   std::uint64_t remaining = UINT64_MAX;  // points left before the end of restrictTo's range
@@ -58,6 +61,11 @@ PointStream::State openStream(const std::filesystem::path& path,
       return {LazChunkReader(path)};  // likewise
     case PointFormat::Text:
       return {TextChunkReader(path, {.columns = text_columns}, quantization)};
+    case PointFormat::E57: {
+      E57ChunkReader reader(path);
+      if (quantization) reader.setQuantization(*quantization);
+      return {std::move(reader)};
+    }
     default:
       // readPointFile gives the message for unknown formats.
       readPointFile(path);
