@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <numbers>
 #include <random>
 
 #include "io/e57/e57_pages.h"
@@ -122,6 +123,12 @@ std::string fieldXml(const E57Field& field) {
     case E57Field::Kind::Float:
       xml += " type=\"Float\" precision=\"";
       xml += field.single_precision ? "single\"" : "double\"";
+      // The declared range, when given: libE57Format takes a float intensity field's range
+      // for the scan's intensity limits.
+      if (field.float_minimum < field.float_maximum) {
+        xml += " minimum=\"" + number(field.float_minimum) + "\" maximum=\"" +
+               number(field.float_maximum) + "\"";
+      }
       break;
     case E57Field::Kind::Integer:
       xml += " type=\"Integer\" minimum=\"" + std::to_string(field.minimum) + "\" maximum=\"" +
@@ -161,8 +168,14 @@ std::string scanXml(const E57ScanSource& scan, std::uint64_t section_offset, std
            floatElement("zMaximum", b.max[2]) + "</cartesianBounds>\n";
   }
   if (scan.range_maximum) {
+    // Every member of sphericalBounds: libE57Format's reader asks for all six. The angles are
+    // their whole ranges; Parallax reads only rangeMaximum.
+    const double pi = std::numbers::pi;
     xml += "<sphericalBounds type=\"Structure\">" + floatElement("rangeMinimum", 0.0) +
-           floatElement("rangeMaximum", *scan.range_maximum) + "</sphericalBounds>\n";
+           floatElement("rangeMaximum", *scan.range_maximum) +
+           floatElement("elevationMinimum", -pi / 2) + floatElement("elevationMaximum", pi / 2) +
+           floatElement("azimuthStart", -pi) + floatElement("azimuthEnd", pi) +
+           "</sphericalBounds>\n";
   }
   if (scan.intensity_limits) {
     xml += "<intensityLimits type=\"Structure\">" +
@@ -342,13 +355,18 @@ void writeE57(const PointCloud& cloud, const std::filesystem::path& path,
     float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
     for (float v : cloud.intensity) lo = std::min(lo, v), hi = std::max(hi, v);
     intensity_in_range = cloud.count == 0 || (lo >= 0.0f && hi <= 65535.0f);
-    scan.intensity_limits = intensity_in_range || !(lo < hi)
-                                ? std::array<double, 2>{0.0, 65535.0}
-                                : std::array<double, 2>{double(lo), double(hi)};
     E57Field field;
     field.name = "intensity";
     field.kind = E57Field::Kind::Float;
     field.single_precision = true;
+    if (intensity_in_range) {
+      // Limits the reader maps onto 0..65535: onto the values themselves.
+      scan.intensity_limits = std::array<double, 2>{0.0, 65535.0};
+      field.float_minimum = 0.0, field.float_maximum = 65535.0;
+    } else {
+      // No limits: the reader keeps the values as stored.
+      field.float_minimum = lo, field.float_maximum = hi;
+    }
     scan.fields.push_back(field);
   }
   if (cloud.hasColors()) {
@@ -363,8 +381,6 @@ void writeE57(const PointCloud& cloud, const std::filesystem::path& path,
   }
   const bool scaled = options.scaled_integer_positions;
   const bool has_intensity = cloud.hasIntensity();
-  // Limits of the reader's mapping back: intensity values v are written so that reading maps
-  // them onto v again (limits 0..65535), or kept as they are under their own limits.
   scan.fill = [&, scaled, has_intensity](std::uint64_t first, std::size_t count,
                                          std::vector<std::vector<double>>& values) {
     for (std::size_t i = 0; i < count; ++i) {

@@ -5,7 +5,7 @@
 // writeE57 writes a cloud as one scan: positions as ScaledInteger fields with the cloud's own
 // scale and offset (every int32 position kept exactly) or as doubles, colour as 8-bit Integer
 // fields with colorLimits 0..255, intensity as a float field with intensityLimits 0..65535 (what
-// the reader maps back onto itself) or, for values outside that range, their own range.
+// the reader maps back onto itself) or, for values outside that range, no limits (kept as stored).
 // writeE57Scans writes any scans given field by field (several scans, poses, spherical
 // coordinates, invalid states): the tests' and benchmarks' way to make files.
 #pragma once
