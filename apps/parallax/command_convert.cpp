@@ -245,9 +245,10 @@ bool isOctreeOutput(const ConvertArgs& args) {
   const std::string octree = path.stem().string() + extension + "/";
   throw InputError(
       {.file = output,
-       .expected = "an output name ending in .ply, .las, .laz, .xyz, .txt, .csv, .asc, .pts or "
-                   ".copc.laz, or a Potree 2.0 octree directory (--format potree, a name ending "
-                   "in '/', an existing directory, or a name without extension)",
+       .expected =
+           "an output name ending in .ply, .las, .laz, .xyz, .txt, .csv, .asc, .pts, "
+           ".e57 or .copc.laz, or a Potree 2.0 octree directory (--format potree, a name ending "
+           "in '/', an existing directory, or a name without extension)",
        .found = "'" + path.extension().string() + "'",
        .hint = "for an octree, add --format potree (or write -o " + octree + ")"});
 }
@@ -420,7 +421,9 @@ Command addConvertCommand(CLI::App& app) {
   Command command;
   CLI::App* sub = app.add_subcommand(
       "convert",
-      "Convert a point file between PLY, LAS, LAZ and text (xyz, txt, csv, pts), or point files to "
+      "Convert a point file between PLY, LAS, LAZ, text (xyz, txt, csv, pts) and E57, or point "
+      "files "
+      "to "
       "a level-of-detail octree: a Potree 2.0 directory or a COPC file (.copc.laz)");
   sub->add_option("input", args->inputs,
                   "Input point files (format detected from their content), a Potree directory (or "

@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "command_info_copc.h"
+#include "command_info_e57.h"
 #include "commands.h"
 #include "core/error.h"
 #include "core/point_cloud.h"
@@ -320,6 +321,15 @@ FormatDescription describeFormat(const std::filesystem::path& path, PointFormat 
     case PointFormat::Las:
     case PointFormat::Laz:
       return describeLas(path);
+    case PointFormat::E57: {
+      E57Description e57 = describeE57File(path);
+      FormatDescription out;
+      out.name = "e57";
+      out.summary = std::move(e57.summary);
+      out.lines = std::move(e57.lines);
+      out.details["e57"] = std::move(e57.details);
+      return out;
+    }
     default:
       break;
   }
