@@ -28,20 +28,60 @@ std::uint32_t crc32cTable(const unsigned char* p, std::size_t n) {
 }
 
 #if defined(__x86_64__)
-// The crc32 instruction computes exactly CRC-32C; a page is checked at several GB/s this way,
-// against about 400 MB/s with the table, which would bound the reader's speed.
+// The crc32 instruction computes exactly CRC-32C, but one chain of it waits 3 cycles an
+// instruction: a page is checked as three interleaved streams of 336 bytes, joined by the linear
+// map "336 zero bytes more" (crc(A B) = shift(crc(A)) ^ crc_from_zero(B)), tabulated once.
+constexpr std::size_t kStreamWords = 42;  // 336 bytes; 3 streams take 1008 of a page's 1020
+
+__attribute__((target("sse4.2"))) std::uint32_t crcWords(std::uint32_t crc, const unsigned char* p,
+                                                         std::size_t words) {
+  std::uint64_t c = crc;
+  for (std::size_t i = 0; i < words; ++i) {
+    std::uint64_t word;
+    std::memcpy(&word, p + 8 * i, 8);
+    c = __builtin_ia32_crc32di(c, word);
+  }
+  return std::uint32_t(c);
+}
+
+struct ShiftTable {
+  std::uint32_t entry[4][256];
+  ShiftTable() {
+    static const unsigned char zeros[8 * kStreamWords] = {};
+    for (int k = 0; k < 4; ++k) {
+      for (std::uint32_t v = 0; v < 256; ++v)
+        entry[k][v] = crcWords(v << (8 * k), zeros, kStreamWords);
+    }
+  }
+  std::uint32_t shift(std::uint32_t crc) const {
+    return entry[0][crc & 0xFF] ^ entry[1][(crc >> 8) & 0xFF] ^ entry[2][(crc >> 16) & 0xFF] ^
+           entry[3][crc >> 24];
+  }
+};
+
 __attribute__((target("sse4.2"))) std::uint32_t crc32cHardware(const unsigned char* p,
                                                                std::size_t n) {
-  std::uint64_t crc = 0xFFFFFFFFu;
+  static const ShiftTable table;
+  std::uint32_t crc = 0xFFFFFFFFu;
   std::size_t i = 0;
-  for (; i + 8 <= n; i += 8) {
-    std::uint64_t word;
-    std::memcpy(&word, p + i, 8);
-    crc = __builtin_ia32_crc32di(crc, word);
+  constexpr std::size_t kStreamBytes = 8 * kStreamWords;
+  for (; i + 3 * kStreamBytes <= n; i += 3 * kStreamBytes) {
+    std::uint64_t a = crc, b = 0, c = 0;
+    for (std::size_t w = 0; w < kStreamWords; ++w) {
+      std::uint64_t wa, wb, wc;
+      std::memcpy(&wa, p + i + 8 * w, 8);
+      std::memcpy(&wb, p + i + kStreamBytes + 8 * w, 8);
+      std::memcpy(&wc, p + i + 2 * kStreamBytes + 8 * w, 8);
+      a = __builtin_ia32_crc32di(a, wa);
+      b = __builtin_ia32_crc32di(b, wb);
+      c = __builtin_ia32_crc32di(c, wc);
+    }
+    crc = table.shift(table.shift(std::uint32_t(a)) ^ std::uint32_t(b)) ^ std::uint32_t(c);
   }
-  auto crc32 = std::uint32_t(crc);
-  for (; i < n; ++i) crc32 = __builtin_ia32_crc32qi(crc32, p[i]);
-  return crc32 ^ 0xFFFFFFFFu;
+  crc = crcWords(crc, p + i, (n - i) / 8);
+  i += (n - i) / 8 * 8;
+  for (; i < n; ++i) crc = __builtin_ia32_crc32qi(crc, p[i]);
+  return crc ^ 0xFFFFFFFFu;
 }
 #endif
 

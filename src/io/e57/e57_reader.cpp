@@ -413,38 +413,88 @@ void E57ChunkReader::limitRecordsPerScan(std::uint64_t records) {
   state_->per_scan_limit = records;
 }
 
+namespace {
+
+// Columns sized for `capacity` points, cut to `count` (fewer when invalid points were skipped).
+template <class T>
+Column<T> cut(Column<T>&& column, std::size_t count) {
+  if (column.size() == count) return std::move(column);
+  Column<T> shorter(count);
+  std::copy_n(column.begin(), count, shorter.begin());
+  return shorter;
+}
+
+ByteBuffer cut(ByteBuffer&& buffer, std::size_t bytes) {
+  if (buffer.size() == bytes) return std::move(buffer);
+  ByteBuffer shorter(bytes);
+  if (bytes > 0) std::memcpy(shorter.data(), buffer.data(), bytes);
+  return shorter;
+}
+
+}  // namespace
+
 bool E57ChunkReader::next(PointCloud& chunk, std::size_t max_points) {
   State& s = *state_;
   const E57Header& header = s.header;
   const Quantization& q = s.quantization;
-  std::vector<Int3> positions;
-  std::vector<Rgba8> colors;
-  std::vector<float> intensity;
-  std::vector<std::uint32_t> scan_index;
-  std::vector<std::vector<double>> extra(s.extras.size());
-  const std::size_t reserve = std::size_t(std::min<std::uint64_t>(max_points, header.record_count));
-  positions.reserve(reserve);
-  while (positions.size() < max_points) {
-    const std::size_t want = std::min(kBatchRecords, max_points - positions.size());
+  // At most this many points: the records left (invalid ones are skipped, so maybe fewer).
+  std::uint64_t records_left = 0;
+  for (std::size_t scan = s.current_scan; scan < s.layouts.size(); ++scan) {
+    const std::uint64_t in_scan = header.document.scans[scan].record_count;
+    const std::uint64_t done = scan == s.current_scan && s.decoder ? s.scan_records_done : 0;
+    records_left += std::min(in_scan, s.per_scan_limit) - std::min(done, in_scan);
+  }
+  const std::size_t capacity = std::size_t(std::min<std::uint64_t>(max_points, records_left));
+  Column<Int3> positions(capacity);
+  Column<Rgba8> colors(header.has_colors ? capacity : 0);
+  Column<float> intensity(header.has_intensity ? capacity : 0);
+  ByteBuffer scan_index(capacity * sizeof(std::uint32_t));
+  std::vector<ScalarColumn> extra;
+  for (const ExtraColumn& e : s.extras) {
+    extra.push_back({e.name, e.type, ByteBuffer(capacity * scalarSize(e.type))});
+  }
+  // Quantizing with the inverse scale: a multiplication where Quantization divides, and the
+  // range check folded in (the stored integer is the same: both round to nearest).
+  double inverse[3], lowest[3], highest[3];
+  for (int a = 0; a < 3; ++a) {
+    inverse[a] = 1.0 / q.scale[a];
+    lowest[a] = double(Quantization::kMin), highest[a] = double(Quantization::kMax);
+  }
+  std::size_t count = 0;
+  std::vector<double> world[3];
+  while (count < capacity) {
+    const std::size_t want = std::min(kBatchRecords, capacity - count);
     const std::size_t n = s.decodeBatch(want, false);
     if (n == 0) break;
     const std::uint64_t first_record = s.scan_records_done - n;
     const ScanLayout& layout = s.layouts[s.current_scan];
     const E57Scan& scan = header.document.scans[s.current_scan];
+    for (auto& w : world) w.resize(n);
+    std::vector<std::uint8_t> valid(n);
     for (std::size_t i = 0; i < n; ++i) {
       double p[3];
-      if (!s.position(layout, i, p)) continue;
+      valid[i] = s.position(layout, i, p);
+      world[0][i] = p[0], world[1][i] = p[1], world[2][i] = p[2];
+    }
+    const std::size_t start = count;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!valid[i]) continue;
+      std::int32_t quantized[3];
       for (int a = 0; a < 3; ++a) {
-        if (q.fits(a, p[a])) continue;
+        const double value = (world[a][i] - q.offset[a]) * inverse[a];
+        if (value >= lowest[a] && value <= highest[a]) {
+          quantized[a] = std::int32_t(std::nearbyint(value));
+          continue;
+        }
         const std::string where = "record " + std::to_string(first_record + i) + " of scan " +
                                   std::to_string(s.current_scan);
-        if (!std::isfinite(p[a])) {
+        if (!std::isfinite(world[a][i])) {
           throw InputError({.file = s.pages->name(),
                             .byte_offset = scan.section_offset,
                             .element = where,
                             .property = scan.fields[std::size_t(layout.position[a])].name,
                             .expected = "a finite coordinate",
-                            .found = std::to_string(p[a])});
+                            .found = std::to_string(world[a][i])});
         }
         throw OutsideDeclaredBounds(
             {.file = s.pages->name(),
@@ -454,45 +504,69 @@ bool E57ChunkReader::next(PointCloud& chunk, std::size_t max_points) {
              .expected = "a point inside the bounds the file declares (" +
                          std::to_string(header.bounds.min[a]) + " .. " +
                          std::to_string(header.bounds.max[a]) + ")",
-             .found = std::to_string(p[a]),
+             .found = std::to_string(world[a][i]),
              .hint = "the file's cartesianBounds are wrong; readE57 measures them instead"});
       }
-      positions.push_back({q.toQuantized(0, p[0]), q.toQuantized(1, p[1]), q.toQuantized(2, p[2])});
-      scan_index.push_back(std::uint32_t(s.current_scan));
-      if (header.has_colors) {
+      positions[count++] = {quantized[0], quantized[1], quantized[2]};
+    }
+    std::fill_n(reinterpret_cast<std::uint32_t*>(scan_index.data()) + start, count - start,
+                std::uint32_t(s.current_scan));
+    if (header.has_colors) {
+      const bool has = layout.color[0] >= 0;
+      const double* channel[3] = {};
+      if (has) {
+        for (int k = 0; k < 3; ++k) channel[k] = s.values[std::size_t(layout.color[k])].data();
+      }
+      const double* invalid =
+          layout.color_invalid >= 0 ? s.values[std::size_t(layout.color_invalid)].data() : nullptr;
+      std::size_t out = start;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!valid[i]) continue;
         Rgba8 c{0, 0, 0, 255};
-        const bool invalid =
-            layout.color_invalid >= 0 && s.values[std::size_t(layout.color_invalid)][i] != 0.0;
-        if (layout.color[0] >= 0 && !invalid) {
+        if (has && !(invalid && invalid[i] != 0.0)) {
           std::uint8_t rgb[3];
           for (int k = 0; k < 3; ++k) {
             const Channel& m = layout.color_map[k];
-            const double v = (s.values[std::size_t(layout.color[k])][i] - m.minimum) * m.factor;
+            const double v = (channel[k][i] - m.minimum) * m.factor;
             rgb[k] = std::uint8_t(std::clamp(std::nearbyint(v), 0.0, 255.0));
           }
           c = {rgb[0], rgb[1], rgb[2], 255};
         }
-        colors.push_back(c);
+        colors[out++] = c;
       }
-      if (header.has_intensity) {
+    }
+    if (header.has_intensity) {
+      const double* values =
+          layout.intensity >= 0 ? s.values[std::size_t(layout.intensity)].data() : nullptr;
+      const double* invalid = layout.intensity_invalid >= 0
+                                  ? s.values[std::size_t(layout.intensity_invalid)].data()
+                                  : nullptr;
+      const Channel& m = layout.intensity_map;
+      std::size_t out = start;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!valid[i]) continue;
         float value = 0.0f;
-        const bool invalid = layout.intensity_invalid >= 0 &&
-                             s.values[std::size_t(layout.intensity_invalid)][i] != 0.0;
-        if (layout.intensity >= 0 && !invalid) {
-          const Channel& m = layout.intensity_map;
-          const double v = s.values[std::size_t(layout.intensity)][i];
+        if (values && !(invalid && invalid[i] != 0.0)) {
+          const double v = values[i];
           value = float(m.raw ? v : std::clamp((v - m.minimum) * m.factor, 0.0, 65535.0));
         }
-        intensity.push_back(value);
+        intensity[out++] = value;
       }
-      for (auto& column : extra) column.push_back(0.0);
-      for (const auto& [field, column] : layout.extras) {
-        extra[std::size_t(column)].back() = s.values[std::size_t(field)][i];
+    }
+    for (std::size_t e = 0; e < extra.size(); ++e) {
+      int field = -1;
+      for (const auto& [f, column] : layout.extras) {
+        if (std::size_t(column) == e) field = f;
+      }
+      std::size_t out = start;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!valid[i]) continue;
+        extra[e].setFromDouble(out++, field >= 0 ? s.values[std::size_t(field)][i] : 0.0);
       }
     }
   }
   chunk = PointCloud{};
-  chunk.count = positions.size();
+  chunk.count = count;
   chunk.quantization = q;
   chunk.source.position = ScalarType::Float64;
   chunk.source.color = ScalarType::UInt8;
@@ -501,23 +575,13 @@ bool E57ChunkReader::next(PointCloud& chunk, std::size_t max_points) {
       if (c.factor < 1.0 - 1e-12) chunk.source.color = ScalarType::UInt16;
     }
   }
-  chunk.positions = Column<Int3>(positions.size());
-  std::copy(positions.begin(), positions.end(), chunk.positions.begin());
-  if (header.has_colors) {
-    chunk.colors = Column<Rgba8>(colors.size());
-    std::copy(colors.begin(), colors.end(), chunk.colors.begin());
-  }
-  if (header.has_intensity) {
-    chunk.intensity = Column<float>(intensity.size());
-    std::copy(intensity.begin(), intensity.end(), chunk.intensity.begin());
-  }
-  ScalarColumn index{kScanIndexColumn, ScalarType::UInt32, ByteBuffer(scan_index.size() * 4)};
-  if (!scan_index.empty()) std::memcpy(index.data.data(), scan_index.data(), scan_index.size() * 4);
-  chunk.scalars.push_back(std::move(index));
-  for (std::size_t e = 0; e < s.extras.size(); ++e) {
-    ScalarColumn column{s.extras[e].name, s.extras[e].type,
-                        ByteBuffer(positions.size() * scalarSize(s.extras[e].type))};
-    for (std::size_t i = 0; i < positions.size(); ++i) column.setFromDouble(i, extra[e][i]);
+  chunk.positions = cut(std::move(positions), count);
+  if (header.has_colors) chunk.colors = cut(std::move(colors), count);
+  if (header.has_intensity) chunk.intensity = cut(std::move(intensity), count);
+  chunk.scalars.push_back(
+      {kScanIndexColumn, ScalarType::UInt32, cut(std::move(scan_index), count * 4)});
+  for (ScalarColumn& column : extra) {
+    column.data = cut(std::move(column.data), count * scalarSize(column.type));
     chunk.scalars.push_back(std::move(column));
   }
   chunk.computeBounds();
