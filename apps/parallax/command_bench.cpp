@@ -140,6 +140,14 @@ double cpuSeconds() {
          1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
 
+// CPU seconds (user + system) of the finished child processes so far (the --peer runs).
+double childrenCpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_CHILDREN, &usage);
+  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
 int runBenchLoad(const LoadOptions& options) {
   const std::string& path = options.file;
   // Warm-up: puts the file in the page cache ("drop nothing": both measurements then read memory).
@@ -151,7 +159,7 @@ int runBenchLoad(const LoadOptions& options) {
   if (options.threads > 0) {
     limit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(options.threads));
   }
-  Times load, reference, load_cpu, peer;
+  Times load, reference, load_cpu, peer, peer_cpu;
   std::uint64_t points = 0, columns = 0;
   // Advanced between the timed parts only, so that drawing it is never inside a measurement.
   auto progress = progressBar(options.quiet, "bench load", std::uint64_t(options.repeat), "loads");
@@ -173,8 +181,10 @@ int runBenchLoad(const LoadOptions& options) {
     if (!options.peer.empty()) {
       const std::string command = peerCommand(options.peer, path);
       start = Clock::now();
+      const double children_start = childrenCpuSeconds();
       const int status = std::system(command.c_str());
       peer.seconds.push_back(secondsSince(start));
+      peer_cpu.seconds.push_back(childrenCpuSeconds() - children_start);
       if (status != 0) {
         throw std::runtime_error("bench load --peer: '" + command + "' failed (status " +
                                  std::to_string(status) + ")");

@@ -9,7 +9,8 @@ namespace parallax {
 namespace {
 
 constexpr std::size_t kSectionHeaderSize = 32;
-constexpr std::size_t kPadding = 16;  // after a packet's bytes: room for 9-byte loads
+constexpr std::size_t kPadding = 16;        // after a packet's bytes: room for 9-byte loads
+constexpr std::size_t kRecentPackets = 48;  // at most 3 MB
 constexpr std::uint8_t kIndexPacket = 0, kDataPacket = 1, kEmptyPacket = 2;
 
 std::uint64_t load64(const std::byte* p) {
@@ -153,6 +154,8 @@ std::shared_ptr<const E57RecordDecoder::Packet> E57RecordDecoder::packetAt(std::
     }
   }
   packets_[logical] = packet;
+  recent_.push_back(packet);
+  if (recent_.size() > kRecentPackets) recent_.pop_front();
   return packet;
 }
 

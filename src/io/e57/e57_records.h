@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <memory>
 #include <span>
@@ -49,6 +50,10 @@ class E57RecordDecoder {
   std::uint64_t section_end_ = 0;  // logical
   std::vector<Channel> channels_;
   std::map<std::uint64_t, std::weak_ptr<const Packet>> packets_;
+  // The packets read last, kept alive: fields are decoded one after the other over a batch of
+  // records, so each packet of the batch is wanted again by the next field (read and checked
+  // once, not once a field).
+  std::deque<std::shared_ptr<const Packet>> recent_;
 };
 
 }  // namespace parallax
