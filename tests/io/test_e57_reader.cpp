@@ -140,6 +140,15 @@ TEST(E57Pages, Crc32cKnownAnswerAndPagesOfPdalFiles) {
   const std::string check = "123456789";
   EXPECT_EQ(crc32c({reinterpret_cast<const std::byte*>(check.data()), check.size()}),
             0xE3069283u);  // the CRC-32C check value
+  // Every length from 0 to 2100 bytes: the interleaved streams, the 8-byte words and the tail.
+  std::string bytes;
+  for (std::size_t n = 0; n <= 2100; ++n) {
+    const std::string_view data(bytes);
+    ASSERT_EQ(crc32c({reinterpret_cast<const std::byte*>(data.data()), data.size()}),
+              test::slowCrc32c(data))
+        << n << " bytes";
+    bytes.push_back(char(n * 131 + 7));
+  }
   const std::string file = test::readBytes(test::e57DataFile("A_B.e57"));
   ASSERT_EQ(file.size() % 1024, 0u);
   for (std::size_t page = 0; page < file.size(); page += 1024) {
