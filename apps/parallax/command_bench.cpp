@@ -217,8 +217,11 @@ int runBenchLoad(const LoadOptions& options) {
   if (!peer.seconds.empty()) {
     std::printf("peer       median %.4f s, best %.4f s: %.2f M points/s (%s)\n", peer.median(),
                 peer.best(), double(points) / peer.median() / 1e6, options.peer.c_str());
-    std::printf("speed-up   peer / load = %.2f (median), %.2f (best)\n",
-                peer.median() / load_median, peer.best() / load.best());
+    std::printf(
+        "speed-up   peer / load = %.2f (median), %.2f (best); in CPU time %.2f (the peer "
+        "%.4f s of CPU a run, median, its shell included)\n",
+        peer.median() / load_median, peer.best() / load.best(),
+        peer_cpu.median() / load_cpu.median(), peer_cpu.median());
   }
   std::printf("memory     peak RSS %.1f MB; columns %.1f MB; file %.1f MB\n", peakRssBytes() / 1e6,
               double(columns) / 1e6, mb);
