@@ -11,7 +11,8 @@ namespace {
 constexpr std::size_t kSectionHeaderSize = 32;
 constexpr std::size_t kPadding = 16;        // after a packet's bytes: room for 9-byte loads
 constexpr std::size_t kRecentPackets = 48;  // at most 3 MB
-constexpr std::uint8_t kIndexPacket = 0, kDataPacket = 1, kEmptyPacket = 2;
+// Packet types; 0, an index packet, is stepped over like an empty one.
+constexpr std::uint8_t kDataPacket = 1, kEmptyPacket = 2;
 
 std::uint64_t load64(const std::byte* p) {
   std::uint64_t v;
