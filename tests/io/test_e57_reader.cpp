@@ -49,7 +49,7 @@ const std::vector<Expected> kA4 = {
 
 TEST(E57Reader, PdalA4OneScanCartesianColourIntensity) {
   const auto path = test::e57DataFile("A4.e57");
-  EXPECT_EQ(detectPointFormat(path), PointFormat::E57);
+  EXPECT_EQ(detectPointFormat(path), PointFormat("e57"));
   const PointCloud cloud = readPointFile(path);
   expectPoints(cloud, kA4);
   // What PDAL's own test asserts (its colour in 16 bits: 65535 is our 255).

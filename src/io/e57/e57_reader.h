@@ -34,6 +34,7 @@
 #include "core/point_cloud.h"
 #include "core/progress.h"
 #include "io/e57/e57_document.h"
+#include "io/point_chunk_source.h"
 
 namespace parallax {
 
@@ -75,19 +76,19 @@ PointCloud readE57FromMemory(std::span<const std::byte> bytes, const std::string
 PointCloud readE57Preview(const std::filesystem::path& path, std::uint64_t max_points);
 
 // Streams the points in chunks: the scans in file order, each from its start.
-class E57ChunkReader {
+class E57ChunkReader final : public PointChunkSource {
  public:
   explicit E57ChunkReader(const std::filesystem::path& path);
   // From bytes in memory (they must outlive the reader); `name` stands for the file in messages.
   E57ChunkReader(std::span<const std::byte> bytes, const std::string& name);
-  ~E57ChunkReader();
+  ~E57ChunkReader() override;
   E57ChunkReader(E57ChunkReader&&) noexcept;
 
   const E57Header& header() const;
-  std::uint64_t pointCount() const;  // header().record_count
+  std::uint64_t pointCount() const override;  // header().record_count
   // Chosen from header().bounds; a point outside it is an InputError naming the scan and record
   // (declared bounds that lie), which setQuantization() with wider bounds avoids.
-  const Quantization& quantization() const;
+  const Quantization& quantization() const override;
   void setQuantization(const Quantization& quantization);
   // Replaces header().bounds with bounds measured by a pass over every position (each record's
   // position fields decoded, the rest stepped over) and the quantization with one chosen from them.
@@ -97,7 +98,7 @@ class E57ChunkReader {
 
   // Replaces `chunk` with the next at most `max_points` valid points (`max_points` > 0); false
   // (and an empty chunk) at the end.
-  bool next(PointCloud& chunk, std::size_t max_points);
+  bool next(PointCloud& chunk, std::size_t max_points) override;
 
   // From now on, at most `records` records of each scan are decoded (the rest of a scan is
   // stepped over undecoded): for previews.
