@@ -17,10 +17,11 @@ int main(int argc, char** argv) {
                                         "build: " + parallax::build_info::kBuild);
   app.require_subcommand(1);
   const std::vector<parallax::cli::Command> commands = {
-      parallax::cli::addInfoCommand(app),   parallax::cli::addGenerateCommand(app),
-      parallax::cli::addBenchCommand(app),  parallax::cli::addConvertCommand(app),
-      parallax::cli::addRenderCommand(app), parallax::cli::addViewCommand(app),
-      parallax::cli::addPickCommand(app),   parallax::cli::addConvertTaskCommand(app),
+      parallax::cli::addInfoCommand(app),    parallax::cli::addGenerateCommand(app),
+      parallax::cli::addBenchCommand(app),   parallax::cli::addConvertCommand(app),
+      parallax::cli::addRenderCommand(app),  parallax::cli::addViewCommand(app),
+      parallax::cli::addPickCommand(app),    parallax::cli::addConvertTaskCommand(app),
+      parallax::cli::addProcessCommand(app),
   };
 
   try {
