@@ -6,7 +6,7 @@
 
 #include <span>
 
-#include "process/neighbour_grid.h"
+#include "process/neighbour_index.h"
 
 namespace parallax {
 

@@ -42,13 +42,10 @@ void runDistanceStep(const DistanceStep& step, const StepContext& context) {
       return hood;
     };
     const double halo =
-        2.0 * NeighbourGrid::cellForDensity(queries, std::max<double>(4.0, double(k)));
+        2.0 * NeighbourIndex::radiusForCount(queries, std::max<double>(4.0, double(k)));
     answerTileQueries(
         queries, halo, load,
-        [&](const std::vector<GridPoint>& loaded) {
-          return NeighbourGrid::cellForDensity(loaded, std::max(2.0, double(k) / 2.0));
-        },
-        [&](const TileNeighbourhood& hood, const NeighbourGrid& grid, std::uint32_t i,
+        [&](const TileNeighbourhood& hood, const NeighbourIndex& grid, std::uint32_t i,
             const GridPoint& q, std::vector<Neighbour>& neighbours) -> bool {
           grid.nearest(q.x, q.y, q.z, k, neighbours);
           const double reach =

@@ -47,16 +47,11 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
     const std::vector<GridPoint> queries(first.points.begin(), first.points.begin() + first.core);
     const std::vector<std::uint32_t> slot = first.slot;
     first = {};
-    const double per_cell = step.k ? std::max(2.0, double(step.k) / 2.0) : 2.0;
-    const double halo = step.k ? 1.5 * NeighbourGrid::cellForDensity(queries, double(step.k))
+    const double halo = step.k ? 1.5 * NeighbourIndex::radiusForCount(queries, double(step.k))
                                : step.radius * (1.0 + 1e-9);
     answerTileQueries(
         queries, halo, [&](double h) { return loadNeighbourhood(tiles, t, h, points, kept); },
-        [&](const std::vector<GridPoint>& loaded) {
-          const double dense = NeighbourGrid::cellForDensity(loaded, per_cell);
-          return step.k ? dense : std::max(step.radius, dense);
-        },
-        [&](const TileNeighbourhood& hood, const NeighbourGrid& grid, std::uint32_t i,
+        [&](const TileNeighbourhood& hood, const NeighbourIndex& grid, std::uint32_t i,
             const GridPoint& q, std::vector<Neighbour>& neighbours) -> bool {
           double reach = step.radius;
           if (step.k) {

@@ -59,12 +59,9 @@ void meanDistances(const OutliersStep& step, const StepContext& context, Fixed& 
     first = {};
     const std::size_t k = std::size_t(step.k) + 1;
     answerTileQueries(
-        queries, 1.5 * NeighbourGrid::cellForDensity(queries, double(k)),
+        queries, 1.5 * NeighbourIndex::radiusForCount(queries, double(k)),
         [&](double h) { return loadNeighbourhood(tiles, t, h, points, kept); },
-        [&](const std::vector<GridPoint>& loaded) {
-          return NeighbourGrid::cellForDensity(loaded, std::max(2.0, double(k) / 2.0));
-        },
-        [&](const TileNeighbourhood& hood, const NeighbourGrid& grid, std::uint32_t i,
+        [&](const TileNeighbourhood& hood, const NeighbourIndex& grid, std::uint32_t i,
             const GridPoint& q, std::vector<Neighbour>& neighbours) -> bool {
           grid.nearest(q.x, q.y, q.z, k, neighbours);
           const double reach =
@@ -123,8 +120,7 @@ void runOutliersStep(const OutliersStep& step, const StepContext& context) {
     std::vector<std::uint8_t> isolated(points.size(), 0);
     const TileNeighbourhood hood =
         loadNeighbourhood(tiles, t, step.radius * (1.0 + 1e-9), points, kept);
-    const NeighbourGrid grid(
-        hood.points, std::max(step.radius, NeighbourGrid::cellForDensity(hood.points, 2.0)));
+    const NeighbourIndex grid(hood.points);
     tbb::enumerable_thread_specific<std::vector<Neighbour>> scratch;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hood.core, 1024),
                       [&](const tbb::blocked_range<std::size_t>& range) {

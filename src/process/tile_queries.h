@@ -13,7 +13,7 @@
 
 #include "core/progress.h"
 #include "lod/convert_stages.h"
-#include "process/neighbour_grid.h"
+#include "process/neighbour_index.h"
 #include "process/tile_set.h"
 
 namespace parallax {
@@ -29,17 +29,17 @@ struct StepContext {
 
 // For each of `queries` (the tile's kept points), calls `answer(hood, grid, query, scratch)`,
 // which returns whether its answer is exact (TileNeighbourhood::covers); those that are not are
-// asked again with the halo doubled. `load(halo)` loads the points searched; `cell(points)` the
-// grid's cell edge. The halo is infinite (everything loaded) before it could fail again.
-template <class Load, class Cell, class Answer>
-void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& load, Cell&& cell,
+// asked again with the halo doubled. `load(halo)` loads the points searched. The halo is infinite
+// (everything loaded) before it could fail again.
+template <class Load, class Answer>
+void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& load,
                        Answer&& answer) {
   std::vector<std::uint32_t> pending(queries.size());
   for (std::size_t i = 0; i < pending.size(); ++i) pending[i] = std::uint32_t(i);
   tbb::enumerable_thread_specific<std::vector<Neighbour>> scratch;
   while (!pending.empty()) {
     const TileNeighbourhood hood = load(halo);
-    const NeighbourGrid grid(hood.points, cell(hood.points));
+    const NeighbourIndex grid(hood.points);
     std::vector<std::uint8_t> exact(pending.size(), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& range) {

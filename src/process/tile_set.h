@@ -22,7 +22,7 @@
 
 #include "core/progress.h"
 #include "lod/convert_stages.h"
-#include "process/neighbour_grid.h"
+#include "process/neighbour_index.h"
 
 namespace parallax {
 

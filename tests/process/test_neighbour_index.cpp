@@ -1,4 +1,4 @@
-// NeighbourGrid and fitLocalPlane against brute force and known answers.
+// NeighbourIndex and fitLocalPlane against brute force and known answers.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -6,7 +6,7 @@
 #include <random>
 
 #include "process/local_plane.h"
-#include "process/neighbour_grid.h"
+#include "process/neighbour_index.h"
 
 namespace parallax {
 namespace {
@@ -37,10 +37,10 @@ std::vector<Neighbour> bruteNearest(const std::vector<GridPoint>& points, double
   return all;
 }
 
-TEST(NeighbourGrid, NearestEqualsBruteForceWithTiesBrokenBySmallerId) {
+TEST(NeighbourIndex, NearestEqualsBruteForceWithTiesBrokenBySmallerId) {
   const std::vector<GridPoint> points = latticeWithDuplicates(3000, 1);
-  for (double cell : {0.3, 1.0, 4.0, 50.0}) {
-    const NeighbourGrid grid(points, cell);
+  {
+    const NeighbourIndex grid(points);
     std::vector<Neighbour> found;
     for (std::size_t q = 0; q < points.size(); q += 37) {
       for (std::size_t k : {1u, 6u, 16u, 40u}) {
@@ -49,7 +49,7 @@ TEST(NeighbourGrid, NearestEqualsBruteForceWithTiesBrokenBySmallerId) {
             bruteNearest(points, points[q].x, points[q].y, points[q].z, k);
         ASSERT_EQ(found.size(), expected.size());
         for (std::size_t i = 0; i < found.size(); ++i) {
-          EXPECT_EQ(found[i].id, expected[i].id) << "cell " << cell << " query " << q << " k " << k;
+          EXPECT_EQ(found[i].id, expected[i].id) << "query " << q << " k " << k;
           EXPECT_EQ(found[i].d2, expected[i].d2);
           EXPECT_EQ(grid.points()[found[i].at].id, found[i].id);
         }
@@ -66,9 +66,9 @@ TEST(NeighbourGrid, NearestEqualsBruteForceWithTiesBrokenBySmallerId) {
   }
 }
 
-TEST(NeighbourGrid, MoreNeighboursAskedThanPointsGivesThemAll) {
+TEST(NeighbourIndex, MoreNeighboursAskedThanPointsGivesThemAll) {
   const std::vector<GridPoint> points = {{0, 0, 0, 4}, {1, 0, 0, 9}, {0, 2, 0, 1}};
-  const NeighbourGrid grid(points, 0.5);
+  const NeighbourIndex grid(points);
   std::vector<Neighbour> found;
   grid.nearest(0, 0, 0, 10, found);
   ASSERT_EQ(found.size(), 3u);
@@ -77,10 +77,10 @@ TEST(NeighbourGrid, MoreNeighboursAskedThanPointsGivesThemAll) {
   EXPECT_EQ(found[2].id, 1u);
 }
 
-TEST(NeighbourGrid, WithinRadiusEqualsBruteForceBoundaryIncluded) {
+TEST(NeighbourIndex, WithinRadiusEqualsBruteForceBoundaryIncluded) {
   const std::vector<GridPoint> points = latticeWithDuplicates(2000, 2);
-  for (double cell : {0.5, 2.0, 30.0}) {
-    const NeighbourGrid grid(points, cell);
+  {
+    const NeighbourIndex grid(points);
     std::vector<Neighbour> found;
     for (std::size_t q = 0; q < points.size(); q += 53) {
       const double radius = 2.0;  // integer lattice: points at exactly 2 exist
@@ -95,7 +95,7 @@ TEST(NeighbourGrid, WithinRadiusEqualsBruteForceBoundaryIncluded) {
       for (const Neighbour& n : found) ids.push_back(n.id);
       std::sort(ids.begin(), ids.end());
       std::sort(expected.begin(), expected.end());
-      EXPECT_EQ(ids, expected) << "cell " << cell << " query " << q;
+      EXPECT_EQ(ids, expected) << "query " << q;
     }
   }
 }

@@ -1,5 +1,7 @@
-// Exact nearest-neighbour queries over the points of one tile: a uniform grid of cells, the
-// points sorted by cell, cells found through an open-addressing table.
+// Exact nearest-neighbour queries over the points of one tile: nanoflann's k-d tree (Debian's
+// libnanoflann-dev), searched with a result set of Parallax's own that orders by (distance, id).
+// Chosen over a uniform grid of the project's own on measurement (NOTES.md): scans' density
+// varies by orders of magnitude, which a k-d tree follows and a grid does not.
 //
 // Results are exact and fully determined: neighbours are ordered by (squared distance, id), so a
 // tie at the K-th distance is broken by the smaller id whatever the grid's cell size or the
@@ -9,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -21,7 +24,7 @@ struct GridPoint {
 
 struct Neighbour {
   double d2;         // squared distance to the query
-  std::uint32_t at;  // index into the grid's points()
+  std::uint32_t at;  // index into NeighbourIndex::points()
   std::uint64_t id;  // the point's id
   friend bool operator<(const Neighbour& a, const Neighbour& b) {
     return a.d2 < b.d2 || (a.d2 == b.d2 && a.id < b.id);
@@ -33,39 +36,31 @@ inline double squaredDistance(double ax, double ay, double az, double bx, double
   return (dx * dx + dy * dy) + dz * dz;
 }
 
-class NeighbourGrid {
+class NeighbourIndex {
  public:
-  // Takes the points (any order); `cell` > 0 is the cell edge in world units.
-  NeighbourGrid(std::vector<GridPoint> points, double cell);
+  // Takes the points (any order; `Neighbour::at` indexes them as given).
+  explicit NeighbourIndex(std::vector<GridPoint> points);
+  ~NeighbourIndex();
+  NeighbourIndex(const NeighbourIndex&) = delete;
+  NeighbourIndex& operator=(const NeighbourIndex&) = delete;
 
-  // A cell edge for K-nearest queries over `points`: about `per_cell` points per occupied cell.
-  static double cellForDensity(std::span<const GridPoint> points, double per_cell);
+  // About the radius within which a point of `points` has `count` neighbours, from the points
+  // per occupied cell of a sample (a first halo for K-nearest queries; never needed exactly).
+  static double radiusForCount(std::span<const GridPoint> points, double count);
 
-  // The points, sorted by cell (the order `Neighbour::at` refers to).
   const std::vector<GridPoint>& points() const { return points_; }
 
-  // The k nearest points to (x, y, z) (the point itself included when it is in the grid), in
-  // (d2, id) order, into `out` (fewer when the grid holds fewer). `out` is reused storage.
+  // The k nearest points to (x, y, z) (the point itself included when it is indexed), in
+  // (d2, id) order, into `out` (fewer when there are fewer). `out` is reused storage.
   void nearest(double x, double y, double z, std::size_t k, std::vector<Neighbour>& out) const;
 
   // Every point within `radius` (d2 <= radius^2), in (d2, id) order.
   void withinRadius(double x, double y, double z, double radius, std::vector<Neighbour>& out) const;
 
  private:
-  struct Cell {
-    std::uint64_t key;
-    std::uint32_t begin, end;
-  };
-  std::uint64_t keyOf(std::int64_t ix, std::int64_t iy, std::int64_t iz) const;
-  std::int64_t cellCoord(int axis, double v) const;
-  const Cell* find(std::int64_t ix, std::int64_t iy, std::int64_t iz) const;
-
+  struct Tree;
   std::vector<GridPoint> points_;
-  double cell_ = 1.0;
-  double origin_[3] = {0, 0, 0};
-  std::int64_t extent_[3] = {1, 1, 1};  // cells along each axis
-  std::vector<Cell> table_;             // open addressing, key UINT64_MAX: empty
-  std::uint64_t mask_ = 0;
+  std::unique_ptr<Tree> tree_;
 };
 
 }  // namespace parallax
