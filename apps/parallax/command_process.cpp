@@ -123,8 +123,9 @@ Command addProcessCommand(CLI::App& app) {
                 "Normals steps: also write curvature (float: lambda0 / (lambda0 + lambda1 + "
                 "lambda2))");
   sub->add_option("--orient", args->orient,
-                  "Normals steps: up (towards +z, default), X,Y,Z (towards a point); sensor and "
-                  "propagate are not available yet");
+                  "Normals steps: up (towards +z, default), X,Y,Z (towards a point), propagate "
+                  "(consistent along the surface: a minimum spanning tree over the K-nearest "
+                  "graph, Hoppe 1992; the cloud must fit --memory); sensor is not available yet");
   sub->add_option("--outliers", args->outliers,
                   "Step: statistical:K,S (mean distance to the K nearest more than S standard "
                   "deviations above the cloud's mean, as PCL's StatisticalOutlierRemoval) or "

@@ -32,11 +32,6 @@ void checkSteps(const ProcessOptions& options) {
                                     "is not carried through the tiles); use --orient X,Y,Z "
                                     "with the scanner's position");
       }
-      if (n->orientation == NormalOrientation::kPropagate) {
-        throw std::invalid_argument(describeStep(step) +
-                                    " --orient propagate: not available yet; use --orient up or "
-                                    "--orient X,Y,Z");
-      }
     }
     if (const auto* s = std::get_if<SubsampleStep>(&step)) {
       if (s->method == SubsampleStep::Method::kSpacing) {

@@ -231,6 +231,36 @@ TEST(ProcessNormals, RadiusAndOrientationTowardsAPointAndCurvature) {
   }
 }
 
+TEST(ProcessNormals, PropagationOrientsAClosedSphereConsistently) {
+  // Normals alone are only up to sign; propagated from the top point (turned up), every normal of
+  // a closed sphere points out, the lower half included.
+  TempDir dir;
+  Surface sphere = surfaces(0.0)[1];
+  const auto in = writeCloud(dir, "sphere.ply", sphere.points);
+  NormalsStep step;
+  step.k = 12;
+  step.orientation = NormalOrientation::kPropagate;
+  run(in, dir / "out.ply", {step});
+  const PointCloud out = readPointFile(dir / "out.ply");
+  ASSERT_EQ(out.count, sphere.points.size());
+  std::size_t inward = 0;
+  for (std::size_t i = 0; i < out.count; ++i) {
+    const Xyz& d = sphere.normals[i];
+    inward += out.normals[i].x * d[0] + out.normals[i].y * d[1] + out.normals[i].z * d[2] < 0.0;
+  }
+  EXPECT_EQ(inward, 0u);
+  // Over several tiles the tree cannot be built: an error naming the step and the memory needed.
+  try {
+    run(in, dir / "tiled.ply", {step}, 1);
+    ADD_FAILURE() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "--normals 12 --orient propagate: the cloud must fit one tile; give --memory 5"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(ProcessOutliers, StatisticalEqualsPclDefinition) {
   TempDir dir;
   const std::vector<Xyz> written = terrainWithNoise(4000, 3);
