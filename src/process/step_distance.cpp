@@ -34,23 +34,23 @@ void runDistanceStep(const DistanceStep& step, const StepContext& context) {
     // The reference points in the tile and its halo: the reference's own tile t is no "core".
     auto load = [&](double halo) {
       TileNeighbourhood hood;
-      hood.lo = reference.lo(t) - halo;
-      hood.hi = reference.hi(t) + halo;
-      if (hood.lo < reference.min()[0]) hood.lo = -TileSet::kInfinity;
-      if (hood.hi > reference.max()[0]) hood.hi = TileSet::kInfinity;
-      reference.appendKeptInRange(hood.lo, hood.hi, SIZE_MAX, hood.points);
+      hood.lo[0] = reference.lo(t) - halo;
+      hood.hi[0] = reference.hi(t) + halo;
+      if (hood.lo[0] < reference.min()[0]) hood.lo[0] = -TileSet::kInfinity;
+      if (hood.hi[0] > reference.max()[0]) hood.hi[0] = TileSet::kInfinity;
+      reference.appendKeptInRange(hood.lo[0], hood.hi[0], SIZE_MAX, hood.points);
       return hood;
     };
     const double halo =
         2.0 * NeighbourIndex::radiusForCount(queries, std::max<double>(4.0, double(k)));
     answerTileQueries(
-        queries, halo, load,
+        queries, halo, load, reference,
         [&](const TileNeighbourhood& hood, const NeighbourIndex& grid, std::uint32_t i,
             const GridPoint& q, std::vector<Neighbour>& neighbours) -> bool {
           grid.nearest(q.x, q.y, q.z, k, neighbours);
           const double reach =
               neighbours.size() < k ? TileSet::kInfinity : std::sqrt(neighbours.back().d2);
-          if (!hood.covers(q.x, reach)) return false;
+          if (!hood.covers(q, reach)) return false;
           double d = reach;
           if (step.plane) {
             const LocalPlane plane = fitLocalPlane(grid.points(), neighbours);

@@ -138,6 +138,7 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
                                : step.radius * (1.0 + 1e-9);
     answerTileQueries(
         queries, halo, [&](double h) { return loadNeighbourhood(tiles, t, h, points, kept); },
+        tiles,
         [&](const TileNeighbourhood& hood, const NeighbourIndex& grid, std::uint32_t i,
             const GridPoint& q, std::vector<Neighbour>& neighbours) -> bool {
           double reach = step.radius;
@@ -148,7 +149,7 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
           } else {
             grid.withinRadius(q.x, q.y, q.z, step.radius, neighbours);
           }
-          if (!hood.covers(q.x, reach)) return false;
+          if (!hood.covers(q, reach)) return false;
           const LocalPlane plane = fitLocalPlane(grid.points(), neighbours);
           if (plane.valid) {
             double n[3] = {plane.normal[0], plane.normal[1], plane.normal[2]};

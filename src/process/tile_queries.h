@@ -6,6 +6,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -29,16 +30,36 @@ struct StepContext {
 
 // For each of `queries` (the tile's kept points), calls `answer(hood, grid, query, scratch)`,
 // which returns whether its answer is exact (TileNeighbourhood::covers); those that are not are
-// asked again with the halo doubled. `load(halo)` loads the points searched. The halo is infinite
-// (everything loaded) before it could fail again.
+// asked again with the halo doubled. `load(halo)` loads the points searched for the first round;
+// later rounds load only the points of `searched` in the box of the pending queries, grown by the
+// halo. The box becomes infinite (everything loaded) before a query could fail again.
 template <class Load, class Answer>
 void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& load,
-                       Answer&& answer) {
+                       const TileSet& searched, Answer&& answer) {
   std::vector<std::uint32_t> pending(queries.size());
   for (std::size_t i = 0; i < pending.size(); ++i) pending[i] = std::uint32_t(i);
   tbb::enumerable_thread_specific<std::vector<Neighbour>> scratch;
+  bool first = true;
   while (!pending.empty()) {
-    const TileNeighbourhood hood = load(halo);
+    TileNeighbourhood hood;
+    if (first) {
+      hood = load(halo);
+      first = false;
+    } else {
+      double lo[3], hi[3];
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = TileSet::kInfinity;
+        hi[a] = -TileSet::kInfinity;
+      }
+      for (std::uint32_t i : pending) {
+        const double v[3] = {queries[i].x, queries[i].y, queries[i].z};
+        for (int a = 0; a < 3; ++a) {
+          lo[a] = std::min(lo[a], v[a] - halo);
+          hi[a] = std::max(hi[a], v[a] + halo);
+        }
+      }
+      hood = loadBox(searched, lo, hi);
+    }
     const NeighbourIndex grid(hood.points);
     std::vector<std::uint8_t> exact(pending.size(), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending.size(), 1024),
@@ -52,8 +73,7 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
     for (std::size_t j = 0; j < pending.size(); ++j) {
       if (!exact[j]) again.push_back(pending[j]);
     }
-    const bool everything = hood.lo == -TileSet::kInfinity && hood.hi == TileSet::kInfinity;
-    if (everything && !again.empty()) {
+    if (hood.everything() && !again.empty()) {
       // With every point loaded each answer is exact: a query that says otherwise is a bug.
       throw std::logic_error("process: a query over the whole cloud reported an incomplete answer");
     }

@@ -206,8 +206,14 @@ std::vector<std::uint8_t> TileSet::readKept(std::size_t tile) const {
 
 void TileSet::appendKeptInRange(double lo, double hi, std::size_t except,
                                 std::vector<GridPoint>& out) const {
+  const double box_lo[3] = {lo, -kInfinity, -kInfinity}, box_hi[3] = {hi, kInfinity, kInfinity};
+  appendKeptInBox(box_lo, box_hi, except, out);
+}
+
+void TileSet::appendKeptInBox(const double lo[3], const double hi[3], std::size_t except,
+                              std::vector<GridPoint>& out) const {
   for (std::size_t t = 0; t < tiles(); ++t) {
-    if (t == except || this->hi(t) <= lo || this->lo(t) >= hi || counts_[t] == 0) continue;
+    if (t == except || this->hi(t) <= lo[0] || this->lo(t) >= hi[0] || counts_[t] == 0) continue;
     File points = openFile(file(t, "points"), "rb");
     File kept = openFile(file(t, "kept"), "rb");
     std::vector<GridPoint> block(kBlockRecords);
@@ -217,7 +223,11 @@ void TileSet::appendKeptInRange(double lo, double hi, std::size_t except,
       readAll(points.get(), block.data(), n * sizeof(GridPoint), file(t, "points"));
       readAll(kept.get(), flags.data(), n, file(t, "kept"));
       for (std::size_t i = 0; i < n; ++i) {
-        if (flags[i] && block[i].x >= lo && block[i].x < hi) out.push_back(block[i]);
+        const GridPoint& p = block[i];
+        if (flags[i] && p.x >= lo[0] && p.x < hi[0] && p.y >= lo[1] && p.y < hi[1] &&
+            p.z >= lo[2] && p.z < hi[2]) {
+          out.push_back(p);
+        }
       }
       done += n;
     }
@@ -246,12 +256,22 @@ TileNeighbourhood loadNeighbourhood(const TileSet& tiles, std::size_t tile, doub
     hood.slot.push_back(std::uint32_t(i));
   }
   hood.core = hood.points.size();
-  hood.lo = tiles.lo(tile) - halo;
-  hood.hi = tiles.hi(tile) + halo;
+  hood.lo[0] = tiles.lo(tile) - halo;
+  hood.hi[0] = tiles.hi(tile) + halo;
   // Past the cloud's ends there is nothing more to load: the halo is infinite there.
-  if (hood.lo < tiles.min()[0]) hood.lo = -TileSet::kInfinity;
-  if (hood.hi > tiles.max()[0]) hood.hi = TileSet::kInfinity;
-  if (halo > 0.0) tiles.appendKeptInRange(hood.lo, hood.hi, tile, hood.points);
+  if (hood.lo[0] < tiles.min()[0]) hood.lo[0] = -TileSet::kInfinity;
+  if (hood.hi[0] > tiles.max()[0]) hood.hi[0] = TileSet::kInfinity;
+  if (halo > 0.0) tiles.appendKeptInRange(hood.lo[0], hood.hi[0], tile, hood.points);
+  return hood;
+}
+
+TileNeighbourhood loadBox(const TileSet& set, const double lo[3], const double hi[3]) {
+  TileNeighbourhood hood;
+  for (int a = 0; a < 3; ++a) {
+    hood.lo[a] = lo[a] < set.min()[a] ? -TileSet::kInfinity : lo[a];
+    hood.hi[a] = hi[a] > set.max()[a] ? TileSet::kInfinity : hi[a];
+  }
+  set.appendKeptInBox(hood.lo, hood.hi, SIZE_MAX, hood.points);
   return hood;
 }
 

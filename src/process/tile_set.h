@@ -57,6 +57,9 @@ class TileSet {
   // Appends the kept points of every tile but `except` whose x is in [lo, hi).
   void appendKeptInRange(double lo, double hi, std::size_t except,
                          std::vector<GridPoint>& out) const;
+  // The same within the box [lo, hi) on every axis (`except` SIZE_MAX: every tile).
+  void appendKeptInBox(const double lo[3], const double hi[3], std::size_t except,
+                       std::vector<GridPoint>& out) const;
 
   // Per-point records of `what` ("kept", "normals", ...), `record_size` bytes each.
   template <class T>
@@ -94,12 +97,25 @@ struct TileNeighbourhood {
   std::vector<GridPoint> points;    // the tile's kept points first, then the halo's
   std::size_t core = 0;             // how many of `points` are the tile's
   std::vector<std::uint32_t> slot;  // for each of the tile's kept points, its record in the tile
-  double lo = 0.0, hi = 0.0;        // every kept point with x in [lo, hi) is in `points`
+  // Every kept point in the box [lo, hi) is in `points` (infinite bounds: nothing beyond).
+  double lo[3] = {-TileSet::kInfinity, -TileSet::kInfinity, -TileSet::kInfinity};
+  double hi[3] = {TileSet::kInfinity, TileSet::kInfinity, TileSet::kInfinity};
 
-  // Whether a ball of radius `r` around a point at `x` lies within what was loaded, so that a
-  // query answered with that radius is exact.
-  bool covers(double x, double r) const {
-    return (lo == -TileSet::kInfinity || x - r >= lo) && (hi == TileSet::kInfinity || x + r < hi);
+  // Whether a ball of radius `r` around `q` lies within what was loaded, so that a query
+  // answered with that radius is exact.
+  bool covers(const GridPoint& q, double r) const {
+    const double v[3] = {q.x, q.y, q.z};
+    for (int a = 0; a < 3; ++a) {
+      if (lo[a] != -TileSet::kInfinity && !(v[a] - r >= lo[a])) return false;
+      if (hi[a] != TileSet::kInfinity && !(v[a] + r < hi[a])) return false;
+    }
+    return true;
+  }
+  bool everything() const {
+    for (int a = 0; a < 3; ++a) {
+      if (lo[a] != -TileSet::kInfinity || hi[a] != TileSet::kInfinity) return false;
+    }
+    return true;
   }
 };
 
@@ -108,5 +124,10 @@ struct TileNeighbourhood {
 TileNeighbourhood loadNeighbourhood(const TileSet& tiles, std::size_t tile, double halo,
                                     const std::vector<GridPoint>& core_points,
                                     const std::vector<std::uint8_t>& core_kept);
+
+// Every kept point of `set` in the box [lo, hi) (bounds past the cloud's made infinite): the
+// later rounds of a tile's queries, which need only the surroundings of the few still pending
+// (an isolated point far from the rest would otherwise pull in a wide slice of the cloud).
+TileNeighbourhood loadBox(const TileSet& set, const double lo[3], const double hi[3]);
 
 }  // namespace parallax

@@ -440,7 +440,13 @@ TEST(ProcessDistance, LocalPlaneOfAnExactPlaneGivesTheOffset) {
 
 TEST(ProcessTiling, SameBytesAtAnyMemoryBudget) {
   TempDir dir;
-  const auto in = writeCloud(dir, "in.ply", terrainWithNoise(60000, 9));
+  // With points far from everything, near tile edges and outside the rest's height: their
+  // halos grow in boxes around them (tile_queries.h) until their neighbours are in.
+  std::vector<Xyz> cloud = terrainWithNoise(60000, 9);
+  cloud.push_back({20.0, 20.0, 300.0});
+  cloud.push_back({-250.0, 5.0, 0.0});
+  cloud.push_back({10.0, 400.0, -40.0});
+  const auto in = writeCloud(dir, "in.ply", cloud);
   const auto ref = writeCloud(dir, "ref.ply", terrainWithNoise(20000, 10));
   NormalsStep normals;
   normals.k = 12;
