@@ -27,6 +27,8 @@ packages=(
   libcurl4-openssl-dev nginx python3 openssl
   # the distributed conversion's driver (python/parallax_dask) and its tests: Dask distributed
   python3-distributed
+  # processing (src/process): neighbour search, a k-d tree (header only)
+  libnanoflann-dev
 )
 
 # npm packages of the tests, from their package-lock.json (`npm ci`), only when missing or older
