@@ -10,6 +10,8 @@ packages=(
   build-essential cmake pkg-config dpkg-dev file clang-format
   # core, io, command line
   libtbb-dev libfast-float-dev libcli11-dev nlohmann-json3-dev
+  # E57's XML section (src/io/e57)
+  libxml2-dev
   # tests, benchmarks
   libgtest-dev libbenchmark-dev
   # fuzzing and sanitizers (libFuzzer, ASan, UBSan runtimes)
@@ -25,6 +27,8 @@ packages=(
   libcurl4-openssl-dev nginx python3 openssl
   # the distributed conversion's driver (python/parallax_dask) and its tests: Dask distributed
   python3-distributed
+  # processing (src/process): neighbour search, a k-d tree (header only)
+  libnanoflann-dev
 )
 
 # npm packages of the tests, from their package-lock.json (`npm ci`), only when missing or older
