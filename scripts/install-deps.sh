@@ -10,6 +10,8 @@ packages=(
   build-essential cmake pkg-config dpkg-dev file clang-format
   # core, io, command line
   libtbb-dev libfast-float-dev libcli11-dev nlohmann-json3-dev
+  # PCD's binary_compressed data (LZF)
+  liblzf-dev
   # tests, benchmarks
   libgtest-dev libbenchmark-dev
   # fuzzing and sanitizers (libFuzzer, ASan, UBSan runtimes)

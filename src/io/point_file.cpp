@@ -16,6 +16,9 @@
 #include "io/laz_writer.h"
 #include "io/mapped_file.h"
 #include "io/partial_output.h"
+#include "io/pcd_header.h"
+#include "io/pcd_reader.h"
+#include "io/pcd_writer.h"
 #include "io/ply_header.h"
 #include "io/ply_preview.h"
 #include "io/ply_reader.h"
@@ -63,7 +66,13 @@ const char* pointFormatName(PointFormat format) {
     case PointFormat::Laz:
       return "LAZ";
     case PointFormat::Text:
-      return "text (XYZ/CSV/PTS)";
+      return "text (XYZ/CSV)";
+    case PointFormat::Pcd:
+      return "PCD";
+    case PointFormat::Ptx:
+      return "PTX";
+    case PointFormat::Pts:
+      return "PTS";
     case PointFormat::Unknown:
       break;
   }
@@ -74,12 +83,15 @@ const char* supportedFormatsText() {
   return "supported formats: PLY (ascii, binary little and big endian; .ply), LAS 1.0-1.4, "
          "point formats 0-10 (.las), LAZ (LASzip-compressed LAS; .laz), text with x y z [r g b "
          "...] a line, "
-         "separated by blanks, commas or semicolons (.xyz .txt .csv .asc .pts)";
+         "separated by blanks, commas or semicolons (.xyz .txt .csv .asc), PCD (PCL's format: "
+         "ascii, "
+         "binary, binary_compressed; .pcd)";
 }
 
 PointFormat detectPointFormatFromMemory(std::span<const std::byte> bytes) {
   if (looksLikePly(bytes)) return PointFormat::Ply;
   if (hasLasSignature(bytes)) return looksLikeLaz(bytes) ? PointFormat::Laz : PointFormat::Las;
+  if (looksLikePcd(bytes)) return PointFormat::Pcd;
   if (looksLikeTextPoints(bytes)) return PointFormat::Text;
   return PointFormat::Unknown;
 }
@@ -96,6 +108,12 @@ PointFormat detectPointFormat(const std::filesystem::path& path) {
   head.resize(got);
   PointFormat format = detectPointFormatFromMemory(head);
   // A LAS header's VLRs can lie beyond the first 64 KiB; the reader checks LAZ again in full.
+  // A file named for a structured format whose content is none: its reader says what is wrong
+  // (a PCD without its header would otherwise be read as plain text, silently).
+  if (format == PointFormat::Text || format == PointFormat::Unknown) {
+    const std::string ext = lowerExtension(path);
+    if (ext == ".pcd") return PointFormat::Pcd;
+  }
   return format;
 }
 
@@ -112,6 +130,10 @@ std::optional<std::uint64_t> headerPointCount(const std::filesystem::path& path)
       case PointFormat::Las:
       case PointFormat::Laz:
         return readLasHeader(path).point_count;
+      case PointFormat::Pcd: {
+        const MappedFile file(path);
+        return parsePcdHeader(file.bytes(), path.string()).points;  // NaN points included
+      }
       default:
         return std::nullopt;
     }
@@ -132,7 +154,9 @@ PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptio
       return readText(path, {.columns = options.text_columns,
                              .progress = options.progress,
                              .parallel = options.parallel});
-    case PointFormat::Unknown:
+    case PointFormat::Pcd:
+      return readPcd(path, {.progress = options.progress, .parallel = options.parallel});
+    default:
       break;
   }
   const std::string hint = supportedFormatsText();
@@ -166,6 +190,7 @@ PointFormat formatForExtension(const std::filesystem::path& path) {
   if (ext == ".xyz" || ext == ".txt" || ext == ".csv" || ext == ".asc" || ext == ".pts") {
     return PointFormat::Text;
   }
+  if (ext == ".pcd") return PointFormat::Pcd;
   return PointFormat::Unknown;
 }
 
@@ -215,12 +240,18 @@ void writePointFile(const PointCloud& cloud, const std::filesystem::path& path,
       writeText(cloud, path, text);
       return;
     }
+    case PointFormat::Pcd:
+      writePcd(cloud, path,
+               {.data = options.ply_ascii ? PcdData::Ascii : options.pcd_data,
+                .progress = options.progress,
+                .properties = options.properties});
+      return;
     default:
       break;
   }
   throw InputError({.file = path.string(),
                     .expected = "an output name ending in .ply, .las, .laz, .xyz, .txt, .csv, "
-                                ".asc or .pts",
+                                ".asc, .pts or .pcd",
                     .found = "'" + path.extension().string() + "'",
                     .hint = supportedFormatsText()});
 }

@@ -11,12 +11,13 @@
 
 #include "core/point_cloud.h"
 #include "core/progress.h"
+#include "io/pcd_header.h"
 
 namespace parallax {
 
-enum class PointFormat { Ply, Las, Laz, Text, Unknown };
+enum class PointFormat { Ply, Las, Laz, Text, Pcd, Ptx, Pts, Unknown };
 
-// "PLY", "LAS", "LAZ", "text (XYZ/CSV/PTS)", "unknown".
+// "PLY", "LAS", "LAZ", "text (XYZ/CSV)", "PCD", "PTX", "PTS", "unknown".
 const char* pointFormatName(PointFormat format);
 
 // "supported formats: PLY (...), LAS 1.0-1.4 (...), text ..." for error messages.
@@ -25,7 +26,10 @@ const char* supportedFormatsText();
 // Detects the format from the file's first bytes (magic and header), not from its extension:
 // the line "ply" (blanks after it and CR LF allowed) is PLY; "LASF" is LAS, or LAZ when the header
 // says LASzip; a file whose first 64 KiB are printable text with a line of at least three numbers
-// is text. Throws InputError when the file cannot be opened.
+// is text; "VERSION" or "FIELDS" header lines are PCD (pcd_header.h); PTX and PTS by their first
+// lines (ptx_reader.h, pts_reader.h). A file named .pcd or .ptx whose content is no format is
+// still given to that reader, which says what is wrong with it. Throws InputError when the file
+// cannot be opened.
 PointFormat detectPointFormat(const std::filesystem::path& path);
 
 // The same for the first bytes of a file held in memory (as many as are at hand; 64 KiB suffice).
@@ -57,7 +61,8 @@ bool hasPointFilePreview(PointFormat format);
 // readLazPreview). Throws InputError as the readers do, and for a format without a preview.
 PointCloud readPointFilePreview(const std::filesystem::path& path, std::uint64_t max_points);
 
-// The format a path's extension asks for when writing: .ply, .las, .laz, .xyz/.txt/.csv/.pts/.asc;
+// The format a path's extension asks for when writing: .ply, .las, .laz, .xyz/.txt/.csv/.asc, .pcd,
+// .ptx, .pts;
 // Unknown otherwise.
 PointFormat formatForExtension(const std::filesystem::path& path);
 
@@ -66,6 +71,8 @@ struct PointWriteOptions {
   bool ply_ascii = false;     // PLY: ascii instead of binary little endian
   int las_minor_version = 0;  // LAS, LAZ: 2 or 4; 0 chooses from the attributes (las_writer.h)
   std::uint32_t laz_chunk_points = 50000;  // LAZ: points a chunk (laz_writer.h)
+  // PCD: the DATA encoding (pcd_writer.h); ply_ascii also asks for ascii.
+  PcdData pcd_data = PcdData::Binary;
   // PLY and text (not PTS): the attributes to write, in this order (PointCloud::attributeOrder);
   // empty: all, in the source's order. LAS and LAZ records have a fixed layout: a non-empty list
   // is an InputError there.

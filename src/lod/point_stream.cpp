@@ -10,6 +10,7 @@
 #include "core/point_gather.h"
 #include "io/las_reader.h"
 #include "io/laz_reader.h"
+#include "io/pcd_reader.h"
 #include "io/ply_reader.h"
 #include "io/point_file.h"
 #include "io/text_reader.h"
@@ -29,7 +30,9 @@ struct PointStream::State {
     PointCloud node;
     std::uint64_t next_point = 0;
   };
-  std::variant<PlyChunkReader, LasChunkReader, LazChunkReader, TextChunkReader, OctreeNodes> reader;
+  std::variant<PlyChunkReader, LasChunkReader, LazChunkReader, TextChunkReader, PcdChunkReader,
+               OctreeNodes>
+      reader;
   CoordinateSystem crs;
   std::optional<PointFilter> filter;     // absent: every point
   std::uint64_t remaining = UINT64_MAX;  // points left before the end of restrictTo's range
@@ -58,6 +61,8 @@ PointStream::State openStream(const std::filesystem::path& path,
       return {LazChunkReader(path)};  // likewise
     case PointFormat::Text:
       return {TextChunkReader(path, {.columns = text_columns}, quantization)};
+    case PointFormat::Pcd:
+      return {PcdChunkReader(path, quantization)};
     default:
       // readPointFile gives the message for unknown formats.
       readPointFile(path);
