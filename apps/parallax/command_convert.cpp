@@ -62,6 +62,7 @@ struct ConvertArgs {
   std::string las_version;
   std::uint32_t laz_chunk = 50000;
   bool ascii = false;
+  std::string pcd_data = "binary";  // PCD output: ascii, binary or binary_compressed
   bool quiet = false;
   bool clean =
       false;  // --clean: remove the output's stale partial outputs (and stop without inputs)
@@ -245,9 +246,10 @@ bool isOctreeOutput(const ConvertArgs& args) {
   const std::string octree = path.stem().string() + extension + "/";
   throw InputError(
       {.file = output,
-       .expected = "an output name ending in .ply, .las, .laz, .xyz, .txt, .csv, .asc, .pts or "
-                   ".copc.laz, or a Potree 2.0 octree directory (--format potree, a name ending "
-                   "in '/', an existing directory, or a name without extension)",
+       .expected =
+           "an output name ending in .ply, .las, .laz, .xyz, .txt, .csv, .asc, .pts, "
+           ".pcd or .copc.laz, or a Potree 2.0 octree directory (--format potree, a name ending "
+           "in '/', an existing directory, or a name without extension)",
        .found = "'" + path.extension().string() + "'",
        .hint = "for an octree, add --format potree (or write -o " + octree + ")"});
 }
@@ -406,6 +408,9 @@ int runConvert(ConvertArgs args) {
                    {.progress = sink,
                     .ply_ascii = args.ascii,
                     .las_minor_version = minor,
+                    .pcd_data = args.pcd_data == "ascii"    ? PcdData::Ascii
+                                : args.pcd_data == "binary" ? PcdData::Binary
+                                                            : PcdData::BinaryCompressed,
                     .properties = args.properties});
   }
   if (progress) progress->finish();
@@ -426,11 +431,12 @@ Command addConvertCommand(CLI::App& app) {
                   "Input point files (format detected from their content), a Potree directory (or "
                   "its http(s) URL) or a COPC file; several only for an octree, where they are "
                   "merged; one octree is copied, or its points written to a file");
-  sub->add_option("-o,--output", args->output,
-                  "Output file, its extension picks the format (.ply .las .laz .xyz .txt .csv "
-                  ".asc .pts), .copc.laz: a COPC octree, or a Potree 2.0 octree directory: a name "
-                  "ending in '/', an existing directory, a name without extension, or --format "
-                  "potree")
+  sub->add_option(
+         "-o,--output", args->output,
+         "Output file, its extension picks the format (.ply .las .laz .xyz .txt .csv "
+         ".asc .pts .pcd), .copc.laz: a COPC octree, or a Potree 2.0 octree directory: a name "
+         "ending in '/', an existing directory, a name without extension, or --format "
+         "potree")
       ->required();
   sub->add_option("--format", args->format,
                   "Force an octree output: potree (a directory) or copc, whatever the output's "
@@ -460,7 +466,11 @@ Command addConvertCommand(CLI::App& app) {
   sub->add_option("--laz-chunk", args->laz_chunk,
                   "LAZ output: points a chunk (default 50000, LASzip's)")
       ->check(CLI::Range(std::uint32_t(1), std::uint32_t(100'000'000)));
-  sub->add_flag("--ascii", args->ascii, "PLY output: ascii instead of binary little endian");
+  sub->add_flag("--ascii", args->ascii,
+                "PLY output: ascii instead of binary little endian; PCD output: DATA ascii");
+  sub->add_option("--pcd-data", args->pcd_data,
+                  "PCD output: the DATA encoding, ascii, binary (default) or binary_compressed")
+      ->check(CLI::IsMember({"ascii", "binary", "binary_compressed"}));
   addFilterOptions(*sub, args->filter_options, "written");
   sub->add_flag("--plan", args->plan,
                 "Octree output: write the plan of a distributed build (WORK/plan.json) instead "

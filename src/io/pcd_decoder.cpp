@@ -15,12 +15,9 @@
 namespace parallax::pcd {
 namespace {
 
-// 'text', quoted for a message (quoteInput escapes what a terminal should not see).
+// 'text', quoted for a message, with what a terminal should not see escaped.
 std::string quoted(std::string_view text) {
-  std::string out = quoteInput(text);
-  out.insert(out.begin(), '\'');
-  out.push_back('\'');
-  return out;
+  return quoteInput(text);
 }
 
 std::string lower(std::string_view name) {

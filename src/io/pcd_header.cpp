@@ -13,12 +13,9 @@
 namespace parallax {
 namespace {
 
-// 'text', quoted for a message (quoteInput escapes what a terminal should not see).
+// 'text', quoted for a message, with what a terminal should not see escaped.
 std::string quoted(std::string_view text) {
-  std::string out = quoteInput(text);
-  out.insert(out.begin(), '\'');
-  out.push_back('\'');
-  return out;
+  return quoteInput(text);
 }
 
 // Beyond this a "header" is not one: a PCD header is a dozen short lines (FIELDS of a few hundred
@@ -217,7 +214,9 @@ PcdHeader parsePcdHeader(std::span<const std::byte> bytes, const std::string& fi
   }
   // What DATA needs, checked at the DATA line.
   auto missing = [&](bool seen, const char* what) {
-    if (!seen) parser.fail(std::string("a ") + what + " line before DATA", "none", hint);
+    if (seen) return;
+    parser.keyword = what;
+    parser.fail(std::string("a ") + what + " line before DATA", "none", hint);
   };
   missing(seen_fields, "FIELDS");
   missing(seen_size, "SIZE");

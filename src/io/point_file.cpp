@@ -23,6 +23,9 @@
 #include "io/ply_preview.h"
 #include "io/ply_reader.h"
 #include "io/ply_writer.h"
+#include "io/pts_reader.h"
+#include "io/ptx_reader.h"
+#include "io/ptx_writer.h"
 #include "io/text_reader.h"
 #include "io/text_writer.h"
 
@@ -85,13 +88,15 @@ const char* supportedFormatsText() {
          "...] a line, "
          "separated by blanks, commas or semicolons (.xyz .txt .csv .asc), PCD (PCL's format: "
          "ascii, "
-         "binary, binary_compressed; .pcd)";
+         "binary, binary_compressed; .pcd), PTX (Leica, several scans; .ptx), PTS (.pts)";
 }
 
 PointFormat detectPointFormatFromMemory(std::span<const std::byte> bytes) {
   if (looksLikePly(bytes)) return PointFormat::Ply;
   if (hasLasSignature(bytes)) return looksLikeLaz(bytes) ? PointFormat::Laz : PointFormat::Las;
   if (looksLikePcd(bytes)) return PointFormat::Pcd;
+  if (looksLikePtx(bytes)) return PointFormat::Ptx;
+  if (looksLikePts(bytes)) return PointFormat::Pts;
   if (looksLikeTextPoints(bytes)) return PointFormat::Text;
   return PointFormat::Unknown;
 }
@@ -113,6 +118,7 @@ PointFormat detectPointFormat(const std::filesystem::path& path) {
   if (format == PointFormat::Text || format == PointFormat::Unknown) {
     const std::string ext = lowerExtension(path);
     if (ext == ".pcd") return PointFormat::Pcd;
+    if (ext == ".ptx") return PointFormat::Ptx;
   }
   return format;
 }
@@ -156,6 +162,10 @@ PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptio
                              .parallel = options.parallel});
     case PointFormat::Pcd:
       return readPcd(path, {.progress = options.progress, .parallel = options.parallel});
+    case PointFormat::Ptx:
+      return readPtx(path, {.progress = options.progress});
+    case PointFormat::Pts:
+      return readPts(path, {.progress = options.progress, .parallel = options.parallel});
     default:
       break;
   }
@@ -187,10 +197,10 @@ PointFormat formatForExtension(const std::filesystem::path& path) {
   if (ext == ".ply") return PointFormat::Ply;
   if (ext == ".las") return PointFormat::Las;
   if (ext == ".laz") return PointFormat::Laz;
-  if (ext == ".xyz" || ext == ".txt" || ext == ".csv" || ext == ".asc" || ext == ".pts") {
-    return PointFormat::Text;
-  }
+  if (ext == ".xyz" || ext == ".txt" || ext == ".csv" || ext == ".asc") return PointFormat::Text;
   if (ext == ".pcd") return PointFormat::Pcd;
+  if (ext == ".ptx") return PointFormat::Ptx;
+  if (ext == ".pts") return PointFormat::Pts;
   return PointFormat::Unknown;
 }
 
@@ -202,6 +212,7 @@ std::vector<std::string> describeWriteLosses(const PointCloud& cloud,
     case PointFormat::Laz:
       return planLasWrite(cloud, {.minor_version = options.las_minor_version}).losses;
     case PointFormat::Text:
+    case PointFormat::Pts:
       return describeTextLosses(cloud, textOptionsForPath(path));
     default:
       return {};  // PLY holds every column of the model
@@ -233,7 +244,11 @@ void writePointFile(const PointCloud& cloud, const std::filesystem::path& path,
       writeLas(cloud, path,
                {.minor_version = options.las_minor_version, .progress = options.progress});
       return;
-    case PointFormat::Text: {
+    case PointFormat::Ptx:
+      writePtx(cloud, path, {.progress = options.progress});
+      return;
+    case PointFormat::Text:
+    case PointFormat::Pts: {
       TextWriteOptions text = textOptionsForPath(path);
       text.progress = options.progress;
       text.properties = options.properties;
@@ -251,7 +266,7 @@ void writePointFile(const PointCloud& cloud, const std::filesystem::path& path,
   }
   throw InputError({.file = path.string(),
                     .expected = "an output name ending in .ply, .las, .laz, .xyz, .txt, .csv, "
-                                ".asc, .pts or .pcd",
+                                ".asc, .pts, .pcd or .ptx",
                     .found = "'" + path.extension().string() + "'",
                     .hint = supportedFormatsText()});
 }

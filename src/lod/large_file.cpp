@@ -22,7 +22,8 @@ std::optional<std::uint64_t> pointsOverBudget(const std::filesystem::path& path,
     const std::uint64_t bytes = std::filesystem::file_size(path, error);
     if (error || bytes / kMinTextBytesPerPoint <= budget) return std::nullopt;
     try {
-      if (detectPointFormat(path) != PointFormat::Text) return std::nullopt;
+      const PointFormat format = detectPointFormat(path);
+      if (format != PointFormat::Text && format != PointFormat::Pts) return std::nullopt;
       points = countTextPoints(path);
     } catch (const std::exception&) {
       return std::nullopt;  // the ordinary read says what is wrong

@@ -13,6 +13,7 @@
 #include "io/pcd_reader.h"
 #include "io/ply_reader.h"
 #include "io/point_file.h"
+#include "io/ptx_reader.h"
 #include "io/text_reader.h"
 #include "lod/convert_stages.h"
 #include "lod/in_memory_octree.h"
@@ -31,7 +32,7 @@ struct PointStream::State {
     std::uint64_t next_point = 0;
   };
   std::variant<PlyChunkReader, LasChunkReader, LazChunkReader, TextChunkReader, PcdChunkReader,
-               OctreeNodes>
+               PtxChunkReader, OctreeNodes>
       reader;
   CoordinateSystem crs;
   std::optional<PointFilter> filter;     // absent: every point
@@ -63,6 +64,10 @@ PointStream::State openStream(const std::filesystem::path& path,
       return {TextChunkReader(path, {.columns = text_columns}, quantization)};
     case PointFormat::Pcd:
       return {PcdChunkReader(path, quantization)};
+    case PointFormat::Ptx:
+      return {PtxChunkReader(path, quantization)};
+    case PointFormat::Pts:  // the text reader's, in PTS mode (pts_reader.h)
+      return {TextChunkReader(path, {.columns = text_columns, .pts = true}, quantization)};
     default:
       // readPointFile gives the message for unknown formats.
       readPointFile(path);
