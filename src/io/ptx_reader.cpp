@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/quantization.h"
 #include "io/mapped_file.h"
+#include "io/text_decoder.h"  // decimal-exact quantization of text positions
 
 namespace parallax {
 namespace {
@@ -60,6 +61,13 @@ class PtxCursor {
       for (std::size_t i = 0; i < values_per_point_; ++i) v[i] = number(i, kNames[i]);
       if (v[0] == 0 && v[1] == 0 && v[2] == 0) continue;  // no return in that direction
       const auto& m = scans_.back().transform;
+      if (identity_) {
+        for (int a = 0; a < 3; ++a) {
+          decimals_[a] = std::max(decimals_[a], decimalsOf(words_[std::size_t(a)]));
+        }
+      } else {
+        decimals_[0] = decimals_[1] = decimals_[2] = text::kNotDecimal;
+      }
       point.x = v[0] * m[0] + v[1] * m[4] + v[2] * m[8] + m[12];
       point.y = v[0] * m[1] + v[1] * m[5] + v[2] * m[9] + m[13];
       point.z = v[0] * m[2] + v[1] * m[6] + v[2] * m[10] + m[14];
@@ -82,6 +90,9 @@ class PtxCursor {
   }
 
   bool hasColor() const { return values_per_point_ == 7; }
+  // Most digits after the point of the positions as written, per axis (text::kNotDecimal when a
+  // transform other than the identity moved them, or for exponents).
+  const int* decimals() const { return decimals_; }
   std::vector<PtxScan>& scans() { return scans_; }
   std::size_t offset() const { return pos_; }
 
@@ -118,6 +129,17 @@ class PtxCursor {
       if (p > start) words_.emplace_back(start, std::size_t(p - start));
     }
     return true;
+  }
+
+  static int decimalsOf(std::string_view word) {
+    const std::size_t point = word.find('.');
+    if (word.find_first_of("eE") != std::string_view::npos) return text::kNotDecimal;
+    if (point == std::string_view::npos) return 0;
+    // Trailing zeros say nothing of the value (scanners print 637012.240000): not counted.
+    std::size_t last = word.size();
+    while (last > point + 1 && word[last - 1] == '0') --last;
+    const std::size_t digits = last - point - 1;
+    return digits > 9 ? text::kNotDecimal : int(digits);
   }
 
   double number(std::size_t i, const std::string& property) const {
@@ -182,6 +204,7 @@ class PtxCursor {
       headerLine(4, "transform row " + std::to_string(row + 1), s.transform.data() + 4 * row);
     }
     left_in_scan_ = s.columns * s.rows;
+    identity_ = s.transform == PtxScan{}.transform;
     return true;
   }
 
@@ -193,14 +216,20 @@ class PtxCursor {
   std::vector<PtxScan> scans_;
   std::uint64_t left_in_scan_ = 0;
   std::size_t values_per_point_ = 0;  // 4 or 7, from the first point line
+  bool identity_ = true;              // the scan's transform is the identity
+  int decimals_[3] = {0, 0, 0};
 };
 
 // What a first walk learns.
 struct PtxSurvey {
   std::vector<PtxScan> scans;
   std::uint64_t points = 0;
-  Bounds3 bounds;
+  text::PositionStats stats;  // exact bounds and decimals of the positions
   bool color = false;
+
+  // Positions written in decimals and not transformed keep a decimal scale (their digits
+  // exactly, as the text reader does); others a power-of-two scale over the exact bounds.
+  Quantization quantization() const { return text::exactTextQuantization(stats); }
 };
 
 PtxSurvey survey(std::string_view text, const std::string& name) {
@@ -209,8 +238,9 @@ PtxSurvey survey(std::string_view text, const std::string& name) {
   PtxPoint p;
   while (cursor.next(p)) {
     ++out.points;
-    out.bounds.extend(p.x, p.y, p.z);
+    out.stats.raw.extend(p.x, p.y, p.z);
   }
+  for (int a = 0; a < 3; ++a) out.stats.decimals[a] = cursor.decimals()[a];
   out.scans = std::move(cursor.scans());
   out.color = cursor.hasColor();
   if (out.scans.empty()) {
@@ -252,7 +282,7 @@ void store(PointCloud& cloud, std::size_t i, const PtxPoint& p) {
 PointCloud readPtxText(std::string_view text, const std::string& name,
                        const PtxReadOptions& options) {
   PtxSurvey s = survey(text, name);
-  PointCloud cloud = allocate(s, s.points, chooseQuantization(s.bounds));
+  PointCloud cloud = allocate(s, s.points, s.quantization());
   PtxCursor cursor(text, name);
   PtxPoint p;
   std::size_t i = 0;
@@ -304,7 +334,7 @@ PtxChunkReader::PtxChunkReader(const std::filesystem::path& path, const Quantiza
     : state_(std::make_unique<State>(path)) {
   State& s = *state_;
   s.survey = survey(asText(s.file.bytes()), path.string());
-  s.quantization = quantization ? *quantization : chooseQuantization(s.survey.bounds);
+  s.quantization = quantization ? *quantization : s.survey.quantization();
   s.cursor.emplace(asText(s.file.bytes()), path.string());
 }
 
