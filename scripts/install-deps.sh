@@ -25,6 +25,8 @@ packages=(
   # HTTP(S) byte ranges (src/net), and its tests: a real web server on loopback, the
   # fault-injecting proxy (Python 3 standard library) and a TLS certificate made by openssl
   libcurl4-openssl-dev nginx python3 openssl
+  # PCD's oracle in tests (tests/io/test_pcd_pcl.cpp): PCL's own converters
+  pcl-tools
   # the distributed conversion's driver (python/parallax_dask) and its tests: Dask distributed
   python3-distributed
 )

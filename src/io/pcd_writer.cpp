@@ -40,7 +40,8 @@ PcdField fieldOfType(const std::string& name, ScalarType type) {
   return {name, 'F', 8};
 }
 
-std::vector<OutField> planFields(const PointCloud& cloud, const std::vector<std::string>& chosen) {
+std::vector<OutField> planFields(const PointCloud& cloud, const std::vector<std::string>& chosen,
+                                 PcdData data) {
   std::vector<OutField> fields;
   const bool float_positions = cloud.source.position == ScalarType::Float32;
   bool color_done = false;
@@ -54,7 +55,12 @@ std::vector<OutField> planFields(const PointCloud& cloud, const std::vector<std:
     } else if (name == "red" || name == "green" || name == "blue" || name == "alpha") {
       if (color_done) continue;  // one packed field for the four channels
       color_done = true;
-      fields.push_back({{cloud.source.has_alpha ? "rgba" : "rgb", 'U', 4}, S::Color});
+      // rgb as PCL's PointXYZRGB declares it, a float holding the bits (pcl_pcd2ply mis-writes
+      // a U-typed rgb: 4 bytes under 3 uchar properties); in ascii an unsigned integer, as PCL
+      // writes it (a float's digits would not keep its bits). rgba is uint32 in PCL too.
+      const bool as_float = !cloud.source.has_alpha && data != PcdData::Ascii;
+      fields.push_back(
+          {{cloud.source.has_alpha ? "rgba" : "rgb", as_float ? 'F' : 'U', 4}, S::Color});
     } else if (name == "nx" || name == "ny" || name == "nz") {
       fields.push_back({{"normal_" + name.substr(1), 'F', 4},
                         name == "nx"   ? S::Nx
@@ -149,7 +155,7 @@ void appendAscii(std::string& line, const OutField& f, const std::byte* bytes) {
 
 void writePcd(const PointCloud& cloud, const std::filesystem::path& path,
               const PcdWriteOptions& options) {
-  const std::vector<OutField> fields = planFields(cloud, options.properties);
+  const std::vector<OutField> fields = planFields(cloud, options.properties, options.data);
   PcdHeader header;
   for (const OutField& f : fields) header.fields.push_back(f.field);
   header.width = cloud.count;

@@ -3,8 +3,9 @@
 // Fields, in the order of PointCloud::attributeOrder (the source's, or the chosen properties):
 //   x y z        F 4 when the source held float32 positions, else F 8 (world coordinates: a float
 //                is only good to 6 cm at a UTM easting)
-//   red green blue [alpha] -> one field rgb (or rgba with alpha), U 4, 0xAARRGGBB (PCL's
-//                packing; PCL itself writes rgb as U when it saves)
+//   red green blue [alpha] -> one field rgb (or rgba with alpha) packed 0xAARRGGBB: rgb as
+//                F 4 in binary encodings (PCL's PointXYZRGB: a float holding the bits), U 4 in
+//                ascii (an integer, as PCL prints it); rgba U 4
 //   nx ny nz     normal_x normal_y normal_z, F 4
 //   intensity    F 4; classification U 1
 //   scalars      under their names in their types (I/U 1, 2, 4; F 4, 8)
