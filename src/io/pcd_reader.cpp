@@ -25,7 +25,7 @@ using pcd::DataView;
 using pcd::Layout;
 using pcd::PositionScan;
 
-constexpr std::uint64_t kRangeRecords = 1 << 16;
+constexpr std::uint64_t kRangeRecords = 1 << 14;
 constexpr std::uint64_t kAsciiChunkRecords = 1 << 16;
 
 // Where the binary data ends short: the point and the field the last byte falls in.
