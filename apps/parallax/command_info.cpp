@@ -42,8 +42,10 @@
 #include "core/progress.h"
 #include "io/las_header.h"
 #include "io/laz_reader.h"
+#include "io/pcd_header.h"
 #include "io/ply_header.h"
 #include "io/point_file.h"
+#include "io/ptx_reader.h"
 #include "lod/copc_reader.h"
 #include "lod/octree_open.h"
 #include "lod/octree_url.h"
@@ -311,6 +313,65 @@ FormatDescription describeLas(const std::filesystem::path& path) {
   return out;
 }
 
+// A number as info prints them (%.10g).
+std::string formatNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.10g", v);
+  return text;
+}
+
+// PCD: version, encoding, fields with their size, type and count, the grid, the sensor's pose.
+FormatDescription describePcd(const std::filesystem::path& path) {
+  // The header alone (at most 1 MiB, pcd_header.h); the points are read by the ordinary load.
+  const PcdHeader header = parsePcdHeader(readPrefix(path, 1 << 20), path.string());
+  FormatDescription out;
+  out.name = "pcd";
+  out.summary = "PCD " + header.version + " " + pcdDataName(header.data) + ", header " +
+                std::to_string(header.data_offset) + " bytes";
+  Json fields = Json::array();
+  for (const PcdField& f : header.fields) {
+    out.lines.push_back("  field " + f.name + " " + f.type + std::to_string(f.size) +
+                        (f.count > 1 ? " x " + std::to_string(f.count) : ""));
+    fields.push_back(
+        {{"name", f.name}, {"type", std::string(1, f.type)}, {"size", f.size}, {"count", f.count}});
+  }
+  out.lines.push_back("  grid " + std::to_string(header.width) + " x " +
+                      std::to_string(header.height) + (header.height > 1 ? " (organised)" : "") +
+                      ", " + std::to_string(header.points) + " points with the invalid (NaN) ones");
+  std::string viewpoint = "  viewpoint";
+  for (double v : header.viewpoint) viewpoint += " " + formatNumber(v);
+  out.lines.push_back(viewpoint + " (sensor x y z, qw qx qy qz)");
+  out.details["pcd"] = {
+      {"version", header.version},    {"data", pcdDataName(header.data)}, {"fields", fields},
+      {"width", header.width},        {"height", header.height},          {"points", header.points},
+      {"viewpoint", header.viewpoint}};
+  return out;
+}
+
+// PTX: each scan's grid, scanner position and points kept.
+FormatDescription describePtx(const std::filesystem::path& path) {
+  const std::vector<PtxScan> scans = readPtxScans(path);
+  FormatDescription out;
+  out.name = "ptx";
+  out.summary = "PTX, " + std::to_string(scans.size()) + " scan" + (scans.size() == 1 ? "" : "s");
+  Json list = Json::array();
+  for (std::size_t i = 0; i < scans.size(); ++i) {
+    const PtxScan& scan = scans[i];
+    out.lines.push_back("  scan " + std::to_string(i) + ": " + std::to_string(scan.columns) +
+                        " x " + std::to_string(scan.rows) + ", " + std::to_string(scan.points) +
+                        " points kept, scanner at (" + formatNumber(scan.position[0]) + ", " +
+                        formatNumber(scan.position[1]) + ", " + formatNumber(scan.position[2]) +
+                        ")");
+    list.push_back({{"columns", scan.columns},
+                    {"rows", scan.rows},
+                    {"points", scan.points},
+                    {"position", scan.position},
+                    {"transform", scan.transform}});
+  }
+  out.details["ptx"] = {{"scans", list}};
+  return out;
+}
+
 // One description per format: add a case for each new PointFormat. Formats without one (text)
 // show their name and what was loaded.
 FormatDescription describeFormat(const std::filesystem::path& path, PointFormat format) {
@@ -320,6 +381,10 @@ FormatDescription describeFormat(const std::filesystem::path& path, PointFormat 
     case PointFormat::Las:
     case PointFormat::Laz:
       return describeLas(path);
+    case PointFormat::Pcd:
+      return describePcd(path);
+    case PointFormat::Ptx:
+      return describePtx(path);
     default:
       break;
   }
