@@ -214,8 +214,7 @@ DataView AsciiTable::view(const Layout& layout) const {
 }
 
 AsciiTable parseAscii(std::string_view text, std::size_t begin, std::uint64_t line,
-                      std::uint64_t max_records, const PcdHeader& header, const Layout& layout,
-                      const std::string& file) {
+                      std::uint64_t max_records, const Layout& layout, const std::string& file) {
   AsciiTable table;
   const std::size_t width = layout.components.size();
   // Reserve no more than the bytes can hold (two characters a value at least).
@@ -240,8 +239,7 @@ AsciiTable parseAscii(std::string_view text, std::size_t begin, std::uint64_t li
       auto fail = [&](const std::string& expected, const std::string& found) {
         throw InputError({.file = file,
                           .line = line,
-                          .element = "point " + std::to_string(header.points == 0 ? table.records
-                                                                                  : table.records),
+                          .element = "ascii data",
                           .property = c.name,
                           .expected = expected,
                           .found = found});
@@ -289,7 +287,7 @@ AsciiTable parseAscii(std::string_view text, std::size_t begin, std::uint64_t li
     if (q != line_end) {
       throw InputError({.file = file,
                         .line = line,
-                        .element = "point " + std::to_string(table.records),
+                        .element = "ascii data",
                         .expected = std::to_string(width) + " values (one per field value)",
                         .found = "more: '" + quoteInput({q, std::size_t(line_end - q)}) + "'"});
     }

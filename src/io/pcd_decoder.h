@@ -79,8 +79,7 @@ struct AsciiTable {
 // that is not a number, an integer out of its type's range, a line with too few or too many
 // values.
 AsciiTable parseAscii(std::string_view text, std::size_t begin, std::uint64_t line,
-                      std::uint64_t max_records, const PcdHeader& header, const Layout& layout,
-                      const std::string& file);
+                      std::uint64_t max_records, const Layout& layout, const std::string& file);
 
 // Decompresses binary_compressed data (at header.data_offset of `bytes`) into `out`, sized
 // POINTS * record size. Throws InputError naming `file` and the byte offset for sizes that do

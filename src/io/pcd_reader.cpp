@@ -76,7 +76,7 @@ void openData(std::span<const std::byte> bytes, const std::string& name, PcdSour
     data.view = pcd::compressedView(header, data.layout, data.decompressed.data(), header.points);
   } else if (parse_ascii) {
     const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-    data.ascii = pcd::parseAscii(text, header.data_offset, header.data_line, header.points, header,
+    data.ascii = pcd::parseAscii(text, header.data_offset, header.data_line, header.points,
                                  data.layout, name);
     if (data.ascii.records != header.points) {
       throw InputError({.file = name,
@@ -176,8 +176,7 @@ struct PcdChunkReader::State {
 
   // The next chunk of up to `max` records of ascii data, parsed (the view follows it).
   std::uint64_t parseAsciiChunk(std::uint64_t max) {
-    data.ascii =
-        pcd::parseAscii(text(), next_offset, next_line, max, data.header, data.layout, file.path());
+    data.ascii = pcd::parseAscii(text(), next_offset, next_line, max, data.layout, file.path());
     data.view = data.ascii.view(data.layout);
     next_offset = data.ascii.end;
     next_line = data.ascii.next_line;
