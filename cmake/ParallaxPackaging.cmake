@@ -43,7 +43,7 @@ if(NOT CMAKE_BUILD_TYPE)
 endif()
 configure_file(${PROJECT_SOURCE_DIR}/cmake/parallax_build_info.h.in
                ${PROJECT_BINARY_DIR}/generated/parallax_build_info.h @ONLY)
-target_include_directories(parallax PRIVATE ${PROJECT_BINARY_DIR}/generated)
+target_include_directories(parallax_cli PRIVATE ${PROJECT_BINARY_DIR}/generated)
 
 # The Debian package. Its Depends are what dpkg-shlibdeps (Debian package dpkg-dev, with `file`)
 # finds the executable linked against (libtbb12, libglfw3, libepoxy0, libstb0, libstdc++6, ...),

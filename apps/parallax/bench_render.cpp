@@ -70,6 +70,7 @@
 #include "bench_timing.h"
 #include "commands.h"
 #include "core/point_cloud.h"
+#include "io/point_format.h"
 #include "lod/octree_open.h"
 #include "lod/octree_url.h"
 #include "network_options.h"
@@ -289,10 +290,13 @@ std::vector<StereoMode> stereoModesFrom(const RenderBenchOptions& o) {
   std::vector<StereoMode> modes;
   for (const std::string& name : o.stereo) {
     const auto mode = parseStereoMode(name);
-    if (!mode || *mode == StereoMode::Mono) {
+    if (!mode) {
       throw std::invalid_argument("--stereo: '" + name + "' is not a stereo mode (use " +
-                                  stereoModeNames() + ", not mono)");
+                                  stereoModeNames() + ")");
     }
+    // Mono is what every run measures anyway: the baseline of the comparisons, the orbit's
+    // default.
+    if (*mode == StereoMode::Mono) continue;
     if (*mode == StereoMode::QuadBuffer) {
       if (!o.json) {
         std::printf(
@@ -524,9 +528,9 @@ Command addBenchRenderCommand(CLI::App& bench) {
       "vs a bare loop), or a point file or octree orbited with the viewer's look");
   command.subcommand = sub;
   sub->add_option("input", options->input,
-                  "Point file (PLY, LAS, LAZ or text; opened as `render` opens it: over --budget "
-                  "through its octree), Potree 2.0 directory or COPC file (or its http(s) URL). "
-                  "Without it: random points");
+                  "Point file (" + pointFormatNamesText() +
+                      "; opened as `render` opens it: over --budget through its octree), Potree "
+                      "2.0 directory or COPC file (or its http(s) URL). Without it: random points");
   sub->add_option("--points", options->points, "Without an input: random points to draw")
       ->check(CLI::Range(std::uint64_t(1), std::uint64_t(200'000'000)))
       ->capture_default_str();

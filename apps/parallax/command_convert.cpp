@@ -1,5 +1,5 @@
-// `parallax convert IN -o OUT`: converts between any two supported point formats (PLY, LAS,
-// LAZ, text), keeping every attribute the target can hold and saying which ones it drops.
+// `parallax convert IN -o OUT`: converts between any two point formats of the format table
+// (io/point_format.h), keeping every attribute the target can hold and saying which ones it drops.
 // `parallax convert IN... -o DIR`: builds the level-of-detail octree of one or more point files
 // as a Potree 2.0 directory (lod/potree_converter.h), out of core within --memory.
 // `parallax convert IN... -o OUT.copc.laz`: the same octree as a COPC file (lod/copc_converter.h).
@@ -28,13 +28,8 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "filter_options.h"
-#include "io/coordinate_system.h"
-#include "io/las_header.h"
-#include "io/las_writer.h"
-#include "io/laz_writer.h"
 #include "io/partial_output.h"
 #include "io/point_file.h"
-#include "io/text_writer.h"
 #include "lod/copc_converter.h"
 #include "lod/copc_reader.h"
 #include "lod/copc_writer.h"
@@ -246,10 +241,9 @@ bool isOctreeOutput(const ConvertArgs& args) {
   const std::string octree = path.stem().string() + extension + "/";
   throw InputError(
       {.file = output,
-       .expected =
-           "an output name ending in .ply, .las, .laz, .xyz, .txt, .csv, .asc, .pts, "
-           ".pcd or .copc.laz, or a Potree 2.0 octree directory (--format potree, a name ending "
-           "in '/', an existing directory, or a name without extension)",
+       .expected = "an output name ending in " + writableExtensionsText() +
+                   " or .copc.laz, or a Potree 2.0 octree directory (--format potree, a name "
+                   "ending in '/', an existing directory, or a name without extension)",
        .found = "'" + path.extension().string() + "'",
        .hint = "for an octree, add --format potree (or write -o " + octree + ")"});
 }
@@ -305,14 +299,16 @@ int runConvert(ConvertArgs args) {
                               "potree, or an output name ending in '/')"});
   }
   args.input = args.inputs.front();
-  PointFormat in_format = detectPointFormat(args.input);
-  PointFormat out_format = formatForExtension(args.output);
-  if (out_format == PointFormat::Unknown) throwUnknownOutput(args.output);  // before the read
-  if (!args.properties.empty() &&
-      (out_format == PointFormat::Las || textOptionsForPath(args.output).pts)) {
-    throw std::invalid_argument("--properties: " + args.output +
-                                " has a fixed record layout (LAS, PTS); the option is for PLY "
-                                "and text outputs");
+  // Both ends through the format table (io/point_format.h): the input's row by content, the
+  // output's by extension.
+  const PointFormat in_format = detectPointFormat(args.input);
+  const PointFormatEntry* out_row = formatForExtension(args.output).entry();
+  if (out_row == nullptr || !out_row->write) throwUnknownOutput(args.output);  // before the read
+  if (!args.properties.empty() && out_row->fixed_layout && out_row->fixed_layout(args.output)) {
+    throw std::invalid_argument("--properties: " + args.output + " has a fixed record layout (" +
+                                out_row->name +
+                                "); the option is for outputs that choose their "
+                                "attributes' order (PLY, text)");
   }
   cleanPartialOutputs(args.output, args.quiet);
   PointCloud cloud;
@@ -337,9 +333,19 @@ int runConvert(ConvertArgs args) {
   int minor = 0;
   if (args.las_version == "1.2") minor = 2;
   if (args.las_version == "1.4") minor = 4;
+  // The source travels with the options: what the output keeps of its header (a LAS output
+  // its CRS) is the output row's decision.
+  const PointWriteOptions write_options{.ply_ascii = args.ascii,
+                                        .las_minor_version = minor,
+                                        .laz_chunk_points = args.laz_chunk,
+                                        .pcd_data = args.pcd_data == "ascii" ? PcdData::Ascii
+                                                    : args.pcd_data == "binary"
+                                                        ? PcdData::Binary
+                                                        : PcdData::BinaryCompressed,
+                                        .properties = args.properties,
+                                        .source = args.input};
 
-  std::vector<std::string> losses = describeWriteLosses(
-      cloud, args.output, {.ply_ascii = args.ascii, .las_minor_version = minor});
+  std::vector<std::string> losses = describeWriteLosses(cloud, args.output, write_options);
   if (!args.properties.empty()) {
     std::vector<std::string> kept;
     try {
@@ -355,30 +361,9 @@ int runConvert(ConvertArgs args) {
     }
     if (!left_out.empty()) losses.push_back(left_out + " (not in --properties)");
   }
-  LasHeader source_header;
-  CoordinateSystem crs;  // travels into a LAS or LAZ output
-  bool from_las = in_format == PointFormat::Las || in_format == PointFormat::Laz;
-  if (from_las) {
-    source_header = readLasHeader(args.input);
-    crs = coordinateSystemOf(source_header);
-    if (!crs.empty() && out_format != PointFormat::Las && out_format != PointFormat::Laz) {
-      losses.push_back("the coordinate reference system (" + crs.summary() +
-                       "): " + pointFormatName(out_format) + " has no place for it");
-    }
-    // A WKT CRS is LAS 1.4's (global encoding bit 4): chosen unless 1.2 was asked for.
-    if ((out_format == PointFormat::Las || out_format == PointFormat::Laz) &&
-        !crs.description.wkt.empty()) {
-      if (minor == 0) minor = 4;
-      if (minor == 2) {
-        losses.push_back(
-            "the WKT coordinate reference system is copied, but LAS 1.2 has no "
-            "flag to say it is WKT (use --las-version 1.4)");
-      }
-    }
-  }
   if (!args.quiet) {
-    std::fprintf(stderr, "%s: %s, %llu points\n", args.input.c_str(), pointFormatName(in_format),
-                 static_cast<unsigned long long>(read_points));
+    std::fprintf(stderr, "%s: %s, %llu points\n", args.input.c_str(),
+                 pointFormatName(in_format).c_str(), static_cast<unsigned long long>(read_points));
     if (filtered) {
       std::fprintf(stderr, "kept %llu points (--classes, --clip-box)\n",
                    static_cast<unsigned long long>(cloud.count));
@@ -389,30 +374,9 @@ int runConvert(ConvertArgs args) {
   }
 
   const auto progress = progressBar(args.quiet, "writing", cloud.count);
-  Progress* sink = progress.get();
-  if (out_format == PointFormat::Las || out_format == PointFormat::Laz) {
-    LasWriteOptions options{.minor_version = minor, .progress = sink};
-    if (from_las) {
-      // Keep the CRS records and the GPS time type of a LAS source.
-      options.vlrs = crs.records;
-      options.gps_time_standard = source_header.gpsTimeIsStandard();
-      options.file_source_id = source_header.file_source_id;
-    }
-    if (out_format == PointFormat::Laz) {
-      writeLaz(cloud, args.output, {.las = options, .chunk_points = args.laz_chunk});
-    } else {
-      writeLas(cloud, args.output, options);
-    }
-  } else {
-    writePointFile(cloud, args.output,
-                   {.progress = sink,
-                    .ply_ascii = args.ascii,
-                    .las_minor_version = minor,
-                    .pcd_data = args.pcd_data == "ascii"    ? PcdData::Ascii
-                                : args.pcd_data == "binary" ? PcdData::Binary
-                                                            : PcdData::BinaryCompressed,
-                    .properties = args.properties});
-  }
+  PointWriteOptions options = write_options;
+  options.progress = progress.get();
+  writePointFile(cloud, args.output, options);
   if (progress) progress->finish();
   if (!args.quiet) std::fprintf(stderr, "wrote %s\n", args.output.c_str());
   return 0;
@@ -425,18 +389,18 @@ Command addConvertCommand(CLI::App& app) {
   Command command;
   CLI::App* sub = app.add_subcommand(
       "convert",
-      "Convert a point file between PLY, LAS, LAZ and text (xyz, txt, csv, pts), or point files to "
-      "a level-of-detail octree: a Potree 2.0 directory or a COPC file (.copc.laz)");
+      "Convert a point file between " + pointFormatNamesText() +
+          ", or point files to a level-of-detail octree: a Potree 2.0 directory or a COPC file "
+          "(.copc.laz)");
   sub->add_option("input", args->inputs,
                   "Input point files (format detected from their content), a Potree directory (or "
                   "its http(s) URL) or a COPC file; several only for an octree, where they are "
                   "merged; one octree is copied, or its points written to a file");
-  sub->add_option(
-         "-o,--output", args->output,
-         "Output file, its extension picks the format (.ply .las .laz .xyz .txt .csv "
-         ".asc .pts .pcd), .copc.laz: a COPC octree, or a Potree 2.0 octree directory: a name "
-         "ending in '/', an existing directory, a name without extension, or --format "
-         "potree")
+  sub->add_option("-o,--output", args->output,
+                  "Output file, its extension picks the format (" + writableExtensionsText() +
+                      "), .copc.laz: a COPC octree, or a Potree 2.0 octree directory: a name "
+                      "ending in '/', an existing directory, a name without extension, or "
+                      "--format potree")
       ->required();
   sub->add_option("--format", args->format,
                   "Force an octree output: potree (a directory) or copc, whatever the output's "

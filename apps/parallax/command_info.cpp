@@ -26,12 +26,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -40,12 +39,7 @@
 #include "core/error.h"
 #include "core/point_cloud.h"
 #include "core/progress.h"
-#include "io/las_header.h"
-#include "io/laz_reader.h"
-#include "io/pcd_header.h"
-#include "io/ply_header.h"
 #include "io/point_file.h"
-#include "io/ptx_reader.h"
 #include "lod/copc_reader.h"
 #include "lod/octree_open.h"
 #include "lod/octree_url.h"
@@ -179,9 +173,8 @@ std::vector<NamedRange> attributeRanges(const PointCloud& cloud) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The format's own description. One function per format; add a case to describeFormat for each
-// new PointFormat (LAS: version, point data format, the header's declared bounds and scale, the
-// CRS once io exposes it; text formats: the column layout found).
+// The format's own description: its row's (io/point_format.h). Formats without one (text) show
+// their name and what was loaded.
 
 Json finiteOrNull(double v) {
   return std::isfinite(v) ? Json(v) : Json(nullptr);
@@ -191,208 +184,11 @@ Json triple(const std::array<double, 3>& v) {
   return Json::array({finiteOrNull(v[0]), finiteOrNull(v[1]), finiteOrNull(v[2])});
 }
 
-struct FormatDescription {
-  std::string name = "unknown";    // "ply", ...
-  std::string summary;             // one line: "PLY ascii 1.0, header 222 bytes"
-  std::vector<std::string> lines;  // human-readable details, one per line, already indented
-  Json details = Json::object();   // the same for --json ("format_details")
-  Json elements;                   // PLY elements (null for formats without them)
-  // Bounds the file itself declares (LAS header), shown beside the computed ones.
-  std::optional<Bounds3> declared_bounds;
-};
-
-std::vector<std::byte> readPrefix(const std::filesystem::path& path, std::size_t max_bytes) {
-  std::ifstream in(path, std::ios::binary);
-  std::vector<std::byte> bytes(max_bytes);
-  in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(max_bytes));
-  bytes.resize(std::size_t(in.gcount()));
-  return bytes;
-}
-
-std::string plyPropertyType(const PlyProperty& property) {
-  if (!property.is_list) return std::string(scalarName(property.type));
-  return "list " + std::string(scalarName(property.list_count_type)) + " " +
-         std::string(scalarName(property.type));
-}
-
-FormatDescription describePly(const std::filesystem::path& path) {
-  // The header is at most kMaxPlyHeaderBytes; parsePlyHeader finds its end in the prefix.
-  const std::vector<std::byte> prefix = readPrefix(path, kMaxPlyHeaderBytes);
-  const PlyHeader header = parsePlyHeader(prefix, path.string());
-
-  FormatDescription out;
-  out.name = "ply";
-  out.summary = "PLY " + std::string(plyFormatName(header.format)) + " " + header.version +
-                ", header " + std::to_string(header.body_offset) + " bytes";
-  for (const auto& comment : header.comments) out.lines.push_back("  comment " + comment);
-  for (const auto& info : header.obj_info) out.lines.push_back("  obj_info " + info);
-  out.elements = Json::array();
-  for (const auto& element : header.elements) {
-    std::string line = "  element " + element.name + " " + std::to_string(element.count);
-    if (header.format != PlyFormat::Ascii && !element.hasLists()) {
-      line += " (" + std::to_string(element.fixedRecordSize()) + " bytes a record)";
-    }
-    out.lines.push_back(line);
-    Json properties = Json::array();
-    for (const auto& property : element.properties) {
-      out.lines.push_back("    property " + plyPropertyType(property) + " " + property.name);
-      Json p = {{"name", property.name}, {"type", std::string(scalarName(property.type))}};
-      if (property.is_list) {
-        p["list"] = true;
-        p["count_type"] = std::string(scalarName(property.list_count_type));
-      }
-      properties.push_back(std::move(p));
-    }
-    out.elements.push_back(
-        {{"name", element.name}, {"count", element.count}, {"properties", properties}});
-  }
-  out.details = {{"encoding", std::string(plyFormatName(header.format))},
-                 {"version", header.version},
-                 {"header_bytes", header.body_offset},
-                 {"comments", header.comments},
-                 {"obj_info", header.obj_info}};
-  return out;
-}
-
-// LAS and LAZ: the header's own account (io/las_header.h): version, point format, the header's
-// scale, offset and bounds (shown as the file's bounds beside the computed ones), the CRS, extra
-// bytes; for LAZ the compression (compressor, chunking, chunk count, items and their versions).
-FormatDescription describeLas(const std::filesystem::path& path) {
-  const LasHeader header = readLasHeader(path);
-  FormatDescription out;
-  out.name = "las";
-  std::istringstream lines(describeLasHeader(header));
-  std::string line;
-  std::getline(lines, out.summary);
-  while (std::getline(lines, line)) out.lines.push_back("  " + line);
-  Json extra_bytes = Json::array();
-  for (const auto& extra : header.extra_bytes) {
-    extra_bytes.push_back({{"name", extra.name}, {"type", std::string(scalarName(extra.type))}});
-  }
-  Json crs = {{"summary", header.crs.summary()}, {"wkt", header.crs.wkt}};
-  if (header.crs.projected_epsg) crs["projected_epsg"] = *header.crs.projected_epsg;
-  if (header.crs.geographic_epsg) crs["geographic_epsg"] = *header.crs.geographic_epsg;
-  if (header.crs.vertical_epsg) crs["vertical_epsg"] = *header.crs.vertical_epsg;
-  out.details = {{"version", header.versionString()},
-                 {"point_format", header.point_format},
-                 {"record_length", header.record_length},
-                 {"point_count", header.point_count},
-                 {"scale", triple(header.quantization.scale)},
-                 {"offset", triple(header.quantization.offset)},
-                 {"crs", crs},
-                 {"extra_bytes", extra_bytes},
-                 {"generating_software", header.generating_software},
-                 {"system_identifier", header.system_identifier}};
-  if (!header.bounds.empty()) out.declared_bounds = header.bounds;
-  if (header.laszip) {
-    // LAZ: how the points are compressed (io/laz_reader.h).
-    const LazSummary laz = summarizeLaz(path);
-    out.name = "laz";
-    std::string items;
-    for (const std::string& item : laz.items) items += (items.empty() ? "" : ", ") + item;
-    out.lines.push_back(
-        "  LAZ " + laz.compressor_name + " (compressor " + std::to_string(laz.compressor) + "), " +
-        (laz.chunk_size ? "chunks of " + std::to_string(laz.chunk_size) + " points"
-                        : std::string("variable chunks")) +
-        ", " + std::to_string(laz.chunks) + " chunks, written by LASzip " + laz.laszip_version +
-        (laz.compatibility_mode
-             ? ", LAS 1.4 compatibility mode: points of format " + std::to_string(laz.record_format)
-             : std::string()));
-    out.lines.push_back("  items " + items);
-    if (!laz.table_note.empty()) out.lines.push_back("  chunk table: " + laz.table_note);
-    out.details["laz"] = {{"compressor", laz.compressor},
-                          {"compressor_name", laz.compressor_name},
-                          {"chunk_size", laz.chunk_size},
-                          {"chunks", laz.chunks},
-                          {"laszip_version", laz.laszip_version},
-                          {"items", laz.items},
-                          {"compatibility_mode", laz.compatibility_mode},
-                          {"record_format", laz.record_format},
-                          {"chunk_table_note", laz.table_note}};
-  }
-  return out;
-}
-
-// A number as info prints them (%.10g).
-std::string formatNumber(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.10g", v);
-  return text;
-}
-
-// PCD: version, encoding, fields with their size, type and count, the grid, the sensor's pose.
-FormatDescription describePcd(const std::filesystem::path& path) {
-  // The header alone (at most 1 MiB, pcd_header.h); the points are read by the ordinary load.
-  const PcdHeader header = parsePcdHeader(readPrefix(path, 1 << 20), path.string());
-  FormatDescription out;
-  out.name = "pcd";
-  out.summary = "PCD " + header.version + " " + pcdDataName(header.data) + ", header " +
-                std::to_string(header.data_offset) + " bytes";
-  Json fields = Json::array();
-  for (const PcdField& f : header.fields) {
-    out.lines.push_back("  field " + f.name + " " + f.type + std::to_string(f.size) +
-                        (f.count > 1 ? " x " + std::to_string(f.count) : ""));
-    fields.push_back(
-        {{"name", f.name}, {"type", std::string(1, f.type)}, {"size", f.size}, {"count", f.count}});
-  }
-  out.lines.push_back("  grid " + std::to_string(header.width) + " x " +
-                      std::to_string(header.height) + (header.height > 1 ? " (organised)" : "") +
-                      ", " + std::to_string(header.points) + " points with the invalid (NaN) ones");
-  std::string viewpoint = "  viewpoint";
-  for (double v : header.viewpoint) viewpoint += " " + formatNumber(v);
-  out.lines.push_back(viewpoint + " (sensor x y z, qw qx qy qz)");
-  out.details["pcd"] = {
-      {"version", header.version},    {"data", pcdDataName(header.data)}, {"fields", fields},
-      {"width", header.width},        {"height", header.height},          {"points", header.points},
-      {"viewpoint", header.viewpoint}};
-  return out;
-}
-
-// PTX: each scan's grid, scanner position and points kept.
-FormatDescription describePtx(const std::filesystem::path& path) {
-  const std::vector<PtxScan> scans = readPtxScans(path);
-  FormatDescription out;
-  out.name = "ptx";
-  out.summary = "PTX, " + std::to_string(scans.size()) + " scan" + (scans.size() == 1 ? "" : "s");
-  Json list = Json::array();
-  for (std::size_t i = 0; i < scans.size(); ++i) {
-    const PtxScan& scan = scans[i];
-    out.lines.push_back("  scan " + std::to_string(i) + ": " + std::to_string(scan.columns) +
-                        " x " + std::to_string(scan.rows) + ", " + std::to_string(scan.points) +
-                        " points kept, scanner at (" + formatNumber(scan.position[0]) + ", " +
-                        formatNumber(scan.position[1]) + ", " + formatNumber(scan.position[2]) +
-                        ")");
-    list.push_back({{"columns", scan.columns},
-                    {"rows", scan.rows},
-                    {"points", scan.points},
-                    {"position", scan.position},
-                    {"transform", scan.transform}});
-  }
-  out.details["ptx"] = {{"scans", list}};
-  return out;
-}
-
-// One description per format: add a case for each new PointFormat. Formats without one (text)
-// show their name and what was loaded.
 FormatDescription describeFormat(const std::filesystem::path& path, PointFormat format) {
-  switch (format) {
-    case PointFormat::Ply:
-      return describePly(path);
-    case PointFormat::Las:
-    case PointFormat::Laz:
-      return describeLas(path);
-    case PointFormat::Pcd:
-      return describePcd(path);
-    case PointFormat::Ptx:
-      return describePtx(path);
-    default:
-      break;
-  }
-  // The name's first word in lower case, as the described formats name themselves: "text".
+  const PointFormatEntry* row = format.entry();
+  if (row != nullptr && row->describe) return row->describe(path);
   FormatDescription out;
-  out.name = pointFormatName(format);
-  out.name = out.name.substr(0, out.name.find(' '));
-  for (char& c : out.name) c = char(std::tolower(static_cast<unsigned char>(c)));
+  out.name = row != nullptr ? row->id : "unknown";
   out.summary = pointFormatName(format);
   return out;
 }
@@ -594,10 +390,19 @@ int runPotreeInfo(const std::filesystem::path& path, bool json) {
 struct InfoOptions {
   std::string file;
   bool json = false;
-  bool quiet = false;  // no loading bar (the description is the command's result: printed)
+  bool quiet = false;    // no loading bar (the description is the command's result: printed)
+  bool formats = false;  // the format table instead of a file
 };
 
 int runInfo(const InfoOptions& options) {
+  if (options.formats) {
+    // docs/FORMATS.md holds this table (a test compares them).
+    std::fputs(pointFormatsMarkdown().c_str(), stdout);
+    return 0;
+  }
+  if (options.file.empty()) {
+    throw std::invalid_argument("info: no file (give a point file, or --formats)");
+  }
   const std::filesystem::path path = options.file;
   checkOctreeUrl(options.file);
   if (isPotreeDirectory(path)) return runPotreeInfo(path, options.json);
@@ -640,11 +445,12 @@ Command addInfoCommand(CLI::App& app) {
       app.add_subcommand("info",
                          "Describe a point file: format, points, bounds, attribute "
                          "ranges, load speed");
-  command.subcommand
-      ->add_option("file", options->file,
-                   "Point file (format detected from its content), Potree 2.0 directory or COPC "
-                   "file (or its http(s) URL)")
-      ->required();
+  command.subcommand->add_option("file", options->file,
+                                 "Point file (" + pointFormatNamesText() +
+                                     "; format detected from its content), Potree 2.0 directory "
+                                     "or COPC file (or its http(s) URL)");
+  command.subcommand->add_flag("--formats", options->formats,
+                               "List the point formats this build reads and writes (Markdown)");
   command.subcommand->add_flag("--json", options->json,
                                "Print one JSON object (points, bounds, attributes, ...)");
   addQuietFlag(*command.subcommand, options->quiet);

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "io/point_format.h"
 #include "lod/octree_url.h"
 #include "network_options.h"
 #include "render/gl_context.h"
@@ -146,8 +147,8 @@ Command addPickCommand(CLI::App& app) {
       "pick",
       "Print the point drawn at a pixel of the picture `render` makes, with all attributes");
   sub->add_option("input", options->input,
-                  "Point file (PLY, LAS, LAZ or text), or an octree: a Potree 2.0 directory or a "
-                  "COPC file, or its http(s) URL")
+                  "Point file (" + pointFormatNamesText() +
+                      "), or an octree: a Potree 2.0 directory or a COPC file, or its http(s) URL")
       ->required();
   sub->add_option("--pixel", options->pixel,
                   "X,Y: the pixel, from the left and from the top of the picture (sbs stereo: the "

@@ -234,8 +234,9 @@ Command addRenderCommand(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("render", "Render a point file to a PNG, headless");
   sub->add_option(
          "input", options->input,
-         "Point file (PLY, LAS, LAZ or text), or an octree: a Potree 2.0 directory or a COPC "
-         "file (parallax convert), or its http(s) URL")
+         "Point file (" + pointFormatNamesText() +
+             "), or an octree: a Potree 2.0 directory or a COPC file (parallax convert), or its "
+             "http(s) URL")
       ->required();
   sub->add_option("-o,--output", options->output,
                   "Output PNG (with --path: a pattern such as DIR/frame_%04d.png)")
@@ -250,9 +251,9 @@ Command addRenderCommand(CLI::App& app) {
   sub->add_option("--frames", options->frames, "Frames along --path")->check(CLI::Range(1, 100000));
   sub->add_flag(
       "--preview", options->preview,
-      "A PLY, LAS or LAZ file over --budget: draw an even sample (at most the budget, at most 1 M "
-      "points) at once "
-      "instead of converting it to an octree");
+      "A " + previewFormatNamesText() +
+          " file over --budget: draw an even sample (at most the budget, at most 1 M points) at "
+          "once instead of converting it to an octree");
   sub->add_option("--measurements", options->measurements_file,
                   "Measurement file (JSON, as the viewer saves it): draw its measurements and "
                   "annotations, from its camera unless --eye or --camera is given");

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "commands.h"
+#include "io/point_format.h"
 #include "measure/measurement_document.h"
 #include "network_options.h"
 #include "render_options.h"
@@ -86,8 +87,8 @@ Command addViewCommand(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("view", "Open a point file in a window (H in it: keys)");
   sub->add_option(
       "input", options->input,
-      "Point file (PLY, LAS, LAZ or text), Potree 2.0 directory or COPC file (or its http(s) "
-      "URL); or drop one on the window");
+      "Point file (" + pointFormatNamesText() +
+          "), Potree 2.0 directory or COPC file (or its http(s) URL); or drop one on the window");
   sub->add_option("--width", options->width, "Window width")->capture_default_str();
   sub->add_option("--height", options->height, "Window height")->capture_default_str();
   sub->add_flag("--no-vsync", options->no_vsync, "Start with vsync off (V toggles it)");

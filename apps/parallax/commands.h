@@ -15,6 +15,10 @@ struct Command {
   std::function<int()> run;
 };
 
+// `parallax ARGS...`: parses argv, runs the chosen subcommand and returns the exit status (2 for
+// bad input, 3 out of memory, 1 other errors), errors reported on stderr.
+int runCommandLine(int argc, char** argv);
+
 Command addInfoCommand(CLI::App& app);
 Command addGenerateCommand(CLI::App& app);
 Command addBenchCommand(CLI::App& app);

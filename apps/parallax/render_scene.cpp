@@ -31,9 +31,11 @@ RenderSource openRenderSource(const RenderSourceOptions& o, const LodOptions& lo
     return source;
   }
   if (o.preview) {
-    if (!hasPointFilePreview(detectPointFormat(o.input))) {
-      throw std::invalid_argument("--preview: " + o.input +
-                                  " is a text file (samples are read from PLY, LAS and LAZ files)");
+    const PointFormat format = detectPointFormat(o.input);
+    if (!hasPointFilePreview(format)) {
+      throw std::invalid_argument("--preview: " + o.input + " is a " + pointFormatName(format) +
+                                  " file (samples are read from " + previewFormatNamesText() +
+                                  " files)");
     }
     source.cloud = readPointFilePreview(o.input, std::min(lod.budget, kPreviewPoints));
     source.file_points = *points;

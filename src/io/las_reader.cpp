@@ -173,6 +173,7 @@ struct LasChunkReader::State {
   LasHeader header;
   LasDecodePlan plan;
   std::uint64_t next = 0;
+  CoordinateSystem crs;
 };
 
 LasChunkReader::LasChunkReader(const std::filesystem::path& path) {
@@ -203,13 +204,18 @@ LasChunkReader::LasChunkReader(const std::filesystem::path& path) {
     big = found;
   }
   plan.colors_8bit = !big;
-  state_ = std::make_unique<State>(State{std::move(in), std::move(header), std::move(plan), 0});
+  CoordinateSystem crs = coordinateSystemOf(header);
+  state_ = std::make_unique<State>(
+      State{std::move(in), std::move(header), std::move(plan), 0, std::move(crs)});
 }
 LasChunkReader::~LasChunkReader() = default;
 LasChunkReader::LasChunkReader(LasChunkReader&&) noexcept = default;
 
 const LasHeader& LasChunkReader::header() const {
   return state_->header;
+}
+const CoordinateSystem& LasChunkReader::crs() const {
+  return state_->crs;
 }
 std::uint64_t LasChunkReader::pointCount() const {
   return state_->header.point_count;

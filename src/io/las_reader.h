@@ -40,6 +40,7 @@
 #include "core/point_cloud.h"
 #include "core/progress.h"
 #include "io/las_header.h"
+#include "io/point_chunk_source.h"
 
 namespace parallax {
 
@@ -81,22 +82,24 @@ PointCloud readLasFromMemory(std::span<const std::byte> bytes, const std::string
 
 // Streams the points of a LAS file in chunks, in file order, holding only one chunk. The
 // quantization is the header's, so every chunk holds the file's exact integers.
-class LasChunkReader {
+class LasChunkReader final : public PointChunkSource {
  public:
   explicit LasChunkReader(const std::filesystem::path& path);
-  ~LasChunkReader();
+  ~LasChunkReader() override;
   LasChunkReader(LasChunkReader&&) noexcept;
 
   const LasHeader& header() const;
-  std::uint64_t pointCount() const;
-  const Quantization& quantization() const;
+  std::uint64_t pointCount() const override;
+  const CoordinateSystem& crs() const override;  // the header's projection records
+  const Quantization& quantization() const override;
 
   // Replaces `chunk` with the next at most `max_points` points (`max_points` > 0); false (and an
   // empty chunk) at the end.
-  bool next(PointCloud& chunk, std::size_t max_points);
+  bool next(PointCloud& chunk, std::size_t max_points) override;
   // Steps over the next `count` points (fewer at the end): records have a fixed size, so the
   // next chunk starts `count` records later without reading them.
-  void skip(std::uint64_t count);
+  bool canSkip() const override { return true; }
+  void skip(std::uint64_t count) override;
 
  private:
   struct State;

@@ -267,6 +267,7 @@ struct LazChunkReader::State {
   // The part of a chunk not handed out yet (a batch ended inside it).
   std::vector<std::byte> pending, spare;
   std::size_t pending_count = 0, pending_taken = 0;
+  CoordinateSystem crs;  // of the records' header (1.4's in compatibility mode)
 };
 
 LazChunkReader::LazChunkReader(const std::filesystem::path& path)
@@ -276,6 +277,7 @@ LazChunkReader::LazChunkReader(const std::filesystem::path& path)
   LazSource& s = *st.source;
   st.key = fileKey(path);
   st.plan = makeLasDecodePlan(s.records);
+  st.crs = coordinateSystemOf(s.records);
   if (!st.plan.color_offset || s.chunks.empty()) return;
   {
     const std::lock_guard lock(g_memo_mutex);
@@ -303,6 +305,9 @@ LazChunkReader::LazChunkReader(LazChunkReader&&) noexcept = default;
 
 const LasHeader& LazChunkReader::header() const {
   return state_->source->records;
+}
+const CoordinateSystem& LazChunkReader::crs() const {
+  return state_->crs;
 }
 std::uint64_t LazChunkReader::pointCount() const {
   return state_->source->records.point_count;

@@ -21,6 +21,7 @@
 #include "core/point_cloud.h"
 #include "core/progress.h"
 #include "io/las_header.h"
+#include "io/point_chunk_source.h"
 
 namespace parallax {
 
@@ -62,19 +63,20 @@ LazSummary summarizeLaz(const std::filesystem::path& path);
 // in the sample, 16-bit ones later), the rest of this stream and every later stream of the same
 // file (same path, size and time) use the 16-bit rule. (The octree builder reads a file in three
 // passes and uses colours in the last only, so its colours are right.)
-class LazChunkReader {
+class LazChunkReader final : public PointChunkSource {
  public:
   explicit LazChunkReader(const std::filesystem::path& path);
-  ~LazChunkReader();
+  ~LazChunkReader() override;
   LazChunkReader(LazChunkReader&&) noexcept;
 
   const LasHeader& header() const;  // of the records handed out (1.4 in compatibility mode)
-  std::uint64_t pointCount() const;
-  const Quantization& quantization() const;
+  std::uint64_t pointCount() const override;
+  const CoordinateSystem& crs() const override;  // the header's projection records
+  const Quantization& quantization() const override;
 
   // Replaces `chunk` with the next at most `max_points` points (`max_points` > 0); false (and
   // an empty chunk) at the end.
-  bool next(PointCloud& chunk, std::size_t max_points);
+  bool next(PointCloud& chunk, std::size_t max_points) override;
 
  private:
   struct State;

@@ -30,6 +30,7 @@
 #include "core/point_cloud.h"
 #include "core/progress.h"
 #include "io/pcd_header.h"
+#include "io/point_chunk_source.h"
 
 namespace parallax {
 
@@ -51,21 +52,21 @@ PointCloud readPcdFromMemory(std::span<const std::byte> bytes, const std::string
 
 // Streams the valid points in chunks, in file order. The quantization is fixed before the first
 // chunk, from a first pass over the positions (exact bounds), or given by the caller.
-class PcdChunkReader {
+class PcdChunkReader final : public PointChunkSource {
  public:
   // Throws InputError as readPcd does for the header and the data's size.
   explicit PcdChunkReader(const std::filesystem::path& path,
                           const Quantization* quantization = nullptr);
-  ~PcdChunkReader();
+  ~PcdChunkReader() override;
   PcdChunkReader(PcdChunkReader&&) noexcept;
 
   const PcdHeader& header() const;
   // Valid points (the file's POINTS less those with NaN coordinates).
-  std::uint64_t pointCount() const;
-  const Quantization& quantization() const;
+  std::uint64_t pointCount() const override;
+  const Quantization& quantization() const override;
   // Replaces `chunk` with the next at most `max_points` points (`max_points` > 0); false (and an
   // empty chunk) at the end. Throws InputError for a bad ascii line.
-  bool next(PointCloud& chunk, std::size_t max_points);
+  bool next(PointCloud& chunk, std::size_t max_points) override;
 
  private:
   struct State;

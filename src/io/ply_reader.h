@@ -21,6 +21,7 @@
 #include "core/point_cloud.h"
 #include "core/progress.h"
 #include "io/ply_header.h"
+#include "io/point_chunk_source.h"
 
 namespace parallax {
 
@@ -42,24 +43,25 @@ PointCloud readPlyFromMemory(std::span<const std::byte> bytes, const std::string
 // The quantization is fixed before the first chunk: chosen from a strided sample of the points
 // with a margin, or given by the caller (e.g. from a counting pass). A point that does not fit it
 // raises InputError with a hint to pass exact bounds; `readPly` never has this limitation.
-class PlyChunkReader {
+class PlyChunkReader final : public PointChunkSource {
  public:
   explicit PlyChunkReader(const std::filesystem::path& path);
-  ~PlyChunkReader();
+  ~PlyChunkReader() override;
   PlyChunkReader(PlyChunkReader&&) noexcept;
 
   const PlyHeader& header() const;
-  std::uint64_t pointCount() const;
-  const Quantization& quantization() const;
+  std::uint64_t pointCount() const override;
+  const Quantization& quantization() const override;
   void setQuantization(const Quantization& quantization);
 
   // Replaces `chunk` with the next at most `max_points` points; false (and an empty chunk) at the
   // end. `max_points` must be positive.
-  bool next(PointCloud& chunk, std::size_t max_points);
+  bool next(PointCloud& chunk, std::size_t max_points) override;
   // Steps over the next `count` points (fewer at the end) without handing them out: whole ranges
   // by their known start, the rest of one range decoded and dropped (a range is about 512 KB), so
   // a task can read points [first, last) of a large file without reading what comes before.
-  void skip(std::uint64_t count);
+  bool canSkip() const override { return true; }
+  void skip(std::uint64_t count) override;
 
  private:
   struct State;

@@ -1,43 +1,50 @@
-// Format detection, reading and writing of any supported point file, and the temporary-file
-// output that every writer uses.
+// Format detection, reading and writing of any supported point file through the format table
+// (point_format.h), and the temporary-file output that every writer uses.
 #pragma once
 
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "core/point_cloud.h"
 #include "core/progress.h"
 #include "io/pcd_header.h"
+#include "io/point_format.h"
 
 namespace parallax {
 
-enum class PointFormat { Ply, Las, Laz, Text, Pcd, Ptx, Pts, Unknown };
+// The formats themselves are the rows of the format table (point_format.h); these functions
+// pick the row and call it.
 
-// "PLY", "LAS", "LAZ", "text (XYZ/CSV)", "PCD", "PTX", "PTS", "unknown".
-const char* pointFormatName(PointFormat format);
+// "PLY", "LAS", "LAZ", "text (XYZ/CSV/PTS)", ...; "unknown".
+std::string pointFormatName(PointFormat format);
 
-// "supported formats: PLY (...), LAS 1.0-1.4 (...), text ..." for error messages.
-const char* supportedFormatsText();
+// "supported formats: PLY (...), LAS 1.0-1.4 (...), text ..." for error messages: every row's
+// description.
+std::string supportedFormatsText();
 
 // Detects the format from the file's first bytes (magic and header), not from its extension:
-// the line "ply" (blanks after it and CR LF allowed) is PLY; "LASF" is LAS, or LAZ when the header
-// says LASzip; a file whose first 64 KiB are printable text with a line of at least three numbers
-// is text; "VERSION" or "FIELDS" header lines are PCD (pcd_header.h); PTX and PTS by their first
-// lines (ptx_reader.h, pts_reader.h). A file named .pcd or .ptx whose content is no format is
-// still given to that reader, which says what is wrong with it. Throws InputError when the file
-// cannot be opened.
+// the first row whose `detect` takes them (PointFormatEntry::detect: the line "ply" is PLY;
+// "LASF" is LAS, or LAZ when the header says LASzip; a file whose first 64 KiB are printable
+// text with a line of at least three numbers is text). Throws InputError when the file cannot
+// be opened.
 PointFormat detectPointFormat(const std::filesystem::path& path);
 
 // The same for the first bytes of a file held in memory (as many as are at hand; 64 KiB suffice).
 PointFormat detectPointFormatFromMemory(std::span<const std::byte> bytes);
 
-// The point count a PLY or LAS file's header states, read without the points; std::nullopt for
-// text files (no count without reading them: see countTextPoints in text_reader.h) and for
-// anything that cannot be read (the caller's ordinary read reports why).
+// What the file's header says (count, declared bounds, attributes, CRS), read without the points.
+// Throws InputError as the readers do, and for an unknown format.
+PointFileHeader readPointFileHeader(const std::filesystem::path& path);
+
+// The point count a file's header states, read without the points; std::nullopt for formats
+// whose header states none (text: see countTextPoints in text_reader.h) and for anything that
+// cannot be read (the caller's ordinary read reports why).
 std::optional<std::uint64_t> headerPointCount(const std::filesystem::path& path);
 
 struct PointReadOptions {
@@ -52,8 +59,8 @@ struct PointReadOptions {
 // files, and for an unknown format with the list of supported ones.
 PointCloud readPointFile(const std::filesystem::path& path, const PointReadOptions& options = {});
 
-// Whether readPointFilePreview samples files of `format` (PLY, LAS, LAZ; not text, whose lines
-// cannot be addressed without reading them all).
+// Whether readPointFilePreview samples files of `format` (its row has a preview: PLY, LAS, LAZ;
+// not text, whose lines cannot be addressed without reading them all).
 bool hasPointFilePreview(PointFormat format);
 
 // About `max_points` points spread over a large file, read in a fraction of the time of the
@@ -61,9 +68,13 @@ bool hasPointFilePreview(PointFormat format);
 // readLazPreview). Throws InputError as the readers do, and for a format without a preview.
 PointCloud readPointFilePreview(const std::filesystem::path& path, std::uint64_t max_points);
 
-// The format a path's extension asks for when writing: .ply, .las, .laz, .xyz/.txt/.csv/.asc, .pcd,
-// .ptx, .pts;
-// Unknown otherwise.
+// The points of `path` in chunks (its row's chunk source: point_chunk_source.h), for the
+// out-of-core builder. Throws InputError as readPointFile does, and for a format without one.
+std::unique_ptr<PointChunkSource> openPointChunks(const std::filesystem::path& path,
+                                                  const ChunkSourceOptions& options = {});
+
+// The format a path's extension asks for when writing (a row's extensions: .ply, .las, .laz,
+// .xyz/.txt/.csv/.pts/.asc, ...); Unknown otherwise.
 PointFormat formatForExtension(const std::filesystem::path& path);
 
 struct PointWriteOptions {
@@ -77,6 +88,10 @@ struct PointWriteOptions {
   // empty: all, in the source's order. LAS and LAZ records have a fixed layout: a non-empty list
   // is an InputError there.
   std::vector<std::string> properties;
+  // The file the cloud was read from, if any: a LAS or LAZ output keeps a LAS or LAZ source's
+  // CRS records, GPS time type and file source id, and the losses name a CRS the output has no
+  // place for.
+  std::filesystem::path source;
 };
 
 // What writing `cloud` to `path` would drop or change: one short phrase each ("alpha (LAS has no

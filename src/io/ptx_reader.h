@@ -31,6 +31,7 @@
 
 #include "core/point_cloud.h"
 #include "core/progress.h"
+#include "io/point_chunk_source.h"
 
 namespace parallax {
 
@@ -68,19 +69,19 @@ std::vector<PtxScan> readPtxScans(const std::filesystem::path& path);
 
 // Streams the valid points of every scan in chunks, in file order. The quantization is fixed
 // first, from a pass over the positions (exact bounds), or given.
-class PtxChunkReader {
+class PtxChunkReader final : public PointChunkSource {
  public:
   explicit PtxChunkReader(const std::filesystem::path& path,
                           const Quantization* quantization = nullptr);
-  ~PtxChunkReader();
+  ~PtxChunkReader() override;
   PtxChunkReader(PtxChunkReader&&) noexcept;
 
   const std::vector<PtxScan>& scans() const;
-  std::uint64_t pointCount() const;
-  const Quantization& quantization() const;
+  std::uint64_t pointCount() const override;
+  const Quantization& quantization() const override;
   // Replaces `chunk` with the next at most `max_points` points (`max_points` > 0); false (and an
   // empty chunk) at the end.
-  bool next(PointCloud& chunk, std::size_t max_points);
+  bool next(PointCloud& chunk, std::size_t max_points) override;
 
  private:
   struct State;

@@ -39,6 +39,7 @@
 
 #include "core/point_cloud.h"
 #include "core/progress.h"
+#include "io/point_chunk_source.h"
 
 namespace parallax {
 
@@ -70,20 +71,20 @@ std::uint64_t countTextPoints(const std::filesystem::path& path,
 // the input it is parsing. The quantization is fixed before the first chunk: given, or the exact
 // choice of readText, from a first pass that parses the positions alone (text has no header to
 // say it). Only `columns` and `pts` of the options are used.
-class TextChunkReader {
+class TextChunkReader final : public PointChunkSource {
  public:
   // Throws InputError as readText does for the layout; `quantization`, when given, is used for
   // every chunk (a point outside it is an InputError).
   explicit TextChunkReader(const std::filesystem::path& path, const TextReadOptions& options = {},
                            const Quantization* quantization = nullptr);
-  ~TextChunkReader();
+  ~TextChunkReader() override;
   TextChunkReader(TextChunkReader&&) noexcept;
 
-  std::uint64_t pointCount() const;
-  const Quantization& quantization() const;
+  std::uint64_t pointCount() const override;
+  const Quantization& quantization() const override;
   // Replaces `chunk` with the next at most `max_points` points (`max_points` > 0); false (and an
   // empty chunk) at the end. Throws InputError for a bad line (its number and column).
-  bool next(PointCloud& chunk, std::size_t max_points);
+  bool next(PointCloud& chunk, std::size_t max_points) override;
 
  private:
   struct State;

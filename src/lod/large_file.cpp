@@ -1,30 +1,27 @@
 #include "lod/large_file.h"
 
+#include <algorithm>
 #include <exception>
 #include <system_error>
 
 #include "io/point_file.h"
-#include "io/text_reader.h"
 
 namespace parallax {
-namespace {
-
-// The fewest bytes a point takes in a text file: "1 2 3\n".
-constexpr std::uint64_t kMinTextBytesPerPoint = 6;
-
-}  // namespace
 
 std::optional<std::uint64_t> pointsOverBudget(const std::filesystem::path& path,
                                               std::uint64_t budget) {
   std::optional<std::uint64_t> points = headerPointCount(path);
   if (!points) {
+    // A format whose header states no count (text) is counted by a pass over the file, only
+    // when the file is large enough to hold more than `budget` of its smallest points.
     std::error_code error;
     const std::uint64_t bytes = std::filesystem::file_size(path, error);
-    if (error || bytes / kMinTextBytesPerPoint <= budget) return std::nullopt;
+    if (error) return std::nullopt;
     try {
-      const PointFormat format = detectPointFormat(path);
-      if (format != PointFormat::Text && format != PointFormat::Pts) return std::nullopt;
-      points = countTextPoints(path);
+      const PointFormatEntry* row = detectPointFormat(path).entry();
+      if (row == nullptr || !row->count_points) return std::nullopt;
+      if (bytes / std::max<std::uint64_t>(row->min_point_bytes, 1) <= budget) return std::nullopt;
+      points = row->count_points(path);
     } catch (const std::exception&) {
       return std::nullopt;  // the ordinary read says what is wrong
     }

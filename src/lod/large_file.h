@@ -15,10 +15,10 @@ namespace parallax {
 // default budget's 3 M take over two.
 constexpr std::uint64_t kPreviewPoints = 1'000'000;
 
-// The number of points of `path` when it is known to hold more than `budget`: PLY and LAS from
-// their headers; text files by counting their data lines (a pass over the bytes without parsing a
-// number), only when the file is large enough to hold more than `budget` points (a point takes
-// at least 6 bytes: "1 2 3\n"). std::nullopt when the file is within the budget, or cannot be
+// The number of points of `path` when it is known to hold more than `budget`: from the header
+// where the format states it (PLY, LAS); else by the format's counting pass (text: its data
+// lines, a pass over the bytes without parsing a number), only when the file is large enough to
+// hold more than `budget` points (PointFormatEntry::min_point_bytes; text: "1 2 3\n", 6). std::nullopt when the file is within the budget, or cannot be
 // read (the caller's ordinary read then says why).
 std::optional<std::uint64_t> pointsOverBudget(const std::filesystem::path& path,
                                               std::uint64_t budget);

@@ -189,6 +189,30 @@ TEST(CliBenchRender, OrbitOfTwoStereoModesIsAnOptionError) {
       << run.err;
 }
 
+// Mono, listed among the modes, is the baseline every run measures: an orbit asked for it draws
+// in mono (it was refused as "not a stereo mode" by the message that listed it).
+TEST(CliBenchRender, OrbitInMonoDrawsInMono) {
+  TempDir dir;
+  const auto ply = dir.write("grid.ply", gridPly());
+  const RunResult run = runParallax(dir, "bench render " + quoted(ply.string()) +
+                                             " --orbit 2 --json --width 32 --height 32 "
+                                             "--stereo mono");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  EXPECT_EQ(json["settings"]["stereo"], "mono");
+}
+
+TEST(CliBenchRender, UnknownStereoModeIsAnOptionError) {
+  TempDir dir;
+  const auto ply = dir.write("grid.ply", gridPly());
+  const RunResult run =
+      runParallax(dir, "bench render " + quoted(ply.string()) + " --orbit 2 --stereo cross-eyed");
+  EXPECT_EQ(run.exit_code, 1) << run.err;
+  EXPECT_NE(run.err.find("--stereo: 'cross-eyed' is not a stereo mode (use mono|sbs|"),
+            std::string::npos)
+      << run.err;
+}
+
 TEST(CliBenchRender, OrbitOfRandomPointsIsAnOptionError) {
   TempDir dir;
   const RunResult run = runParallax(dir, "bench render --points 1000 --orbit 2");

@@ -193,7 +193,7 @@ TEST(PcdWriter, RoundTripInEveryEncoding) {
     SCOPED_TRACE(pcdDataName(data));
     const auto path = dir / (std::string(pcdDataName(data)) + ".pcd");
     writePcd(cloud, path, {.data = data, .viewpoint = {5, 6, 7, 1, 0, 0, 0}});
-    EXPECT_EQ(detectPointFormat(path), PointFormat::Pcd);
+    EXPECT_EQ(detectPointFormat(path), PointFormat("pcd"));
     const PointCloud back = readPointFile(path);
     expectSameCloud(cloud, back);
     EXPECT_EQ(PcdChunkReader(path).header().data, data);
@@ -341,7 +341,7 @@ TEST(PcdPdalFiles, Utm17AsciiEqualsItsLasTwinAtFloatPrecisionAndMissingHeaderIsR
     EXPECT_EQ(pcd.worldY(i), double(float(las.worldY(i))));
     EXPECT_EQ(pcd.worldZ(i), double(float(las.worldZ(i))));
   }
-  EXPECT_EQ(detectPointFormat(kData / "pcd/missingheader.pcd"), PointFormat::Pcd);
+  EXPECT_EQ(detectPointFormat(kData / "pcd/missingheader.pcd"), PointFormat("pcd"));
   try {
     readPointFile(kData / "pcd/missingheader.pcd");
     ADD_FAILURE() << "missingheader.pcd read";
