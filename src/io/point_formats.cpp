@@ -497,6 +497,11 @@ PointFormatEntry ptxFormat() {
   row.describe = describePtx;
   row.write = [](const PointCloud& cloud, const std::filesystem::path& path,
                  const PointWriteOptions& options) {
+    if (!options.properties.empty()) {
+      throw std::invalid_argument(path.string() +
+                                  ": PTX records have a fixed layout (x y z intensity [r g b]), "
+                                  "no attribute order to choose");
+    }
     writePtx(cloud, path, {.progress = options.progress});
   };
   row.write_losses = [](const PointCloud& cloud, const std::filesystem::path&,
@@ -538,6 +543,7 @@ PointFormatEntry ptsFormat() {
                  const PointWriteOptions& options) {
     TextWriteOptions text = textOptionsForPath(path);
     text.progress = options.progress;
+    text.properties = options.properties;  // refused: PTS has a fixed layout
     writeText(cloud, path, text);
   };
   row.write_losses = [](const PointCloud& cloud, const std::filesystem::path& path,
