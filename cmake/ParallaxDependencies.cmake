@@ -17,8 +17,16 @@ parallax_require_package(TBB_FOUND libtbb-dev "oneTBB")
 find_package(CLI11 CONFIG QUIET)
 parallax_require_package(CLI11_FOUND libcli11-dev "CLI11")
 
+# E57's XML section (io/e57/e57_document.cpp).
+find_package(LibXml2 QUIET)
+parallax_require_package(LibXml2_FOUND libxml2-dev "libxml2")
+
 find_package(nlohmann_json CONFIG QUIET)
 parallax_require_package(nlohmann_json_FOUND nlohmann-json3-dev "nlohmann JSON")
+
+# Neighbour search of src/process (k-d tree, header only).
+find_package(nanoflann CONFIG QUIET)
+parallax_require_package(nanoflann_FOUND libnanoflann-dev "nanoflann")
 
 # HTTP(S) byte ranges (src/net): libcurl, OpenSSL flavour (HTTP/2 through nghttp2).
 pkg_check_modules(libcurl QUIET IMPORTED_TARGET libcurl)

@@ -12,6 +12,8 @@ packages=(
   libtbb-dev libfast-float-dev libcli11-dev nlohmann-json3-dev
   # PCD's binary_compressed data (LZF)
   liblzf-dev
+  # E57's XML section (src/io/e57)
+  libxml2-dev
   # tests, benchmarks
   libgtest-dev libbenchmark-dev
   # fuzzing and sanitizers (libFuzzer, ASan, UBSan runtimes)
@@ -29,6 +31,8 @@ packages=(
   pcl-tools
   # the distributed conversion's driver (python/parallax_dask) and its tests: Dask distributed
   python3-distributed
+  # processing (src/process): neighbour search, a k-d tree (header only)
+  libnanoflann-dev
 )
 
 # npm packages of the tests, from their package-lock.json (`npm ci`), only when missing or older

@@ -15,6 +15,10 @@
 //   that both measure from the page cache, never from the disk. Peak memory (ru_maxrss) is shown
 //   beside the size of the columns the load produced, and the CPU time of a load (user + system),
 //   a per-core figure that holds on a shared machine. --threads N limits the load's threads.
+//   --peer 'COMMAND' also times another program reading the same file (a reference library's
+//   reader built beside the project, e.g. libE57Format's for E57), run through /bin/sh with "{}"
+//   replaced by the file, interleaved with the loads; "peer / load" is the speed-up. Its time
+//   includes its process start, so give it a file that takes seconds.
 #include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -27,10 +31,12 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -112,12 +118,33 @@ struct LoadOptions {
   int repeat = 5;
   int threads = 0;     // 0: every core
   bool quiet = false;  // no progress bar (the figures are the result: printed)
+  std::string peer;    // a command line timed beside the loads ("{}": the file); empty: none
 };
+
+// The peer's command line with every "{}" replaced by the file, single-quoted for /bin/sh.
+std::string peerCommand(const std::string& pattern, const std::string& file) {
+  std::string quoted = "'";
+  for (char c : file) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  quoted += "'";
+  std::string command = pattern;
+  for (std::size_t at; (at = command.find("{}")) != std::string::npos;) {
+    command.replace(at, 2, quoted);
+  }
+  return command;
+}
 
 // CPU seconds (user + system) of the whole process so far.
 double cpuSeconds() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+// CPU seconds (user + system) of the finished child processes so far (the --peer runs).
+double childrenCpuSeconds() {
+  rusage usage{};
+  getrusage(RUSAGE_CHILDREN, &usage);
   return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
          1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
@@ -133,7 +160,7 @@ int runBenchLoad(const LoadOptions& options) {
   if (options.threads > 0) {
     limit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(options.threads));
   }
-  Times load, reference, load_cpu;
+  Times load, reference, load_cpu, peer, peer_cpu;
   std::uint64_t points = 0, columns = 0;
   // Advanced between the timed parts only, so that drawing it is never inside a measurement.
   auto progress = progressBar(options.quiet, "bench load", std::uint64_t(options.repeat), "loads");
@@ -152,6 +179,18 @@ int runBenchLoad(const LoadOptions& options) {
     points = cloud.count;
     columns = columnBytes(cloud);
     cloud = PointCloud();
+    if (!options.peer.empty()) {
+      const std::string command = peerCommand(options.peer, path);
+      start = Clock::now();
+      const double children_start = childrenCpuSeconds();
+      const int status = std::system(command.c_str());
+      peer.seconds.push_back(secondsSince(start));
+      peer_cpu.seconds.push_back(childrenCpuSeconds() - children_start);
+      if (status != 0) {
+        throw std::runtime_error("bench load --peer: '" + command + "' failed (status " +
+                                 std::to_string(status) + ")");
+      }
+    }
     if (progress) progress->advance(1);
   }
   progress.reset();  // its last line before the figures
@@ -176,6 +215,15 @@ int runBenchLoad(const LoadOptions& options) {
       double(points) / load_cpu.median() / 1e6);
   std::printf("ratio      load / reference = %.2f (median), %.2f (best)\n",
               load_median / reference_median, load.best() / reference.best());
+  if (!peer.seconds.empty()) {
+    std::printf("peer       median %.4f s, best %.4f s: %.2f M points/s (%s)\n", peer.median(),
+                peer.best(), double(points) / peer.median() / 1e6, options.peer.c_str());
+    std::printf(
+        "speed-up   peer / load = %.2f (median), %.2f (best); in CPU time %.2f (the peer "
+        "%.4f s of CPU a run, median, its shell included)\n",
+        peer.median() / load_median, peer.best() / load.best(),
+        peer_cpu.median() / load_cpu.median(), peer_cpu.median());
+  }
   std::printf("memory     peak RSS %.1f MB; columns %.1f MB; file %.1f MB\n", peakRssBytes() / 1e6,
               double(columns) / 1e6, mb);
   return 0;
@@ -195,6 +243,10 @@ Command addBenchLoadCommand(CLI::App& bench) {
       ->add_option("--threads", options->threads,
                    "Threads the load may use (default 0: every core; 1 gives a per-core figure)")
       ->check(CLI::Range(0, 1024));
+  command.subcommand->add_option(
+      "--peer", options->peer,
+      "A command reading the same file, timed beside each load (\"{}\" is replaced by the file; "
+      "run through /bin/sh)");
   addQuietFlag(*command.subcommand, options->quiet);
   command.run = [options] { return runBenchLoad(*options); };
   return command;

@@ -48,6 +48,7 @@ struct ConvertArgs {
   std::string input;  // inputs[0] for the file-to-file conversion
   std::string output;
   std::string format;  // "potree", "copc", or empty: from the output's extension
+  bool verbose = false;
   std::uint64_t memory_mb = 2048;
   std::string sampling = "poisson";
   double spacing = 0.0;
@@ -288,6 +289,20 @@ int runConvert(ConvertArgs args) {
                                                  : args.las_version == "1.2" ? 2
                                                                              : 0,
                             .quiet = args.quiet,
+                            .verbose = args.verbose,
+                            .filter = args.filter});
+  }
+  if (one_input && !to_potree && octreeUrlKind(args.inputs.front()) == OctreeUrlKind::Copc) {
+    // A COPC file's URL to a point file: through its octree, reading only the nodes the filter
+    // may keep points of (a local COPC file is read as the LAZ file it also is, below).
+    return runOctreeExport({.input = args.inputs.front(),
+                            .output = args.output,
+                            .ply_ascii = args.ascii,
+                            .las_minor_version = args.las_version == "1.4"   ? 4
+                                                 : args.las_version == "1.2" ? 2
+                                                                             : 0,
+                            .quiet = args.quiet,
+                            .verbose = args.verbose,
                             .filter = args.filter});
   }
   if (to_potree) return runPotreeConvert(args);
@@ -451,6 +466,9 @@ Command addConvertCommand(CLI::App& app) {
                   "--plan: the work directory shared by the tasks (default: .OUTPUT.work beside "
                   "the output)");
   addQuietFlag(*sub, args->quiet);
+  sub->add_flag("-v,--verbose", args->verbose,
+                "An octree (or its URL) to a point file: report the nodes read and the bytes the "
+                "network fetched");
   sub->add_flag("--clean", args->clean,
                 "Remove the partial outputs killed conversions to -o OUTPUT left (hidden "
                 ".OUTPUT.partial-PID), whose process is gone, and say how much that freed; "

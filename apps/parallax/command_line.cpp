@@ -22,7 +22,7 @@ int runCommandLine(int argc, char** argv) {
   const std::vector<Command> commands = {
       addInfoCommand(app),    addGenerateCommand(app),    addBenchCommand(app),
       addConvertCommand(app), addRenderCommand(app),      addViewCommand(app),
-      addPickCommand(app),    addConvertTaskCommand(app),
+      addPickCommand(app),    addConvertTaskCommand(app), addProcessCommand(app),
   };
 
   try {

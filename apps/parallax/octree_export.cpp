@@ -15,9 +15,12 @@
 #include "core/point_gather.h"
 #include "core/progress.h"
 #include "io/point_file.h"
+#include "lod/copc_reader.h"
 #include "lod/in_memory_octree.h"
+#include "lod/octree_open.h"
 #include "lod/potree_reader.h"
 #include "net/network.h"
+#include "net/network_counters.h"
 
 namespace parallax::cli {
 namespace {
@@ -139,13 +142,18 @@ int writeOctreePoints(const OctreeExportOptions& o) {
   if (formatForExtension(o.output) == PointFormat::Unknown) {
     writePointFile(PointCloud{}, o.output);  // reports the supported extensions
   }
-  const std::unique_ptr<Octree> octree = openPotree(o.input);
+  const std::unique_ptr<Octree> octree = openOctree(o.input);  // Potree or COPC, local or URL
+  const bool copc = copcDetails(*octree).has_value();
   expandWholeHierarchy(*octree);
-  // In file order: over HTTP, neighbours in octree.bin come in one request.
+  // In file order: over HTTP, neighbours in the file come in one request. Nodes whose cube the
+  // filter's region or elevation range cannot meet are never read: an extract of a region of a
+  // remote octree fetches the hierarchy and the nodes that meet it, not the whole file.
   std::vector<OctreeNode> nodes(octree->nodes().begin(), octree->nodes().end());
   std::sort(nodes.begin(), nodes.end(),
             [](const OctreeNode& a, const OctreeNode& b) { return a.byte_offset < b.byte_offset; });
-  std::erase_if(nodes, [](const OctreeNode& n) { return n.point_count == 0; });
+  const std::size_t all_nodes = nodes.size();
+  std::erase_if(
+      nodes, [&](const OctreeNode& n) { return n.point_count == 0 || !o.filter.mayKeepIn(n.box); });
   const std::uint64_t total = octree->info().point_count;
   std::optional<TerminalProgress> progress;
   if (!o.quiet) progress.emplace("reading nodes", total);
@@ -179,14 +187,27 @@ int writeOctreePoints(const OctreeExportOptions& o) {
   const PointWriteOptions options{.ply_ascii = o.ply_ascii,
                                   .las_minor_version = o.las_minor_version};
   if (!o.quiet) {
-    std::fprintf(stderr, "%s: Potree 2.0, %llu points in %zu nodes\n", o.input.c_str(),
-                 static_cast<unsigned long long>(all.count), nodes.size());
+    std::fprintf(stderr, "%s: %s, %llu points in %zu nodes\n", o.input.c_str(),
+                 copc ? "COPC" : "Potree 2.0", static_cast<unsigned long long>(all.count),
+                 nodes.size());
     for (const std::string& loss : describeWriteLosses(all, o.output, options)) {
       std::fprintf(stderr, "dropped or changed: %s\n", loss.c_str());
     }
   }
   writePointFile(all, o.output, options);
   if (!o.quiet) std::fprintf(stderr, "wrote %s\n", o.output.c_str());
+  if (o.verbose) {
+    const NetworkStats net = networkStats();
+    std::uint64_t node_bytes = 0;
+    for (const OctreeNode& node : nodes) node_bytes += node.byte_size;
+    std::fprintf(stderr,
+                 "convert: read %zu of %zu nodes (%llu bytes of points); network: %llu requests, "
+                 "%llu bytes received, %llu reads from the cache\n",
+                 nodes.size(), all_nodes, static_cast<unsigned long long>(node_bytes),
+                 static_cast<unsigned long long>(net.requests),
+                 static_cast<unsigned long long>(net.bytes_received),
+                 static_cast<unsigned long long>(net.cache_hits));
+  }
   return 0;
 }
 

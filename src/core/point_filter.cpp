@@ -189,6 +189,32 @@ bool PointFilter::inRegion(double x, double y, double z) const {
   return inside;
 }
 
+bool PointFilter::mayKeepIn(const Bounds3& box) const {
+  if (box.empty()) return false;
+  if (elevation && (box.max[2] < elevation->min || box.min[2] > elevation->max)) return false;
+  if (!hasRegion() || clip_highlight || clip_outside) return true;
+  // A plane keeps nothing of the box when even the corner farthest along its normal is behind it.
+  for (const auto& p : clip_planes) {
+    double best = p[3];
+    for (int axis = 0; axis < 3; ++axis) {
+      best += p[std::size_t(axis)] *
+              (p[std::size_t(axis)] >= 0 ? box.max[std::size_t(axis)] : box.min[std::size_t(axis)]);
+    }
+    if (best < 0) return false;
+  }
+  if (!polygon.empty()) {
+    double min_x = polygon[0][0], max_x = min_x, min_y = polygon[0][1], max_y = min_y;
+    for (const auto& v : polygon) {
+      min_x = std::min(min_x, v[0]), max_x = std::max(max_x, v[0]);
+      min_y = std::min(min_y, v[1]), max_y = std::max(max_y, v[1]);
+    }
+    if (box.max[0] < min_x || box.min[0] > max_x || box.max[1] < min_y || box.min[1] > max_y) {
+      return false;
+    }
+  }
+  return true;
+}
+
 bool PointFilter::keepsPosition(double x, double y, double z) const {
   if (elevation && !elevation->contains(z)) return false;
   if (!hasRegion() || clip_highlight) return true;

@@ -109,6 +109,11 @@ struct PointFilter {
   bool keepsPosition(double x, double y, double z) const;
   // Whether a point is in the region (planes and polygon; false without a region).
   bool inRegion(double x, double y, double z) const;
+  // False when no point inside `box` (world coordinates, closed) can be kept by the position
+  // tests (elevation, region): an octree node whose cube this says false of need not be read.
+  // Conservative: true whenever a point might be kept (a box across a turned plane, a polygon's
+  // bounding rectangle met, an outside region).
+  bool mayKeepIn(const Bounds3& box) const;
   // Whether (x, y) is inside `polygon` (even-odd rule; false for an empty polygon).
   bool insidePolygon(double x, double y) const;
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/scalar_type.h"
+#include "io/e57/e57_format.h"
 #include "io/las_header.h"
 #include "io/las_reader.h"
 #include "io/las_record_decoder.h"
@@ -563,6 +564,7 @@ std::vector<PointFormatEntry> builtInPointFormats() {
   rows.push_back(plyFormat());
   rows.push_back(lasFormat());
   rows.push_back(lazFormat());
+  rows.push_back(e57Format());
   rows.push_back(pcdFormat());
   rows.push_back(ptxFormat());
   rows.push_back(ptsFormat());

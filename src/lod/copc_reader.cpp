@@ -17,6 +17,22 @@
 namespace parallax {
 namespace {
 
+// Reads [offset, offset + out.size()) for `element`, a range past the end reported as the
+// damaged or truncated COPC file it means (ByteSource::read's own check says less).
+void readBytes(const ByteSource& in, std::uint64_t offset, std::span<std::byte> out,
+               std::string_view element, std::stop_token cancel = {}) {
+  if (offset > in.size() || out.size() > in.size() - offset) {
+    throw InputError({.file = in.name(),
+                      .byte_offset = offset,
+                      .element = std::string(element),
+                      .expected = std::to_string(out.size()) + " bytes inside the file (" +
+                                  std::to_string(in.size()) + " bytes)",
+                      .found = "a range that ends past it",
+                      .hint = "the file is truncated, or its COPC hierarchy is damaged"});
+  }
+  in.read(offset, out, {.cancel = std::move(cancel), .element = element});
+}
+
 // Header and VLRs above this are not a COPC file's (real ones are a few kB; the WKT is the
 // largest part).
 constexpr std::uint64_t kMaxHeaderRegion = 64ull << 20;
@@ -43,14 +59,14 @@ T load(const std::byte* p) {
 // The header and VLRs, parsed from [0, point data offset) alone (the EVLRs are after the points:
 // the hierarchy is read page by page instead). The parser sees no EVLRs; the header keeps their
 // offset and count.
-LasHeader readHeader(const CopcRangeSource& in) {
+LasHeader readHeader(const ByteSource& in) {
   const std::string& file = in.name();
   if (in.size() < kCopcInfoPayloadOffset + kCopcInfoSize) {
     failFile(file, 0, "LAS header", "a COPC file (at least 589 bytes: header and info VLR)",
              std::to_string(in.size()) + " bytes");
   }
   std::array<std::byte, kCopcInfoPayloadOffset> head;
-  in.read(0, head, "LAS header");
+  readBytes(in, 0, head, "LAS header");
   if (!looksLikeCopc(head)) {
     const std::byte* vlr = head.data() + kCopcInfoVlrOffset;
     std::string user(reinterpret_cast<const char*>(vlr + 2), 16);
@@ -73,7 +89,7 @@ LasHeader readHeader(const CopcRangeSource& in) {
              std::to_string(data_offset));
   }
   std::vector<std::byte> region(data_offset);
-  in.read(0, region, "LAS header and VLRs");
+  readBytes(in, 0, region, "LAS header and VLRs");
   const std::uint32_t evlr_count = load<std::uint32_t>(region.data() + 243);
   std::memset(region.data() + 243, 0, 4);
   LasHeader header = parseLasHeader(region, file);
@@ -132,7 +148,7 @@ CopcInfo checkInfo(const LasHeader& header, const std::string& file) {
 }
 
 // The LAZ chunk table: every chunk's offset, bytes and points, and where the chunks end.
-CopcLimits readChunkTable(const CopcRangeSource& in, const LasHeader& header) {
+CopcLimits readChunkTable(const ByteSource& in, const LasHeader& header) {
   const std::string& file = in.name();
   CopcLimits limits;
   limits.file = file;
@@ -141,7 +157,7 @@ CopcLimits readChunkTable(const CopcRangeSource& in, const LasHeader& header) {
   const std::uint64_t start = header.point_data_offset;
   auto read64 = [&](std::uint64_t at, const char* element) {
     std::array<std::byte, 8> bytes;
-    in.read(at, bytes, element);
+    readBytes(in, at, bytes, element);
     return load<std::uint64_t>(bytes.data());
   };
   std::uint64_t table = read64(start, "LAZ chunk table offset");
@@ -157,7 +173,7 @@ CopcLimits readChunkTable(const CopcRangeSource& in, const LasHeader& header) {
              "the file was not written to the end; a COPC writer always writes the table");
   }
   std::array<std::byte, 8> head;
-  in.read(table, head, "LAZ chunk table");
+  readBytes(in, table, head, "LAZ chunk table");
   const std::uint32_t version = load<std::uint32_t>(head.data());
   const std::uint32_t count = load<std::uint32_t>(head.data() + 4);
   if (version != 0 || count > (table - start - 8) || count > header.point_count) {
@@ -167,7 +183,7 @@ CopcLimits readChunkTable(const CopcRangeSource& in, const LasHeader& header) {
   }
   std::vector<std::byte> stream(
       std::size_t(std::min<std::uint64_t>(end - table - 8, 16ull * count + 64)));
-  in.read(table + 8, stream, "LAZ chunk table");
+  readBytes(in, table + 8, stream, "LAZ chunk table");
   std::vector<std::uint32_t> points, bytes;
   if (!laz::decodeChunkTable(stream, count, true, points, bytes)) {
     failFile(file, table + 8, "LAZ chunk table", "a table of " + std::to_string(count) + " chunks",
@@ -207,7 +223,7 @@ CopcLimits readChunkTable(const CopcRangeSource& in, const LasHeader& header) {
 
 class CopcOctree final : public Octree {
  public:
-  explicit CopcOctree(std::unique_ptr<CopcRangeSource> source) : in_(std::move(source)) {
+  explicit CopcOctree(std::unique_ptr<ByteSource> source) : in_(std::move(source)) {
     const std::string& file = in_->name();
     header_ = readHeader(*in_);
     checkHeader(header_, file);
@@ -324,8 +340,8 @@ class CopcOctree final : public Octree {
       if (it != pages_.end() && it->second.size() == node.byte_size) return it->second;
     }
     std::vector<std::byte> page(node.byte_size);
-    in_->readCancellable(node.byte_offset, page, "hierarchy page of node " + node.name,
-                         std::move(cancel));
+    readBytes(*in_, node.byte_offset, page, "hierarchy page of node " + node.name,
+              std::move(cancel));
     return page;
   }
 
@@ -334,7 +350,7 @@ class CopcOctree final : public Octree {
                            std::uint32_t count, std::stop_token cancel) const {
     const std::string element = "node " + name + " (its LAZ chunk)";
     std::vector<std::byte> compressed(bytes);
-    in_->readCancellable(offset, compressed, element, std::move(cancel));
+    readBytes(*in_, offset, compressed, element, std::move(cancel));
     ByteBuffer records(std::size_t(count) * header_.record_length);
     std::unique_ptr<laz::ChunkDecoder> decoder = takeDecoder();
     try {
@@ -415,7 +431,7 @@ class CopcOctree final : public Octree {
     info_.has_classification = prototype.hasClassification();
   }
 
-  std::unique_ptr<CopcRangeSource> in_;
+  std::unique_ptr<ByteSource> in_;
   LasHeader header_;
   CopcInfo info_vlr_;
   std::unique_ptr<CopcHierarchy> hierarchy_;
@@ -446,10 +462,10 @@ bool isCopcFile(const std::filesystem::path& path) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error)) return false;
   try {
-    const auto source = openCopcFileSource(path);
+    const auto source = openFileSource(path);
     if (source->size() < kCopcInfoPayloadOffset) return false;
     std::array<std::byte, kCopcInfoPayloadOffset> head;
-    source->read(0, head, "LAS header");
+    readBytes(*source, 0, head, "LAS header");
     return looksLikeCopc(head);
   } catch (const std::exception&) {
     return false;
@@ -457,15 +473,15 @@ bool isCopcFile(const std::filesystem::path& path) {
 }
 
 std::unique_ptr<Octree> openCopc(const std::filesystem::path& path) {
-  return openCopc(openCopcFileSource(path));
+  return openCopc(openFileSource(path));
 }
 
-std::unique_ptr<Octree> openCopc(std::unique_ptr<CopcRangeSource> source) {
+std::unique_ptr<Octree> openCopc(std::unique_ptr<ByteSource> source) {
   return std::make_unique<CopcOctree>(std::move(source));
 }
 
 std::unique_ptr<Octree> openCopcFromMemory(std::vector<std::byte> bytes, const std::string& name) {
-  return openCopc(makeCopcMemorySource(std::move(bytes), name));
+  return openCopc(makeMemorySource(std::move(bytes), name));
 }
 
 std::optional<CopcDetails> copcDetails(const Octree& octree) {

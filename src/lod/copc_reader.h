@@ -32,9 +32,9 @@
 #include <string>
 #include <vector>
 
+#include "core/byte_source.h"
 #include "io/las_header.h"
 #include "lod/copc_format.h"
-#include "lod/copc_range_source.h"
 #include "lod/octree.h"
 
 namespace parallax {
@@ -47,7 +47,8 @@ bool isCopcFile(const std::filesystem::path& path);
 
 // Opens a COPC file. Throws InputError (see above).
 std::unique_ptr<Octree> openCopc(const std::filesystem::path& path);
-std::unique_ptr<Octree> openCopc(std::unique_ptr<CopcRangeSource> source);
+// From any byte source: a local file's, bytes in memory, an http(s) URL's (core/byte_source.h).
+std::unique_ptr<Octree> openCopc(std::unique_ptr<ByteSource> source);
 // From bytes in memory (tests, fuzzing); `name` stands for the file in messages.
 std::unique_ptr<Octree> openCopcFromMemory(std::vector<std::byte> bytes, const std::string& name);
 

@@ -4,7 +4,6 @@
 #include <cctype>
 
 #include "core/error.h"
-#include "lod/copc_range_source.h"
 #include "lod/copc_reader.h"
 #include "lod/potree_reader.h"
 #include "net/network.h"
@@ -43,7 +42,7 @@ std::unique_ptr<Octree> openOctreeUrl(const std::string& url) {
   if (octreeUrlKind(url) == OctreeUrlKind::Copc) {
     // The header, the VLRs and the root hierarchy page are usually in the first 64 KiB: one
     // request for all three.
-    return openCopc(adaptByteSource(openByteSource(url, 64 << 10)));
+    return openCopc(openByteSource(url, 64 << 10));
   }
   return openPotree(url);
 }

@@ -1,0 +1,164 @@
+// `parallax process IN... -o OUT [STEP...]`: normals, outliers, subsampling and distances, the
+// steps run in the order given, out of core within --memory (process/process_runner.h).
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "filter_options.h"
+#include "process/process_runner.h"
+#include "progress_options.h"
+
+namespace parallax::cli {
+
+namespace {
+
+struct ProcessArgs {
+  std::vector<std::string> inputs;
+  std::string output;
+  std::uint64_t memory_mb = 2048;
+  std::vector<std::string> columns;
+  bool ascii = false;
+  bool quiet = false;
+  FilterOptions filter_options;
+  // The step options, each occurrence one step; their order comes from CLI11's parse order.
+  std::vector<std::string> normals, normals_radius, outliers, subsample, distance_to;
+  bool curvature = false;
+  std::string orient = "up";
+  bool mark_outliers = false;
+  std::string local_model;
+  std::uint32_t local_k = 6;
+  CLI::App* sub = nullptr;
+};
+
+std::vector<ProcessStep> stepsInOrder(const ProcessArgs& args) {
+  std::map<std::string, std::size_t> taken;
+  std::vector<ProcessStep> steps;
+  for (const CLI::Option* option : args.sub->parse_order()) {
+    const std::string name = option->get_name();
+    auto next = [&](const std::vector<std::string>& values) { return values.at(taken[name]++); };
+    if (name == "--normals") {
+      NormalsStep step = parseNormalsK(next(args.normals));
+      step.curvature = args.curvature;
+      parseOrientation(args.orient, step);
+      steps.push_back(step);
+    } else if (name == "--normals-radius") {
+      NormalsStep step = parseNormalsRadius(next(args.normals_radius));
+      step.curvature = args.curvature;
+      parseOrientation(args.orient, step);
+      steps.push_back(step);
+    } else if (name == "--outliers") {
+      OutliersStep step = parseOutliers(next(args.outliers));
+      step.mark = args.mark_outliers;
+      steps.push_back(step);
+    } else if (name == "--subsample") {
+      steps.push_back(parseSubsample(next(args.subsample)));
+    } else if (name == "--distance-to") {
+      DistanceStep step;
+      step.reference = next(args.distance_to);
+      step.k = args.local_k;
+      if (!args.local_model.empty()) parseLocalModel(args.local_model, step);
+      steps.push_back(step);
+    }
+  }
+  return steps;
+}
+
+int runProcessCommand(const ProcessArgs& args) {
+  ProcessOptions options;
+  const PointFilter filter = pointFilterFrom(args.filter_options, FilterTarget::Cpu);
+  for (const std::string& input : args.inputs)
+    options.inputs.push_back({input, args.columns, filter});
+  options.output = args.output;
+  options.steps = stepsInOrder(args);
+  if (options.steps.empty()) {
+    throw std::invalid_argument(
+        "process: no step given (--normals K, --normals-radius R, --outliers, --subsample, "
+        "--distance-to)");
+  }
+  options.memory_mb = args.memory_mb;
+  options.write.ply_ascii = args.ascii;
+  options.progress = stageBars(args.quiet);
+  const ProcessReport report = runProcess(options);
+  if (!args.quiet) {
+    for (const std::string& loss : report.losses) {
+      std::fprintf(stderr, "dropped or changed: %s\n", loss.c_str());
+    }
+    std::fprintf(stderr, "%llu points in, %llu written to %s (%zu tiles)\n",
+                 static_cast<unsigned long long>(report.input_points),
+                 static_cast<unsigned long long>(report.output_points), args.output.c_str(),
+                 report.tiles);
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command addProcessCommand(CLI::App& app) {
+  auto args = std::make_shared<ProcessArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "process",
+      "Normals, outlier removal, subsampling and distances to another cloud, the steps run in the "
+      "order given, out of core within --memory; every other attribute is kept");
+  args->sub = sub;
+  sub->add_option(
+         "input", args->inputs,
+         "Input point files (PLY, LAS, LAZ, text) or Potree directories, read as one cloud")
+      ->required();
+  sub->add_option("-o,--output", args->output,
+                  "Output point file, its extension picks the format (.ply .las .laz .xyz .txt "
+                  ".csv .pts); PLY is written as it goes, the others are held whole")
+      ->required();
+  sub->add_option(
+      "--normals", args->normals,
+      "Step: normals (nx ny nz, float) by PCA of the K nearest points, the point itself "
+      "included (K 3-1000)");
+  sub->add_option("--normals-radius", args->normals_radius,
+                  "Step: normals by PCA of the points within R");
+  sub->add_flag("--curvature", args->curvature,
+                "Normals steps: also write curvature (float: lambda0 / (lambda0 + lambda1 + "
+                "lambda2))");
+  sub->add_option("--orient", args->orient,
+                  "Normals steps: up (towards +z, default), X,Y,Z (towards a point), propagate "
+                  "(consistent along the surface: a minimum spanning tree over the K-nearest "
+                  "graph, Hoppe 1992; the cloud must fit --memory); sensor is not available yet");
+  sub->add_option("--outliers", args->outliers,
+                  "Step: statistical:K,S (mean distance to the K nearest more than S standard "
+                  "deviations above the cloud's mean, as PCL's StatisticalOutlierRemoval) or "
+                  "radius:R,N (fewer than N other points within R) removed");
+  sub->add_flag("--mark-outliers", args->mark_outliers,
+                "Outlier steps: keep the outliers as class 7 (low noise) instead of removing them");
+  sub->add_option("--subsample", args->subsample,
+                  "Step: voxel:SIZE (one original point per occupied voxel, the nearest to the "
+                  "voxel's centroid; voxels from the cloud's minimum corner) or random:N (N "
+                  "points, uniformly; the same N points whatever --memory)");
+  sub->add_option("--distance-to", args->distance_to,
+                  "Step: each point's distance (float 'distance') to its nearest point of this "
+                  "reference cloud");
+  sub->add_option("--local-model", args->local_model,
+                  "Distance steps: plane (the distance to the plane of the --local-k nearest "
+                  "reference points)");
+  sub->add_option("--local-k", args->local_k,
+                  "Distance steps: points of the local model (default 6)")
+      ->check(CLI::Range(std::uint32_t(3), std::uint32_t(1000)));
+  sub->add_option("--memory", args->memory_mb,
+                  "Memory budget in MB for the tiles (default 2048); the output does not depend "
+                  "on it")
+      ->check(CLI::Range(std::uint64_t(1), std::uint64_t(1) << 24));
+  sub->add_option("--columns", args->columns,
+                  "Text input: the columns' names, e.g. x,y,z,r,g,b (_ skips a column)")
+      ->delimiter(',');
+  sub->add_flag("--ascii", args->ascii, "PLY output: ascii instead of binary little endian");
+  addFilterOptions(*sub, args->filter_options, "processed");
+  addQuietFlag(*sub, args->quiet);
+  Command command;
+  command.subcommand = sub;
+  command.run = [args] { return runProcessCommand(*args); };
+  return command;
+}
+
+}  // namespace parallax::cli

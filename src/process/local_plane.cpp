@@ -1,0 +1,107 @@
+// fitLocalPlane and the 3x3 eigen solver (local_plane.h).
+#include "process/local_plane.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace parallax {
+
+void symmetricEigen3(const double matrix[3][3], double values[3], double vectors[3][3]) {
+  double a[3][3];
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      a[i][j] = matrix[i][j];
+      vectors[i][j] = i == j ? 1.0 : 0.0;
+    }
+  }
+  // Jacobi converges quadratically: a handful of sweeps reach rounding level. Chosen over the
+  // closed form (trigonometric roots), which loses the smallest eigenvalue's vector on nearly
+  // flat neighbourhoods, exactly the case normals are about.
+  for (int sweep = 0; sweep < 32; ++sweep) {
+    const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+    const double diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
+    if (off <= diag * 1e-32 || off == 0.0) break;
+    for (int p = 0; p < 2; ++p) {
+      for (int q = p + 1; q < 3; ++q) {
+        if (a[p][q] == 0.0) continue;
+        const double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+        const double t =
+            (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+        const double c = 1.0 / std::sqrt(t * t + 1.0), s = t * c;
+        for (int k = 0; k < 3; ++k) {
+          const double akp = a[k][p], akq = a[k][q];
+          a[k][p] = c * akp - s * akq;
+          a[k][q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < 3; ++k) {
+          const double apk = a[p][k], aqk = a[q][k];
+          a[p][k] = c * apk - s * aqk;
+          a[q][k] = s * apk + c * aqk;
+        }
+        for (int k = 0; k < 3; ++k) {
+          const double vkp = vectors[k][p], vkq = vectors[k][q];
+          vectors[k][p] = c * vkp - s * vkq;
+          vectors[k][q] = s * vkp + c * vkq;
+        }
+      }
+    }
+  }
+  int order[3] = {0, 1, 2};
+  std::sort(order, order + 3,
+            [&](int i, int j) { return a[i][i] < a[j][j] || (a[i][i] == a[j][j] && i < j); });
+  double sorted_vectors[3][3];
+  for (int i = 0; i < 3; ++i) {
+    values[i] = a[order[i]][order[i]];
+    for (int k = 0; k < 3; ++k) sorted_vectors[k][i] = vectors[k][order[i]];
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < 3; ++k) vectors[i][k] = sorted_vectors[i][k];
+  }
+}
+
+LocalPlane fitLocalPlane(std::span<const GridPoint> points, std::span<const Neighbour> neighbours) {
+  LocalPlane plane;
+  if (neighbours.size() < 3) return plane;
+  // Centred on the first neighbour before summing: world coordinates of 500 000 m would lose the
+  // millimetres in the squares.
+  const GridPoint& base = points[neighbours[0].at];
+  double mean[3] = {0, 0, 0};
+  for (const Neighbour& n : neighbours) {
+    const GridPoint& p = points[n.at];
+    mean[0] += p.x - base.x;
+    mean[1] += p.y - base.y;
+    mean[2] += p.z - base.z;
+  }
+  const double count = double(neighbours.size());
+  for (double& m : mean) m /= count;
+  double cov[3][3] = {};
+  for (const Neighbour& n : neighbours) {
+    const GridPoint& p = points[n.at];
+    const double d[3] = {p.x - base.x - mean[0], p.y - base.y - mean[1], p.z - base.z - mean[2]};
+    for (int i = 0; i < 3; ++i) {
+      for (int j = i; j < 3; ++j) cov[i][j] += d[i] * d[j];
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i; j < 3; ++j) {
+      cov[i][j] /= count;
+      cov[j][i] = cov[i][j];
+    }
+  }
+  double values[3], vectors[3][3];
+  symmetricEigen3(cov, values, vectors);
+  plane.centroid[0] = base.x + mean[0];
+  plane.centroid[1] = base.y + mean[1];
+  plane.centroid[2] = base.z + mean[2];
+  const double length = std::sqrt(vectors[0][0] * vectors[0][0] + vectors[1][0] * vectors[1][0] +
+                                  vectors[2][0] * vectors[2][0]);
+  for (int k = 0; k < 3; ++k) plane.normal[k] = vectors[k][0] / length;
+  const double sum = values[0] + values[1] + values[2];
+  plane.curvature = sum > 0.0 ? std::max(0.0, values[0]) / sum : 0.0;
+  // On a line (or a point) the plane is undetermined: the two smallest eigenvalues are equal.
+  plane.valid = values[1] > sum * 1e-12;
+  return plane;
+}
+
+}  // namespace parallax

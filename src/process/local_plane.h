@@ -1,0 +1,28 @@
+// The plane of a neighbourhood by principal component analysis: the normal is the eigenvector of
+// the covariance matrix's smallest eigenvalue (Hoppe et al. 1992, as Open3D's estimate_normals
+// and PCL's NormalEstimation compute it), the curvature its share of the eigenvalues' sum,
+// lambda0 / (lambda0 + lambda1 + lambda2) (Pauly et al. 2002, PCL's "surface variation").
+#pragma once
+
+#include <span>
+
+#include "process/neighbour_index.h"
+
+namespace parallax {
+
+struct LocalPlane {
+  double centroid[3] = {0, 0, 0};
+  double normal[3] = {0, 0, 1};  // unit length, sign arbitrary (see orientation)
+  double curvature = 0.0;        // 0 (flat) to 1/3 (isotropic)
+  bool valid = false;            // false: fewer than 3 points, or all on one line
+};
+
+// The plane of the neighbours of `points` (a grid's points(), `Neighbour::at` into it), summed
+// in the neighbours' order: the same neighbours in the same order give the same bits.
+LocalPlane fitLocalPlane(std::span<const GridPoint> points, std::span<const Neighbour> neighbours);
+
+// Eigen decomposition of a symmetric 3x3 matrix (cyclic Jacobi rotations): eigenvalues in
+// ascending order, eigenvector i in column i of `vectors`.
+void symmetricEigen3(const double matrix[3][3], double values[3], double vectors[3][3]);
+
+}  // namespace parallax

@@ -1,0 +1,66 @@
+// Exact nearest-neighbour queries over the points of one tile: nanoflann's k-d tree (Debian's
+// libnanoflann-dev), searched with a result set of Parallax's own that orders by (distance, id).
+// Chosen over a uniform grid of the project's own on measurement (NOTES.md): scans' density
+// varies by orders of magnitude, which a k-d tree follows and a grid does not.
+//
+// Results are exact and fully determined: neighbours are ordered by (squared distance, id), so a
+// tie at the K-th distance is broken by the smaller id whatever the grid's cell size or the
+// points around. This is what makes a tiled run give the same bytes as an untiled one
+// (NOTES.md). Positions are world coordinates in double; the squared distance of two points is
+// computed as (dx*dx + dy*dy) + dz*dz, the same expression everywhere.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace parallax {
+
+struct GridPoint {
+  double x, y, z;
+  std::uint64_t id;  // the point's index in the whole cloud (unique)
+};
+
+struct Neighbour {
+  double d2;         // squared distance to the query
+  std::uint32_t at;  // index into NeighbourIndex::points()
+  std::uint64_t id;  // the point's id
+  friend bool operator<(const Neighbour& a, const Neighbour& b) {
+    return a.d2 < b.d2 || (a.d2 == b.d2 && a.id < b.id);
+  }
+};
+
+inline double squaredDistance(double ax, double ay, double az, double bx, double by, double bz) {
+  const double dx = ax - bx, dy = ay - by, dz = az - bz;
+  return (dx * dx + dy * dy) + dz * dz;
+}
+
+class NeighbourIndex {
+ public:
+  // Takes the points (any order; `Neighbour::at` indexes them as given).
+  explicit NeighbourIndex(std::vector<GridPoint> points);
+  ~NeighbourIndex();
+  NeighbourIndex(const NeighbourIndex&) = delete;
+  NeighbourIndex& operator=(const NeighbourIndex&) = delete;
+
+  // About the radius within which a point of `points` has `count` neighbours, from the points
+  // per occupied cell of a sample (a first halo for K-nearest queries; never needed exactly).
+  static double radiusForCount(std::span<const GridPoint> points, double count);
+
+  const std::vector<GridPoint>& points() const { return points_; }
+
+  // The k nearest points to (x, y, z) (the point itself included when it is indexed), in
+  // (d2, id) order, into `out` (fewer when there are fewer). `out` is reused storage.
+  void nearest(double x, double y, double z, std::size_t k, std::vector<Neighbour>& out) const;
+
+  // Every point within `radius` (d2 <= radius^2), in (d2, id) order.
+  void withinRadius(double x, double y, double z, double radius, std::vector<Neighbour>& out) const;
+
+ private:
+  struct Tree;
+  std::vector<GridPoint> points_;
+  std::unique_ptr<Tree> tree_;
+};
+
+}  // namespace parallax

@@ -1,0 +1,361 @@
+// runProcess (process_runner.h): tiling, the steps in order, and the final write.
+#include "process/process_runner.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <stdexcept>
+
+#include "core/error.h"
+#include "core/point_gather.h"
+#include "io/las_writer.h"
+#include "io/laz_writer.h"
+#include "io/ply_writer.h"
+#include "process/tile_queries.h"
+#include "process/tile_set.h"
+
+namespace parallax {
+
+namespace {
+
+constexpr std::size_t kBatchPoints = std::size_t(1) << 20;
+constexpr std::uint8_t kLowNoiseClass = 7;
+
+void checkSteps(const ProcessOptions& options) {
+  for (const ProcessStep& step : options.steps) {
+    if (const auto* n = std::get_if<NormalsStep>(&step)) {
+      if (n->orientation == NormalOrientation::kSensor) {
+        throw std::invalid_argument(describeStep(step) +
+                                    " --orient sensor: not available yet (the scanner position "
+                                    "is not carried through the tiles); use --orient X,Y,Z "
+                                    "with the scanner's position");
+      }
+    }
+    if (const auto* s = std::get_if<SubsampleStep>(&step)) {
+      if (s->method == SubsampleStep::Method::kSpacing) {
+        throw std::invalid_argument(describeStep(step) +
+                                    ": not available yet; use --subsample voxel:SIZE");
+      }
+    }
+  }
+  const PointFormat format = formatForExtension(options.output);
+  if (format == PointFormat::Unknown) {
+    throw std::invalid_argument("process: cannot write " + options.output.string() +
+                                ": the output is a point file (.ply, .las, .laz, .xyz, .txt, "
+                                ".csv, .pts); convert it to an octree afterwards");
+  }
+  if (options.inputs.empty()) throw std::invalid_argument("process: no input");
+}
+
+// The hidden work folder, removed with everything in it however the run ends.
+class WorkFolder {
+ public:
+  explicit WorkFolder(const std::filesystem::path& output) {
+    const std::filesystem::path parent =
+        output.has_parent_path() ? output.parent_path() : std::filesystem::path(".");
+    std::string name = ".";
+    name += output.filename().string();
+    name += ".process-";
+    name += std::to_string(::getpid());
+    path_ = parent / name;
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~WorkFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  WorkFolder(const WorkFolder&) = delete;
+  WorkFolder& operator=(const WorkFolder&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// Reads one tile's records of `size` bytes in order, a block at a time.
+class RecordReader {
+ public:
+  RecordReader(const std::filesystem::path& path, std::size_t size) : path_(path), size_(size) {
+    file_ = std::fopen(path.c_str(), "rb");
+    if (!file_) throw std::runtime_error("cannot open work file " + path.string());
+  }
+  ~RecordReader() {
+    if (file_) std::fclose(file_);
+  }
+  RecordReader(const RecordReader&) = delete;
+  RecordReader& operator=(const RecordReader&) = delete;
+  const std::byte* next() {
+    if (at_ == filled_) {
+      buffer_.resize(size_ * 4096);
+      filled_ = std::fread(buffer_.data(), size_, 4096, file_);
+      at_ = 0;
+      if (filled_ == 0) throw std::runtime_error("work file " + path_.string() + " ends early");
+    }
+    return buffer_.data() + size_ * at_++;
+  }
+
+ private:
+  std::filesystem::path path_;
+  std::size_t size_;
+  std::FILE* file_ = nullptr;
+  std::vector<std::byte> buffer_;
+  std::size_t at_ = 0, filled_ = 0;
+};
+
+struct Added {
+  bool normals = false, curvature = false, distance = false, mark = false;
+};
+
+ScalarColumn& scalarFor(PointCloud& cloud, const std::string& name) {
+  for (ScalarColumn& s : cloud.scalars) {
+    if (s.name == name) {
+      s.type = ScalarType::Float32;
+      s.data = ByteBuffer(cloud.count * sizeof(float));
+      return s;
+    }
+  }
+  cloud.scalars.push_back({name, ScalarType::Float32, ByteBuffer(cloud.count * sizeof(float))});
+  return cloud.scalars.back();
+}
+
+// The steps' columns on `out` (gathered from `batch`): one value a point in each vector.
+void addColumns(PointCloud& out, const PointCloud& batch, const Added& added,
+                const std::vector<float>& n3, const std::vector<float>& c1,
+                const std::vector<float>& d1, const std::vector<std::uint8_t>& m1) {
+  out.quantization = batch.quantization;
+  out.source = batch.source;
+  if (added.normals) {
+    out.normals = Column<Float3>(out.count);
+    std::memcpy(out.normals.data(), n3.data(), n3.size() * sizeof(float));
+    out.source.normal = ScalarType::Float32;
+  }
+  if (added.curvature) {
+    std::memcpy(scalarFor(out, "curvature").data.data(), c1.data(), c1.size() * sizeof(float));
+  }
+  if (added.distance) {
+    std::memcpy(scalarFor(out, "distance").data.data(), d1.data(), d1.size() * sizeof(float));
+  }
+  if (added.mark) {
+    if (!out.hasClassification()) {
+      out.classification = Column<std::uint8_t>(out.count);
+      std::memset(out.classification.data(), 0, out.count);
+    }
+    for (std::size_t i = 0; i < out.count; ++i) {
+      if (m1[i]) out.classification[i] = kLowNoiseClass;
+    }
+  }
+}
+
+// A one-point cloud with the output's columns: the layout of a streamed PLY whose first batch
+// may keep no point.
+PointCloud outputLayout(const PointCloud& batch, const Added& added) {
+  const std::uint64_t first = 0;
+  PointCloud out = gatherPoints(batch, std::span<const std::uint64_t>(&first, 1));
+  addColumns(out, batch, added, std::vector<float>(3, 0.0f), {0.0f}, {0.0f}, {0});
+  return out;
+}
+
+// The kept points of one input batch with the steps' attributes.
+PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Added& added,
+                       std::vector<std::unique_ptr<RecordReader>>& kept,
+                       std::vector<std::unique_ptr<RecordReader>>& normals,
+                       std::vector<std::unique_ptr<RecordReader>>& curvature,
+                       std::vector<std::unique_ptr<RecordReader>>& distance,
+                       std::vector<std::unique_ptr<RecordReader>>& mark) {
+  std::vector<std::uint64_t> take;
+  std::vector<float> n3, c1, d1;
+  std::vector<std::uint8_t> m1;
+  for (std::size_t i = 0; i < batch.count; ++i) {
+    const std::size_t t = tiles.tileOf(batch.worldX(i));
+    const bool keep = *kept[t]->next() != std::byte{0};
+    const std::byte* n = added.normals ? normals[t]->next() : nullptr;
+    const std::byte* c = added.curvature ? curvature[t]->next() : nullptr;
+    const std::byte* d = added.distance ? distance[t]->next() : nullptr;
+    const std::byte* m = added.mark ? mark[t]->next() : nullptr;
+    if (!keep) continue;
+    take.push_back(i);
+    if (n) {
+      float v[3];
+      std::memcpy(v, n, sizeof v);
+      n3.insert(n3.end(), v, v + 3);
+    }
+    if (c) c1.push_back(*reinterpret_cast<const float*>(c));
+    if (d) d1.push_back(*reinterpret_cast<const float*>(d));
+    if (m) m1.push_back(std::uint8_t(*m));
+  }
+  PointCloud out = gatherPoints(batch, std::span<const std::uint64_t>(take));
+  addColumns(out, batch, added, n3, c1, d1, m1);
+  out.computeBounds();
+  return out;
+}
+
+// The batches of an output that is not streamed (LAS, LAZ, text) joined into one cloud.
+PointCloud joinBatches(std::vector<PointCloud>& batches) {
+  PointCloud all;
+  std::uint64_t total = 0;
+  for (const PointCloud& b : batches) total += b.count;
+  if (batches.empty()) return all;
+  const PointCloud& first = batches.front();
+  all.count = total;
+  all.quantization = first.quantization;
+  all.source = first.source;
+  auto join = [&](auto member) {
+    using ColumnT = std::remove_cvref_t<decltype(first.*member)>;
+    if ((first.*member).empty()) return;
+    ColumnT column(total);
+    std::size_t at = 0;
+    for (const PointCloud& b : batches) {
+      std::memcpy(column.data() + at, (b.*member).data(), (b.*member).size() * sizeof(column[0]));
+      at += (b.*member).size();
+    }
+    all.*member = std::move(column);
+  };
+  join(&PointCloud::positions);
+  join(&PointCloud::colors);
+  join(&PointCloud::normals);
+  join(&PointCloud::intensity);
+  join(&PointCloud::classification);
+  for (std::size_t s = 0; s < first.scalars.size(); ++s) {
+    const std::size_t size = scalarSize(first.scalars[s].type);
+    ScalarColumn column{first.scalars[s].name, first.scalars[s].type, ByteBuffer(total * size)};
+    std::size_t at = 0;
+    for (const PointCloud& b : batches) {
+      std::memcpy(column.data.data() + at, b.scalars[s].data.data(), b.scalars[s].data.size());
+      at += b.scalars[s].data.size();
+    }
+    all.scalars.push_back(std::move(column));
+  }
+  batches.clear();
+  all.computeBounds();
+  return all;
+}
+
+std::vector<std::string> attributeSignature(const PointCloud& cloud) {
+  std::vector<std::string> names = cloud.attributeNames();
+  return names;
+}
+
+}  // namespace
+
+ProcessReport runProcess(const ProcessOptions& options) {
+  checkSteps(options);
+  const WorkFolder work(options.output);
+  ProcessReport report;
+  const std::uint64_t max_tile_points = std::max<std::uint64_t>(
+      1024, options.memory_mb * (std::uint64_t(1) << 20) / kProcessBytesPerPoint);
+  const TileSet tiles = TileSet::spill(options.inputs, work.path(), "tile", max_tile_points,
+                                       nullptr, options.progress);
+  report.input_points = tiles.points();
+  report.tiles = tiles.tiles();
+
+  Added added;
+  for (const ProcessStep& step : options.steps) {
+    const StepContext context{tiles, work.path(), max_tile_points, options.progress,
+                              describeStep(step)};
+    if (const auto* n = std::get_if<NormalsStep>(&step)) {
+      runNormalsStep(*n, context);
+      added.normals = true;
+      added.curvature = added.curvature || n->curvature;
+    } else if (const auto* o = std::get_if<OutliersStep>(&step)) {
+      runOutliersStep(*o, context);
+      added.mark = added.mark || o->mark;
+    } else if (const auto* s = std::get_if<SubsampleStep>(&step)) {
+      runSubsampleStep(*s, context);
+    } else {
+      runDistanceStep(std::get<DistanceStep>(step), context);
+      added.distance = true;
+    }
+  }
+
+  // The write: the inputs once more, in order, each point matched with its tile's next records.
+  report.output_points = tiles.keptPoints();
+  auto open = [&](bool wanted, const std::string& what, std::size_t size) {
+    std::vector<std::unique_ptr<RecordReader>> readers(tiles.tiles());
+    if (!wanted) return readers;
+    for (std::size_t t = 0; t < tiles.tiles(); ++t) {
+      if (!tiles.has(t, what) && tiles.count(t) > 0) {
+        // A step that wrote these records for some tiles writes them for all; absent: zeros.
+        const std::vector<std::byte> zeros(tiles.count(t) * size, std::byte{0});
+        tiles.writeRecords<std::byte>(t, what, zeros);
+      }
+      if (tiles.count(t) > 0)
+        readers[t] = std::make_unique<RecordReader>(tiles.file(t, what), size);
+    }
+    return readers;
+  };
+  auto kept = open(true, "kept", 1);
+  auto normals = open(added.normals, "normals", 12);
+  auto curvature = open(added.curvature, "curvature", 4);
+  auto distance = open(added.distance, "distance", 4);
+  auto mark = open(added.mark, "mark", 1);
+
+  auto bar = options.progress ? options.progress("writing", report.input_points) : nullptr;
+  const PointFormat format = formatForExtension(options.output);
+  std::unique_ptr<PlyStreamWriter> ply;
+  std::vector<PointCloud> held;  // formats written whole
+  std::vector<std::string> signature;
+  Quantization quantization;
+  LasWriteOptions las;
+  bool first = true;
+  for (const ConvertInput& input : options.inputs) {
+    PointStream stream(input.path, input.text_columns, nullptr, &input.filter);
+    if (first && !stream.crs().empty()) las.vlrs = stream.crs().records;
+    PointCloud batch;
+    while (stream.next(batch, kBatchPoints)) {
+      PointCloud out = outputBatch(batch, tiles, added, kept, normals, curvature, distance, mark);
+      if (bar) bar->advance(batch.count);
+      if (first) {
+        signature = attributeSignature(outputLayout(batch, added));
+        quantization = out.quantization;
+        report.losses =
+            describeWriteLosses(outputLayout(batch, added), options.output, options.write);
+        if (format == PointFormat::Ply) {
+          PlyWriteOptions ply_options{
+              .format = options.write.ply_ascii ? PlyFormat::Ascii : PlyFormat::BinaryLittleEndian,
+              .properties = options.write.properties};
+          ply = std::make_unique<PlyStreamWriter>(options.output, outputLayout(batch, added),
+                                                  report.output_points, ply_options);
+        }
+        first = false;
+      } else if (attributeSignature(outputLayout(batch, added)) != signature ||
+                 !(out.quantization == quantization)) {
+        throw InputError({.file = input.path.string(),
+                          .expected = "the attributes and quantization of " +
+                                      options.inputs.front().path.string() +
+                                      " (the inputs of one process run are one cloud)",
+                          .found = "other attributes or another scale and offset",
+                          .hint = "convert the inputs into one file first"});
+      }
+      if (out.count == 0) continue;
+      if (ply) {
+        ply->write(out);
+      } else {
+        held.push_back(std::move(out));
+      }
+    }
+  }
+  if (first)
+    throw InputError(
+        {.file = options.inputs.front().path.string(), .expected = "points", .found = "none"});
+  if (ply) {
+    ply->finish();
+    return report;
+  }
+  PointCloud all = joinBatches(held);
+  PointWriteOptions write = options.write;
+  if (format == PointFormat::Las || format == PointFormat::Laz) {
+    if (format == PointFormat::Laz) {
+      writeLaz(all, options.output, {.las = las});
+    } else {
+      writeLas(all, options.output, las);
+    }
+  } else {
+    writePointFile(all, options.output, write);
+  }
+  return report;
+}
+
+}  // namespace parallax

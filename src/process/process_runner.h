@@ -1,0 +1,49 @@
+// `parallax process`: steps (process_steps.h) run in order on one or more point files, out of
+// core, and the result written as a point file.
+//
+// How: the inputs' positions are spilled into slabs of x (tile_set.h) sized by the memory
+// budget; each step reads the slabs with the halo its neighbourhoods need and writes per-point
+// records (kept, normal, curvature, distance, mark) beside them; at the end the inputs are read
+// once more and every point that is still kept is written with all its attributes, plus those
+// the steps added. Every answer is exact whatever the tiling (the halo grows until the
+// neighbourhood is whole, ties go to the smaller index, sums over the cloud are in integers), so
+// the output's bytes do not depend on `memory_mb`.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "io/point_file.h"
+#include "lod/convert_stages.h"
+#include "process/process_steps.h"
+
+namespace parallax {
+
+struct ProcessOptions {
+  std::vector<ConvertInput> inputs;  // read in order, as one cloud
+  std::filesystem::path output;      // PLY, LAS, LAZ or text, by its extension
+  std::vector<ProcessStep> steps;
+  std::uint64_t memory_mb = 2048;  // what the tiles may take
+  PointWriteOptions write;         // its progress is set by the run
+  ProgressFactory progress;        // one sink per stage ("reading", "tiling", a step, "writing")
+};
+
+struct ProcessReport {
+  std::uint64_t input_points = 0;
+  std::uint64_t output_points = 0;
+  std::size_t tiles = 0;
+  std::vector<std::string> losses;  // what the output's format drops (describeWriteLosses)
+};
+
+// Bytes a point of a tile takes while a step works on it (its record, the grid's copy and sort
+// keys, a halo, the step's records): the tile size is memory_mb / this.
+constexpr std::uint64_t kProcessBytesPerPoint = 256;
+
+// Checks the steps and output before any work (std::invalid_argument naming the step), runs them
+// and writes the output (temporary file, renamed when complete). The work folder is a hidden
+// ".NAME.process-PID" beside the output, removed at the end. Input errors are InputError.
+ProcessReport runProcess(const ProcessOptions& options);
+
+}  // namespace parallax

@@ -1,0 +1,96 @@
+// What every neighbourhood step does on a tile: load it with a halo, build a grid, answer each
+// kept point's query, and load again with twice the halo for the points whose answer reached
+// past what was loaded, until none is left. Internal to the process module.
+#pragma once
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "core/progress.h"
+#include "lod/convert_stages.h"
+#include "process/neighbour_index.h"
+#include "process/tile_set.h"
+
+namespace parallax {
+
+// What a step needs of the run: the tiles of the cloud and where to report progress.
+struct StepContext {
+  const TileSet& tiles;
+  std::filesystem::path work_dir;
+  std::uint64_t max_tile_points = 0;
+  ProgressFactory progress;
+  std::string label;  // the step as given ("--normals 16"), for progress and messages
+};
+
+// For each of `queries` (the tile's kept points), calls `answer(hood, grid, query, scratch)`,
+// which returns whether its answer is exact (TileNeighbourhood::covers); those that are not are
+// asked again with the halo doubled. `load(halo)` loads the points searched for the first round;
+// later rounds load only the points of `searched` in the box of the pending queries, grown by the
+// halo. The box becomes infinite (everything loaded) before a query could fail again.
+template <class Load, class Answer>
+void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& load,
+                       const TileSet& searched, Answer&& answer) {
+  std::vector<std::uint32_t> pending(queries.size());
+  for (std::size_t i = 0; i < pending.size(); ++i) pending[i] = std::uint32_t(i);
+  tbb::enumerable_thread_specific<std::vector<Neighbour>> scratch;
+  bool first = true;
+  while (!pending.empty()) {
+    TileNeighbourhood hood;
+    if (first) {
+      hood = load(halo);
+      first = false;
+    } else {
+      double lo[3], hi[3];
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = TileSet::kInfinity;
+        hi[a] = -TileSet::kInfinity;
+      }
+      for (std::uint32_t i : pending) {
+        const double v[3] = {queries[i].x, queries[i].y, queries[i].z};
+        for (int a = 0; a < 3; ++a) {
+          lo[a] = std::min(lo[a], v[a] - halo);
+          hi[a] = std::max(hi[a], v[a] + halo);
+        }
+      }
+      hood = loadBox(searched, lo, hi);
+    }
+    const NeighbourIndex grid(hood.points);
+    std::vector<std::uint8_t> exact(pending.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending.size(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        std::vector<Neighbour>& local = scratch.local();
+                        for (std::size_t j = range.begin(); j != range.end(); ++j) {
+                          exact[j] = answer(hood, grid, pending[j], queries[pending[j]], local);
+                        }
+                      });
+    std::vector<std::uint32_t> again;
+    for (std::size_t j = 0; j < pending.size(); ++j) {
+      if (!exact[j]) again.push_back(pending[j]);
+    }
+    if (hood.everything() && !again.empty()) {
+      // With every point loaded each answer is exact: a query that says otherwise is a bug.
+      throw std::logic_error("process: a query over the whole cloud reported an incomplete answer");
+    }
+    pending = std::move(again);
+    halo = halo > 0.0 ? 2.0 * halo : 1.0;
+  }
+}
+
+// The steps (step_*.cpp). Each reads and writes the tiles' records (tile_set.h): "kept",
+// "normals" (3 floats), "curvature" (float), "distance" (float), "mark" (1: class 7).
+struct NormalsStep;
+struct OutliersStep;
+struct SubsampleStep;
+struct DistanceStep;
+void runNormalsStep(const NormalsStep& step, const StepContext& context);
+void runOutliersStep(const OutliersStep& step, const StepContext& context);
+void runSubsampleStep(const SubsampleStep& step, const StepContext& context);
+void runDistanceStep(const DistanceStep& step, const StepContext& context);
+
+}  // namespace parallax

@@ -1,0 +1,278 @@
+// TileSet and loadNeighbourhood (tile_set.h).
+#include "process/tile_set.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <system_error>
+
+#include "core/error.h"
+
+namespace parallax {
+
+namespace {
+
+constexpr std::size_t kBatchPoints = std::size_t(1) << 20;
+constexpr std::size_t kBlockRecords = std::size_t(1) << 16;
+constexpr std::size_t kHistogramBins = std::size_t(1) << 16;
+
+struct FileCloser {
+  void operator()(std::FILE* f) const {
+    if (f) std::fclose(f);
+  }
+};
+using File = std::unique_ptr<std::FILE, FileCloser>;
+
+File openFile(const std::filesystem::path& path, const char* mode) {
+  File f(std::fopen(path.c_str(), mode));
+  if (!f) {
+    throw std::system_error(errno, std::generic_category(), "cannot open " + path.string());
+  }
+  return f;
+}
+
+void writeAll(std::FILE* f, const void* data, std::size_t size, const std::filesystem::path& path) {
+  if (size > 0 && std::fwrite(data, 1, size, f) != size) {
+    throw std::system_error(errno, std::generic_category(), "cannot write " + path.string());
+  }
+}
+
+void readAll(std::FILE* f, void* data, std::size_t size, const std::filesystem::path& path) {
+  if (size > 0 && std::fread(data, 1, size, f) != size) {
+    throw std::runtime_error("work file " + path.string() + " is shorter than written");
+  }
+}
+
+struct Xyz {
+  double x, y, z;
+};
+
+}  // namespace
+
+TileSet TileSet::spill(const std::vector<ConvertInput>& inputs, const std::filesystem::path& dir,
+                       const std::string& name, std::uint64_t max_tile_points,
+                       const std::vector<double>* edges, const ProgressFactory& progress) {
+  TileSet set;
+  set.dir_ = dir;
+  set.name_ = name;
+  std::uint64_t total = 0;
+  for (const ConvertInput& input : inputs) {
+    PointStream probe(input.path, input.text_columns, nullptr, &input.filter);
+    total += probe.pointCount();
+  }
+  // Pass 1: the world positions in input order, and their bounds.
+  const std::filesystem::path all_path = dir / (name + ".xyz");
+  {
+    File all = openFile(all_path, "wb");
+    auto bar = progress ? progress("reading", total) : nullptr;
+    for (int a = 0; a < 3; ++a) {
+      set.min_[a] = kInfinity;
+      set.max_[a] = -kInfinity;
+    }
+    std::vector<Xyz> block;
+    for (const ConvertInput& input : inputs) {
+      PointStream stream(input.path, input.text_columns, nullptr, &input.filter);
+      PointCloud batch;
+      while (stream.next(batch, kBatchPoints)) {
+        block.resize(batch.count);
+        for (std::size_t i = 0; i < batch.count; ++i) {
+          block[i] = {batch.worldX(i), batch.worldY(i), batch.worldZ(i)};
+          const double* v = &block[i].x;
+          for (int a = 0; a < 3; ++a) {
+            set.min_[a] = std::min(set.min_[a], v[a]);
+            set.max_[a] = std::max(set.max_[a], v[a]);
+          }
+        }
+        writeAll(all.get(), block.data(), block.size() * sizeof(Xyz), all_path);
+        set.points_ += batch.count;
+        if (bar) bar->advance(batch.count);
+      }
+    }
+    if (std::fflush(all.get()) != 0) {
+      throw std::system_error(errno, std::generic_category(), "cannot write " + all_path.string());
+    }
+  }
+  if (set.points_ == 0) {
+    for (int a = 0; a < 3; ++a) set.min_[a] = set.max_[a] = 0.0;
+  }
+  auto forEachBlock = [&](auto&& visit) {
+    File all = openFile(all_path, "rb");
+    std::vector<Xyz> block(kBlockRecords);
+    for (std::uint64_t done = 0; done < set.points_;) {
+      const std::size_t n = std::size_t(std::min<std::uint64_t>(kBlockRecords, set.points_ - done));
+      readAll(all.get(), block.data(), n * sizeof(Xyz), all_path);
+      visit(std::span<const Xyz>(block.data(), n), done);
+      done += n;
+    }
+  };
+  // The slabs' edges: bins of a histogram of x gathered until the next would overflow a slab.
+  if (edges) {
+    set.edges_ = *edges;
+  } else if (set.points_ > 0 && set.max_[0] > set.min_[0]) {
+    max_tile_points = std::max<std::uint64_t>({max_tile_points, 1, set.points_ / kMaxTiles + 1});
+    std::vector<std::uint64_t> histogram(kHistogramBins, 0);
+    const double width = (set.max_[0] - set.min_[0]) / double(kHistogramBins);
+    auto binOf = [&](double x) {
+      return std::min<std::size_t>(kHistogramBins - 1, std::size_t((x - set.min_[0]) / width));
+    };
+    forEachBlock([&](std::span<const Xyz> block, std::uint64_t) {
+      for (const Xyz& p : block) ++histogram[binOf(p.x)];
+    });
+    std::uint64_t in_tile = 0;
+    for (std::size_t bin = 0; bin < kHistogramBins; ++bin) {
+      if (in_tile > 0 && in_tile + histogram[bin] > max_tile_points) {
+        set.edges_.push_back(set.min_[0] + double(bin) * width);
+        in_tile = 0;
+      }
+      in_tile += histogram[bin];
+    }
+    // The edges are compared with x as computed, so a point lands in one slab whatever the bins.
+    set.edges_.erase(std::unique(set.edges_.begin(), set.edges_.end()), set.edges_.end());
+  }
+  set.counts_.assign(set.edges_.size() + 1, 0);
+  // Pass 2: every point appended to its slab's file.
+  {
+    auto bar = progress ? progress("tiling", set.points_) : nullptr;
+    std::vector<File> files;
+    std::vector<std::vector<GridPoint>> buffers(set.tiles());
+    for (std::size_t t = 0; t < set.tiles(); ++t)
+      files.push_back(openFile(set.file(t, "points"), "wb"));
+    auto flush = [&](std::size_t t) {
+      writeAll(files[t].get(), buffers[t].data(), buffers[t].size() * sizeof(GridPoint),
+               set.file(t, "points"));
+      buffers[t].clear();
+    };
+    forEachBlock([&](std::span<const Xyz> block, std::uint64_t first) {
+      for (std::size_t i = 0; i < block.size(); ++i) {
+        const std::size_t t = set.tileOf(block[i].x);
+        buffers[t].push_back({block[i].x, block[i].y, block[i].z, first + i});
+        ++set.counts_[t];
+        if (buffers[t].size() >= 4096) flush(t);
+      }
+      if (bar) bar->advance(block.size());
+    });
+    for (std::size_t t = 0; t < set.tiles(); ++t) {
+      flush(t);
+      if (std::fflush(files[t].get()) != 0) {
+        throw std::system_error(errno, std::generic_category(),
+                                "cannot write " + set.file(t, "points").string());
+      }
+      const std::vector<std::uint8_t> kept(set.counts_[t], 1);
+      set.writeRecords<std::uint8_t>(t, "kept", kept);
+    }
+  }
+  std::filesystem::remove(all_path);
+  return set;
+}
+
+std::size_t TileSet::tileOf(double x) const {
+  return std::size_t(std::upper_bound(edges_.begin(), edges_.end(), x) - edges_.begin());
+}
+
+std::filesystem::path TileSet::file(std::size_t tile, const std::string& what) const {
+  return dir_ / (name_ + "_" + std::to_string(tile) + "." + what);
+}
+
+bool TileSet::has(std::size_t tile, const std::string& what) const {
+  return std::filesystem::exists(file(tile, what));
+}
+
+void TileSet::writeBytes(std::size_t tile, const std::string& what, const void* data,
+                         std::size_t size) const {
+  const std::filesystem::path path = file(tile, what);
+  File f = openFile(path, "wb");
+  writeAll(f.get(), data, size, path);
+  if (std::fflush(f.get()) != 0) {
+    throw std::system_error(errno, std::generic_category(), "cannot write " + path.string());
+  }
+}
+
+void TileSet::readBytes(std::size_t tile, const std::string& what, void* data,
+                        std::size_t size) const {
+  const std::filesystem::path path = file(tile, what);
+  File f = openFile(path, "rb");
+  readAll(f.get(), data, size, path);
+}
+
+std::vector<GridPoint> TileSet::readPoints(std::size_t tile) const {
+  return readRecords<GridPoint>(tile, "points");
+}
+
+std::vector<std::uint8_t> TileSet::readKept(std::size_t tile) const {
+  return readRecords<std::uint8_t>(tile, "kept");
+}
+
+void TileSet::appendKeptInRange(double lo, double hi, std::size_t except,
+                                std::vector<GridPoint>& out) const {
+  const double box_lo[3] = {lo, -kInfinity, -kInfinity}, box_hi[3] = {hi, kInfinity, kInfinity};
+  appendKeptInBox(box_lo, box_hi, except, out);
+}
+
+void TileSet::appendKeptInBox(const double lo[3], const double hi[3], std::size_t except,
+                              std::vector<GridPoint>& out) const {
+  for (std::size_t t = 0; t < tiles(); ++t) {
+    if (t == except || this->hi(t) <= lo[0] || this->lo(t) >= hi[0] || counts_[t] == 0) continue;
+    File points = openFile(file(t, "points"), "rb");
+    File kept = openFile(file(t, "kept"), "rb");
+    std::vector<GridPoint> block(kBlockRecords);
+    std::vector<std::uint8_t> flags(kBlockRecords);
+    for (std::uint64_t done = 0; done < counts_[t];) {
+      const std::size_t n = std::size_t(std::min<std::uint64_t>(kBlockRecords, counts_[t] - done));
+      readAll(points.get(), block.data(), n * sizeof(GridPoint), file(t, "points"));
+      readAll(kept.get(), flags.data(), n, file(t, "kept"));
+      for (std::size_t i = 0; i < n; ++i) {
+        const GridPoint& p = block[i];
+        if (flags[i] && p.x >= lo[0] && p.x < hi[0] && p.y >= lo[1] && p.y < hi[1] &&
+            p.z >= lo[2] && p.z < hi[2]) {
+          out.push_back(p);
+        }
+      }
+      done += n;
+    }
+  }
+}
+
+void TileSet::renameAll(const std::string& from, const std::string& to) const {
+  for (std::size_t t = 0; t < tiles(); ++t) std::filesystem::rename(file(t, from), file(t, to));
+}
+
+std::uint64_t TileSet::keptPoints() const {
+  std::uint64_t kept = 0;
+  for (std::size_t t = 0; t < tiles(); ++t) {
+    for (std::uint8_t k : readKept(t)) kept += k;
+  }
+  return kept;
+}
+
+TileNeighbourhood loadNeighbourhood(const TileSet& tiles, std::size_t tile, double halo,
+                                    const std::vector<GridPoint>& core_points,
+                                    const std::vector<std::uint8_t>& core_kept) {
+  TileNeighbourhood hood;
+  for (std::size_t i = 0; i < core_points.size(); ++i) {
+    if (!core_kept[i]) continue;
+    hood.points.push_back(core_points[i]);
+    hood.slot.push_back(std::uint32_t(i));
+  }
+  hood.core = hood.points.size();
+  hood.lo[0] = tiles.lo(tile) - halo;
+  hood.hi[0] = tiles.hi(tile) + halo;
+  // Past the cloud's ends there is nothing more to load: the halo is infinite there.
+  if (hood.lo[0] < tiles.min()[0]) hood.lo[0] = -TileSet::kInfinity;
+  if (hood.hi[0] > tiles.max()[0]) hood.hi[0] = TileSet::kInfinity;
+  if (halo > 0.0) tiles.appendKeptInRange(hood.lo[0], hood.hi[0], tile, hood.points);
+  return hood;
+}
+
+TileNeighbourhood loadBox(const TileSet& set, const double lo[3], const double hi[3]) {
+  TileNeighbourhood hood;
+  for (int a = 0; a < 3; ++a) {
+    hood.lo[a] = lo[a] < set.min()[a] ? -TileSet::kInfinity : lo[a];
+    hood.hi[a] = hi[a] > set.max()[a] ? TileSet::kInfinity : hi[a];
+  }
+  set.appendKeptInBox(hood.lo, hood.hi, SIZE_MAX, hood.points);
+  return hood;
+}
+
+}  // namespace parallax

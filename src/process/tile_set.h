@@ -1,0 +1,133 @@
+// The tiles a processing run works on: the cloud cut into slabs along x, each small enough for
+// memory, spilled to files in a work folder, and read back with a halo of any width.
+//
+// Why slabs of x and not the octree builder's chunks: a neighbourhood query needs "every point
+// within r of this one", and for a slab that is one interval of x, whatever r turns out to be
+// (a K-nearest query learns its radius only when it is answered, and grows its halo then:
+// NOTES.md). The slabs are cut at the edges of a 65 536-bin histogram of x so each holds at most
+// the points the budget allows (a single bin more crowded than that is one slab over budget).
+//
+// Files, for slab i: tile_i.points (its points as GridPoint records, in input order: world
+// x y z double and the point's index in the whole input), tile_i.kept (one byte a point: 1 kept,
+// 0 removed by an earlier step), and what the steps write beside them (tile_i.<name>: one fixed-
+// size record a point, in the same order).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/progress.h"
+#include "lod/convert_stages.h"
+#include "process/neighbour_index.h"
+
+namespace parallax {
+
+class TileSet {
+ public:
+  static constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+  // Reads `inputs` (in order; ids count on across them), spills their points into slabs of at
+  // most `max_tile_points` (at most kMaxTiles slabs: larger slabs when more would be needed).
+  // `edges`: cut at these x values instead (the reference cloud of --distance-to, cut as the
+  // processed cloud is). Throws InputError from the readers.
+  static constexpr std::size_t kMaxTiles = 512;
+  static TileSet spill(const std::vector<ConvertInput>& inputs, const std::filesystem::path& dir,
+                       const std::string& name, std::uint64_t max_tile_points,
+                       const std::vector<double>* edges, const ProgressFactory& progress);
+
+  std::size_t tiles() const { return counts_.size(); }
+  std::uint64_t points() const { return points_; }
+  std::uint64_t count(std::size_t tile) const { return counts_[tile]; }
+  // The tile's x interval [lo, hi): -inf and +inf at the ends.
+  double lo(std::size_t tile) const { return tile == 0 ? -kInfinity : edges_[tile - 1]; }
+  double hi(std::size_t tile) const { return tile + 1 == tiles() ? kInfinity : edges_[tile]; }
+  const std::vector<double>& edges() const { return edges_; }
+  std::size_t tileOf(double x) const;
+  // The points' bounds (world units).
+  const double* min() const { return min_; }
+  const double* max() const { return max_; }
+
+  std::filesystem::path file(std::size_t tile, const std::string& what) const;
+  std::vector<GridPoint> readPoints(std::size_t tile) const;
+  std::vector<std::uint8_t> readKept(std::size_t tile) const;
+  // Appends the kept points of every tile but `except` whose x is in [lo, hi).
+  void appendKeptInRange(double lo, double hi, std::size_t except,
+                         std::vector<GridPoint>& out) const;
+  // The same within the box [lo, hi) on every axis (`except` SIZE_MAX: every tile).
+  void appendKeptInBox(const double lo[3], const double hi[3], std::size_t except,
+                       std::vector<GridPoint>& out) const;
+
+  // Per-point records of `what` ("kept", "normals", ...), `record_size` bytes each.
+  template <class T>
+  void writeRecords(std::size_t tile, const std::string& what, std::span<const T> records) const {
+    writeBytes(tile, what, records.data(), records.size_bytes());
+  }
+  template <class T>
+  std::vector<T> readRecords(std::size_t tile, const std::string& what) const {
+    std::vector<T> out(count(tile));
+    readBytes(tile, what, out.data(), out.size() * sizeof(T));
+    return out;
+  }
+  bool has(std::size_t tile, const std::string& what) const;
+  // Renames tile_i.<from> to tile_i.<to> for every tile (a step's kept flags become current).
+  void renameAll(const std::string& from, const std::string& to) const;
+  // Points kept, over all tiles.
+  std::uint64_t keptPoints() const;
+
+ private:
+  void writeBytes(std::size_t tile, const std::string& what, const void* data,
+                  std::size_t size) const;
+  void readBytes(std::size_t tile, const std::string& what, void* data, std::size_t size) const;
+
+  std::filesystem::path dir_;
+  std::string name_;
+  std::vector<double> edges_;  // tiles() - 1 inner edges, ascending
+  std::vector<std::uint64_t> counts_;
+  std::uint64_t points_ = 0;
+  double min_[3] = {0, 0, 0}, max_[3] = {0, 0, 0};
+};
+
+// A tile's kept points and the kept points within a halo around it: the input of a step's
+// queries on that tile.
+struct TileNeighbourhood {
+  std::vector<GridPoint> points;    // the tile's kept points first, then the halo's
+  std::size_t core = 0;             // how many of `points` are the tile's
+  std::vector<std::uint32_t> slot;  // for each of the tile's kept points, its record in the tile
+  // Every kept point in the box [lo, hi) is in `points` (infinite bounds: nothing beyond).
+  double lo[3] = {-TileSet::kInfinity, -TileSet::kInfinity, -TileSet::kInfinity};
+  double hi[3] = {TileSet::kInfinity, TileSet::kInfinity, TileSet::kInfinity};
+
+  // Whether a ball of radius `r` around `q` lies within what was loaded, so that a query
+  // answered with that radius is exact.
+  bool covers(const GridPoint& q, double r) const {
+    const double v[3] = {q.x, q.y, q.z};
+    for (int a = 0; a < 3; ++a) {
+      if (lo[a] != -TileSet::kInfinity && !(v[a] - r >= lo[a])) return false;
+      if (hi[a] != TileSet::kInfinity && !(v[a] + r < hi[a])) return false;
+    }
+    return true;
+  }
+  bool everything() const {
+    for (int a = 0; a < 3; ++a) {
+      if (lo[a] != -TileSet::kInfinity || hi[a] != TileSet::kInfinity) return false;
+    }
+    return true;
+  }
+};
+
+// Loads tile `tile` of `tiles` with a halo of `halo` either side (an infinite halo past the
+// cloud's ends). `core` and `slot` from readPoints/readKept (read once, reused as halos grow).
+TileNeighbourhood loadNeighbourhood(const TileSet& tiles, std::size_t tile, double halo,
+                                    const std::vector<GridPoint>& core_points,
+                                    const std::vector<std::uint8_t>& core_kept);
+
+// Every kept point of `set` in the box [lo, hi) (bounds past the cloud's made infinite): the
+// later rounds of a tile's queries, which need only the surroundings of the few still pending
+// (an isolated point far from the rest would otherwise pull in a wide slice of the cloud).
+TileNeighbourhood loadBox(const TileSet& set, const double lo[3], const double hi[3]);
+
+}  // namespace parallax

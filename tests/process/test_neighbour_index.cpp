@@ -1,0 +1,141 @@
+// NeighbourIndex and fitLocalPlane against brute force and known answers.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "process/local_plane.h"
+#include "process/neighbour_index.h"
+
+namespace parallax {
+namespace {
+
+std::vector<GridPoint> latticeWithDuplicates(std::size_t count, unsigned seed) {
+  // Integer coordinates make many equal distances: ties at the K-th place are common.
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> coord(0, 20);
+  std::vector<GridPoint> points;
+  for (std::size_t i = 0; i < count; ++i) {
+    points.push_back({double(coord(rng)), double(coord(rng)), double(coord(rng)) * 0.5, i * 7 + 3});
+  }
+  points.push_back(points[5]);  // an exact duplicate, another id
+  points.back().id = 1;
+  points.push_back({500.0, 500.0, 500.0, 2});  // far from everything
+  return points;
+}
+
+std::vector<Neighbour> bruteNearest(const std::vector<GridPoint>& points, double x, double y,
+                                    double z, std::size_t k) {
+  std::vector<Neighbour> all;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    all.push_back(
+        {squaredDistance(x, y, z, points[i].x, points[i].y, points[i].z), 0, points[i].id});
+  }
+  std::sort(all.begin(), all.end());
+  all.resize(std::min(k, all.size()));
+  return all;
+}
+
+TEST(NeighbourIndex, NearestEqualsBruteForceWithTiesBrokenBySmallerId) {
+  const std::vector<GridPoint> points = latticeWithDuplicates(3000, 1);
+  {
+    const NeighbourIndex grid(points);
+    std::vector<Neighbour> found;
+    for (std::size_t q = 0; q < points.size(); q += 37) {
+      for (std::size_t k : {1u, 6u, 16u, 40u}) {
+        grid.nearest(points[q].x, points[q].y, points[q].z, k, found);
+        const std::vector<Neighbour> expected =
+            bruteNearest(points, points[q].x, points[q].y, points[q].z, k);
+        ASSERT_EQ(found.size(), expected.size());
+        for (std::size_t i = 0; i < found.size(); ++i) {
+          EXPECT_EQ(found[i].id, expected[i].id) << "query " << q << " k " << k;
+          EXPECT_EQ(found[i].d2, expected[i].d2);
+          EXPECT_EQ(grid.points()[found[i].at].id, found[i].id);
+        }
+      }
+    }
+    // A query far outside the grid, and the isolated point's own neighbours.
+    grid.nearest(-300.0, 10.0, 10.0, 5, found);
+    const std::vector<Neighbour> far = bruteNearest(points, -300.0, 10.0, 10.0, 5);
+    ASSERT_EQ(found.size(), 5u);
+    for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(found[i].id, far[i].id);
+    grid.nearest(500.0, 500.0, 500.0, 3, found);
+    const std::vector<Neighbour> lonely = bruteNearest(points, 500.0, 500.0, 500.0, 3);
+    for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(found[i].id, lonely[i].id);
+  }
+}
+
+TEST(NeighbourIndex, MoreNeighboursAskedThanPointsGivesThemAll) {
+  const std::vector<GridPoint> points = {{0, 0, 0, 4}, {1, 0, 0, 9}, {0, 2, 0, 1}};
+  const NeighbourIndex grid(points);
+  std::vector<Neighbour> found;
+  grid.nearest(0, 0, 0, 10, found);
+  ASSERT_EQ(found.size(), 3u);
+  EXPECT_EQ(found[0].id, 4u);
+  EXPECT_EQ(found[1].id, 9u);
+  EXPECT_EQ(found[2].id, 1u);
+}
+
+TEST(NeighbourIndex, WithinRadiusEqualsBruteForceBoundaryIncluded) {
+  const std::vector<GridPoint> points = latticeWithDuplicates(2000, 2);
+  {
+    const NeighbourIndex grid(points);
+    std::vector<Neighbour> found;
+    for (std::size_t q = 0; q < points.size(); q += 53) {
+      const double radius = 2.0;  // integer lattice: points at exactly 2 exist
+      grid.withinRadius(points[q].x, points[q].y, points[q].z, radius, found);
+      std::vector<std::uint64_t> expected;
+      for (const GridPoint& p : points) {
+        if (squaredDistance(points[q].x, points[q].y, points[q].z, p.x, p.y, p.z) <= 4.0) {
+          expected.push_back(p.id);
+        }
+      }
+      std::vector<std::uint64_t> ids;
+      for (const Neighbour& n : found) ids.push_back(n.id);
+      std::sort(ids.begin(), ids.end());
+      std::sort(expected.begin(), expected.end());
+      EXPECT_EQ(ids, expected) << "query " << q;
+    }
+  }
+}
+
+TEST(LocalPlane, TiltedPlaneAndCurvature) {
+  // Points of the plane z = 0.5 x - 0.25 y + 3 on a grid: normal (-0.5, 0.25, 1) normalised.
+  std::vector<GridPoint> points;
+  std::vector<Neighbour> all;
+  for (int i = 0; i < 5; ++i) {
+    for (int j = 0; j < 5; ++j) {
+      points.push_back(
+          {double(i), double(j), 0.5 * i - 0.25 * j + 3.0, std::uint64_t(points.size())});
+      all.push_back({0.0, std::uint32_t(points.size() - 1), points.back().id});
+    }
+  }
+  const LocalPlane plane = fitLocalPlane(points, all);
+  ASSERT_TRUE(plane.valid);
+  const double len = std::sqrt(0.25 + 0.0625 + 1.0);
+  const double dot = (-0.5 * plane.normal[0] + 0.25 * plane.normal[1] + plane.normal[2]) / len;
+  EXPECT_NEAR(std::abs(dot), 1.0, 1e-12);
+  EXPECT_NEAR(plane.curvature, 0.0, 1e-12);
+  EXPECT_NEAR(plane.centroid[0], 2.0, 1e-12);
+  EXPECT_NEAR(plane.centroid[2], 0.5 * 2 - 0.25 * 2 + 3.0, 1e-12);
+  // Points on a line have no plane.
+  std::vector<GridPoint> line = {{0, 0, 0, 0}, {1, 1, 1, 1}, {2, 2, 2, 2}, {3, 3, 3, 3}};
+  std::vector<Neighbour> line_all = {{0, 0, 0}, {0, 1, 1}, {0, 2, 2}, {0, 3, 3}};
+  EXPECT_FALSE(fitLocalPlane(line, line_all).valid);
+}
+
+TEST(LocalPlane, EigenOfKnownMatrix) {
+  const double m[3][3] = {{2, -1, 0}, {-1, 2, -1}, {0, -1, 2}};
+  double values[3], vectors[3][3];
+  symmetricEigen3(m, values, vectors);
+  EXPECT_NEAR(values[0], 2.0 - std::sqrt(2.0), 1e-14);
+  EXPECT_NEAR(values[1], 2.0, 1e-14);
+  EXPECT_NEAR(values[2], 2.0 + std::sqrt(2.0), 1e-14);
+  // Smallest: (1, sqrt 2, 1) / 2 up to sign.
+  EXPECT_NEAR(std::abs(vectors[0][0] + std::sqrt(2.0) * vectors[1][0] + vectors[2][0]) / 2.0, 1.0,
+              1e-12);
+}
+
+}  // namespace
+}  // namespace parallax

@@ -1,0 +1,61 @@
+// `parallax process` as a user runs it: the steps in the order given, attributes of a real LAS
+// file kept, errors naming the step.
+#include <gtest/gtest.h>
+
+#include "io/point_file.h"
+#include "support/run_parallax.h"
+
+namespace parallax {
+namespace {
+
+using test::runParallax;
+using test::TempDir;
+
+const std::filesystem::path kLas = std::filesystem::path(PARALLAX_LAZ_DATA) / "1815.las";
+
+TEST(ProcessCli, StepsRunInTheOrderGivenAndAttributesAreKept) {
+  TempDir dir;
+  ASSERT_TRUE(std::filesystem::exists(kLas)) << kLas;
+  const PointCloud input = readPointFile(kLas);
+  // Subsampling to 300 points then normals: every output point has a normal. Normals then
+  // subsampling gives the same points (normals remove nothing) but from other neighbourhoods.
+  auto a = runParallax(dir, "process " + kLas.string() + " -o " + (dir / "a.ply").string() +
+                                " --subsample random:300 --normals 8 -q");
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  auto b = runParallax(dir, "process " + kLas.string() + " -o " + (dir / "b.ply").string() +
+                                " --normals 8 --subsample random:300 -q");
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  const PointCloud pa = readPointFile(dir / "a.ply"), pb = readPointFile(dir / "b.ply");
+  ASSERT_EQ(pa.count, 300u);
+  ASSERT_EQ(pb.count, 300u);
+  ASSERT_TRUE(pa.hasNormals());
+  bool differ = false;
+  for (std::size_t i = 0; i < pa.count; ++i) {
+    EXPECT_EQ(pa.positions[i], pb.positions[i]);
+    differ = differ || !(pa.normals[i] == pb.normals[i]);
+  }
+  EXPECT_TRUE(differ) << "the normals of 300 points and of 1247 points should differ somewhere";
+  // The LAS attributes travel into the PLY: intensity, classification and the other scalars.
+  EXPECT_EQ(pa.hasIntensity(), input.hasIntensity());
+  EXPECT_EQ(pa.hasClassification(), input.hasClassification());
+  EXPECT_EQ(pa.scalars.size(), input.scalars.size());
+}
+
+TEST(ProcessCli, BadParametersExitWithTheStepNamed) {
+  TempDir dir;
+  auto r = runParallax(dir, "process " + kLas.string() + " -o " + (dir / "o.ply").string() +
+                                " --normals 16 --outliers statistical:8");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--outliers statistical:8: expected statistical:K,S"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "o.ply"));
+  r = runParallax(dir, "process " + kLas.string() + " -o " + (dir / "o.ply").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("no step given"), std::string::npos) << r.err;
+  r = runParallax(dir, "process " + (dir / "missing.las").string() + " -o " +
+                           (dir / "o.ply").string() + " --normals 8");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+}
+
+}  // namespace
+}  // namespace parallax

@@ -1,0 +1,554 @@
+// runProcess end to end on files written here: every step against its definition computed by
+// brute force in the test, normals against analytic surfaces, and the same bytes at any --memory.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <numeric>
+#include <random>
+#include <set>
+#include <sstream>
+
+#include "core/error.h"
+#include "io/ply_writer.h"
+#include "io/point_file.h"
+#include "process/process_runner.h"
+#include "support/temp_dir.h"
+
+namespace parallax {
+namespace {
+
+using test::TempDir;
+using Xyz = std::array<double, 3>;
+constexpr double kPi = 3.14159265358979323846;
+
+// A PLY of double positions and an "id" column (each point's index), so outputs can be matched
+// to inputs.
+std::filesystem::path writeCloud(const TempDir& dir, const std::string& name,
+                                 const std::vector<Xyz>& points) {
+  PointCloud cloud;
+  cloud.count = points.size();
+  cloud.quantization.scale = {1e-6, 1e-6, 1e-6};
+  cloud.positions = Column<Int3>(points.size());
+  ScalarColumn id{"id", ScalarType::UInt32, ByteBuffer(points.size() * 4)};
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    cloud.positions[i] = {cloud.quantization.toQuantized(0, points[i][0]),
+                          cloud.quantization.toQuantized(1, points[i][1]),
+                          cloud.quantization.toQuantized(2, points[i][2])};
+    id.as<std::uint32_t>()[i] = std::uint32_t(i);
+  }
+  cloud.scalars.push_back(std::move(id));
+  cloud.source.position = ScalarType::Float64;
+  cloud.computeBounds();
+  const std::filesystem::path path = dir / name;
+  writePly(cloud, path);
+  return path;
+}
+
+// The positions exactly as the process reads them (the same stream).
+std::vector<Xyz> readPositions(const std::filesystem::path& path) {
+  PointStream stream(path, {});
+  std::vector<Xyz> out;
+  PointCloud batch;
+  while (stream.next(batch, 1 << 20)) {
+    for (std::size_t i = 0; i < batch.count; ++i)
+      out.push_back({batch.worldX(i), batch.worldY(i), batch.worldZ(i)});
+  }
+  return out;
+}
+
+ProcessReport run(const std::filesystem::path& in, const std::filesystem::path& out,
+                  std::vector<ProcessStep> steps, std::uint64_t memory_mb = 2048) {
+  ProcessOptions options;
+  options.inputs = {ConvertInput{.path = in}};
+  options.output = out;
+  options.steps = std::move(steps);
+  options.memory_mb = memory_mb;
+  return runProcess(options);
+}
+
+std::vector<std::uint32_t> ids(const PointCloud& cloud) {
+  const ScalarColumn* id = cloud.findScalar("id");
+  EXPECT_NE(id, nullptr);
+  std::vector<std::uint32_t> out;
+  for (std::size_t i = 0; id && i < cloud.count; ++i) out.push_back(id->as<std::uint32_t>()[i]);
+  return out;
+}
+
+double d2(const Xyz& a, const Xyz& b) {
+  const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+  return (dx * dx + dy * dy) + dz * dz;
+}
+
+// The sorted squared distances from point q to the others (brute force).
+std::vector<double> distancesFrom(const std::vector<Xyz>& points, std::size_t q) {
+  std::vector<double> out;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (i != q) out.push_back(d2(points[q], points[i]));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// A rough terrain with scattered points above it: outliers for the outlier steps.
+std::vector<Xyz> terrainWithNoise(std::size_t count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 40.0);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  std::vector<Xyz> points;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double x = u(rng), y = u(rng);
+    double z = std::sin(x * 0.3) + 0.5 * std::cos(y * 0.2) + noise(rng);
+    if (i % 97 == 0) z += 2.0 + u(rng) * 0.2;  // a point floating above the ground
+    points.push_back({x, y, z});
+  }
+  return points;
+}
+
+double angleDegrees(const Float3& n, const Xyz& expected) {
+  const double len =
+      std::sqrt(expected[0] * expected[0] + expected[1] * expected[1] + expected[2] * expected[2]);
+  const double dot = (n.x * expected[0] + n.y * expected[1] + n.z * expected[2]) / len;
+  return std::acos(std::min(1.0, std::abs(dot))) * 180.0 / kPi;
+}
+
+struct Surface {
+  std::string name;
+  std::vector<Xyz> points;
+  std::vector<Xyz> normals;    // analytic
+  std::vector<bool> interior;  // at least 1 from the surface's edge
+};
+
+// Plane, sphere and cylinder sampled evenly (golden-angle spirals and grids), optionally with
+// Gaussian noise along the normal.
+std::vector<Surface> surfaces(double noise_sigma) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, noise_sigma);
+  auto jitter = [&] { return noise_sigma > 0 ? noise(rng) : 0.0; };
+  std::vector<Surface> out;
+  Surface plane{"plane", {}, {}, {}};
+  const Xyz pn = {0.3, -0.2, 1.0};
+  const double pl = std::sqrt(0.09 + 0.04 + 1.0);
+  for (int i = 0; i < 120; ++i) {
+    for (int j = 0; j < 120; ++j) {
+      const double x = i * 0.1 + 0.013 * (j % 7), y = j * 0.1 + 0.011 * (i % 5);
+      const double e = jitter();
+      const double z = -(0.3 * x - 0.2 * y) + 5.0;
+      plane.points.push_back({x + e * pn[0] / pl, y + e * pn[1] / pl, z + e * pn[2] / pl});
+      plane.normals.push_back(pn);
+      plane.interior.push_back(x > 1.0 && x < 10.9 && y > 1.0 && y < 10.9);
+    }
+  }
+  out.push_back(plane);
+  Surface sphere{"sphere", {}, {}, {}};
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    const double zc = 1.0 - 2.0 * (i + 0.5) / n, r = std::sqrt(1.0 - zc * zc),
+                 phi = i * 2.399963229728653;
+    const Xyz dir = {r * std::cos(phi), r * std::sin(phi), zc};
+    const double radius = 10.0 + jitter();
+    sphere.points.push_back({dir[0] * radius, dir[1] * radius, dir[2] * radius});
+    sphere.normals.push_back(dir);
+    sphere.interior.push_back(true);
+  }
+  out.push_back(sphere);
+  Surface cylinder{"cylinder", {}, {}, {}};
+  for (int i = 0; i < 160; ++i) {
+    for (int j = 0; j < 120; ++j) {
+      const double a = (j + 0.5 * (i % 2)) * 2.0 * kPi / 120.0;
+      const double radius = 4.0 + jitter();
+      cylinder.points.push_back({radius * std::cos(a), radius * std::sin(a), i * 0.2});
+      cylinder.normals.push_back({std::cos(a), std::sin(a), 0.0});
+      cylinder.interior.push_back(i * 0.2 > 1.0 && i * 0.2 < 30.8);
+    }
+  }
+  out.push_back(cylinder);
+  return out;
+}
+
+// `interior_only`: the points whose neighbourhood the surface's edge does not cut (a one-sided
+// neighbourhood of noisy points tilts: its lever is half as long).
+void expectNormalsWithin(double noise_sigma, std::uint32_t k, double degrees, bool interior_only) {
+  TempDir dir;
+  for (const Surface& s : surfaces(noise_sigma)) {
+    const auto in = writeCloud(dir, s.name + ".ply", s.points);
+    NormalsStep step;
+    step.k = k;
+    run(in, dir / (s.name + "_n.ply"), {step});
+    const PointCloud out = readPointFile(dir / (s.name + "_n.ply"));
+    ASSERT_EQ(out.count, s.points.size());
+    ASSERT_TRUE(out.hasNormals());
+    double worst = 0.0;
+    std::size_t worst_at = 0;
+    for (std::size_t i = 0; i < out.count; ++i) {
+      const double angle =
+          interior_only && !s.interior[i] ? 0.0 : angleDegrees(out.normals[i], s.normals[i]);
+      if (angle > worst) {
+        worst = angle;
+        worst_at = i;
+      }
+      if (s.name == "plane") {
+        EXPECT_GT(out.normals[i].z, 0.0f) << "--orient up";
+      }
+    }
+    EXPECT_LT(worst, degrees) << s.name << " noise " << noise_sigma << " at point " << worst_at;
+  }
+}
+
+TEST(ProcessNormals, WithinHalfADegreeOfAnalyticSurfaces) {
+  expectNormalsWithin(0.0, 16, 0.5, false);  // every point, edges included
+}
+
+TEST(ProcessNormals, NoisySurfacesWithinHalfADegree) {
+  // Gaussian noise along the normal of a hundredth of the spacing (0.1 plane, 0.22 sphere, 0.2
+  // cylinder); 48 neighbours average it out. Within 1 of the plane's and the cylinder's
+  // edges the worst point is 1.8 degrees off.
+  expectNormalsWithin(0.001, 48, 0.5, true);
+}
+
+TEST(ProcessNormals, RadiusAndOrientationTowardsAPointAndCurvature) {
+  TempDir dir;
+  const Surface sphere = surfaces(0.0)[1];
+  const auto in = writeCloud(dir, "sphere.ply", sphere.points);
+  NormalsStep step;
+  step.radius = 0.8;
+  step.curvature = true;
+  step.orientation = NormalOrientation::kPoint;  // towards the centre: every normal inwards
+  run(in, dir / "out.ply", {step});
+  const PointCloud out = readPointFile(dir / "out.ply");
+  ASSERT_EQ(out.count, sphere.points.size());
+  const ScalarColumn* curvature = out.findScalar("curvature");
+  ASSERT_NE(curvature, nullptr);
+  for (std::size_t i = 0; i < out.count; ++i) {
+    const Xyz& d = sphere.normals[i];
+    EXPECT_LT(out.normals[i].x * d[0] + out.normals[i].y * d[1] + out.normals[i].z * d[2], -0.9999);
+    // A sphere of radius 10 seen 0.8 around: nearly flat, but not quite.
+    EXPECT_GT(curvature->valueAsDouble(i), 0.0);
+    EXPECT_LT(curvature->valueAsDouble(i), 0.01);
+  }
+}
+
+TEST(ProcessNormals, PropagationOrientsAClosedSphereConsistently) {
+  // Normals alone are only up to sign; propagated from the top point (turned up), every normal of
+  // a closed sphere points out, the lower half included.
+  TempDir dir;
+  Surface sphere = surfaces(0.0)[1];
+  const auto in = writeCloud(dir, "sphere.ply", sphere.points);
+  NormalsStep step;
+  step.k = 12;
+  step.orientation = NormalOrientation::kPropagate;
+  run(in, dir / "out.ply", {step});
+  const PointCloud out = readPointFile(dir / "out.ply");
+  ASSERT_EQ(out.count, sphere.points.size());
+  std::size_t inward = 0;
+  for (std::size_t i = 0; i < out.count; ++i) {
+    const Xyz& d = sphere.normals[i];
+    inward += out.normals[i].x * d[0] + out.normals[i].y * d[1] + out.normals[i].z * d[2] < 0.0;
+  }
+  EXPECT_EQ(inward, 0u);
+  // Over several tiles the tree cannot be built: an error naming the step and the memory needed.
+  try {
+    run(in, dir / "tiled.ply", {step}, 1);
+    ADD_FAILURE() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "--normals 12 --orient propagate: the cloud must fit one tile; give --memory 5"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(ProcessOutliers, StatisticalEqualsPclDefinition) {
+  TempDir dir;
+  const std::vector<Xyz> written = terrainWithNoise(4000, 3);
+  const auto in = writeCloud(dir, "in.ply", written);
+  const std::vector<Xyz> points = readPositions(in);
+  const std::uint32_t k = 8;
+  const double s = 1.0;
+  // PCL: mean of the k nearest distances (the point itself excluded) as a float; the threshold
+  // mean + s * stddev (n - 1) over all points; removed when above it.
+  std::vector<float> mean(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::vector<double> d = distancesFrom(points, i);
+    double sum = 0.0;
+    for (std::uint32_t j = 0; j < k; ++j) sum += std::sqrt(d[j]);
+    mean[i] = float(sum / k);
+  }
+  double sum = 0.0, squares = 0.0;
+  for (float m : mean) {
+    sum += m;
+    squares += double(m) * m;
+  }
+  const double nn = double(points.size());
+  const double threshold = sum / nn + s * std::sqrt((squares - sum * sum / nn) / (nn - 1.0));
+  std::vector<std::uint32_t> expected;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!(double(mean[i]) > threshold)) expected.push_back(std::uint32_t(i));
+  }
+  OutliersStep step;
+  step.k = k;
+  step.std_ratio = s;
+  const ProcessReport report = run(in, dir / "out.ply", {step});
+  EXPECT_EQ(report.input_points, points.size());
+  EXPECT_LT(expected.size(), points.size() - 30);  // the floating points are found
+  EXPECT_EQ(ids(readPointFile(dir / "out.ply")), expected);
+
+  // --mark-outliers: every point kept, the outliers as class 7, the others class 0.
+  step.mark = true;
+  run(in, dir / "marked.ply", {step});
+  const PointCloud marked = readPointFile(dir / "marked.ply");
+  ASSERT_EQ(marked.count, points.size());
+  ASSERT_TRUE(marked.hasClassification());
+  const std::set<std::uint32_t> inliers(expected.begin(), expected.end());
+  for (std::size_t i = 0; i < marked.count; ++i) {
+    EXPECT_EQ(marked.classification[i], inliers.count(std::uint32_t(i)) ? 0 : 7) << i;
+  }
+}
+
+TEST(ProcessOutliers, RadiusEqualsDefinition) {
+  TempDir dir;
+  const auto in = writeCloud(dir, "in.ply", terrainWithNoise(3000, 4));
+  const std::vector<Xyz> points = readPositions(in);
+  OutliersStep step;
+  step.method = OutliersStep::Method::kRadius;
+  step.radius = 0.9;
+  step.min_neighbours = 3;
+  std::vector<std::uint32_t> expected;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::size_t within = 0;
+    for (std::size_t j = 0; j < points.size(); ++j)
+      within += j != i && d2(points[i], points[j]) <= 0.81;
+    if (within >= 3) expected.push_back(std::uint32_t(i));
+  }
+  run(in, dir / "out.ply", {step});
+  EXPECT_LT(expected.size(), points.size());
+  EXPECT_EQ(ids(readPointFile(dir / "out.ply")), expected);
+}
+
+TEST(ProcessSubsample, VoxelKeepsThePointNearestEachOccupiedVoxelsCentroid) {
+  TempDir dir;
+  const auto in = writeCloud(dir, "in.ply", terrainWithNoise(5000, 5));
+  const std::vector<Xyz> points = readPositions(in);
+  const double size = 1.5;
+  Xyz corner = points[0];
+  for (const Xyz& p : points) {
+    for (int a = 0; a < 3; ++a)
+      corner[std::size_t(a)] = std::min(corner[std::size_t(a)], p[std::size_t(a)]);
+  }
+  std::map<std::array<std::int64_t, 3>, std::vector<std::uint32_t>> voxels;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::array<std::int64_t, 3> key;
+    for (int a = 0; a < 3; ++a)
+      key[std::size_t(a)] =
+          std::int64_t(std::floor((points[i][std::size_t(a)] - corner[std::size_t(a)]) / size));
+    voxels[key].push_back(std::uint32_t(i));
+  }
+  std::vector<std::uint32_t> expected;
+  for (const auto& [key, members] : voxels) {
+    Xyz c = {0, 0, 0};
+    for (std::uint32_t m : members) {
+      for (int a = 0; a < 3; ++a) c[std::size_t(a)] += points[m][std::size_t(a)];
+    }
+    for (double& v : c) v /= double(members.size());
+    std::uint32_t best = members[0];
+    for (std::uint32_t m : members) {
+      if (d2(points[m], c) < d2(points[best], c) - 1e-12) best = m;
+    }
+    expected.push_back(best);
+  }
+  std::sort(expected.begin(), expected.end());
+  SubsampleStep step;
+  step.size = size;
+  run(in, dir / "out.ply", {step});
+  const std::vector<std::uint32_t> kept = ids(readPointFile(dir / "out.ply"));
+  EXPECT_EQ(kept.size(), voxels.size()) << "one point per occupied voxel";
+  EXPECT_EQ(kept, expected);
+}
+
+TEST(ProcessSubsample, RandomKeepsExactlyNDistinctPoints) {
+  TempDir dir;
+  const auto in = writeCloud(dir, "in.ply", terrainWithNoise(5000, 6));
+  SubsampleStep step;
+  step.method = SubsampleStep::Method::kRandom;
+  step.count = 1234;
+  run(in, dir / "out.ply", {step});
+  const std::vector<std::uint32_t> kept = ids(readPointFile(dir / "out.ply"));
+  EXPECT_EQ(kept.size(), 1234u);
+  EXPECT_TRUE(std::is_sorted(kept.begin(), kept.end()));
+  EXPECT_EQ(std::set<std::uint32_t>(kept.begin(), kept.end()).size(), 1234u);
+  step.count = 10000;  // more than there are: all
+  run(in, dir / "all.ply", {step});
+  EXPECT_EQ(readPointFile(dir / "all.ply").count, 5000u);
+}
+
+TEST(ProcessDistance, NearestAndLocalPlaneEqualBruteForce) {
+  TempDir dir;
+  const auto in = writeCloud(dir, "in.ply", terrainWithNoise(2000, 7));
+  std::vector<Xyz> shifted = terrainWithNoise(2500, 8);
+  for (Xyz& p : shifted) p[2] += 0.3;
+  const auto ref = writeCloud(dir, "ref.ply", shifted);
+  const std::vector<Xyz> points = readPositions(in), reference = readPositions(ref);
+  DistanceStep step;
+  step.reference = ref;
+  run(in, dir / "out.ply", {step});
+  const PointCloud out = readPointFile(dir / "out.ply");
+  ASSERT_EQ(out.count, points.size());
+  const ScalarColumn* distance = out.findScalar("distance");
+  ASSERT_NE(distance, nullptr);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    double best = INFINITY;
+    for (const Xyz& r : reference) best = std::min(best, d2(points[i], r));
+    EXPECT_EQ(distance->valueAsDouble(i), double(float(std::sqrt(best)))) << i;
+  }
+}
+
+TEST(ProcessDistance, LocalPlaneOfAnExactPlaneGivesTheOffset) {
+  // Reference: the plane z = 0.2 x + 0.1 y sampled on a grid; points at known offsets along its
+  // normal, away from its edges.
+  TempDir dir;
+  std::vector<Xyz> plane_points, points;
+  for (int i = 0; i < 100; ++i) {
+    for (int j = 0; j < 100; ++j)
+      plane_points.push_back({i * 0.1, j * 0.1, 0.2 * i * 0.1 + 0.1 * j * 0.1});
+  }
+  const double len = std::sqrt(0.04 + 0.01 + 1.0);
+  const Xyz normal = {-0.2 / len, -0.1 / len, 1.0 / len};
+  std::vector<double> offsets;
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(2.0, 8.0), off(-0.3, 0.3);
+  for (int i = 0; i < 500; ++i) {
+    const double x = u(rng), y = u(rng), o = off(rng);
+    points.push_back({x + o * normal[0], y + o * normal[1], 0.2 * x + 0.1 * y + o * normal[2]});
+    offsets.push_back(std::abs(o));
+  }
+  const auto in = writeCloud(dir, "in.ply", points);
+  DistanceStep step;
+  step.reference = writeCloud(dir, "ref.ply", plane_points);
+  step.plane = true;
+  step.k = 8;
+  run(in, dir / "out.ply", {step});
+  const PointCloud out = readPointFile(dir / "out.ply");
+  const ScalarColumn* distance = out.findScalar("distance");
+  ASSERT_NE(distance, nullptr);
+  ASSERT_EQ(out.count, offsets.size());
+  for (std::size_t i = 0; i < out.count; ++i)
+    EXPECT_NEAR(distance->valueAsDouble(i), offsets[i], 2e-5) << i;
+}
+
+TEST(ProcessTiling, SameBytesAtAnyMemoryBudget) {
+  TempDir dir;
+  // With points far from everything, near tile edges and outside the rest's height: their
+  // halos grow in boxes around them (tile_queries.h) until their neighbours are in.
+  std::vector<Xyz> cloud = terrainWithNoise(60000, 9);
+  cloud.push_back({20.0, 20.0, 300.0});
+  cloud.push_back({-250.0, 5.0, 0.0});
+  cloud.push_back({10.0, 400.0, -40.0});
+  const auto in = writeCloud(dir, "in.ply", cloud);
+  const auto ref = writeCloud(dir, "ref.ply", terrainWithNoise(20000, 10));
+  NormalsStep normals;
+  normals.k = 12;
+  normals.curvature = true;
+  OutliersStep statistical;
+  statistical.k = 6;
+  statistical.std_ratio = 2.0;
+  OutliersStep radius;
+  radius.method = OutliersStep::Method::kRadius;
+  radius.radius = 0.5;
+  radius.min_neighbours = 2;
+  radius.mark = true;
+  SubsampleStep voxel;
+  voxel.size = 0.2;
+  SubsampleStep random;
+  random.method = SubsampleStep::Method::kRandom;
+  random.count = 20000;
+  DistanceStep distance;
+  distance.reference = ref;
+  DistanceStep plane = distance;
+  plane.plane = true;
+  const std::vector<ProcessStep> steps = {statistical, normals, radius, voxel, random, distance};
+  // 1 MB: tiles of 4096 points, so about fifteen tiles against one.
+  const ProcessReport small = run(in, dir / "small.ply", steps, 1);
+  const ProcessReport large = run(in, dir / "large.ply", steps, 16000);
+  EXPECT_GE(small.tiles, 10u);
+  EXPECT_EQ(large.tiles, 1u);
+  EXPECT_EQ(small.output_points, large.output_points);
+  auto bytes = [](const std::filesystem::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  const std::string a = bytes(dir / "small.ply");
+  EXPECT_GT(a.size(), 100000u);
+  EXPECT_TRUE(a == bytes(dir / "large.ply"));
+  // The local plane model too, and a LAS output.
+  run(in, dir / "small.las", {normals, plane}, 1);
+  run(in, dir / "large.las", {normals, plane}, 16000);
+  EXPECT_TRUE(bytes(dir / "small.las") == bytes(dir / "large.las"));
+  // Nothing is left beside the output.
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+    EXPECT_NE(entry.path().filename().string().front(), '.') << entry.path();
+  }
+}
+
+template <class Parse>
+std::string messageOf(Parse&& parse) {
+  try {
+    parse();
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(ProcessSteps, BadParametersAreErrorsNamingTheStep) {
+  EXPECT_EQ(messageOf([] { parseNormalsK("2"); }),
+            "--normals 2: K must be a whole number from 3 to 1000, got '2'");
+  EXPECT_EQ(messageOf([] { parseNormalsK("16x"); }),
+            "--normals 16x: K must be a whole number from 3 to 1000, got '16x'");
+  EXPECT_EQ(messageOf([] { parseNormalsRadius("-1"); }),
+            "--normals-radius -1: R must be a positive number, got '-1'");
+  EXPECT_EQ(messageOf([] { parseOutliers("statistical:8"); }),
+            "--outliers statistical:8: expected statistical:K,S (e.g. statistical:8,2)");
+  EXPECT_EQ(messageOf([] { parseOutliers("statistical:8,zero"); }),
+            "--outliers statistical:8,zero: S must be a positive number, got 'zero'");
+  EXPECT_EQ(messageOf([] { parseOutliers("radius:0.5,0"); }),
+            "--outliers radius:0.5,0: N must be a whole number from 1 to 100000, got '0'");
+  EXPECT_EQ(messageOf([] { parseOutliers("median:3"); }),
+            "--outliers median:3: expected statistical:K,S or radius:R,N, got 'median'");
+  EXPECT_EQ(messageOf([] { parseSubsample("voxel:0"); }),
+            "--subsample voxel:0: SIZE must be a positive number, got '0'");
+  EXPECT_EQ(messageOf([] { parseSubsample("grid:1"); }),
+            "--subsample grid:1: expected voxel:SIZE, spacing:D or random:N, got 'grid'");
+  NormalsStep normals;
+  EXPECT_EQ(messageOf([&] { parseOrientation("1,2", normals); }),
+            "--orient 1,2: expected up, sensor, propagate or X,Y,Z");
+  EXPECT_EQ(messageOf([&] { parseOrientation("1,b,3", normals); }),
+            "--orient 1,b,3: coordinate 2 must be a number, got 'b'");
+  DistanceStep distance;
+  EXPECT_EQ(messageOf([&] { parseLocalModel("quadric", distance); }),
+            "--local-model quadric: expected plane");
+  parseOrientation("1.5,-2,3e2", normals);
+  EXPECT_EQ(normals.orientation, NormalOrientation::kPoint);
+  EXPECT_EQ(normals.toward[2], 300.0);
+}
+
+TEST(ProcessSteps, UnavailableStepsAndOutputsFailBeforeAnyWork) {
+  TempDir dir;
+  const auto in = writeCloud(dir, "in.ply", terrainWithNoise(100, 11));
+  SubsampleStep spacing;
+  spacing.method = SubsampleStep::Method::kSpacing;
+  spacing.size = 1.0;
+  EXPECT_THROW(run(in, dir / "out.ply", {spacing}), std::invalid_argument);
+  NormalsStep normals;
+  normals.k = 8;
+  EXPECT_THROW(run(in, dir / "out.copc", {normals}), std::invalid_argument);
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.ply"));
+  DistanceStep distance;
+  distance.reference = dir / "missing.ply";
+  EXPECT_THROW(run(in, dir / "out.ply", {distance}), InputError);
+}
+
+}  // namespace
+}  // namespace parallax
