@@ -38,6 +38,16 @@ add_library(parallax_fast_float INTERFACE)
 target_include_directories(parallax_fast_float SYSTEM INTERFACE ${PARALLAX_FAST_FLOAT_INCLUDE})
 add_library(parallax::fast_float ALIAS parallax_fast_float)
 
+# LZF, the compression of PCD's binary_compressed data (PCL's own copy is liblzf's format).
+find_path(PARALLAX_LZF_INCLUDE liblzf/lzf.h)
+find_library(PARALLAX_LZF_LIBRARY lzf)
+parallax_require_package(PARALLAX_LZF_INCLUDE liblzf-dev "liblzf")
+parallax_require_package(PARALLAX_LZF_LIBRARY liblzf-dev "liblzf")
+add_library(parallax_lzf INTERFACE)
+target_include_directories(parallax_lzf SYSTEM INTERFACE ${PARALLAX_LZF_INCLUDE})
+target_link_libraries(parallax_lzf INTERFACE ${PARALLAX_LZF_LIBRARY})
+add_library(parallax::lzf ALIAS parallax_lzf)
+
 if(PARALLAX_BUILD_TESTS)
   find_package(GTest CONFIG QUIET)
   parallax_require_package(GTest_FOUND libgtest-dev "GoogleTest")

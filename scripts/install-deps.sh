@@ -10,6 +10,8 @@ packages=(
   build-essential cmake pkg-config dpkg-dev file clang-format
   # core, io, command line
   libtbb-dev libfast-float-dev libcli11-dev nlohmann-json3-dev
+  # PCD's binary_compressed data (LZF)
+  liblzf-dev
   # E57's XML section (src/io/e57)
   libxml2-dev
   # tests, benchmarks
@@ -25,6 +27,8 @@ packages=(
   # HTTP(S) byte ranges (src/net), and its tests: a real web server on loopback, the
   # fault-injecting proxy (Python 3 standard library) and a TLS certificate made by openssl
   libcurl4-openssl-dev nginx python3 openssl
+  # PCD's oracle in tests (tests/io/test_pcd_pcl.cpp): PCL's own converters
+  pcl-tools
   # the distributed conversion's driver (python/parallax_dask) and its tests: Dask distributed
   python3-distributed
   # processing (src/process): neighbour search, a k-d tree (header only)

@@ -6,8 +6,9 @@
 // anything large, declared in commands.h) and listing it in addBenchCommand below.
 //
 // bench load FILE [--repeat N]
-//   Loads FILE N times (default 5) with readPointFile, the path every command uses, and reports
-//   the median and best time, MB/s and M points/s. The reference, measured in the same run and
+//   Loads FILE N times (default 5) with readPointFile, the path every command uses (any format:
+//   binary PLY and binary PCD are compared this way), and reports the median and best time, MB/s
+//   and M points/s. The reference, measured in the same run and
 //   interleaved with the loads: open + read() of the whole file into a newly allocated buffer,
 //   which is the least any loader must do (the kernel copy and the first touch of fresh memory).
 //   "load / reference" says how much the parsing costs on top. One warm-up read comes first so

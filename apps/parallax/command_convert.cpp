@@ -58,6 +58,7 @@ struct ConvertArgs {
   std::string las_version;
   std::uint32_t laz_chunk = 50000;
   bool ascii = false;
+  std::string pcd_data = "binary";  // PCD output: ascii, binary or binary_compressed
   bool quiet = false;
   bool clean =
       false;  // --clean: remove the output's stale partial outputs (and stop without inputs)
@@ -352,6 +353,10 @@ int runConvert(ConvertArgs args) {
   const PointWriteOptions write_options{.ply_ascii = args.ascii,
                                         .las_minor_version = minor,
                                         .laz_chunk_points = args.laz_chunk,
+                                        .pcd_data = args.pcd_data == "ascii" ? PcdData::Ascii
+                                                    : args.pcd_data == "binary"
+                                                        ? PcdData::Binary
+                                                        : PcdData::BinaryCompressed,
                                         .properties = args.properties,
                                         .source = args.input};
 
@@ -440,7 +445,11 @@ Command addConvertCommand(CLI::App& app) {
   sub->add_option("--laz-chunk", args->laz_chunk,
                   "LAZ output: points a chunk (default 50000, LASzip's)")
       ->check(CLI::Range(std::uint32_t(1), std::uint32_t(100'000'000)));
-  sub->add_flag("--ascii", args->ascii, "PLY output: ascii instead of binary little endian");
+  sub->add_flag("--ascii", args->ascii,
+                "PLY output: ascii instead of binary little endian; PCD output: DATA ascii");
+  sub->add_option("--pcd-data", args->pcd_data,
+                  "PCD output: the DATA encoding, ascii, binary (default) or binary_compressed")
+      ->check(CLI::IsMember({"ascii", "binary", "binary_compressed"}));
   addFilterOptions(*sub, args->filter_options, "written");
   sub->add_flag("--plan", args->plan,
                 "Octree output: write the plan of a distributed build (WORK/plan.json) instead "

@@ -80,7 +80,16 @@ PointFormat detectPointFormat(const std::filesystem::path& path) {
   std::size_t got = std::fread(head.data(), 1, head.size(), file);
   std::fclose(file);
   head.resize(got);
-  return detectFormatOf(head);
+  const PointFormat format = detectFormatOf(head);
+  // A file whose content matched no signature (the fallback, text, or nothing) but whose name
+  // asks for a format with one: that format's reader says what is wrong with it (a PCD without
+  // its header would otherwise be read as plain text, silently).
+  const PointFormatEntry* row = format.entry();
+  if (row == nullptr || row->fallback) {
+    const PointFormatEntry* named = formatOfExtension(path).entry();
+    if (named != nullptr && !named->fallback && named->read) return formatOfExtension(path);
+  }
+  return format;
 }
 
 PointFileHeader readPointFileHeader(const std::filesystem::path& path) {

@@ -13,6 +13,7 @@
 
 #include "core/point_cloud.h"
 #include "core/progress.h"
+#include "io/pcd_header.h"
 #include "io/point_format.h"
 
 namespace parallax {
@@ -81,6 +82,8 @@ struct PointWriteOptions {
   bool ply_ascii = false;     // PLY: ascii instead of binary little endian
   int las_minor_version = 0;  // LAS, LAZ: 2 or 4; 0 chooses from the attributes (las_writer.h)
   std::uint32_t laz_chunk_points = 50000;  // LAZ: points a chunk (laz_writer.h)
+  // PCD: the DATA encoding (pcd_writer.h); ply_ascii also asks for ascii.
+  PcdData pcd_data = PcdData::Binary;
   // PLY and text (not PTS): the attributes to write, in this order (PointCloud::attributeOrder);
   // empty: all, in the source's order. LAS and LAZ records have a fixed layout: a non-empty list
   // is an InputError there.

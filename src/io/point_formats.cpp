@@ -17,6 +17,9 @@
 #include "io/laz_reader.h"
 #include "io/laz_writer.h"
 #include "io/mapped_file.h"
+#include "io/pcd_header.h"
+#include "io/pcd_reader.h"
+#include "io/pcd_writer.h"
 #include "io/ply_header.h"
 #include "io/ply_preview.h"
 #include "io/ply_property_map.h"
@@ -24,6 +27,9 @@
 #include "io/ply_writer.h"
 #include "io/point_file.h"
 #include "io/point_format.h"
+#include "io/pts_reader.h"
+#include "io/ptx_reader.h"
+#include "io/ptx_writer.h"
 #include "io/text_reader.h"
 #include "io/text_writer.h"
 
@@ -340,11 +346,11 @@ PointFormatEntry lazFormat() {
 PointFormatEntry textFormat() {
   PointFormatEntry row;
   row.id = "text";
-  row.name = "text (XYZ/CSV/PTS)";
+  row.name = "text (XYZ/CSV)";
   row.description =
       "text with x y z [r g b ...] a line, separated by blanks, commas or semicolons (.xyz .txt "
-      ".csv .asc .pts)";
-  row.extensions = {".xyz", ".txt", ".csv", ".asc", ".pts"};
+      ".csv .asc)";
+  row.extensions = {".xyz", ".txt", ".csv", ".asc"};
   // Printable bytes with a line of numbers: tried after every format with a signature.
   row.detect = [](std::span<const std::byte> head) { return looksLikeTextPoints(head); };
   row.fallback = true;
@@ -372,9 +378,180 @@ PointFormatEntry textFormat() {
                         const PointWriteOptions&) {
     return describeTextLosses(cloud, textOptionsForPath(path));
   };
-  row.fixed_layout = [](const std::filesystem::path& path) {
-    return textOptionsForPath(path).pts;  // x y z intensity r g b
+  return row;
+}
+
+// ---------------------------------------------------------------------------------------------
+// PCD (pcd_header.h, pcd_reader.h, pcd_writer.h)
+
+std::string formatNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.10g", v);
+  return text;
+}
+
+// The header alone: version, encoding, fields with size, type and count, grid, viewpoint.
+FormatDescription describePcd(const std::filesystem::path& path) {
+  const PcdHeader header = parsePcdHeader(readPrefix(path, 1 << 20), path.string());
+  FormatDescription out;
+  out.name = "pcd";
+  out.summary = "PCD " + header.version + " " + pcdDataName(header.data) + ", header " +
+                std::to_string(header.data_offset) + " bytes";
+  Json fields = Json::array();
+  for (const PcdField& f : header.fields) {
+    out.lines.push_back("  field " + f.name + " " + f.type + std::to_string(f.size) +
+                        (f.count > 1 ? " x " + std::to_string(f.count) : ""));
+    fields.push_back(
+        {{"name", f.name}, {"type", std::string(1, f.type)}, {"size", f.size}, {"count", f.count}});
+  }
+  out.lines.push_back("  grid " + std::to_string(header.width) + " x " +
+                      std::to_string(header.height) + (header.height > 1 ? " (organised)" : "") +
+                      ", " + std::to_string(header.points) + " points with the invalid (NaN) ones");
+  std::string viewpoint = "  viewpoint";
+  for (double v : header.viewpoint) viewpoint += " " + formatNumber(v);
+  out.lines.push_back(viewpoint + " (sensor x y z, qw qx qy qz)");
+  out.details = {
+      {"version", header.version},    {"data", pcdDataName(header.data)}, {"fields", fields},
+      {"width", header.width},        {"height", header.height},          {"points", header.points},
+      {"viewpoint", header.viewpoint}};
+  return out;
+}
+
+PointFormatEntry pcdFormat() {
+  PointFormatEntry row;
+  row.id = "pcd";
+  row.name = "PCD";
+  row.description = "PCD (Point Cloud Library: ascii, binary, binary_compressed; .pcd)";
+  row.extensions = {".pcd"};
+  row.detect = [](std::span<const std::byte> head) { return looksLikePcd(head); };
+  row.header = [](const std::filesystem::path& path) {
+    PointFileHeader out;
+    out.point_count = PcdChunkReader(path).pointCount();  // NaN points not counted
+    return out;
   };
+  row.read = [](const std::filesystem::path& path, const PointReadOptions& options) {
+    return readPcd(path, {.progress = options.progress, .parallel = options.parallel});
+  };
+  row.open_chunks = [](const std::filesystem::path& path, const ChunkSourceOptions& options) {
+    return std::unique_ptr<PointChunkSource>(
+        std::make_unique<PcdChunkReader>(path, options.quantization));
+  };
+  row.describe = describePcd;
+  row.write = [](const PointCloud& cloud, const std::filesystem::path& path,
+                 const PointWriteOptions& options) {
+    writePcd(cloud, path,
+             {.data = options.ply_ascii ? PcdData::Ascii : options.pcd_data,
+              .progress = options.progress,
+              .properties = options.properties});
+  };
+  // PCD holds every column of the model: write_losses stays empty.
+  return row;
+}
+
+// ---------------------------------------------------------------------------------------------
+// PTX and PTS (ptx_reader.h, ptx_writer.h, pts_reader.h)
+
+FormatDescription describePtx(const std::filesystem::path& path) {
+  const std::vector<PtxScan> scans = readPtxScans(path);
+  FormatDescription out;
+  out.name = "ptx";
+  out.summary = "PTX, " + std::to_string(scans.size()) + " scan" + (scans.size() == 1 ? "" : "s");
+  Json list = Json::array();
+  for (std::size_t i = 0; i < scans.size(); ++i) {
+    const PtxScan& scan = scans[i];
+    out.lines.push_back("  scan " + std::to_string(i) + ": " + std::to_string(scan.columns) +
+                        " x " + std::to_string(scan.rows) + ", " + std::to_string(scan.points) +
+                        " points kept, scanner at (" + formatNumber(scan.position[0]) + ", " +
+                        formatNumber(scan.position[1]) + ", " + formatNumber(scan.position[2]) +
+                        ")");
+    list.push_back({{"columns", scan.columns},
+                    {"rows", scan.rows},
+                    {"points", scan.points},
+                    {"position", scan.position},
+                    {"transform", scan.transform}});
+  }
+  out.details = {{"scans", list}};
+  return out;
+}
+
+PointFormatEntry ptxFormat() {
+  PointFormatEntry row;
+  row.id = "ptx";
+  row.name = "PTX";
+  row.description = "PTX (Leica structured text, several scans with their transforms; .ptx)";
+  row.extensions = {".ptx"};
+  row.detect = [](std::span<const std::byte> head) { return looksLikePtx(head); };
+  row.header = [](const std::filesystem::path& path) {
+    PointFileHeader out;
+    std::uint64_t points = 0;
+    for (const PtxScan& scan : readPtxScans(path)) points += scan.points;
+    out.point_count = points;
+    return out;
+  };
+  row.read = [](const std::filesystem::path& path, const PointReadOptions& options) {
+    return readPtx(path, {.progress = options.progress});
+  };
+  row.open_chunks = [](const std::filesystem::path& path, const ChunkSourceOptions& options) {
+    return std::unique_ptr<PointChunkSource>(
+        std::make_unique<PtxChunkReader>(path, options.quantization));
+  };
+  row.describe = describePtx;
+  row.write = [](const PointCloud& cloud, const std::filesystem::path& path,
+                 const PointWriteOptions& options) {
+    if (!options.properties.empty()) {
+      throw std::invalid_argument(path.string() +
+                                  ": PTX records have a fixed layout (x y z intensity [r g b]), "
+                                  "no attribute order to choose");
+    }
+    writePtx(cloud, path, {.progress = options.progress});
+  };
+  row.write_losses = [](const PointCloud& cloud, const std::filesystem::path&,
+                        const PointWriteOptions&) {
+    std::vector<std::string> losses;
+    for (const std::string& name : cloud.attributeNames()) {
+      if (name == "x" || name == "y" || name == "z" || name == "red" || name == "green" ||
+          name == "blue" || name == "intensity" || name == kScanIndexColumn) {
+        continue;
+      }
+      losses.push_back(name + " (PTX holds x y z intensity r g b)");
+    }
+    return losses;
+  };
+  row.fixed_layout = [](const std::filesystem::path&) { return true; };
+  return row;
+}
+
+PointFormatEntry ptsFormat() {
+  PointFormatEntry row;
+  row.id = "pts";
+  row.name = "PTS";
+  row.description = "PTS (Leica: a count line, then x y z intensity [r g b]; .pts)";
+  row.extensions = {".pts"};
+  row.detect = [](std::span<const std::byte> head) { return looksLikePts(head); };
+  row.header = [](const std::filesystem::path&) { return PointFileHeader{}; };
+  row.count_points = [](const std::filesystem::path& path) {
+    return countTextPoints(path, {.pts = true});
+  };
+  row.min_point_bytes = 8;  // "1 2 3 4\n"
+  row.read = [](const std::filesystem::path& path, const PointReadOptions& options) {
+    return readPts(path, {.progress = options.progress, .parallel = options.parallel});
+  };
+  row.open_chunks = [](const std::filesystem::path& path, const ChunkSourceOptions& options) {
+    return std::unique_ptr<PointChunkSource>(std::make_unique<TextChunkReader>(
+        path, TextReadOptions{.columns = options.text_columns, .pts = true}, options.quantization));
+  };
+  row.write = [](const PointCloud& cloud, const std::filesystem::path& path,
+                 const PointWriteOptions& options) {
+    TextWriteOptions text = textOptionsForPath(path);
+    text.progress = options.progress;
+    text.properties = options.properties;  // refused: PTS has a fixed layout
+    writeText(cloud, path, text);
+  };
+  row.write_losses = [](const PointCloud& cloud, const std::filesystem::path& path,
+                        const PointWriteOptions&) {
+    return describeTextLosses(cloud, textOptionsForPath(path));
+  };
+  row.fixed_layout = [](const std::filesystem::path&) { return true; };  // x y z i r g b
   return row;
 }
 
@@ -388,6 +565,9 @@ std::vector<PointFormatEntry> builtInPointFormats() {
   rows.push_back(lasFormat());
   rows.push_back(lazFormat());
   rows.push_back(e57Format());
+  rows.push_back(pcdFormat());
+  rows.push_back(ptxFormat());
+  rows.push_back(ptsFormat());
   rows.push_back(textFormat());
   return rows;
 }
