@@ -13,6 +13,7 @@
 #include "loopback_servers.h"
 #include "support/run_parallax.h"
 #include "support/temp_dir.h"
+#include "support/test_data.h"
 
 namespace parallax {
 namespace {
@@ -28,8 +29,7 @@ TEST(HttpExtract, ARegionOfARemoteCopcFileFetchesOnlyTheNodesThatMeetIt) {
   test::TempDir dir;
   std::filesystem::create_directories(dir / "www");
   const std::filesystem::path local = dir / "www" / "ellipsoid.copc.laz";
-  std::filesystem::copy_file(std::filesystem::path(PARALLAX_LAZ_DATA) / "ellipsoid.copc.laz",
-                             local);
+  std::filesystem::copy_file(test::testDataFile("laz/ellipsoid.copc.laz"), local);
   ::setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);  // a fresh range cache
   Nginx nginx(dir / "nginx", {.root = dir / "www"});
   const std::string url = nginx.url("ellipsoid.copc.laz");

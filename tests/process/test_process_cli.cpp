@@ -4,6 +4,7 @@
 
 #include "io/point_file.h"
 #include "support/run_parallax.h"
+#include "support/test_data.h"
 
 namespace parallax {
 namespace {
@@ -11,18 +12,16 @@ namespace {
 using test::runParallax;
 using test::TempDir;
 
-const std::filesystem::path kLas = std::filesystem::path(PARALLAX_LAZ_DATA) / "1815.las";
-
 TEST(ProcessCli, StepsRunInTheOrderGivenAndAttributesAreKept) {
   TempDir dir;
-  ASSERT_TRUE(std::filesystem::exists(kLas)) << kLas;
-  const PointCloud input = readPointFile(kLas);
+  const std::filesystem::path las = test::testDataFile("laz/1815.las");
+  const PointCloud input = readPointFile(las);
   // Subsampling to 300 points then normals: every output point has a normal. Normals then
   // subsampling gives the same points (normals remove nothing) but from other neighbourhoods.
-  auto a = runParallax(dir, "process " + kLas.string() + " -o " + (dir / "a.ply").string() +
+  auto a = runParallax(dir, "process " + las.string() + " -o " + (dir / "a.ply").string() +
                                 " --subsample random:300 --normals 8 -q");
   ASSERT_EQ(a.exit_code, 0) << a.err;
-  auto b = runParallax(dir, "process " + kLas.string() + " -o " + (dir / "b.ply").string() +
+  auto b = runParallax(dir, "process " + las.string() + " -o " + (dir / "b.ply").string() +
                                 " --normals 8 --subsample random:300 -q");
   ASSERT_EQ(b.exit_code, 0) << b.err;
   const PointCloud pa = readPointFile(dir / "a.ply"), pb = readPointFile(dir / "b.ply");
@@ -43,13 +42,14 @@ TEST(ProcessCli, StepsRunInTheOrderGivenAndAttributesAreKept) {
 
 TEST(ProcessCli, BadParametersExitWithTheStepNamed) {
   TempDir dir;
-  auto r = runParallax(dir, "process " + kLas.string() + " -o " + (dir / "o.ply").string() +
+  const std::filesystem::path las = test::testDataFile("laz/1815.las");
+  auto r = runParallax(dir, "process " + las.string() + " -o " + (dir / "o.ply").string() +
                                 " --normals 16 --outliers statistical:8");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("--outliers statistical:8: expected statistical:K,S"), std::string::npos)
       << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "o.ply"));
-  r = runParallax(dir, "process " + kLas.string() + " -o " + (dir / "o.ply").string());
+  r = runParallax(dir, "process " + las.string() + " -o " + (dir / "o.ply").string());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("no step given"), std::string::npos) << r.err;
   r = runParallax(dir, "process " + (dir / "missing.las").string() + " -o " +
