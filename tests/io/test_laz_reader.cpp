@@ -1,4 +1,4 @@
-// The LAZ reader on real files written by LASzip and PDAL (tests/data/laz): every record of every
+// The LAZ reader on real files written by LASzip and PDAL (PARALLAX_TEST_DATA/laz): every record of every
 // file with an uncompressed twin decodes to exactly the twin's bytes, and the clouds read through
 // readPointFile are the twins' clouds.
 #include <gtest/gtest.h>

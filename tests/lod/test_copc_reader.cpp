@@ -1,4 +1,4 @@
-// The COPC reader on the two real COPC files of tests/data/laz (written by PDAL / untwine and
+// The COPC reader on the two real COPC files of PARALLAX_TEST_DATA/laz (written by PDAL / untwine and
 // copc.js's authors, not by Parallax): every node read, keys and boxes, and every point of every
 // node equal to what the plain LAZ reader gives for the same point of the file.
 #include "lod/copc_reader.h"
