@@ -250,14 +250,19 @@ TEST(PlyReaderErrors, ReadPlyNamesTheFileOnDisk) {
 // ---------------------------------------------------------------------------------------------
 // Binary body
 
+// A file of two x y z points whose header claims `vertex_count` of them.
+std::string twoPointsClaiming(PlyFormat format, const std::string& vertex_count) {
+  std::string file = plyHeader(format, {"element vertex " + vertex_count, "property float x",
+                                        "property float y", "property float z"});
+  PlyBody body(format);
+  body.put(1.0f).put(2.0f).put(3.0f).end().put(4.0f).put(5.0f).put(6.0f).end();
+  return file + body.bytes();
+}
+
 TEST(PlyReaderErrors, CountLargerThanTheFileCanHoldFailsFastWithoutAllocating) {
   for (PlyFormat format : test::kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    std::string file = plyHeader(format, {"element vertex 1000000000000", "property float x",
-                                          "property float y", "property float z"});
-    PlyBody body(format);
-    body.put(1.0f).put(2.0f).put(3.0f).end().put(4.0f).put(5.0f).put(6.0f).end();
-    file += body.bytes();
+    const std::string file = twoPointsClaiming(format, "1000000000000");
     test::AllocationScope allocations;
     CaughtInputError caught = readError(file);
     EXPECT_LT(allocations.bytes(), kFailFastBytes);
@@ -272,11 +277,7 @@ TEST(PlyReaderErrors, CountLargerThanTheFileCanHoldFailsFastWithoutAllocating) {
 TEST(PlyReaderErrors, PlausibleCountBeyondTheFileAllocatesNoColumns) {
   for (PlyFormat format : test::kAllPlyFormats) {
     SCOPED_TRACE(test::formatKeyword(format));
-    std::string file = plyHeader(format, {"element vertex 10000000", "property float x",
-                                          "property float y", "property float z"});
-    PlyBody body(format);
-    body.put(1.0f).put(2.0f).put(3.0f).end().put(4.0f).put(5.0f).put(6.0f).end();
-    file += body.bytes();
+    const std::string file = twoPointsClaiming(format, "10000000");
     test::AllocationScope allocations;
     CaughtInputError caught = readError(file);
     EXPECT_LT(allocations.bytes(), kFailFastBytes);
