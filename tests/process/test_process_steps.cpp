@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "io/e57/e57_writer.h"
 #include "io/ply_writer.h"
 #include "io/point_file.h"
 #include "process/process_runner.h"
@@ -333,6 +334,43 @@ TEST(ProcessNormals, OrientSensorFromPtxScansAndPcdViewpoint) {
   z = normalZ(readPointFile(dir / "pcd.ply"));
   ASSERT_EQ(z.size(), a.size());
   for (std::size_t i = 0; i < z.size(); ++i) EXPECT_NEAR(z[i], -1.0, 1e-6) << i;
+}
+
+TEST(ProcessNormals, OrientSensorFromE57ScanPoses) {
+  // Two scans of the plane z = 0 in their own frames (the plane moved by minus the pose's
+  // translation), the first scanner below the plane, the second above.
+  TempDir dir;
+  const std::array<std::vector<Xyz>, 2> plane = {planeGrid(12, 0.0), planeGrid(12, 5.0)};
+  const std::array<std::array<double, 3>, 2> scanner = {{{1.0, 1.0, -10.0}, {6.0, 1.0, 10.0}}};
+  std::vector<E57ScanSource> scans(2);
+  for (std::size_t s = 0; s < 2; ++s) {
+    E57ScanSource& scan = scans[s];
+    scan.name = "scan " + std::to_string(s);
+    scan.record_count = plane[s].size();
+    scan.pose.translation = scanner[s];
+    for (const char* name : {"cartesianX", "cartesianY", "cartesianZ"}) {
+      E57Field f;
+      f.name = name;
+      f.kind = E57Field::Kind::Float;
+      scan.fields.push_back(f);
+    }
+    scan.fill = [&, s](std::uint64_t first, std::size_t count,
+                       std::vector<std::vector<double>>& values) {
+      for (std::size_t k = 0; k < count; ++k) {
+        for (std::size_t a = 0; a < 3; ++a) values[a][k] = plane[s][first + k][a] - scanner[s][a];
+      }
+    };
+  }
+  const auto in = dir / "scans.e57";
+  writeE57Scans(scans, in);
+  NormalsStep step;
+  step.k = 8;
+  step.orientation = NormalOrientation::kSensor;
+  run(in, dir / "out.ply", {step});
+  const std::vector<double> z = normalZ(readPointFile(dir / "out.ply"));
+  ASSERT_EQ(z.size(), plane[0].size() + plane[1].size());
+  for (std::size_t i = 0; i < z.size(); ++i)
+    EXPECT_NEAR(z[i], i < plane[0].size() ? -1.0 : 1.0, 1e-5) << i;
 }
 
 TEST(ProcessNormals, OrientSensorWithoutAScannerPositionIsAnErrorNamingTheFile) {
