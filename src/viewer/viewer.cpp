@@ -172,6 +172,10 @@ void showOpenedOctree(Session& s, std::unique_ptr<Octree> octree,
   }
   // The attenuated size needs a spacing before any node is drawn: about a level-3 node's.
   if (s.settings.world_size <= 0) s.settings.world_size = float(s.octree->info().spacing / 4.0);
+  if (!s.settings.scalar.field.empty()) {
+    s.status = "colour by " + s.settings.scalar.field +
+               ": scalar attributes are coloured on whole clouds; the octree is drawn without";
+  }
 }
 
 void showOctree(Session& s, const std::filesystem::path& directory,
