@@ -537,6 +537,11 @@ TEST(ProcessSubsample, SpacingKeepsNoTwoPointsCloserThanDAndEqualsTheGreedyDefin
   EXPECT_EQ(kept, expected);
   EXPECT_EQ(ids(readPointFile(dir / "many.ply")), expected);
   EXPECT_LT(kept.size(), points.size() / 4);
+  // D wider than a slab (two slabs of about 20 units): a column spans both, and the column
+  // before it was decided by the other.
+  step.size = 27.0;
+  run(in, dir / "wide.ply", {step}, 1);
+  EXPECT_EQ(ids(readPointFile(dir / "wide.ply")), greedySpacing(points, 27.0));
   // The two properties of the result, checked directly: no two kept points closer than D, and
   // every removed point within D of a kept one.
   std::vector<bool> is_kept(points.size(), false);
