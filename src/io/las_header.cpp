@@ -5,6 +5,7 @@
 #include <cstring>
 #include <sstream>
 
+#include "core/byte_order.h"
 #include "core/error.h"
 #include "io/laz/laz_layout.h"
 #include "io/mapped_file.h"
@@ -16,13 +17,6 @@ static_assert(std::endian::native == std::endian::little, "LAS decoding assumes 
 
 // LAS 1.4 R15 Table 7 (point format sizes 0-10).
 constexpr std::array<std::size_t, 11> kFormatSizes = {20, 28, 26, 34, 57, 63, 30, 36, 38, 59, 67};
-
-template <class T>
-T load(const std::byte* p) {
-  T value;
-  std::memcpy(&value, p, sizeof value);
-  return value;
-}
 
 // A fixed-size char field: up to the first NUL, trailing spaces removed.
 std::string loadText(const std::byte* p, std::size_t size) {
@@ -87,12 +81,12 @@ void parseExtraBytes(LasHeader& header, const LasVlr& vlr, const std::string& fi
   std::size_t offset = lasPointFormatSize(header.point_format);
   for (std::size_t pos = 0; pos < vlr.data.size(); pos += kLasExtraBytesDescriptorSize) {
     const std::byte* d = vlr.data.data() + pos;
-    int data_type = int(load<std::uint8_t>(d + 2));
-    int options = int(load<std::uint8_t>(d + 3));
+    int data_type = int(loadLE<std::uint8_t>(d + 2));
+    int options = int(loadLE<std::uint8_t>(d + 3));
     std::string name = loadText(d + 4, 32);
     std::string description = loadText(d + 160, 32);
     if (name.empty()) name = "extra_" + std::to_string(header.extra_bytes.size());
-    double scale = load<double>(d + 112), value_offset = load<double>(d + 136);
+    double scale = loadLE<double>(d + 112), value_offset = loadLE<double>(d + 136);
     bool scaled = (options & (8 | 16)) != 0;
     if (!(options & 8)) scale = 1.0;
     if (!(options & 16)) value_offset = 0.0;
@@ -143,11 +137,11 @@ void parseGeoKeys(LasCrs& crs, const LasVlr& vlr) {
   // per key (id, tag location, count, value or offset). Location 0 means the value is inline.
   std::size_t words = vlr.data.size() / 2;
   if (words < 4) return;
-  std::size_t keys = load<std::uint16_t>(vlr.data.data() + 6);
+  std::size_t keys = loadLE<std::uint16_t>(vlr.data.data() + 6);
   for (std::size_t k = 0; k < keys && 4 + 4 * k + 3 < words; ++k) {
     const std::byte* p = vlr.data.data() + 8 + 8 * k;
-    LasGeoKey key{load<std::uint16_t>(p), load<std::uint16_t>(p + 2), load<std::uint16_t>(p + 4),
-                  load<std::uint16_t>(p + 6)};
+    LasGeoKey key{loadLE<std::uint16_t>(p), loadLE<std::uint16_t>(p + 2),
+                  loadLE<std::uint16_t>(p + 4), loadLE<std::uint16_t>(p + 6)};
     crs.geo_keys.push_back(key);
     if (key.location != 0) continue;
     if (key.id == 3072) crs.projected_epsg = key.value;
@@ -169,8 +163,8 @@ void readVlrs(LasHeader& header, std::span<const std::byte> bytes, const std::st
     const std::byte* p = bytes.data() + pos;
     LasVlr vlr;
     vlr.user_id = loadText(p + 2, 16);
-    vlr.record_id = load<std::uint16_t>(p + 18);
-    vlr.data_size = load<std::uint16_t>(p + 20);
+    vlr.record_id = loadLE<std::uint16_t>(p + 18);
+    vlr.data_size = loadLE<std::uint16_t>(p + 20);
     vlr.description = loadText(p + 22, 32);
     vlr.data_offset = pos + kLasVlrHeaderSize;
     if (vlr.data_offset + vlr.data_size > header.point_data_offset) {
@@ -200,8 +194,8 @@ void readVlrs(LasHeader& header, std::span<const std::byte> bytes, const std::st
     LasVlr vlr;
     vlr.extended = true;
     vlr.user_id = loadText(p + 2, 16);
-    vlr.record_id = load<std::uint16_t>(p + 18);
-    vlr.data_size = load<std::uint64_t>(p + 20);
+    vlr.record_id = loadLE<std::uint16_t>(p + 18);
+    vlr.data_size = loadLE<std::uint64_t>(p + 20);
     vlr.description = loadText(p + 28, 32);
     vlr.data_offset = pos + kLasEvlrHeaderSize;
     if (vlr.data_size > bytes.size() - vlr.data_offset) {
@@ -271,7 +265,7 @@ bool hasLasSignature(std::span<const std::byte> bytes) {
 bool looksLikeLaz(std::span<const std::byte> bytes) {
   if (!hasLasSignature(bytes) || bytes.size() < kLasHeaderSize12) return false;
   // LASzip sets bit 7 (and in its compatibility mode bit 6) of the point format byte.
-  return (load<std::uint8_t>(bytes.data() + 104) & 0xC0) != 0;
+  return (loadLE<std::uint8_t>(bytes.data() + 104) & 0xC0) != 0;
 }
 
 LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& file) {
@@ -287,22 +281,22 @@ LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& fi
   }
   const std::byte* h = bytes.data();
   LasHeader header;
-  header.file_source_id = load<std::uint16_t>(h + 4);
-  header.global_encoding = load<std::uint16_t>(h + 6);
-  header.version_major = load<std::uint8_t>(h + 24);
-  header.version_minor = load<std::uint8_t>(h + 25);
+  header.file_source_id = loadLE<std::uint16_t>(h + 4);
+  header.global_encoding = loadLE<std::uint16_t>(h + 6);
+  header.version_major = loadLE<std::uint8_t>(h + 24);
+  header.version_minor = loadLE<std::uint8_t>(h + 25);
   if (header.version_major != 1 || header.version_minor > 4) {
     fail(file, 24, "version", "1.0 to 1.4", header.versionString());
   }
   header.system_identifier = loadText(h + 26, 32);
   header.generating_software = loadText(h + 58, 32);
-  header.creation_day = load<std::uint16_t>(h + 90);
-  header.creation_year = load<std::uint16_t>(h + 92);
-  header.header_size = load<std::uint16_t>(h + 94);
-  header.point_data_offset = load<std::uint32_t>(h + 96);
-  header.vlr_count = load<std::uint32_t>(h + 100);
-  std::uint8_t format_byte = load<std::uint8_t>(h + 104);
-  header.record_length = load<std::uint16_t>(h + 105);
+  header.creation_day = loadLE<std::uint16_t>(h + 90);
+  header.creation_year = loadLE<std::uint16_t>(h + 92);
+  header.header_size = loadLE<std::uint16_t>(h + 94);
+  header.point_data_offset = loadLE<std::uint32_t>(h + 96);
+  header.vlr_count = loadLE<std::uint32_t>(h + 100);
+  std::uint8_t format_byte = loadLE<std::uint8_t>(h + 104);
+  header.record_length = loadLE<std::uint16_t>(h + 105);
   const bool compressed = (format_byte & 0xC0) != 0;
   format_byte &= 0x3F;
 
@@ -334,12 +328,12 @@ LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& fi
          std::to_string(header.record_length));
   }
 
-  std::uint64_t legacy_count = load<std::uint32_t>(h + 107);
+  std::uint64_t legacy_count = loadLE<std::uint32_t>(h + 107);
   for (int r = 0; r < 5; ++r)
-    header.points_by_return[std::size_t(r)] = load<std::uint32_t>(h + 111 + 4 * r);
+    header.points_by_return[std::size_t(r)] = loadLE<std::uint32_t>(h + 111 + 4 * r);
   for (int axis = 0; axis < 3; ++axis) {
-    double scale = load<double>(h + 131 + 8 * axis);
-    double offset = load<double>(h + 155 + 8 * axis);
+    double scale = loadLE<double>(h + 131 + 8 * axis);
+    double offset = loadLE<double>(h + 155 + 8 * axis);
     if (!std::isfinite(scale) || scale == 0.0 || !std::isfinite(offset)) {
       fail(file, std::uint64_t(131 + 8 * axis),
            std::string("xyz").substr(std::size_t(axis), 1) + " scale factor",
@@ -348,19 +342,19 @@ LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& fi
     }
     header.quantization.scale[std::size_t(axis)] = scale;
     header.quantization.offset[std::size_t(axis)] = offset;
-    header.bounds.max[std::size_t(axis)] = load<double>(h + 179 + 16 * axis);
-    header.bounds.min[std::size_t(axis)] = load<double>(h + 187 + 16 * axis);
+    header.bounds.max[std::size_t(axis)] = loadLE<double>(h + 179 + 16 * axis);
+    header.bounds.min[std::size_t(axis)] = loadLE<double>(h + 187 + 16 * axis);
   }
   header.point_count = legacy_count;
-  if (header.version_minor >= 3) header.waveform_offset = load<std::uint64_t>(h + 227);
+  if (header.version_minor >= 3) header.waveform_offset = loadLE<std::uint64_t>(h + 227);
   if (header.version_minor >= 4) {
-    header.evlr_offset = load<std::uint64_t>(h + 235);
-    header.evlr_count = load<std::uint32_t>(h + 243);
-    std::uint64_t count = load<std::uint64_t>(h + 247);
+    header.evlr_offset = loadLE<std::uint64_t>(h + 235);
+    header.evlr_count = loadLE<std::uint32_t>(h + 243);
+    std::uint64_t count = loadLE<std::uint64_t>(h + 247);
     // Writers of formats 0-5 may fill only the legacy count; the 64-bit one wins when set.
     if (count != 0) header.point_count = count;
     for (int r = 0; r < 15; ++r) {
-      std::uint64_t n = load<std::uint64_t>(h + 255 + 8 * r);
+      std::uint64_t n = loadLE<std::uint64_t>(h + 255 + 8 * r);
       if (n != 0 || r >= 5) header.points_by_return[std::size_t(r)] = n;
     }
   }

@@ -3,17 +3,11 @@
 #include <algorithm>
 #include <cstring>
 
+#include "core/byte_order.h"
 #include "io/las_reader.h"
 
 namespace parallax {
 namespace {
-
-template <class T>
-T load(const std::byte* p) {
-  T value;
-  std::memcpy(&value, p, sizeof value);
-  return value;
-}
 
 void addBits(LasDecodePlan& plan, const char* name, std::size_t offset, int shift, int mask) {
   plan.fields.push_back(
@@ -139,15 +133,15 @@ void storeColors(const std::byte* c, std::size_t stride, std::size_t m, bool col
   if (colors_8bit) {
     for (std::size_t i = 0; i < m; ++i) {
       const std::byte* p = c + i * stride;
-      rgba[i] = {std::uint8_t(load<std::uint16_t>(p)), std::uint8_t(load<std::uint16_t>(p + 2)),
-                 std::uint8_t(load<std::uint16_t>(p + 4)), 255};
+      rgba[i] = {std::uint8_t(loadLE<std::uint16_t>(p)), std::uint8_t(loadLE<std::uint16_t>(p + 2)),
+                 std::uint8_t(loadLE<std::uint16_t>(p + 4)), 255};
     }
   } else {
     auto to8 = [](std::uint16_t v) { return std::uint8_t((unsigned(v) + 128) / 257); };
     for (std::size_t i = 0; i < m; ++i) {
       const std::byte* p = c + i * stride;
-      rgba[i] = {to8(load<std::uint16_t>(p)), to8(load<std::uint16_t>(p + 2)),
-                 to8(load<std::uint16_t>(p + 4)), 255};
+      rgba[i] = {to8(loadLE<std::uint16_t>(p)), to8(loadLE<std::uint16_t>(p + 2)),
+                 to8(loadLE<std::uint16_t>(p + 4)), 255};
     }
   }
 }
@@ -156,8 +150,8 @@ bool anyAbove255(const std::byte* c, std::size_t stride, std::size_t m) {
   unsigned all = 0;
   for (std::size_t i = 0; i < m; ++i) {
     const std::byte* p = c + i * stride;
-    all |=
-        unsigned(load<std::uint16_t>(p)) | load<std::uint16_t>(p + 2) | load<std::uint16_t>(p + 4);
+    all |= unsigned(loadLE<std::uint16_t>(p)) | loadLE<std::uint16_t>(p + 2) |
+           loadLE<std::uint16_t>(p + 4);
   }
   return all > 255;
 }
@@ -206,7 +200,7 @@ void decodeLasRecords(const std::byte* records, std::size_t n, const LasDecodePl
     }
     float* intensity = out.intensity.data() + o;
     for (std::size_t i = 0; i < m; ++i)
-      intensity[i] = float(load<std::uint16_t>(r + i * stride + 12));
+      intensity[i] = float(loadLE<std::uint16_t>(r + i * stride + 12));
     std::uint8_t* cls = out.classification.data() + o;
     if (plan.extended) {
       for (std::size_t i = 0; i < m; ++i) cls[i] = std::uint8_t(r[i * stride + 16]);
@@ -253,13 +247,14 @@ void decodeLasRecords(const std::byte* records, std::size_t n, const LasDecodePl
         }
         case LasFieldDecoder::Kind::Int64ToDouble: {
           double* dst = column.as<double>() + o;
-          for (std::size_t i = 0; i < m; ++i) dst[i] = double(load<std::int64_t>(src + i * stride));
+          for (std::size_t i = 0; i < m; ++i)
+            dst[i] = double(loadLE<std::int64_t>(src + i * stride));
           break;
         }
         case LasFieldDecoder::Kind::UInt64ToDouble: {
           double* dst = column.as<double>() + o;
           for (std::size_t i = 0; i < m; ++i)
-            dst[i] = double(load<std::uint64_t>(src + i * stride));
+            dst[i] = double(loadLE<std::uint64_t>(src + i * stride));
           break;
         }
         case LasFieldDecoder::Kind::Scaled: {
@@ -268,7 +263,7 @@ void decodeLasRecords(const std::byte* records, std::size_t n, const LasDecodePl
           withExtraType(field.data_type, [&](auto zero) {
             using T = decltype(zero);
             for (std::size_t i = 0; i < m; ++i) {
-              dst[i] = double(load<T>(src + i * stride)) * scale + add;
+              dst[i] = double(loadLE<T>(src + i * stride)) * scale + add;
             }
           });
           break;

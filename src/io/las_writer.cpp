@@ -11,6 +11,7 @@
 #include <ctime>
 #include <mutex>
 
+#include "core/byte_order.h"
 #include "io/las_reader.h"
 #include "io/laz/laz_layout.h"
 #include "io/laz_writer.h"
@@ -352,11 +353,6 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options) {
 }
 
 template <class T>
-void store(std::byte* p, T value) {
-  std::memcpy(p, &value, sizeof value);
-}
-
-template <class T>
 T clampRound(double v) {
   if constexpr (std::is_floating_point_v<T>) {
     return T(v);
@@ -389,7 +385,7 @@ void encodeBlock(const PointCloud& cloud, const Layout& layout, std::size_t firs
   if (cloud.hasIntensity()) {
     const float* intensity = cloud.intensity.data() + first;
     for (std::size_t i = 0; i < n; ++i) {
-      store(out + i * stride + 12, clampRound<std::uint16_t>(intensity[i]));
+      storeLE(out + i * stride + 12, clampRound<std::uint16_t>(intensity[i]));
     }
   }
   for (const BitTarget& target : layout.bits) {
@@ -405,7 +401,7 @@ void encodeBlock(const PointCloud& cloud, const Layout& layout, std::size_t firs
     withType(target.type, [&](auto zero) {
       using T = decltype(zero);
       for (std::size_t i = 0; i < n; ++i) {
-        store(out + i * stride + target.offset, clampRound<T>(values[i] * target.factor));
+        storeLE(out + i * stride + target.offset, clampRound<T>(values[i] * target.factor));
       }
     });
   }
@@ -442,8 +438,8 @@ void encodeBlock(const PointCloud& cloud, const Layout& layout, std::size_t firs
 std::vector<std::byte> vlrBytes(const LasVlr& vlr) {
   std::vector<std::byte> bytes(kLasVlrHeaderSize + vlr.data.size());
   std::memcpy(bytes.data() + 2, vlr.user_id.data(), std::min<std::size_t>(16, vlr.user_id.size()));
-  store(bytes.data() + 18, vlr.record_id);
-  store(bytes.data() + 20, std::uint16_t(vlr.data.size()));
+  storeLE(bytes.data() + 18, vlr.record_id);
+  storeLE(bytes.data() + 20, std::uint16_t(vlr.data.size()));
   std::memcpy(bytes.data() + 22, vlr.description.data(),
               std::min<std::size_t>(32, vlr.description.size()));
   if (!vlr.data.empty()) std::memcpy(bytes.data() + 54, vlr.data.data(), vlr.data.size());
@@ -562,11 +558,11 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
   // The public header block (LAS 1.4 R15 Table 3; 1.2 is its first 227 bytes).
   std::byte* h = header.data();
   std::memcpy(h, "LASF", 4);
-  store(h + 4, options.file_source_id);
+  storeLE(h + 4, options.file_source_id);
   std::uint16_t encoding = options.gps_time_standard.value_or(false) ? 1 : 0;
   // Formats 6-10 require the WKT bit (R15 2.4); a copied GeoTIFF-keys CRS is a doubt left as is.
   if (v14 && (plan.point_format >= 6 || has_wkt)) encoding |= 16;
-  store(h + 6, encoding);
+  storeLE(h + 6, encoding);
   h[24] = std::byte(1);
   h[25] = std::byte(plan.minor_version);
   std::memcpy(h + 26, "OTHER", 5);  // R15 Table 4: the system identifier of generated data
@@ -574,36 +570,36 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
   std::time_t now = std::time(nullptr);
   std::tm utc{};
   gmtime_r(&now, &utc);
-  store(h + 90, std::uint16_t(utc.tm_yday + 1));
-  store(h + 92, std::uint16_t(utc.tm_year + 1900));
-  store(h + 94, std::uint16_t(header_size));
-  store(h + 96, std::uint32_t(point_data_offset));
-  store(h + 100, std::uint32_t(vlrs.size()));
+  storeLE(h + 90, std::uint16_t(utc.tm_yday + 1));
+  storeLE(h + 92, std::uint16_t(utc.tm_year + 1900));
+  storeLE(h + 94, std::uint16_t(header_size));
+  storeLE(h + 96, std::uint32_t(point_data_offset));
+  storeLE(h + 100, std::uint32_t(vlrs.size()));
   // LAZ: LASzip's bit 7 says the points are compressed (the laszip VLR says how).
   h[104] = std::byte(plan.point_format | (compress ? 0x80 : 0));
-  store(h + 105, std::uint16_t(stride));
+  storeLE(h + 105, std::uint16_t(stride));
   // Legacy counts are zero for formats 6-10 (R15 2.4) and when they would overflow.
   bool legacy = plan.point_format < 6 && count <= UINT32_MAX;
-  store(h + 107, std::uint32_t(legacy ? count : 0));
+  storeLE(h + 107, std::uint32_t(legacy ? count : 0));
   for (int r = 0; r < 5; ++r) {
-    store(h + 111 + 4 * r, std::uint32_t(legacy ? total.by_return[std::size_t(r + 1)] : 0));
+    storeLE(h + 111 + 4 * r, std::uint32_t(legacy ? total.by_return[std::size_t(r + 1)] : 0));
   }
   const Quantization& q = cloud.quantization;
   for (int axis = 0; axis < 3; ++axis) {
-    store(h + 131 + 8 * axis, q.scale[std::size_t(axis)]);
-    store(h + 155 + 8 * axis, q.offset[std::size_t(axis)]);
+    storeLE(h + 131 + 8 * axis, q.scale[std::size_t(axis)]);
+    storeLE(h + 155 + 8 * axis, q.offset[std::size_t(axis)]);
   }
   if (count > 0) {
-    store(h + 179, q.toWorld(0, total.hi.x));
-    store(h + 187, q.toWorld(0, total.lo.x));
-    store(h + 195, q.toWorld(1, total.hi.y));
-    store(h + 203, q.toWorld(1, total.lo.y));
-    store(h + 211, q.toWorld(2, total.hi.z));
-    store(h + 219, q.toWorld(2, total.lo.z));
+    storeLE(h + 179, q.toWorld(0, total.hi.x));
+    storeLE(h + 187, q.toWorld(0, total.lo.x));
+    storeLE(h + 195, q.toWorld(1, total.hi.y));
+    storeLE(h + 203, q.toWorld(1, total.lo.y));
+    storeLE(h + 211, q.toWorld(2, total.hi.z));
+    storeLE(h + 219, q.toWorld(2, total.lo.z));
   }
   if (v14) {
-    store(h + 247, std::uint64_t(count));
-    for (int r = 0; r < 15; ++r) store(h + 255 + 8 * r, total.by_return[std::size_t(r + 1)]);
+    storeLE(h + 247, std::uint64_t(count));
+    for (int r = 0; r < 15; ++r) storeLE(h + 255 + 8 * r, total.by_return[std::size_t(r + 1)]);
   }
   out.writeAt(0, header.data(), header.size());
   out.commit();

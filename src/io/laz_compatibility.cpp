@@ -9,22 +9,12 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/byte_order.h"
 #include "core/error.h"
 #include "io/laz_source.h"
 
 namespace parallax {
 namespace {
-
-template <class T>
-T load(const std::byte* p) {
-  T value;
-  std::memcpy(&value, p, sizeof value);
-  return value;
-}
-template <class T>
-void store(std::byte* p, T value) {
-  std::memcpy(p, &value, sizeof value);
-}
 
 const LasExtraBytes* findExtra(const LasHeader& header, const char* name) {
   for (const LasExtraBytes& extra : header.extra_bytes) {
@@ -143,9 +133,9 @@ void convertLazCompatibility(const LazCompatibility& c, const LasHeader& records
                       ((bits >> 7) & 1) << 7);
     o[16] = std::byte((cls & 31) + unsigned(r[c.classification]));
     o[17] = r[17];  // user data
-    const auto angle = std::int16_t(load<std::int16_t>(r + c.scan_angle) +
-                                    rankInAngleUnits(load<std::int8_t>(r + 16)));
-    store(o + 18, angle);
+    const auto angle = std::int16_t(loadLE<std::int16_t>(r + c.scan_angle) +
+                                    rankInAngleUnits(loadLE<std::int8_t>(r + 16)));
+    storeLE(o + 18, angle);
     std::memcpy(o + 20, r + 18, 2);  // point source id
     std::memcpy(o + 22, r + 20, 8);  // GPS time
     std::size_t at = 30;

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 
+#include "core/byte_order.h"
 #include "core/error.h"
 #include "io/ply_decoder.h"  // quantizeClamped
 
@@ -40,13 +41,6 @@ ScalarType scalarTypeOf(char type, std::uint32_t size) {
     default:
       return ScalarType::Float64;  // 64-bit integers: the model has no such type
   }
-}
-
-template <class T>
-T load(const std::byte* p) {
-  T value;
-  std::memcpy(&value, p, sizeof(T));
-  return value;
 }
 
 // Calls f(T{}) with the C++ type of a PCD value, so that loops are typed before they start.
@@ -316,8 +310,8 @@ void decompress(std::span<const std::byte> bytes, const PcdHeader& header, const
     fail(at, "sizes", "two 4-byte sizes (compressed, uncompressed) after DATA",
          std::to_string(bytes.size() - std::min(bytes.size(), at)) + " bytes");
   }
-  const auto compressed = load<std::uint32_t>(bytes.data() + at);
-  const auto uncompressed = load<std::uint32_t>(bytes.data() + at + 4);
+  const auto compressed = loadLE<std::uint32_t>(bytes.data() + at);
+  const auto uncompressed = loadLE<std::uint32_t>(bytes.data() + at + 4);
   const std::uint64_t expected = header.points * header.record_size;
   if (uncompressed != expected) {
     fail(at + 4, "uncompressed size",
@@ -358,9 +352,9 @@ PositionScan scanPositions(const DataView& view, const Layout& layout, std::uint
     using Y = decltype(yt);
     using Z = decltype(zt);
     for (std::uint64_t i = begin; i < end; ++i) {
-      const double v[3] = {double(load<X>(x.base + i * x.stride)),
-                           double(load<Y>(y.base + i * y.stride)),
-                           double(load<Z>(z.base + i * z.stride))};
+      const double v[3] = {double(loadLE<X>(x.base + i * x.stride)),
+                           double(loadLE<Y>(y.base + i * y.stride)),
+                           double(loadLE<Z>(z.base + i * z.stride))};
       if (!(std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]))) continue;
       ++valid;
       for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], v[a]), hi[a] = std::max(hi[a], v[a]);
@@ -402,7 +396,7 @@ void decodeComponent(const ComponentView& c, const Records& records, Out* out,
   dispatch(c.type, c.size, [&](auto tag) {
     using T = decltype(tag);
     for (std::uint64_t j = 0; j < records.count; ++j) {
-      out[j * out_stride] = convert(load<T>(c.base + records[j] * c.stride));
+      out[j * out_stride] = convert(loadLE<T>(c.base + records[j] * c.stride));
     }
   });
 }
@@ -422,11 +416,11 @@ void decodeRecords(const DataView& view, const Layout& layout, std::uint64_t beg
     for (std::uint64_t i = begin; i < end; ++i) {
       double v[3];
       dispatch(x.type, x.size,
-               [&](auto t) { v[0] = double(load<decltype(t)>(x.base + i * x.stride)); });
+               [&](auto t) { v[0] = double(loadLE<decltype(t)>(x.base + i * x.stride)); });
       dispatch(y.type, y.size,
-               [&](auto t) { v[1] = double(load<decltype(t)>(y.base + i * y.stride)); });
+               [&](auto t) { v[1] = double(loadLE<decltype(t)>(y.base + i * y.stride)); });
       dispatch(z.type, z.size,
-               [&](auto t) { v[2] = double(load<decltype(t)>(z.base + i * z.stride)); });
+               [&](auto t) { v[2] = double(loadLE<decltype(t)>(z.base + i * z.stride)); });
       if (std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2])) {
         list.push_back(std::uint32_t(i - begin));
       }

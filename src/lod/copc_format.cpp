@@ -2,23 +2,12 @@
 
 #include <bit>
 #include <cstring>
+#include "core/byte_order.h"
 
 namespace parallax {
 namespace {
 
 static_assert(std::endian::native == std::endian::little, "COPC records are little endian");
-
-template <class T>
-T load(const std::byte* p) {
-  T value;
-  std::memcpy(&value, p, sizeof value);
-  return value;
-}
-
-template <class T>
-void store(std::byte* p, T value) {
-  std::memcpy(p, &value, sizeof value);
-}
 
 }  // namespace
 
@@ -34,26 +23,26 @@ Bounds3 CopcInfo::cube() const {
 CopcInfo parseCopcInfo(std::span<const std::byte, kCopcInfoSize> bytes) {
   const std::byte* p = bytes.data();
   CopcInfo info;
-  for (std::size_t axis = 0; axis < 3; ++axis) info.center[axis] = load<double>(p + 8 * axis);
-  info.halfsize = load<double>(p + 24);
-  info.spacing = load<double>(p + 32);
-  info.root_hierarchy_offset = load<std::uint64_t>(p + 40);
-  info.root_hierarchy_size = load<std::uint64_t>(p + 48);
-  info.gps_time_min = load<double>(p + 56);
-  info.gps_time_max = load<double>(p + 64);
+  for (std::size_t axis = 0; axis < 3; ++axis) info.center[axis] = loadLE<double>(p + 8 * axis);
+  info.halfsize = loadLE<double>(p + 24);
+  info.spacing = loadLE<double>(p + 32);
+  info.root_hierarchy_offset = loadLE<std::uint64_t>(p + 40);
+  info.root_hierarchy_size = loadLE<std::uint64_t>(p + 48);
+  info.gps_time_min = loadLE<double>(p + 56);
+  info.gps_time_max = loadLE<double>(p + 64);
   return info;
 }
 
 std::array<std::byte, kCopcInfoSize> encodeCopcInfo(const CopcInfo& info) {
   std::array<std::byte, kCopcInfoSize> bytes{};  // the 11 reserved words stay zero
   std::byte* p = bytes.data();
-  for (std::size_t axis = 0; axis < 3; ++axis) store(p + 8 * axis, info.center[axis]);
-  store(p + 24, info.halfsize);
-  store(p + 32, info.spacing);
-  store(p + 40, info.root_hierarchy_offset);
-  store(p + 48, info.root_hierarchy_size);
-  store(p + 56, info.gps_time_min);
-  store(p + 64, info.gps_time_max);
+  for (std::size_t axis = 0; axis < 3; ++axis) storeLE(p + 8 * axis, info.center[axis]);
+  storeLE(p + 24, info.halfsize);
+  storeLE(p + 32, info.spacing);
+  storeLE(p + 40, info.root_hierarchy_offset);
+  storeLE(p + 48, info.root_hierarchy_size);
+  storeLE(p + 56, info.gps_time_min);
+  storeLE(p + 64, info.gps_time_max);
   return bytes;
 }
 
@@ -124,11 +113,11 @@ std::vector<CopcEntry> parseCopcPage(std::span<const std::byte> bytes) {
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const std::byte* p = bytes.data() + i * kCopcEntrySize;
     CopcEntry& e = entries[i];
-    e.key = {load<std::int32_t>(p), load<std::int32_t>(p + 4), load<std::int32_t>(p + 8),
-             load<std::int32_t>(p + 12)};
-    e.offset = load<std::uint64_t>(p + 16);
-    e.byte_size = load<std::int32_t>(p + 24);
-    e.point_count = load<std::int32_t>(p + 28);
+    e.key = {loadLE<std::int32_t>(p), loadLE<std::int32_t>(p + 4), loadLE<std::int32_t>(p + 8),
+             loadLE<std::int32_t>(p + 12)};
+    e.offset = loadLE<std::uint64_t>(p + 16);
+    e.byte_size = loadLE<std::int32_t>(p + 24);
+    e.point_count = loadLE<std::int32_t>(p + 28);
   }
   return entries;
 }
@@ -137,13 +126,13 @@ void appendCopcEntry(const CopcEntry& entry, std::vector<std::byte>& out) {
   const std::size_t at = out.size();
   out.resize(at + kCopcEntrySize);
   std::byte* p = out.data() + at;
-  store(p, entry.key.level);
-  store(p + 4, entry.key.x);
-  store(p + 8, entry.key.y);
-  store(p + 12, entry.key.z);
-  store(p + 16, entry.offset);
-  store(p + 24, entry.byte_size);
-  store(p + 28, entry.point_count);
+  storeLE(p, entry.key.level);
+  storeLE(p + 4, entry.key.x);
+  storeLE(p + 8, entry.key.y);
+  storeLE(p + 12, entry.key.z);
+  storeLE(p + 16, entry.offset);
+  storeLE(p + 24, entry.byte_size);
+  storeLE(p + 28, entry.point_count);
 }
 
 }  // namespace parallax

@@ -8,6 +8,7 @@
 #include <map>
 #include <mutex>
 
+#include "core/byte_order.h"
 #include "core/error.h"
 #include "io/las_record_decoder.h"
 #include "io/laz/layered_codec.h"
@@ -38,13 +39,6 @@ void readBytes(const ByteSource& in, std::uint64_t offset, std::span<std::byte> 
 constexpr std::uint64_t kMaxHeaderRegion = 64ull << 20;
 constexpr std::uint64_t kMaxPointsPerByte = 4096;
 
-template <class T>
-T load(const std::byte* p) {
-  T value;
-  std::memcpy(&value, p, sizeof value);
-  return value;
-}
-
 [[noreturn]] void failFile(const std::string& file, std::optional<std::uint64_t> offset,
                            std::string element, std::string expected, std::string found,
                            std::string hint = {}) {
@@ -74,13 +68,13 @@ LasHeader readHeader(const ByteSource& in) {
     failFile(file, kCopcInfoVlrOffset, "first VLR",
              "a LAS 1.4 file whose first VLR is the COPC info VLR (user id \"copc\", record 1)",
              hasLasSignature(head)
-                 ? "LAS " + std::to_string(load<std::uint8_t>(head.data() + 24)) + "." +
-                       std::to_string(load<std::uint8_t>(head.data() + 25)) + ", user id " +
+                 ? "LAS " + std::to_string(loadLE<std::uint8_t>(head.data() + 24)) + "." +
+                       std::to_string(loadLE<std::uint8_t>(head.data() + 25)) + ", user id " +
                        quoteInput(user) + " there"
                  : std::string("no LAS signature"),
              "this is not a COPC file; open it as a LAZ file");
   }
-  const std::uint32_t data_offset = load<std::uint32_t>(head.data() + 96);
+  const std::uint32_t data_offset = loadLE<std::uint32_t>(head.data() + 96);
   if (data_offset < kCopcInfoPayloadOffset + kCopcInfoSize || data_offset > in.size() ||
       data_offset > kMaxHeaderRegion) {
     failFile(file, 96, "offset to point data",
@@ -90,7 +84,7 @@ LasHeader readHeader(const ByteSource& in) {
   }
   std::vector<std::byte> region(data_offset);
   readBytes(in, 0, region, "LAS header and VLRs");
-  const std::uint32_t evlr_count = load<std::uint32_t>(region.data() + 243);
+  const std::uint32_t evlr_count = loadLE<std::uint32_t>(region.data() + 243);
   std::memset(region.data() + 243, 0, 4);
   LasHeader header = parseLasHeader(region, file);
   header.evlr_count = evlr_count;
@@ -158,7 +152,7 @@ CopcLimits readChunkTable(const ByteSource& in, const LasHeader& header) {
   auto read64 = [&](std::uint64_t at, const char* element) {
     std::array<std::byte, 8> bytes;
     readBytes(in, at, bytes, element);
-    return load<std::uint64_t>(bytes.data());
+    return loadLE<std::uint64_t>(bytes.data());
   };
   std::uint64_t table = read64(start, "LAZ chunk table offset");
   if (table == ~std::uint64_t(0)) table = read64(in.size() - 8, "LAZ chunk table offset");
@@ -174,8 +168,8 @@ CopcLimits readChunkTable(const ByteSource& in, const LasHeader& header) {
   }
   std::array<std::byte, 8> head;
   readBytes(in, table, head, "LAZ chunk table");
-  const std::uint32_t version = load<std::uint32_t>(head.data());
-  const std::uint32_t count = load<std::uint32_t>(head.data() + 4);
+  const std::uint32_t version = loadLE<std::uint32_t>(head.data());
+  const std::uint32_t count = loadLE<std::uint32_t>(head.data() + 4);
   if (version != 0 || count > (table - start - 8) || count > header.point_count) {
     failFile(file, table, "LAZ chunk table",
              "version 0 and at most one chunk per point and byte of chunk data",
@@ -451,11 +445,12 @@ class CopcOctree final : public Octree {
 bool looksLikeCopc(std::span<const std::byte> head) {
   if (head.size() < kCopcInfoPayloadOffset || !hasLasSignature(head)) return false;
   const std::byte* p = head.data();
-  if (load<std::uint8_t>(p + 24) != 1 || load<std::uint8_t>(p + 25) != 4) return false;
+  if (loadLE<std::uint8_t>(p + 24) != 1 || loadLE<std::uint8_t>(p + 25) != 4) return false;
   const std::byte* vlr = p + kCopcInfoVlrOffset;
   char user[17] = {};
   std::memcpy(user, vlr + 2, 16);
-  return std::strcmp(user, kCopcUserId) == 0 && load<std::uint16_t>(vlr + 18) == kCopcInfoRecordId;
+  return std::strcmp(user, kCopcUserId) == 0 &&
+         loadLE<std::uint16_t>(vlr + 18) == kCopcInfoRecordId;
 }
 
 bool isCopcFile(const std::filesystem::path& path) {

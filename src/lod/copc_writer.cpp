@@ -10,6 +10,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/byte_order.h"
 #include "io/las_writer.h"
 #include "io/laz/layered_codec.h"
 #include "io/laz/laz_layout.h"
@@ -21,18 +22,6 @@
 namespace parallax {
 namespace {
 
-template <class T>
-void store(std::byte* p, T value) {
-  std::memcpy(p, &value, sizeof value);
-}
-
-template <class T>
-T load(const std::byte* p) {
-  T value;
-  std::memcpy(&value, p, sizeof value);
-  return value;
-}
-
 std::vector<std::byte> vlrBytes(const std::string& user_id, std::uint16_t record_id,
                                 const std::string& description,
                                 std::span<const std::byte> payload) {
@@ -42,8 +31,8 @@ std::vector<std::byte> vlrBytes(const std::string& user_id, std::uint16_t record
   }
   std::vector<std::byte> bytes(kLasVlrHeaderSize + payload.size());
   std::memcpy(bytes.data() + 2, user_id.data(), std::min<std::size_t>(16, user_id.size()));
-  store(bytes.data() + 18, record_id);
-  store(bytes.data() + 20, std::uint16_t(payload.size()));
+  storeLE(bytes.data() + 18, record_id);
+  storeLE(bytes.data() + 20, std::uint16_t(payload.size()));
   std::memcpy(bytes.data() + 22, description.data(), std::min<std::size_t>(32, description.size()));
   if (!payload.empty()) std::memcpy(bytes.data() + 54, payload.data(), payload.size());
   return bytes;
@@ -61,10 +50,11 @@ struct RecordStats {
   void add(const std::byte* records, std::size_t n, std::size_t stride) {
     for (std::size_t i = 0; i < n; ++i) {
       const std::byte* r = records + i * stride;
-      const Int3 p{load<std::int32_t>(r), load<std::int32_t>(r + 4), load<std::int32_t>(r + 8)};
+      const Int3 p{loadLE<std::int32_t>(r), loadLE<std::int32_t>(r + 4),
+                   loadLE<std::int32_t>(r + 8)};
       lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
       hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-      const double t = load<double>(r + 22);
+      const double t = loadLE<double>(r + 22);
       gps_min = std::min(gps_min, t);
       gps_max = std::max(gps_max, t);
       ++by_return[std::size_t(std::to_integer<unsigned>(r[14]) & 15u)];
@@ -263,7 +253,7 @@ CopcWriteResult writeCopc(Octree& octree, const std::filesystem::path& path,
   // The LAZ chunk table.
   const std::uint64_t table_offset = at;
   std::array<std::byte, 8> table_head{};
-  store(table_head.data() + 4, std::uint32_t(chunks.size()));
+  storeLE(table_head.data() + 4, std::uint32_t(chunks.size()));
   out.write(table_head.data(), table_head.size());
   const std::vector<std::uint8_t> table = laz::encodeChunkTable(chunks, true);
   out.write(table.data(), table.size());
@@ -300,8 +290,8 @@ CopcWriteResult writeCopc(Octree& octree, const std::filesystem::path& path,
   }
   std::vector<std::byte> evlr(kLasEvlrHeaderSize);
   std::memcpy(evlr.data() + 2, kCopcUserId, 4);
-  store(evlr.data() + 18, kCopcHierarchyRecordId);
-  store(evlr.data() + 20, std::uint64_t(hierarchy.size()));
+  storeLE(evlr.data() + 18, kCopcHierarchyRecordId);
+  storeLE(evlr.data() + 20, std::uint64_t(hierarchy.size()));
   const char description[] = "EPT hierarchy";
   std::memcpy(evlr.data() + 28, description, sizeof description - 1);
   const std::uint64_t evlr_offset = at;
@@ -325,13 +315,13 @@ CopcWriteResult writeCopc(Octree& octree, const std::filesystem::path& path,
   const auto info_bytes = encodeCopcInfo(copc);
   out.writeAt(kCopcInfoPayloadOffset, info_bytes.data(), info_bytes.size());
   std::array<std::byte, 8> table_at;
-  store(table_at.data(), std::int64_t(table_offset));
+  storeLE(table_at.data(), std::int64_t(table_offset));
   out.writeAt(point_data_offset, table_at.data(), table_at.size());
 
   // The LAS 1.4 header (R15 Table 3).
   std::byte* h = header.data();
   std::memcpy(h, "LASF", 4);
-  store(h + 6, std::uint16_t((options.gps_time_standard.value_or(false) ? 1 : 0) | 16));
+  storeLE(h + 6, std::uint16_t((options.gps_time_standard.value_or(false) ? 1 : 0) | 16));
   h[24] = std::byte(1);
   h[25] = std::byte(4);
   std::memcpy(h + 26, "OTHER", 5);
@@ -339,30 +329,30 @@ CopcWriteResult writeCopc(Octree& octree, const std::filesystem::path& path,
   std::time_t now = std::time(nullptr);
   std::tm utc{};
   gmtime_r(&now, &utc);
-  store(h + 90, std::uint16_t(utc.tm_yday + 1));
-  store(h + 92, std::uint16_t(utc.tm_year + 1900));
-  store(h + 94, std::uint16_t(kLasHeaderSize14));
-  store(h + 96, std::uint32_t(point_data_offset));
-  store(h + 100, std::uint32_t(vlrs.size()));
+  storeLE(h + 90, std::uint16_t(utc.tm_yday + 1));
+  storeLE(h + 92, std::uint16_t(utc.tm_year + 1900));
+  storeLE(h + 94, std::uint16_t(kLasHeaderSize14));
+  storeLE(h + 96, std::uint32_t(point_data_offset));
+  storeLE(h + 100, std::uint32_t(vlrs.size()));
   h[104] = std::byte(plan.point_format | 0x80);  // LASzip's compression bit
-  store(h + 105, std::uint16_t(plan.record_length));
+  storeLE(h + 105, std::uint16_t(plan.record_length));
   const Quantization& q = info.quantization;
   for (std::size_t axis = 0; axis < 3; ++axis) {
-    store(h + 131 + 8 * axis, q.scale[axis]);
-    store(h + 155 + 8 * axis, q.offset[axis]);
+    storeLE(h + 131 + 8 * axis, q.scale[axis]);
+    storeLE(h + 155 + 8 * axis, q.offset[axis]);
   }
   if (result.points > 0) {
-    store(h + 179, q.toWorld(0, total.hi.x));
-    store(h + 187, q.toWorld(0, total.lo.x));
-    store(h + 195, q.toWorld(1, total.hi.y));
-    store(h + 203, q.toWorld(1, total.lo.y));
-    store(h + 211, q.toWorld(2, total.hi.z));
-    store(h + 219, q.toWorld(2, total.lo.z));
+    storeLE(h + 179, q.toWorld(0, total.hi.x));
+    storeLE(h + 187, q.toWorld(0, total.lo.x));
+    storeLE(h + 195, q.toWorld(1, total.hi.y));
+    storeLE(h + 203, q.toWorld(1, total.lo.y));
+    storeLE(h + 211, q.toWorld(2, total.hi.z));
+    storeLE(h + 219, q.toWorld(2, total.lo.z));
   }
-  store(h + 235, evlr_offset);
-  store(h + 243, std::uint32_t(1));
-  store(h + 247, result.points);
-  for (std::size_t r = 0; r < 15; ++r) store(h + 255 + 8 * r, total.by_return[r + 1]);
+  storeLE(h + 235, evlr_offset);
+  storeLE(h + 243, std::uint32_t(1));
+  storeLE(h + 247, result.points);
+  for (std::size_t r = 0; r < 15; ++r) storeLE(h + 255 + 8 * r, total.by_return[r + 1]);
   out.writeAt(0, header.data(), header.size());
   out.commit();
 

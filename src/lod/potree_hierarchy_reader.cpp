@@ -3,17 +3,11 @@
 #include <cassert>
 #include <cstring>
 
+#include "core/byte_order.h"
 #include "core/error.h"
 
 namespace parallax {
 namespace {
-
-template <class T>
-T load(const std::byte* p) {
-  T value;
-  std::memcpy(&value, p, sizeof(T));  // little endian, as the file (static_assert elsewhere)
-  return value;
-}
 
 // The child octant of `box`: bit 4 of the index is +x, bit 2 +y, bit 1 +z (Potree's numbering).
 Bounds3 childBox(const Bounds3& box, int index) {
@@ -41,11 +35,11 @@ Bounds3 childBox(const Bounds3& box, int index) {
 
 PotreeEntry decodePotreeEntry(std::span<const std::byte, kPotreeEntrySize> bytes) {
   PotreeEntry e;
-  e.type = load<std::uint8_t>(bytes.data());
-  e.child_mask = load<std::uint8_t>(bytes.data() + 1);
-  e.point_count = load<std::uint32_t>(bytes.data() + 2);
-  e.byte_offset = load<std::uint64_t>(bytes.data() + 6);
-  e.byte_size = load<std::uint64_t>(bytes.data() + 14);
+  e.type = loadLE<std::uint8_t>(bytes.data());
+  e.child_mask = loadLE<std::uint8_t>(bytes.data() + 1);
+  e.point_count = loadLE<std::uint32_t>(bytes.data() + 2);
+  e.byte_offset = loadLE<std::uint64_t>(bytes.data() + 6);
+  e.byte_size = loadLE<std::uint64_t>(bytes.data() + 14);
   return e;
 }
 

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include "core/byte_order.h"
 
 namespace parallax {
 namespace {
@@ -23,17 +24,6 @@ constexpr std::pair<const char*, const char*> kPotreeNames[] = {
     {"point_source_id", "point source id"},
     {"gps_time", "gps-time"},
 };
-
-template <class T>
-void store(std::byte* at, T value) {
-  std::memcpy(at, &value, sizeof(T));  // little-endian host (x86-64, aarch64)
-}
-template <class T>
-T load(const std::byte* at) {
-  T value;
-  std::memcpy(&value, at, sizeof(T));
-  return value;
-}
 
 void widen(AttributeStats& stats, std::size_t attribute, int element, double value) {
   auto& lo = stats.min[attribute][std::size_t(element)];
@@ -195,7 +185,7 @@ void PotreeLayout::encode(const PointCloud& cloud, std::uint64_t first, std::uin
         const bool has = cloud.hasNormals();
         for (std::uint64_t i = first; i < first + n; ++i) {
           const float v = has ? (&cloud.normals[i].x)[e] : 0.0f;
-          store(base + (i - first) * stride, v);
+          storeLE(base + (i - first) * stride, v);
           widen(stats, a, 0, v);
         }
         break;
@@ -246,7 +236,7 @@ PointCloud PotreeLayout::decode(const std::byte* records, std::uint64_t count,
       case S::Position:
         cloud.positions = Column<Int3>(count);
         for (std::uint64_t i = 0; i < count; ++i)
-          cloud.positions[i] = load<Int3>(base + i * stride);
+          cloud.positions[i] = loadLE<Int3>(base + i * stride);
         break;
       case S::Rgb:
         cloud.colors = Column<Rgba8>(count);
@@ -254,8 +244,8 @@ PointCloud PotreeLayout::decode(const std::byte* records, std::uint64_t count,
         for (std::uint64_t i = 0; i < count; ++i) {
           const std::byte* at = base + i * stride;
           auto eight = [](std::uint16_t v) { return std::uint8_t((v + 128) / 257); };
-          cloud.colors[i] = {eight(load<std::uint16_t>(at)), eight(load<std::uint16_t>(at + 2)),
-                             eight(load<std::uint16_t>(at + 4)), 255};
+          cloud.colors[i] = {eight(loadLE<std::uint16_t>(at)), eight(loadLE<std::uint16_t>(at + 2)),
+                             eight(loadLE<std::uint16_t>(at + 4)), 255};
         }
         break;
       case S::NormalX:
@@ -267,7 +257,7 @@ PointCloud PotreeLayout::decode(const std::byte* records, std::uint64_t count,
         }
         const int e = int(attribute.source) - int(S::NormalX);
         for (std::uint64_t i = 0; i < count; ++i)
-          (&cloud.normals[i].x)[e] = load<float>(base + i * stride);
+          (&cloud.normals[i].x)[e] = loadLE<float>(base + i * stride);
         break;
       }
       case S::Intensity:

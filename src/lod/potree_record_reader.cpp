@@ -6,6 +6,7 @@
 #include <cstring>
 #include <string_view>
 
+#include "core/byte_order.h"
 #include "io/las_reader.h"
 
 namespace parallax {
@@ -14,35 +15,28 @@ namespace {
 static_assert(std::endian::native == std::endian::little,
               "octree.bin is little endian; the decoder copies values as they are");
 
-template <class T>
-T load(const std::byte* p) {
-  T value;
-  std::memcpy(&value, p, sizeof(T));
-  return value;
-}
-
 double loadAsDouble(const std::byte* p, PotreeType type) {
   switch (type) {
     case PotreeType::Int8:
-      return load<std::int8_t>(p);
+      return loadLE<std::int8_t>(p);
     case PotreeType::UInt8:
-      return load<std::uint8_t>(p);
+      return loadLE<std::uint8_t>(p);
     case PotreeType::Int16:
-      return load<std::int16_t>(p);
+      return loadLE<std::int16_t>(p);
     case PotreeType::UInt16:
-      return load<std::uint16_t>(p);
+      return loadLE<std::uint16_t>(p);
     case PotreeType::Int32:
-      return load<std::int32_t>(p);
+      return loadLE<std::int32_t>(p);
     case PotreeType::UInt32:
-      return load<std::uint32_t>(p);
+      return loadLE<std::uint32_t>(p);
     case PotreeType::Int64:
-      return double(load<std::int64_t>(p));
+      return double(loadLE<std::int64_t>(p));
     case PotreeType::UInt64:
-      return double(load<std::uint64_t>(p));
+      return double(loadLE<std::uint64_t>(p));
     case PotreeType::Float:
-      return load<float>(p);
+      return loadLE<float>(p);
     case PotreeType::Double:
-      return load<double>(p);
+      return loadLE<double>(p);
   }
   return 0.0;
 }
@@ -215,10 +209,10 @@ PointCloud PotreeRecordReader::decode(std::span<const std::byte> bytes, std::uin
       std::uint8_t rgba[4] = {0, 0, 0, 255};
       for (int c = 0; c < channels; ++c) {
         if (!color_.sixteen_bit) {
-          rgba[c] = load<std::uint8_t>(p + c);
+          rgba[c] = loadLE<std::uint8_t>(p + c);
           continue;
         }
-        const unsigned v = load<std::uint16_t>(p + 2 * c);
+        const unsigned v = loadLE<std::uint16_t>(p + 2 * c);
         // Rounded v / 257: 65535 -> 255 and c * 257 -> c. A value above 255 in a file whose
         // metadata promised 8 bits (a lying max) saturates instead of wrapping.
         rgba[c] =
@@ -236,8 +230,8 @@ PointCloud PotreeRecordReader::decode(std::span<const std::byte> bytes, std::uin
       float v[3];
       for (int c = 0; c < 3; ++c) {
         v[c] = normal_.type == PotreeType::Float
-                   ? load<float>(r + normal_.offsets[c])
-                   : narrowToFloat(load<double>(r + normal_.offsets[c]));
+                   ? loadLE<float>(r + normal_.offsets[c])
+                   : narrowToFloat(loadLE<double>(r + normal_.offsets[c]));
       }
       cloud.normals[i] = {v[0], v[1], v[2]};
     }
@@ -255,7 +249,7 @@ PointCloud PotreeRecordReader::decode(std::span<const std::byte> bytes, std::uin
   if (classification_.present) {
     cloud.classification = Column<std::uint8_t>(n);
     for (std::size_t i = 0; i < n; ++i) {
-      cloud.classification[i] = load<std::uint8_t>(records + i * stride + classification_.offset);
+      cloud.classification[i] = loadLE<std::uint8_t>(records + i * stride + classification_.offset);
     }
   }
 

@@ -31,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/byte_order.h"
 #include "io/laz/arithmetic_decoder.h"
 #include "io/laz/arithmetic_encoder.h"
 #include "io/laz/arithmetic_models.h"
@@ -38,20 +39,11 @@
 
 namespace parallax::laz::layered {
 
-inline constexpr unsigned kChannels = 4;  // scanner channels: 2 bits in the record
+// Callers name these layered::loadLE / layered::storeLE (core/byte_order.h).
+using parallax::loadLE;
+using parallax::storeLE;
 
-// Little-endian loads and stores of record fields (LAS is little endian; the project assumes a
-// little-endian host, see las_header.h).
-template <class T>
-inline T loadLE(const std::byte* p) {
-  T v;
-  std::memcpy(&v, p, sizeof(T));
-  return v;
-}
-template <class T>
-inline void storeLE(std::byte* p, T v) {
-  std::memcpy(p, &v, sizeof(T));
-}
+inline constexpr unsigned kChannels = 4;  // scanner channels: 2 bits in the record
 
 // A model (or integer codec) reset when first used after its context (re)started rather than
 // when the context starts: the state it codes with is the same, and a chunk pays only for the

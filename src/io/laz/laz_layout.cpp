@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include "core/byte_order.h"
 #include "io/laz/arithmetic_decoder.h"
 #include "io/laz/arithmetic_encoder.h"
 #include "io/laz/integer_codec.h"
@@ -46,17 +47,6 @@ const char* itemName(ItemType type) {
 
 namespace {
 
-template <class T>
-T load(const std::byte* p) {
-  T value;
-  std::memcpy(&value, p, sizeof value);
-  return value;
-}
-template <class T>
-void store(std::byte* p, T value) {
-  std::memcpy(p, &value, sizeof value);
-}
-
 // The chunk table's integer coder: 32 bits, context 0 for point counts, 1 for byte sizes.
 const IntegerCodecShape kTableShape{.bits = 32, .contexts = 2};
 
@@ -70,24 +60,24 @@ LaszipVlr parseLaszipVlr(std::span<const std::byte> payload) {
   }
   const std::byte* p = payload.data();
   LaszipVlr vlr;
-  vlr.compressor = load<std::uint16_t>(p);
-  vlr.coder = load<std::uint16_t>(p + 2);
-  vlr.version_major = load<std::uint8_t>(p + 4);
-  vlr.version_minor = load<std::uint8_t>(p + 5);
-  vlr.version_revision = load<std::uint16_t>(p + 6);
-  vlr.options = load<std::uint32_t>(p + 8);
-  vlr.chunk_size = load<std::uint32_t>(p + 12);
-  vlr.special_evlr_count = load<std::int64_t>(p + 16);
-  vlr.special_evlr_offset = load<std::int64_t>(p + 24);
-  const std::size_t count = load<std::uint16_t>(p + 32);
+  vlr.compressor = loadLE<std::uint16_t>(p);
+  vlr.coder = loadLE<std::uint16_t>(p + 2);
+  vlr.version_major = loadLE<std::uint8_t>(p + 4);
+  vlr.version_minor = loadLE<std::uint8_t>(p + 5);
+  vlr.version_revision = loadLE<std::uint16_t>(p + 6);
+  vlr.options = loadLE<std::uint32_t>(p + 8);
+  vlr.chunk_size = loadLE<std::uint32_t>(p + 12);
+  vlr.special_evlr_count = loadLE<std::int64_t>(p + 16);
+  vlr.special_evlr_offset = loadLE<std::int64_t>(p + 24);
+  const std::size_t count = loadLE<std::uint16_t>(p + 32);
   if (count != (size - kLaszipVlrFixedSize) / 6) {
     throw UnsupportedItems("the laszip VLR lists " + std::to_string(count) + " items in room for " +
                            std::to_string((size - kLaszipVlrFixedSize) / 6));
   }
   for (std::size_t i = 0; i < count; ++i) {
     const std::byte* item = p + kLaszipVlrFixedSize + 6 * i;
-    vlr.items.push_back({ItemType(load<std::uint16_t>(item)), load<std::uint16_t>(item + 2),
-                         load<std::uint16_t>(item + 4)});
+    vlr.items.push_back({ItemType(loadLE<std::uint16_t>(item)), loadLE<std::uint16_t>(item + 2),
+                         loadLE<std::uint16_t>(item + 4)});
   }
   return vlr;
 }
@@ -95,21 +85,21 @@ LaszipVlr parseLaszipVlr(std::span<const std::byte> payload) {
 std::vector<std::byte> laszipVlrPayload(const LaszipVlr& vlr) {
   std::vector<std::byte> out(kLaszipVlrFixedSize + 6 * vlr.items.size());
   std::byte* p = out.data();
-  store(p, vlr.compressor);
-  store(p + 2, vlr.coder);
-  store(p + 4, vlr.version_major);
-  store(p + 5, vlr.version_minor);
-  store(p + 6, vlr.version_revision);
-  store(p + 8, vlr.options);
-  store(p + 12, vlr.chunk_size);
-  store(p + 16, vlr.special_evlr_count);
-  store(p + 24, vlr.special_evlr_offset);
-  store(p + 32, std::uint16_t(vlr.items.size()));
+  storeLE(p, vlr.compressor);
+  storeLE(p + 2, vlr.coder);
+  storeLE(p + 4, vlr.version_major);
+  storeLE(p + 5, vlr.version_minor);
+  storeLE(p + 6, vlr.version_revision);
+  storeLE(p + 8, vlr.options);
+  storeLE(p + 12, vlr.chunk_size);
+  storeLE(p + 16, vlr.special_evlr_count);
+  storeLE(p + 24, vlr.special_evlr_offset);
+  storeLE(p + 32, std::uint16_t(vlr.items.size()));
   for (std::size_t i = 0; i < vlr.items.size(); ++i) {
     std::byte* item = p + kLaszipVlrFixedSize + 6 * i;
-    store(item, std::uint16_t(vlr.items[i].type));
-    store(item + 2, vlr.items[i].size);
-    store(item + 4, vlr.items[i].version);
+    storeLE(item, std::uint16_t(vlr.items[i].type));
+    storeLE(item + 2, vlr.items[i].size);
+    storeLE(item + 4, vlr.items[i].version);
   }
   return out;
 }

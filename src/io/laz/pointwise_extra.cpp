@@ -117,17 +117,17 @@ struct WavePacket {
   std::int32_t x = 0, y = 0, z = 0;
 
   static WavePacket load(const std::byte* p) {
-    return {loadLe<std::uint64_t>(p),     loadLe<std::uint32_t>(p + 8),
-            loadLe<std::int32_t>(p + 12), loadLe<std::int32_t>(p + 16),
-            loadLe<std::int32_t>(p + 20), loadLe<std::int32_t>(p + 24)};
+    return {loadLE<std::uint64_t>(p),     loadLE<std::uint32_t>(p + 8),
+            loadLE<std::int32_t>(p + 12), loadLE<std::int32_t>(p + 16),
+            loadLE<std::int32_t>(p + 20), loadLE<std::int32_t>(p + 24)};
   }
   void store(std::byte* p) const {
-    storeLe(p, offset);
-    storeLe(p + 8, size);
-    storeLe(p + 12, location);
-    storeLe(p + 16, x);
-    storeLe(p + 20, y);
-    storeLe(p + 24, z);
+    storeLE(p, offset);
+    storeLE(p + 8, size);
+    storeLE(p + 12, location);
+    storeLE(p + 16, x);
+    storeLE(p + 20, y);
+    storeLE(p + 24, z);
   }
 };
 

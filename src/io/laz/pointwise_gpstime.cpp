@@ -34,7 +34,7 @@ class GpsTimeEncoderV2 final : public ItemEncoder {
   }
 
   void encode(ArithmeticEncoder& enc, const std::byte* item) override {
-    const std::uint64_t time = loadLe<std::uint64_t>(item);
+    const std::uint64_t time = loadLE<std::uint64_t>(item);
     // At most one switch: after it the difference fits 32 bits.
     for (;;) {
       const bool zero = s_.last_diff[s_.last] == 0;
@@ -128,7 +128,7 @@ struct StateV1 {
   SymbolModel zero_diff{3, kDecoding};
 
   void reset(const std::byte* first) {
-    time = loadLe<std::uint64_t>(first);
+    time = loadLE<std::uint64_t>(first);
     last_diff = 0;
     extreme = 0;
     multi.reset();
@@ -182,7 +182,7 @@ class GpsTimeDecoderV1 final : public ItemDecoder {
         s_.time = dec.readInt64();
       }
     }
-    storeLe(out, s_.time);
+    storeLE(out, s_.time);
   }
 
  private:
@@ -198,7 +198,7 @@ class GpsTimeEncoderV1 final : public ItemEncoder {
   }
 
   void encode(ArithmeticEncoder& enc, const std::byte* item) override {
-    const std::uint64_t time = loadLe<std::uint64_t>(item);
+    const std::uint64_t time = loadLE<std::uint64_t>(item);
     if (s_.last_diff == 0) {
       if (time == s_.time) {
         enc.encodeSymbol(s_.zero_diff, 0);

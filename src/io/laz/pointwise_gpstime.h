@@ -62,7 +62,7 @@ struct StateV2 {
   SymbolModel zero_diff{6, kDecoding};
 
   void reset(const std::byte* first) {
-    time = {loadLe<std::uint64_t>(first), 0, 0, 0};
+    time = {loadLE<std::uint64_t>(first), 0, 0, 0};
     last_diff.fill(0);
     extreme.fill(0);
     last = next = 0;
@@ -120,7 +120,7 @@ class GpsTimeDecoderV2 final : public ItemDecoder {
       }
       break;  // kUnchanged included
     }
-    storeLe(out, s_.time[s_.last]);
+    storeLE(out, s_.time[s_.last]);
   }
 
  private:

@@ -15,6 +15,7 @@
 #include <cstring>
 #include <memory>
 
+#include "core/byte_order.h"
 #include "io/laz/arithmetic_decoder.h"
 #include "io/laz/arithmetic_encoder.h"
 #include "io/laz/arithmetic_models.h"
@@ -51,17 +52,6 @@ std::unique_ptr<ItemEncoder> makeWavepacketEncoder();
 
 // ---------------------------------------------------------------------------------------------
 // Helpers shared by the items.
-
-template <class T>
-inline T loadLe(const std::byte* p) {
-  T value;
-  std::memcpy(&value, p, sizeof value);
-  return value;
-}
-template <class T>
-inline void storeLe(std::byte* p, T value) {
-  std::memcpy(p, &value, sizeof value);
-}
 
 // Two's-complement arithmetic without signed overflow (LASzip relies on 32-bit wrap-around).
 inline std::int32_t wrapAdd(std::int32_t a, std::int32_t b) {
