@@ -10,18 +10,29 @@
 // loaded the machine is: points per CPU-second. The machine's load average is printed beside the
 // figures, since these machines are shared.
 //
+// With --twin (the same points in another file: the LAS of a LAZ) and --potree-converter (the
+// peer's executable, run on the same inputs), the conversion, its twin's and the peer's are timed
+// in turn, --rounds times, and each round prints their ratios: what a slow input costs beside
+// its cheaply reread twin, and beside PotreeConverter 2. --keep-all keeps the decoded points of
+// every input, so that rereading a LAS can be measured against keeping it.
+//
 // With --copc the same inputs are then converted to a COPC file (lod/copc_converter.h: the same
 // build, then every node encoded as a LAZ chunk) and its throughput is given as a ratio of the
 // Potree conversion's, measured in the same run.
+#include <fcntl.h>
+#include <spawn.h>
 #include <sys/resource.h>
+#include <sys/wait.h>
 #include <tbb/info.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -41,7 +52,44 @@ struct BenchConvertOptions {
   std::string work = "";
   bool quiet = false;  // no stage bars (the figures are the result: printed)
   bool copc = false;
+  std::vector<std::string> twin;  // the same points in other files (the LAS of a LAZ)
+  std::string potree_converter;   // PotreeConverter 2's executable; empty: not run
+  int rounds = 1;                 // of the comparison with --twin / --potree-converter
+  bool keep_all = false;          // OctreeBuildOptions::keep_all_decoded
 };
+
+extern "C" char** environ;
+
+// Runs PotreeConverter 2 on `files` into `output` (its output quietened), waits for it, and
+// returns its wall seconds; throws when it fails.
+double runPotreeConverter(const std::string& executable, const std::vector<std::string>& files,
+                          const std::filesystem::path& output) {
+  std::vector<std::string> args{executable};
+  args.insert(args.end(), files.begin(), files.end());
+  args.push_back("-o");
+  args.push_back(output.string());
+  std::vector<char*> argv;
+  for (std::string& arg : args) argv.push_back(arg.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  const auto start = std::chrono::steady_clock::now();
+  pid_t pid = 0;
+  const int spawned =
+      posix_spawn(&pid, executable.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) throw std::runtime_error(executable + ": cannot run");
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) throw std::runtime_error(executable + ": lost");
+  }
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    throw std::runtime_error(executable + ": failed (status " + std::to_string(status) + ")");
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 
 double peakResidentMb() {
   rusage usage{};
@@ -64,9 +112,11 @@ double loadAverage() {
 }
 
 int runBenchConvert(const BenchConvertOptions& args) {
-  std::vector<ConvertInput> inputs;
+  std::vector<ConvertInput> inputs, twin;
   for (const std::string& file : args.files) inputs.push_back({file, {}});
+  for (const std::string& file : args.twin) twin.push_back({file, {}});
   PotreeConvertOptions options;
+  options.build.keep_all_decoded = args.keep_all;
   parseSamplingMethod(args.sampling, options.build.sampling);
   options.build.memory_bytes = args.memory_mb << 20;
   options.build.threads = args.threads;
@@ -100,6 +150,11 @@ int runBenchConvert(const BenchConvertOptions& args) {
               result.depth, result.chunks, double(result.octree_bytes) / 1e6);
   std::printf("  memory  peak resident %.0f MB (budget %llu MB)\n", peak_mb,
               static_cast<unsigned long long>(args.memory_mb));
+  std::printf(
+      "  kept    %llu decoded points for the later passes: %.0f MB in memory, %.0f MB "
+      "in scratch files\n",
+      static_cast<unsigned long long>(result.kept_points), double(result.kept_memory_bytes) / 1e6,
+      double(result.kept_file_bytes) / 1e6);
 
   // Reference: one streaming read of the inputs in the conversion's batches.
   const auto start = std::chrono::steady_clock::now();
@@ -113,6 +168,31 @@ int runBenchConvert(const BenchConvertOptions& args) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("reference one streaming read: %.2f s, %.2f M points/s (convert = %.1f reads)\n",
               seconds, double(read) / seconds / 1e6, result.seconds_total / seconds);
+  if (!twin.empty() || !args.potree_converter.empty()) {
+    options.progress = nullptr;
+    for (int round = 1; round <= args.rounds; ++round) {
+      const double load = loadAverage();
+      const double convert = convertToPotree(inputs, output, options).seconds_total;
+      std::filesystem::remove_all(output);
+      std::printf("round %d (load average %.2f): convert %.2f s", round, load, convert);
+      if (!twin.empty()) {
+        // The twin as a plain conversion reads it (--keep-all is for the inputs).
+        PotreeConvertOptions twin_options = options;
+        twin_options.build.keep_all_decoded = false;
+        const double twin_seconds = convertToPotree(twin, output, twin_options).seconds_total;
+        std::filesystem::remove_all(output);
+        std::printf(", twin %.2f s, convert / twin %.2f", twin_seconds, convert / twin_seconds);
+      }
+      if (!args.potree_converter.empty()) {
+        const double peer = runPotreeConverter(args.potree_converter, args.files, output);
+        std::filesystem::remove_all(output);
+        std::printf(", PotreeConverter %.2f s, PotreeConverter / convert %.2f", peer,
+                    peer / convert);
+      }
+      std::printf("\n");
+      std::fflush(stdout);
+    }
+  }
   if (args.copc) {
     const auto copc_output =
         work / ("parallax-bench-convert-" + std::to_string(::getpid()) + ".copc.laz");
@@ -157,6 +237,19 @@ Command addBenchConvertCommand(CLI::App& bench) {
   addQuietFlag(*command.subcommand, options->quiet);
   command.subcommand->add_flag("--copc", options->copc,
                                "Also convert to COPC and compare its throughput with Potree's");
+  command.subcommand->add_option(
+      "--twin", options->twin,
+      "The same points in other files (the LAS of a LAZ): converted in turn, with ratios");
+  command.subcommand->add_option("--potree-converter", options->potree_converter,
+                                 "PotreeConverter 2's executable: run on the same inputs in turn");
+  command.subcommand
+      ->add_option("--rounds", options->rounds,
+                   "Rounds of the comparison with --twin / --potree-converter")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  command.subcommand->add_flag("--keep-all", options->keep_all,
+                               "Keep the decoded points of every input, also those that reread "
+                               "cheaply (LAS, binary PLY)");
   command.run = [options] { return runBenchConvert(*options); };
   return command;
 }

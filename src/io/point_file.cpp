@@ -137,6 +137,11 @@ std::unique_ptr<PointChunkSource> openPointChunks(const std::filesystem::path& p
   return row.open_chunks(path, options);
 }
 
+bool rereadsCheaply(const std::filesystem::path& path) {
+  const PointFormatEntry& row = rowOf(path);
+  return row.rereads_cheaply && row.rereads_cheaply(path);
+}
+
 PointFormat formatForExtension(const std::filesystem::path& path) {
   return formatOfExtension(path);
 }

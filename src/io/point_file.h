@@ -72,6 +72,9 @@ PointCloud readPointFilePreview(const std::filesystem::path& path, std::uint64_t
 // out-of-core builder. Throws InputError as readPointFile does, and for a format without one.
 std::unique_ptr<PointChunkSource> openPointChunks(const std::filesystem::path& path,
                                                   const ChunkSourceOptions& options = {});
+// Whether reading the file's points again is cheap (its row's `rereads_cheaply`; false where the
+// row does not say). Throws InputError as openPointChunks does.
+bool rereadsCheaply(const std::filesystem::path& path);
 
 // The format a path's extension asks for when writing (a row's extensions: .ply, .las, .laz,
 // .xyz/.txt/.csv/.pts/.asc, ...); Unknown otherwise.

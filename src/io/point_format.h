@@ -78,6 +78,11 @@ struct PointFormatEntry {
   std::function<std::unique_ptr<PointChunkSource>(const std::filesystem::path&,
                                                   const ChunkSourceOptions&)>
       open_chunks;
+  // Whether reading this file's points again costs little beside what is done with them (local
+  // records of fixed layout, copied or byte-swapped: LAS, binary PLY). The octree builder reads
+  // such a file once per pass; any other (compressed, parsed from text, ...) it reads once and
+  // keeps the decoded points for its later passes (lod/point_spill.h). Empty: never cheap.
+  std::function<bool(const std::filesystem::path&)> rereads_cheaply;
   // `parallax info`'s account of the header; empty: the name alone.
   std::function<FormatDescription(const std::filesystem::path&)> describe;
 

@@ -9,7 +9,9 @@
 #include <limits>
 
 #include "core/error.h"
+#include "io/point_file.h"
 #include "lod/convert_stages.h"
+#include "lod/potree_reader.h"
 
 namespace parallax {
 namespace {
@@ -46,7 +48,7 @@ Quantization chooseOutputQuantization(const std::vector<Quantization>& inputs,
 }  // namespace
 
 ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuildOptions& options,
-                       const ProgressFactory& progress) {
+                       const ProgressFactory& progress, const std::filesystem::path& scratch_dir) {
   ConvertPlan plan;
   std::uint64_t total = 0;
   bool have_layout = false;
@@ -79,9 +81,22 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
   // A first guess of the record size for the batch size (the layout is known after the scan).
   plan.batch_points = std::clamp<std::uint64_t>(options.memory_bytes / 8 / 128, 4096, 4u << 20);
   std::unique_ptr<Progress> bar = progress ? progress("scanning", total) : nullptr;
-  for (auto& owned : streams) {
+  // Half the budget for the decoded points kept in memory, all inputs together: the scan, count
+  // and distribute passes use the batch's quarter and the count grid besides, and the chunks'
+  // share is free until the build, by when the spills are gone.
+  std::uint64_t spill_memory = options.memory_bytes / 2;
+  plan.spills.resize(inputs.size());
+  for (std::size_t index = 0; index < streams.size(); ++index) {
     // Released after its pass: one input's mapping at a time.
-    const std::unique_ptr<PointStream> stream = std::move(owned);
+    const std::unique_ptr<PointStream> stream = std::move(streams[index]);
+    std::shared_ptr<PointSpill>& spill = plan.spills[index];
+    if (!scratch_dir.empty() && !isPotreeDirectory(inputs[index].path) &&
+        (options.keep_all_decoded || !rereadsCheaply(inputs[index].path))) {
+      std::filesystem::create_directories(scratch_dir);
+      spill = std::make_shared<PointSpill>(
+          scratch_dir / ("decoded-" + std::to_string(index) + ".columns"), spill_memory,
+          stream->quantization(), stream->crs());
+    }
     PointCloud batch;
     bool first = true;
     while (stream->next(batch, plan.batch_points)) {
@@ -99,7 +114,9 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
       plan.bounds.extend(batch.bounds);
       plan.points += batch.count;
       if (bar) bar->advance(batch.count);
+      if (spill) spill->add(std::move(batch));
     }
+    if (spill) spill_memory -= spill->memoryBytes();
   }
   const bool filtered = std::any_of(inputs.begin(), inputs.end(), [](const ConvertInput& input) {
     return !input.filter.keepsAll();
@@ -192,8 +209,7 @@ void countChunks(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
   std::vector<std::uint64_t> counts(ConvertPlan::kGridCells, 0);
   std::unique_ptr<Progress> bar = progress ? progress("counting", plan.points) : nullptr;
   for (std::size_t input = 0; input < inputs.size(); ++input) {
-    PointStream stream(inputs[input].path, inputs[input].text_columns,
-                       &plan.input_quantizations[input], &inputs[input].filter);
+    PointStream stream = openPassStream(plan, inputs, input, false);
     countStream(plan, stream, counts, bar.get());
   }
   planChunks(plan, std::move(counts));

@@ -183,8 +183,7 @@ void distributePoints(ConvertPlan& plan, const std::vector<ConvertInput>& inputs
   std::unique_ptr<Progress> bar = progress ? progress("distributing", plan.points) : nullptr;
   Distributor distributor(plan, chunk_dir);
   for (std::size_t input = 0; input < inputs.size(); ++input) {
-    PointStream stream(inputs[input].path, inputs[input].text_columns,
-                       &plan.input_quantizations[input], &inputs[input].filter);
+    PointStream stream = openPassStream(plan, inputs, input, true);
     distributor.add(stream, inputs[input].path, bar.get());
   }
   const std::vector<std::uint64_t>& delivered = distributor.finish();

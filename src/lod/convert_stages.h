@@ -32,6 +32,7 @@
 #include "io/coordinate_system.h"
 #include "io/mapped_file.h"
 #include "lod/octree_build_options.h"
+#include "lod/point_spill.h"
 #include "lod/potree_hierarchy_writer.h"
 #include "lod/potree_layout.h"
 #include "lod/sampler.h"
@@ -54,6 +55,8 @@ class PointStream {
  public:
   PointStream(const std::filesystem::path& path, const std::vector<std::string>& text_columns,
               const Quantization* quantization = nullptr, const PointFilter* filter = nullptr);
+  // The points of `source` as they are (a PointSpill's: already filtered).
+  explicit PointStream(std::unique_ptr<PointChunkSource> source);
   ~PointStream();
 
   std::uint64_t pointCount() const;
@@ -110,6 +113,10 @@ struct ConvertPlan {
   static constexpr std::size_t kGridCells = std::size_t(1) << (3 * kGridLevel);
   std::vector<std::int32_t> cell_chunk;  // count grid cell -> index into chunks, -1: empty
   std::vector<ChunkPlan> chunks;
+  // Per input, its points as the scan decoded them, for the count and distribute passes; null:
+  // the input is read again (its format rereads cheaply, or the scan was given no scratch
+  // directory). Dropped after the distribute pass (releaseSpills).
+  std::vector<std::shared_ptr<PointSpill>> spills;
 
   // The count grid cell of a quantized position (clamped into the grid). Inline: called per
   // point in two passes.
@@ -178,8 +185,16 @@ struct ChunkRoot {
   std::vector<std::byte> records;
 };
 
+// With a `scratch_dir`, the points of the inputs that do not reread cheaply
+// (io/point_format.h) are kept for the later passes (ConvertPlan::spills): in memory within half
+// the budget, the rest in scratch files there.
 ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuildOptions& options,
-                       const ProgressFactory& progress);
+                       const ProgressFactory& progress,
+                       const std::filesystem::path& scratch_dir = {});
+// The stream a pass after the scan reads input `index` from: its spill, or the file again.
+// `last_pass`: the spill's batches in memory are handed over and freed (distribute).
+PointStream openPassStream(const ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
+                           std::size_t index, bool last_pass);
 // What scanInputs derives once the points, bounds, layout and input quantizations are known:
 // the cube, spacing, output quantization, empty stats, batch and chunk sizes.
 void finishScan(ConvertPlan& plan, const OctreeBuildOptions& options);

@@ -39,6 +39,10 @@ struct OctreeBuildOptions {
   std::uint64_t max_chunk_points = 0;
   // Worker threads; 0 uses every core.
   int threads = 0;
+  // Out of core: keep the decoded points of every input for the passes after the scan, not only
+  // of those that do not reread cheaply (io/point_format.h). For `bench convert --keep-all`,
+  // which measures what rereading costs (lod/NOTES.md "Each point decoded once").
+  bool keep_all_decoded = false;
   Progress* progress = nullptr;  // advanced by points (each stage reports its own share)
 };
 

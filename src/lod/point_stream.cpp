@@ -77,7 +77,21 @@ PointStream::PointStream(const std::filesystem::path& path,
   }
   if (filter && !filter->keepsAll()) state_->filter = *filter;
 }
+PointStream::PointStream(std::unique_ptr<PointChunkSource> source)
+    : state_(std::make_unique<State>()) {
+  state_->source = std::move(source);
+}
+
 PointStream::~PointStream() = default;
+
+PointStream openPassStream(const ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
+                           std::size_t index, bool last_pass) {
+  if (index < plan.spills.size() && plan.spills[index]) {
+    return PointStream(plan.spills[index]->read(last_pass));
+  }
+  return PointStream(inputs[index].path, inputs[index].text_columns,
+                     &plan.input_quantizations[index], &inputs[index].filter);
+}
 
 std::uint64_t PointStream::pointCount() const {
   return state_->source->pointCount();

@@ -121,7 +121,15 @@ PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
   TemporaryDirectory temp(partialOutputPath(target));
 
   auto mark = Clock::now();
-  ConvertPlan plan = scanInputs(inputs, options.build, options.progress);
+  // The decoded points of slow inputs are kept under the temporary directory, so that any
+  // failure removes them with it.
+  ConvertPlan plan = scanInputs(inputs, options.build, options.progress, temp.path() / "decoded");
+  for (const auto& spill : plan.spills) {
+    if (!spill) continue;
+    result.kept_points += spill->points();
+    result.kept_memory_bytes += spill->memoryBytes();
+    result.kept_file_bytes += spill->fileBytes();
+  }
   result.seconds_scan = secondsSince(mark);
   mark = Clock::now();
   countChunks(plan, inputs, options.progress);
@@ -129,6 +137,10 @@ PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
   mark = Clock::now();
   const auto chunk_dir = temp.path() / "chunks";
   distributePoints(plan, inputs, chunk_dir, options.progress);
+  // The last pass over the inputs is done: their kept points (memory and scratch files) go
+  // before the build needs the memory.
+  plan.spills.clear();
+  std::filesystem::remove_all(temp.path() / "decoded");
   result.seconds_distribute = secondsSince(mark);
 
   mark = Clock::now();

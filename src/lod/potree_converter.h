@@ -49,6 +49,9 @@ struct PotreeConvertResult {
   // started (those of running processes are left).
   PartialCleanup cleanup;
   CoordinateSystem crs;  // the inputs', written as metadata.json "projection" (empty: none)
+  // The decoded points the scan kept for the later passes (inputs that do not reread cheaply,
+  // lod/point_spill.h): points, and bytes held in memory and written to scratch files.
+  std::uint64_t kept_points = 0, kept_memory_bytes = 0, kept_file_bytes = 0;
 };
 
 // metadata.json of a Potree 2.0 directory in the DEFAULT encoding (what convertToPotree writes;
