@@ -77,8 +77,8 @@ struct SourceTypes {
 struct PointCloud {
   std::uint64_t count = 0;
   Quantization quantization;
-  Column<Int3> positions;               // always count elements
-  Column<Rgba8> colors;                 // empty: no colour
+  Column<Int3> positions;  // always count elements
+  Column<Rgba8> colors;    // empty: no colour
   // The colours exactly as a 16-bit source stored them (LAS: 8-bit values in the 16-bit fields
   // stay 8-bit values, 16-bit ones stay 16-bit), so that a LAS or LAZ writer gives them back
   // unchanged; empty when the source stored none or stored 8 bits (PLY uchar). When present,

@@ -98,7 +98,7 @@ struct LasHeader {
   std::uint8_t version_minor = 2;
   std::uint16_t file_source_id = 0;
   std::uint16_t global_encoding = 0;  // bit 0: standard GPS time, bit 4: CRS is WKT
-  std::array<std::byte, 16> guid{};  // project ID (GUID data 1-4), as stored
+  std::array<std::byte, 16> guid{};   // project ID (GUID data 1-4), as stored
   std::string system_identifier;
   std::string generating_software;
   std::uint16_t creation_day = 0;

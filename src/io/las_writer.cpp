@@ -291,21 +291,21 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options) {
 
   const LasHeader* src = options.source.get();
   // The first field the cloud holds that only formats 6-10 have room for; null when none.
-  const char* extended_field = find(Field::Channel)               ? "scanner_channel"
-                               : max_class > 31                   ? "classification above 31"
-                               : maxOf(Field::ReturnNumber) > 7    ? "return_number above 7"
-                               : maxOf(Field::NumberOfReturns) > 7 ? "number_of_returns above 7"
-                               : maxOf(Field::ClassFlags) >= 8 || maxOf(Field::Overlap) > 0
-                                   ? "the overlap flag"
-                               : find(Field::ScanAngle) && !find(Field::ScanAngleRank)
-                                   ? "scan_angle (0.006 degree steps)"
-                                   : nullptr;
+  const char* extended_field =
+      find(Field::Channel)                                         ? "scanner_channel"
+      : max_class > 31                                             ? "classification above 31"
+      : maxOf(Field::ReturnNumber) > 7                             ? "return_number above 7"
+      : maxOf(Field::NumberOfReturns) > 7                          ? "number_of_returns above 7"
+      : maxOf(Field::ClassFlags) >= 8 || maxOf(Field::Overlap) > 0 ? "the overlap flag"
+      : find(Field::ScanAngle) && !find(Field::ScanAngleRank) ? "scan_angle (0.006 degree steps)"
+                                                              : nullptr;
   const bool has_wave = find(Field::WaveIndex) || find(Field::WaveOffset) ||
                         find(Field::WaveSize) || find(Field::WaveLocation);
   const bool format_forced = options.point_format >= 0;
   assert(options.point_format <= kLasMaxPointFormat && "LAS point format must be 0-10");
-  assert((options.minor_version == 0 || (options.minor_version >= 2 && options.minor_version <= 4)) &&
-         "a forced LAS minor version must be 2, 3 or 4");
+  assert(
+      (options.minor_version == 0 || (options.minor_version >= 2 && options.minor_version <= 4)) &&
+      "a forced LAS minor version must be 2, 3 or 4");
   int format = 0;
   int minor = options.minor_version;
   if (format_forced) {
@@ -623,9 +623,9 @@ void encodeBlock(const PointCloud& cloud, const Layout& layout, std::size_t firs
     withExtraDataType(target.data_type, [&](auto zero) {
       using T = decltype(zero);
       for (std::size_t i = 0; i < n; ++i) {
-        const double raw =
-            target.scale == 1.0 && target.add == 0.0 ? values[i]
-                                                     : (values[i] - target.add) / target.scale;
+        const double raw = target.scale == 1.0 && target.add == 0.0
+                               ? values[i]
+                               : (values[i] - target.add) / target.scale;
         store(out + i * stride + target.offset, clampRound<T>(raw));
       }
     });
@@ -722,7 +722,7 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
   const Layout layout = makeLayout(cloud, options);
   const LasWritePlan& plan = layout.plan;
   const bool v14 = plan.minor_version == 4;
-  const std::size_t header_size = v14                        ? kLasHeaderSize14
+  const std::size_t header_size = v14                       ? kLasHeaderSize14
                                   : plan.minor_version == 3 ? kLasHeaderSize13
                                                             : kLasHeaderSize12;
   const LasHeader* src = options.source.get();
@@ -762,7 +762,8 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
                          });
     if (!carried) add(vlr);
   }
-  if (hasExtraBytes(layout) && !extra_bytes_written) vlrs.push_back(vlrBytes(extraBytesVlr(layout)));
+  if (hasExtraBytes(layout) && !extra_bytes_written)
+    vlrs.push_back(vlrBytes(extraBytesVlr(layout)));
   const bool compress = options.laz_chunk_points > 0;
   laz::LaszipVlr laszip;
   if (compress) {

@@ -59,8 +59,9 @@ laz::LaszipVlr makeLaszipVlr(int point_format, std::size_t record_length,
   return vlr;
 }
 
-std::uint64_t writeLazPointData(OutputFile& out, std::uint64_t data_offset, const laz::LaszipVlr& vlr,
-                       std::uint64_t count, const LasRecordFiller& records, Progress* progress) {
+std::uint64_t writeLazPointData(OutputFile& out, std::uint64_t data_offset,
+                                const laz::LaszipVlr& vlr, std::uint64_t count,
+                                const LasRecordFiller& records, Progress* progress) {
   auto makeEncoder = [&vlr]() -> std::unique_ptr<laz::ChunkEncoder> {
     try {
       return vlr.compressor == 3 ? laz::makeLayeredEncoder(vlr.items)

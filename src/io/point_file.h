@@ -79,7 +79,7 @@ PointFormat formatForExtension(const std::filesystem::path& path);
 
 struct PointWriteOptions {
   Progress* progress = nullptr;
-  bool ply_ascii = false;     // PLY: ascii instead of binary little endian
+  bool ply_ascii = false;  // PLY: ascii instead of binary little endian
   // LAS, LAZ: 2, 3 or 4 forces the version; 0 keeps a LAS source's or chooses (las_writer.h).
   int las_minor_version = 0;
   int las_point_format = -1;  // LAS, LAZ: 0-10 forces the point format; -1 keeps or chooses
