@@ -7,7 +7,8 @@
 #                   clang's front end (scripts/syntax_check.py, for clang's warnings); each
 #                   fuzz target runs for a fixed time from a copy of its seed corpus
 #                   fuzz/corpus/<format>/ and the real files fuzz/CMakeLists.txt lists from
-#                   PARALLAX_TEST_DATA (with fuzz/<format>.dict when present)
+#                   PARALLAX_TEST_DATA (with fuzz/<format>.dict when present), as many at a
+#                   time as there are build jobs
 # Every tree is built with PARALLAX_WERROR=ON (a compiler warning fails the build) and its build
 # log is searched for any other warning (CMake, linker), which fails the stage too.
 # A skipped test is not a passed one: every skip is listed in the summary with its reason, and a
@@ -180,12 +181,11 @@ run_ctest() {
     "$status" $(($(now) - start))
 }
 
-# run_fuzzer EXECUTABLE: a fixed time from a copy of its seed corpus (the seeds stay unchanged).
-run_fuzzer() {
-  local executable=$1 name kind corpus start rc log
-  name=$(basename "$executable")
-  kind=${name#fuzz_}
-  kind=${kind%_reader}
+# prepare_fuzz_corpus EXECUTABLE: a fresh copy of the fuzz target's seeds (the seeds stay
+# unchanged); prints the folder, or the problems and returns 1.
+prepare_fuzz_corpus() {
+  local executable=$1 kind corpus
+  kind=$(fuzz_kind "$executable")
   corpus=$(mktemp -d "$logs/corpus-$kind.XXXXXX")
   # A fuzzer started from an empty corpus finds next to nothing in 15 s, and says nothing about
   # it: a missing seed folder, or a real seed file missing from PARALLAX_TEST_DATA, fails the run.
@@ -204,31 +204,67 @@ run_fuzzer() {
     fi
   done <"$fuzz_dir/fuzz/fuzz_test_data_seeds.txt"
   if [[ ${#problems[@]} -gt 0 ]]; then
-    printf -- '---- %s FAILED: %s\n' "$name" "${problems[@]}"
-    tests_failed=$((tests_failed + 1))
-    record "fuzz $name" FAILED 0
-    return
+    printf '%s\n' "${problems[@]}"
+    return 1
   fi
-  local extra=()
-  [[ -f "$root/fuzz/$kind.dict" ]] && extra+=("-dict=$root/fuzz/$kind.dict")
+  echo "$corpus"
+}
+
+# fuzz_kind EXECUTABLE: fuzz_las_reader -> las (the name of its corpus folder and dictionary).
+fuzz_kind() {
+  local name kind
+  name=$(basename "$1")
+  kind=${name#fuzz_}
+  echo "${kind%_reader}"
+}
+
+# run_fuzzers EXECUTABLE...: each for a fixed time from a copy of its seed corpus, $jobs at a time
+# (each fuzzer uses one core), then each one's result in the order given.
+run_fuzzers() {
+  local executable name kind corpus names=() starts=() problems
   mkdir -p "$root/$fuzz_dir/artifacts"
-  log="$logs/$name.log"
-  banner "fuzz: $name for ${fuzz_seconds}s (log: $log)"
-  start=$(now)
-  "$executable" -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 -timeout=10 \
-    -print_final_stats=1 -artifact_prefix="$root/$fuzz_dir/artifacts/$name-" "${extra[@]}" \
-    "$corpus" >"$log" 2>&1 </dev/null
-  rc=$?
-  grep -E '^stat::(number_of_executed_units|new_units_added|peak_rss_mb)' "$log" || true
-  if [[ $rc -eq 0 ]]; then
-    tests_passed=$((tests_passed + 1))
-  else
-    tests_failed=$((tests_failed + 1))
-    echo "---- $name failed (exit $rc); the end of its log:"
-    tail -n 60 "$log"
-    echo "---- the input that failed is in $fuzz_dir/artifacts/"
-  fi
-  record "fuzz $name" "$([[ $rc -eq 0 ]] && echo ok || echo FAILED)" $(($(now) - start))
+  for executable in "$@"; do
+    name=$(basename "$executable")
+    kind=$(fuzz_kind "$executable")
+    if ! problems=$(prepare_fuzz_corpus "$executable"); then
+      while IFS= read -r line; do printf -- '---- %s FAILED: %s\n' "$name" "$line"; done <<<"$problems"
+      tests_failed=$((tests_failed + 1))
+      record "fuzz $name" FAILED 0
+      continue
+    fi
+    corpus=$problems
+    local extra=()
+    [[ -f "$root/fuzz/$kind.dict" ]] && extra+=("-dict=$root/fuzz/$kind.dict")
+    while [[ $(jobs -rp | wc -l) -ge $jobs ]]; do wait -n; done
+    banner "fuzz: $name for ${fuzz_seconds}s (log: $logs/$name.log)"
+    names+=("$name")
+    starts+=("$(now)")
+    (
+      "$executable" -max_total_time="$fuzz_seconds" -rss_limit_mb=2048 -timeout=10 \
+        -print_final_stats=1 -artifact_prefix="$root/$fuzz_dir/artifacts/$name-" "${extra[@]}" \
+        "$corpus" >"$logs/$name.log" 2>&1 </dev/null
+      echo $? >"$logs/$name.rc"
+      now >"$logs/$name.end"
+    ) &
+  done
+  wait
+  local i rc
+  for i in "${!names[@]}"; do
+    name=${names[$i]}
+    rc=$(cat "$logs/$name.rc" 2>/dev/null || echo 255)
+    echo "---- $name:"
+    grep -E '^stat::(number_of_executed_units|new_units_added|peak_rss_mb)' "$logs/$name.log" || true
+    if [[ $rc -eq 0 ]]; then
+      tests_passed=$((tests_passed + 1))
+    else
+      tests_failed=$((tests_failed + 1))
+      echo "---- $name failed (exit $rc); the end of its log:"
+      tail -n 60 "$logs/$name.log"
+      echo "---- the input that failed is in $fuzz_dir/artifacts/"
+    fi
+    record "fuzz $name" "$([[ $rc -eq 0 ]] && echo ok || echo FAILED)" \
+      $(($(cat "$logs/$name.end" 2>/dev/null || now) - ${starts[$i]}))
+  done
 }
 
 total_start=$(now)
@@ -288,9 +324,11 @@ if [[ $quick -eq 0 ]]; then
     else
       record "clang syntax check" FAILED $(($(now) - start))
     fi
+    fuzzers=()
     while read -r target; do
-      [[ -n "$target" ]] && run_fuzzer "$fuzz_dir/fuzz/$target"
+      [[ -n "$target" ]] && fuzzers+=("$fuzz_dir/fuzz/$target")
     done <"$fuzz_dir/fuzz/fuzz_targets.txt"
+    run_fuzzers "${fuzzers[@]}"
   fi
 fi
 

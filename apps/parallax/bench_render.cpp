@@ -339,6 +339,7 @@ int runBenchRenderInput(const RenderBenchOptions& o, const CLI::App& command,
 
   RenderSource source =
       openRenderSource({.input = o.input, .quiet = o.json, .command = "bench render"}, o.lod);
+  paintScalarColors(source, o.render, o.json, "bench render");
   if (source.lod()) {
     const Octree& octree = *source.octree;
     // As the viewer sizes an octree's attenuated points before any node is drawn: spacing / 4.

@@ -264,6 +264,7 @@ Command addBenchCommand(CLI::App& app) {
       addBenchLoadCommand(*command.subcommand),
       addBenchRenderCommand(*command.subcommand),
       addBenchConvertCommand(*command.subcommand),
+      addBenchLazCommand(*command.subcommand),
   });
   command.run = [modes] {
     for (const auto& mode : *modes) {

@@ -39,6 +39,7 @@
 #include "core/error.h"
 #include "core/point_cloud.h"
 #include "core/progress.h"
+#include "io/format_description.h"
 #include "io/point_file.h"
 #include "lod/copc_reader.h"
 #include "lod/octree_open.h"

@@ -125,7 +125,9 @@ Command addProcessCommand(CLI::App& app) {
   sub->add_option("--orient", args->orient,
                   "Normals steps: up (towards +z, default), X,Y,Z (towards a point), propagate "
                   "(consistent along the surface: a minimum spanning tree over the K-nearest "
-                  "graph, Hoppe 1992; the cloud must fit --memory); sensor is not available yet");
+                  "graph, Hoppe 1992; the cloud must fit --memory), sensor (towards the scanner: "
+                  "sensor_x/y/z, scanner_x/y/z or vp_x/y/z columns, E57 and PTX scans, a PCD "
+                  "VIEWPOINT)");
   sub->add_option("--outliers", args->outliers,
                   "Step: statistical:K,S (mean distance to the K nearest more than S standard "
                   "deviations above the cloud's mean, as PCL's StatisticalOutlierRemoval) or "
@@ -134,8 +136,10 @@ Command addProcessCommand(CLI::App& app) {
                 "Outlier steps: keep the outliers as class 7 (low noise) instead of removing them");
   sub->add_option("--subsample", args->subsample,
                   "Step: voxel:SIZE (one original point per occupied voxel, the nearest to the "
-                  "voxel's centroid; voxels from the cloud's minimum corner) or random:N (N "
-                  "points, uniformly; the same N points whatever --memory)");
+                  "voxel's centroid; voxels from the cloud's minimum corner), spacing:D (no two "
+                  "kept points closer than D, greedily: columns of width D in x, input order "
+                  "within one) or random:N (N points, uniformly; the same N points whatever "
+                  "--memory)");
   sub->add_option("--distance-to", args->distance_to,
                   "Step: each point's distance (float 'distance') to its nearest point of this "
                   "reference cloud");

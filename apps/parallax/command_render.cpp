@@ -110,6 +110,7 @@ int runRender(const RenderCommandOptions& o) {
                   FilterTarget::Gpu);  // a malformed list is reported before the file is read
   RenderSource source =
       openRenderSource({.input = o.input, .preview = o.preview, .quiet = o.quiet}, o.lod);
+  paintScalarColors(source, o.render, o.quiet, "render");
   const double load_s = secondsSince(start);
 
   auto phase = Clock::now();

@@ -34,5 +34,7 @@ Command addConvertTaskCommand(CLI::App& app);
 Command addBenchRenderCommand(CLI::App& bench);
 // `bench convert` (command_bench_convert.cpp), registered by addBenchCommand.
 Command addBenchConvertCommand(CLI::App& bench);
+// `bench laz` (command_bench_laz.cpp), registered by addBenchCommand.
+Command addBenchLazCommand(CLI::App& bench);
 
 }  // namespace parallax::cli

@@ -30,7 +30,22 @@ glm::dvec3 vectorFrom(const std::vector<double>& v, const char* option) {
 }  // namespace
 
 void addRenderOptions(CLI::App& command, RenderOptions& o) {
-  command.add_option("--color", o.color, "Colour mode: " + colorModeNames())->capture_default_str();
+  command
+      .add_option("--color", o.color,
+                  "Colour mode: " + colorModeNames() +
+                      ", or the name of a scalar attribute (distance, curvature, ...) shown "
+                      "with --color-ramp")
+      ->capture_default_str();
+  command
+      .add_option("--color-ramp", o.color_ramp,
+                  "Ramp of a scalar attribute's colours: " + colorRampNames())
+      ->capture_default_str();
+  command
+      .add_option("--color-range", o.color_range,
+                  "MIN,MAX of the scalar attribute's ramp (default: its smallest and largest "
+                  "value); values outside take the nearer end's colour")
+      ->delimiter(',')
+      ->expected(2);
   command.add_option("--point-size", o.point_size, "Point size in pixels (fixed size mode)")
       ->capture_default_str()
       ->check(CLI::Range(1.0f, 255.0f));
@@ -156,9 +171,25 @@ StereoSettings stereoSettingsFrom(const RenderOptions& o) {
 RenderSettings renderSettingsFrom(const RenderOptions& o, double typical_spacing) {
   RenderSettings settings;
   const auto color = parseColorMode(o.color);
-  if (!color) {
-    throw std::invalid_argument("--color: unknown mode '" + o.color + "' (use " + colorModeNames() +
-                                ")");
+  const auto ramp = parseColorRamp(o.color_ramp);
+  if (!ramp) {
+    throw std::invalid_argument("--color-ramp: unknown ramp '" + o.color_ramp + "' (use " +
+                                colorRampNames() + ")");
+  }
+  if (o.color.empty()) {
+    throw std::invalid_argument("--color: empty (use " + colorModeNames() +
+                                " or a scalar attribute's name)");
+  }
+  if (!o.color_range.empty()) {
+    if (o.color_range.size() != 2 || !(o.color_range[0] < o.color_range[1])) {
+      throw std::invalid_argument("--color-range takes MIN,MAX with MIN below MAX");
+    }
+    if (color) {
+      throw std::invalid_argument(
+          "--color-range applies to a scalar attribute's colours, not to "
+          "--color " +
+          o.color);
+    }
   }
   const auto size_mode = parsePointSizeMode(o.size_mode);
   if (!size_mode) {
@@ -167,7 +198,14 @@ RenderSettings renderSettingsFrom(const RenderOptions& o, double typical_spacing
   }
   const auto shape = parsePointShape(o.shape);
   if (!shape) throw std::invalid_argument("--shape: '" + o.shape + "' (use square|round)");
-  settings.color = *color;
+  // Not a mode: a scalar attribute, checked against the cloud when it is uploaded.
+  settings.color = color.value_or(ColorMode::Rgb);
+  if (!color) {
+    settings.scalar.field = o.color;
+    settings.scalar.ramp = *ramp;
+    if (!o.color_range.empty())
+      settings.scalar.range = ScalarRange{o.color_range[0], o.color_range[1]};
+  }
   settings.size_mode = *size_mode;
   settings.shape = *shape;
   settings.point_size_px = o.point_size;

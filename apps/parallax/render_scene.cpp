@@ -64,6 +64,24 @@ RenderSource openRenderSource(const RenderSourceOptions& o, const LodOptions& lo
   return source;
 }
 
+void paintScalarColors(RenderSource& source, const RenderOptions& options, bool quiet,
+                       std::string_view command) {
+  const ScalarColoring coloring = renderSettingsFrom(options, 0.0).scalar;
+  if (coloring.field.empty()) return;
+  if (source.lod()) {
+    throw std::invalid_argument("--color " + coloring.field +
+                                ": scalar attributes are coloured on whole clouds, and " +
+                                source.octree_dir.string() +
+                                " is drawn as an octree (raise --budget over its point count, or "
+                                "use --preview)");
+  }
+  const ScalarRange range = paintScalarField(source.cloud, coloring);
+  if (!quiet)
+    std::fprintf(stderr, "parallax %s: %s from %.9g to %.9g, %s ramp\n",
+                 std::string(command).c_str(), coloring.field.c_str(), range.min, range.max,
+                 std::string(colorRampName(coloring.ramp)).c_str());
+}
+
 RenderScene uploadRenderSource(RenderSource& source, bool keep_cloud) {
   RenderScene scene;
   if (source.lod()) {

@@ -43,6 +43,13 @@ struct RenderSourceOptions {
 // Opens the input; throws InputError or std::invalid_argument naming the file or option.
 RenderSource openRenderSource(const RenderSourceOptions& options, const LodOptions& lod);
 
+// With `--color ATTRIBUTE` (a scalar attribute, not a colour mode), replaces the whole cloud's
+// colours with the attribute's ramp (render/scalar_colors.h) and, unless `quiet`, says the range
+// on stderr. Throws std::invalid_argument naming the attribute and those the cloud has, and for an
+// octree (its nodes carry no scalar attributes for the renderer).
+void paintScalarColors(RenderSource& source, const RenderOptions& options, bool quiet,
+                       std::string_view command);
+
 // The source on the GPU (needs a current context): the whole cloud, or a LodScene.
 struct RenderScene {
   std::unique_ptr<GpuPointCloud> gpu;

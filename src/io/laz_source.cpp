@@ -267,10 +267,12 @@ std::string describeLazChunk(const LazSource& source, std::size_t index) {
   return text;
 }
 
-LazChunkDecoder::LazChunkDecoder(const LazSource& source) {
+LazChunkDecoder::LazChunkDecoder(const LazSource& source, std::uint32_t fields,
+                                 laz::DecoderPath path) {
   try {
-    codec_ = source.vlr.compressor == 3 ? laz::makeLayeredDecoder(source.vlr.items)
-                                        : laz::makePointwiseDecoder(source.vlr.items);
+    codec_ = source.vlr.compressor == 3 ? laz::makeLayeredDecoder(source.vlr.items, path)
+                                        : laz::makePointwiseDecoder(source.vlr.items, path);
+    codec_->selectFields(fields);
   } catch (const laz::UnsupportedItems& e) {
     throw InputError({.file = source.in.name(),
                       .byte_offset = source.header.laszip_vlr_offset,

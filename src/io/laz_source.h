@@ -62,7 +62,11 @@ std::unique_ptr<LazSource> openLazSource(RangeReader in, LasHeader header);
 // One thread's decoding state: the codec and its buffers (reused from chunk to chunk).
 class LazChunkDecoder {
  public:
-  explicit LazChunkDecoder(const LazSource& source);
+  // `fields` (laz::fields::k*): the groups to decode, where the codec can skip the others
+  // (layered chunks; see laz::ChunkDecoder::selectFields); `path`: the specialised chunk loop
+  // or the general one (benchmarks compare them).
+  explicit LazChunkDecoder(const LazSource& source, std::uint32_t fields = laz::fields::kAll,
+                           laz::DecoderPath path = laz::DecoderPath::kSpecialised);
   ~LazChunkDecoder();
 
   // Decodes chunk `index` and returns its records (records.record_length bytes each; valid until

@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
 #include <span>
@@ -39,16 +38,7 @@ struct PointFileHeader {
   CoordinateSystem crs;                      // empty: none stated
 };
 
-// A format's own account of a file for `parallax info`: the first line, the lines under it, and
-// the same as JSON ("format_details"; PLY adds "elements").
-struct FormatDescription {
-  std::string name;                // the format's id: "ply", "las", "laz", "text", ...
-  std::string summary;             // one line: "PLY ascii 1.0, header 222 bytes"
-  std::vector<std::string> lines;  // details, one a line, already indented
-  nlohmann::ordered_json details = nlohmann::ordered_json::object();
-  nlohmann::ordered_json elements;         // PLY's elements; null for other formats
-  std::optional<Bounds3> declared_bounds;  // bounds the file itself declares (LAS header)
-};
+struct FormatDescription;  // format_description.h: a format's own account of a file for `info`
 
 // How a chunk source is opened by the octree builder.
 struct ChunkSourceOptions {

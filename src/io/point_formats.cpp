@@ -10,6 +10,7 @@
 
 #include "core/scalar_type.h"
 #include "io/e57/e57_format.h"
+#include "io/format_description.h"
 #include "io/las_header.h"
 #include "io/las_reader.h"
 #include "io/las_record_decoder.h"

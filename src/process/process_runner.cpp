@@ -13,6 +13,7 @@
 #include "io/las_writer.h"
 #include "io/laz_writer.h"
 #include "io/ply_writer.h"
+#include "process/sensor_positions.h"
 #include "process/tile_queries.h"
 #include "process/tile_set.h"
 
@@ -24,22 +25,6 @@ constexpr std::size_t kBatchPoints = std::size_t(1) << 20;
 constexpr std::uint8_t kLowNoiseClass = 7;
 
 void checkSteps(const ProcessOptions& options) {
-  for (const ProcessStep& step : options.steps) {
-    if (const auto* n = std::get_if<NormalsStep>(&step)) {
-      if (n->orientation == NormalOrientation::kSensor) {
-        throw std::invalid_argument(describeStep(step) +
-                                    " --orient sensor: not available yet (the scanner position "
-                                    "is not carried through the tiles); use --orient X,Y,Z "
-                                    "with the scanner's position");
-      }
-    }
-    if (const auto* s = std::get_if<SubsampleStep>(&step)) {
-      if (s->method == SubsampleStep::Method::kSpacing) {
-        throw std::invalid_argument(describeStep(step) +
-                                    ": not available yet; use --subsample voxel:SIZE");
-      }
-    }
-  }
   const PointFormat format = formatForExtension(options.output);
   if (format == PointFormat::Unknown) {
     throw std::invalid_argument("process: cannot write " + options.output.string() +
@@ -107,7 +92,39 @@ class RecordReader {
 
 struct Added {
   bool normals = false, curvature = false, distance = false, mark = false;
+  // The last normals step asked for --orient sensor: the normals are turned towards each
+  // point's sensor as they are written.
+  bool towards_sensor = false;
 };
+
+// Each input's sensor positions, found before any work so that a file without them fails
+// first; empty unless a normals step orients towards the sensor.
+std::vector<SensorPositions> findSensors(const ProcessOptions& options) {
+  std::vector<SensorPositions> sensors;
+  for (const ProcessStep& step : options.steps) {
+    const auto* n = std::get_if<NormalsStep>(&step);
+    if (!n || n->orientation != NormalOrientation::kSensor) continue;
+    for (const ConvertInput& input : options.inputs) {
+      PointStream stream(input.path, input.text_columns, nullptr, &input.filter);
+      PointCloud first;
+      stream.next(first, 1);
+      sensors.push_back(
+          SensorPositions::of(input.path, first, describeStep(step) + " --orient sensor"));
+    }
+    break;
+  }
+  return sensors;
+}
+
+// Normal i of `normals` (x y z triples) turned to face `sensor` from point i of `batch`.
+void faceSensor(const PointCloud& batch, std::size_t i, const SensorPositions& sensor,
+                float* normal) {
+  const std::array<double, 3> s = sensor.at(batch, i);
+  const double to[3] = {s[0] - batch.worldX(i), s[1] - batch.worldY(i), s[2] - batch.worldZ(i)};
+  if (double(normal[0]) * to[0] + double(normal[1]) * to[1] + double(normal[2]) * to[2] < 0.0) {
+    for (int a = 0; a < 3; ++a) normal[a] = -normal[a];
+  }
+}
 
 ScalarColumn& scalarFor(PointCloud& cloud, const std::string& name) {
   for (ScalarColumn& s : cloud.scalars) {
@@ -164,7 +181,8 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
                        std::vector<std::unique_ptr<RecordReader>>& normals,
                        std::vector<std::unique_ptr<RecordReader>>& curvature,
                        std::vector<std::unique_ptr<RecordReader>>& distance,
-                       std::vector<std::unique_ptr<RecordReader>>& mark) {
+                       std::vector<std::unique_ptr<RecordReader>>& mark,
+                       const SensorPositions* sensor) {
   std::vector<std::uint64_t> take;
   std::vector<float> n3, c1, d1;
   std::vector<std::uint8_t> m1;
@@ -180,6 +198,7 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
     if (n) {
       float v[3];
       std::memcpy(v, n, sizeof v);
+      if (sensor) faceSensor(batch, i, *sensor, v);
       n3.insert(n3.end(), v, v + 3);
     }
     if (c) c1.push_back(*reinterpret_cast<const float*>(c));
@@ -242,6 +261,7 @@ std::vector<std::string> attributeSignature(const PointCloud& cloud) {
 
 ProcessReport runProcess(const ProcessOptions& options) {
   checkSteps(options);
+  const std::vector<SensorPositions> sensors = findSensors(options);
   const WorkFolder work(options.output);
   ProcessReport report;
   const std::uint64_t max_tile_points = std::max<std::uint64_t>(
@@ -259,6 +279,7 @@ ProcessReport runProcess(const ProcessOptions& options) {
       runNormalsStep(*n, context);
       added.normals = true;
       added.curvature = added.curvature || n->curvature;
+      added.towards_sensor = n->orientation == NormalOrientation::kSensor;
     } else if (const auto* o = std::get_if<OutliersStep>(&step)) {
       runOutliersStep(*o, context);
       added.mark = added.mark || o->mark;
@@ -300,12 +321,16 @@ ProcessReport runProcess(const ProcessOptions& options) {
   Quantization quantization;
   LasWriteOptions las;
   bool first = true;
-  for (const ConvertInput& input : options.inputs) {
+  for (std::size_t input_index = 0; input_index < options.inputs.size(); ++input_index) {
+    const ConvertInput& input = options.inputs[input_index];
+    const SensorPositions* sensor =
+        added.towards_sensor && added.normals ? &sensors[input_index] : nullptr;
     PointStream stream(input.path, input.text_columns, nullptr, &input.filter);
     if (first && !stream.crs().empty()) las.vlrs = stream.crs().records;
     PointCloud batch;
     while (stream.next(batch, kBatchPoints)) {
-      PointCloud out = outputBatch(batch, tiles, added, kept, normals, curvature, distance, mark);
+      PointCloud out =
+          outputBatch(batch, tiles, added, kept, normals, curvature, distance, mark, sensor);
       if (bar) bar->advance(batch.count);
       if (first) {
         signature = attributeSignature(outputLayout(batch, added));

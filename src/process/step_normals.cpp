@@ -111,10 +111,9 @@ void propagateOrientation(const TileSet& tiles, std::uint32_t k) {
 }  // namespace
 
 void runNormalsStep(const NormalsStep& step, const StepContext& context) {
-  if (step.orientation == NormalOrientation::kSensor) {
-    // Caught before any work by the runner (process_runner.cpp); kept here as the contract.
-    throw std::logic_error("runNormalsStep: --orient sensor is not supported");
-  }
+  // --orient sensor: turned up here, and towards each point's sensor when the output is written
+  // (process_runner.cpp), where the input's columns and scans are at hand; the tiles carry
+  // positions only.
   const TileSet& tiles = context.tiles;
   if (step.orientation == NormalOrientation::kPropagate && tiles.tiles() > 1) {
     // The spanning tree joins the whole cloud; out of core it would need the tiles' graphs joined

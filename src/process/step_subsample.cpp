@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "process/process_steps.h"
 #include "process/tile_queries.h"
@@ -94,6 +95,94 @@ void voxelSubsample(const SubsampleStep& step, const StepContext& context) {
   tiles.renameAll("kept.next", "kept");
 }
 
+// No two kept points closer than D, greedily (CloudCompare's "space" subsampling): the points are
+// visited in one order, and each is kept when no point kept before it lies closer than D. The
+// order is columns of width D in x (from the kept points' minimum), and the input order (id)
+// within a column: a point's earlier neighbours within D are then in its own column or the one
+// before, so the columns can be decided left to right, slab after slab, and the answer does not
+// depend on where the slabs are cut. A column belongs to the slab holding its left edge; a halo
+// of D around the slab holds the whole of its columns and the column before them, decided by
+// this slab or an earlier one. Decisions are one bit a point (the input's index), so that the
+// column before may be decided in an earlier slab: N / 8 bytes beside the slab's own memory.
+void spacingSubsample(const SubsampleStep& step, const StepContext& context) {
+  const TileSet& tiles = context.tiles;
+  const double d = step.size;
+  const double x0 = keptMinimum(tiles)[0];
+  const auto columnOf = [&](double x) { return std::int64_t(std::floor((x - x0) / d)); };
+  const auto ownerOf = [&](std::int64_t column) { return tiles.tileOf(x0 + double(column) * d); };
+  std::vector<std::uint64_t> taken((tiles.points() + 63) / 64, 0);
+  const auto isTaken = [&](std::uint64_t id) { return (taken[id >> 6] >> (id & 63)) & 1u; };
+  auto bar = context.progress ? context.progress(context.label, tiles.points()) : nullptr;
+  for (std::size_t t = 0; t < tiles.tiles(); ++t) {
+    const std::vector<GridPoint> points = tiles.readPoints(t);
+    const std::vector<std::uint8_t> kept = tiles.readKept(t);
+    const TileNeighbourhood hood = loadNeighbourhood(tiles, t, d * 1.001, points, kept);
+    // Kept points in cells of D (column, y, z), for the "any kept point closer than D" test;
+    // a hash collision only adds points to compare.
+    const auto cellCoords = [&](std::int64_t c, const GridPoint& p) {
+      return std::array<std::int64_t, 3>{c, std::int64_t(std::floor(p.y / d)),
+                                         std::int64_t(std::floor(p.z / d))};
+    };
+    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
+    const auto keyOf = [](const std::array<std::int64_t, 3>& c) {
+      return (std::uint64_t(c[0]) * 0x9E3779B97F4A7C15ull) ^
+             (std::uint64_t(c[1]) * 0xC2B2AE3D27D4EB4Full) ^
+             (std::uint64_t(c[2]) * 0x165667B19E3779F9ull);
+    };
+    struct Candidate {
+      std::int64_t column;
+      std::uint64_t id;
+      std::uint32_t at;
+      bool operator<(const Candidate& o) const {
+        return column < o.column || (column == o.column && id < o.id);
+      }
+    };
+    std::vector<Candidate> candidates;
+    for (std::size_t i = 0; i < hood.points.size(); ++i) {
+      const GridPoint& p = hood.points[i];
+      const std::int64_t column = columnOf(p.x);
+      const std::size_t owner = ownerOf(column);
+      if (owner == t) {
+        candidates.push_back({column, p.id, std::uint32_t(i)});
+      } else if (owner < t && isTaken(p.id)) {
+        grid[keyOf(cellCoords(column, p))].push_back(std::uint32_t(i));
+      }
+    }
+    std::sort(candidates.begin(), candidates.end());
+    const double d2_min = d * d;
+    for (const Candidate& c : candidates) {
+      const GridPoint& p = hood.points[c.at];
+      const std::array<std::int64_t, 3> cell = cellCoords(c.column, p);
+      bool near = false;
+      for (std::int64_t a = -1; a <= 0 && !near; ++a) {  // later columns hold nothing kept yet
+        for (std::int64_t b = -1; b <= 1 && !near; ++b) {
+          for (std::int64_t e = -1; e <= 1 && !near; ++e) {
+            const auto found = grid.find(keyOf({cell[0] + a, cell[1] + b, cell[2] + e}));
+            if (found == grid.end()) continue;
+            for (std::uint32_t j : found->second) {
+              const GridPoint& q = hood.points[j];
+              if (squaredDistance(p.x, p.y, p.z, q.x, q.y, q.z) < d2_min) {
+                near = true;
+                break;
+              }
+            }
+          }
+        }
+      }
+      if (near) continue;
+      taken[p.id >> 6] |= std::uint64_t(1) << (p.id & 63);
+      grid[keyOf(cell)].push_back(c.at);
+    }
+    if (bar) bar->advance(points.size());
+  }
+  for (std::size_t t = 0; t < tiles.tiles(); ++t) {
+    const std::vector<GridPoint> points = tiles.readPoints(t);
+    std::vector<std::uint8_t> kept = tiles.readKept(t);
+    for (std::size_t i = 0; i < points.size(); ++i) kept[i] = kept[i] && isTaken(points[i].id);
+    tiles.writeRecords<std::uint8_t>(t, "kept", kept);
+  }
+}
+
 // A fixed permutation of the ids (SplitMix64's finaliser is a bijection): the N kept points of
 // smallest hash are a uniform sample, the same whatever the tiling.
 std::uint64_t shuffledId(std::uint64_t id) {
@@ -159,7 +248,8 @@ void runSubsampleStep(const SubsampleStep& step, const StepContext& context) {
       randomSubsample(step, context);
       return;
     case SubsampleStep::Method::kSpacing:
-      throw std::logic_error("runSubsampleStep: spacing is rejected by the runner");
+      spacingSubsample(step, context);
+      return;
   }
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/point_filter.h"
+#include "render/scalar_colors.h"
 
 namespace parallax {
 
@@ -32,6 +33,9 @@ struct RenderSettings {
   float min_size_px = 1.0f, max_size_px = 64.0f;  // clamp of the distance-dependent sizes
   PointShape shape = PointShape::Square;
   ColorMode color = ColorMode::Rgb;
+  // A scalar attribute's colours (render/scalar_colors.h): with a field, the cloud is uploaded
+  // with the ramp's colours in place of its own and `color` is Rgb.
+  ScalarColoring scalar;
   std::array<float, 3> uniform_color{1.0f, 1.0f, 1.0f};  // 0..1
   std::array<float, 3> background{0.0f, 0.0f, 0.0f};     // 0..1
   bool lighting = false;       // head-light Lambert from normals (ignored without normals)

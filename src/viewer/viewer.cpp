@@ -108,24 +108,46 @@ void setTitle(Session& s, const std::filesystem::path& path) {
   glfwSetWindowTitle(s.window, (s.options->title + " - " + s.loaded_name).c_str());
 }
 
-// Uploads a whole cloud (a file, or a large file's preview: `whole` false) as what is shown.
-void showCloud(Session& s, PointCloud cloud_points, bool whole, bool place_camera, bool first) {
-  auto gpu = std::make_unique<GpuPointCloud>(cloud_points);
-  s.cloud_points = std::make_unique<const PointCloud>(std::move(cloud_points));
+void uploadShownCloud(Session& s) {
   const PointCloud& cloud = *s.cloud_points;
-  s.picked.reset();
+  s.scalar_error.clear();
+  std::unique_ptr<GpuPointCloud> gpu;
+  if (!s.settings.scalar.field.empty()) {
+    try {
+      PointCloud painted = cloud.clone();
+      s.shown_scalar_range = paintScalarField(painted, s.settings.scalar);
+      gpu = std::make_unique<GpuPointCloud>(painted);
+    } catch (const std::invalid_argument& e) {
+      s.scalar_error = e.what();
+    }
+  }
+  if (!gpu) gpu = std::make_unique<GpuPointCloud>(cloud);
+  s.shown_scalar = s.settings.scalar;
   s.pick_source.reset();
-  s.lod.reset();
-  s.octree.reset();
-  s.lod_location.reset();
   s.cloud = std::move(gpu);
   s.draw_set = s.cloud->drawSet();
   s.drawn.reset();
+}
+
+// Uploads a whole cloud (a file, or a large file's preview: `whole` false) as what is shown.
+void showCloud(Session& s, PointCloud cloud_points, bool whole, bool place_camera, bool first) {
+  s.cloud_points = std::make_unique<const PointCloud>(std::move(cloud_points));
+  const PointCloud& cloud = *s.cloud_points;
+  s.picked.reset();
+  s.lod.reset();
+  s.octree.reset();
+  s.lod_location.reset();
+  uploadShownCloud(s);
   s.extent = viewExtentOf(cloud);
   if (place_camera) placeCamera(s, first);
   chooseLook(s, s.cloud->typicalSpacing() > 0, s.cloud->hasNormals());
   if (s.settings.world_size <= 0) s.settings.world_size = float(2.0 * s.cloud->typicalSpacing());
   prepareFilters(s, &cloud, whole, cloud.hasClassification(), first);
+}
+
+// The panel changed the scalar colouring of a whole cloud: upload it again with the new colours.
+void refreshScalarColors(Session& s) {
+  if (s.cloud && s.cloud_points && s.settings.scalar != s.shown_scalar) uploadShownCloud(s);
 }
 
 // Opens an octree (a Potree directory or a COPC file) as what is shown. With `keep_camera` (the
@@ -150,6 +172,10 @@ void showOpenedOctree(Session& s, std::unique_ptr<Octree> octree,
   }
   // The attenuated size needs a spacing before any node is drawn: about a level-3 node's.
   if (s.settings.world_size <= 0) s.settings.world_size = float(s.octree->info().spacing / 4.0);
+  if (!s.settings.scalar.field.empty()) {
+    s.status = "colour by " + s.settings.scalar.field +
+               ": scalar attributes are coloured on whole clouds; the octree is drawn without";
+  }
 }
 
 void showOctree(Session& s, const std::filesystem::path& directory,
@@ -516,6 +542,7 @@ int runViewer(const ViewerOptions& options) {
     pollOpeningUrl(s);
     if (updateMeasureFlight(s)) busy = true;
     updateOverlay(s);
+    refreshScalarColors(s);
     if (s.cloud || s.lod) {
       const StereoFrame frame = stereoFrame(s.camera, s.stereo, width, height);
       const void* scene = s.lod ? static_cast<const void*>(s.lod.get()) : s.cloud.get();

@@ -72,6 +72,41 @@ bool comboOf(const char* label, Enum& value, const std::array<Enum, N>& values,
   return changed;
 }
 
+// A scalar attribute's colours, as CloudCompare's scalar-field display: the attribute (any the
+// whole cloud shown has), the ramp, and the range (the attribute's own until one is typed).
+void drawScalarFieldPanel(Session& s) {
+  if (!s.cloud || !s.cloud_points) return;  // octrees carry no scalar attributes to the renderer
+  const std::vector<std::string> fields = scalarFieldNames(*s.cloud_points);
+  if (fields.empty()) return;
+  ScalarColoring& scalar = s.settings.scalar;
+  const std::string current = scalar.field.empty() ? "(none)" : scalar.field;
+  if (ImGui::BeginCombo("scalar field", current.c_str())) {
+    if (ImGui::Selectable("(none)", scalar.field.empty())) scalar.field.clear();
+    for (const auto& field : fields) {
+      if (ImGui::Selectable(field.c_str(), field == scalar.field)) {
+        scalar.field = field;
+        scalar.range.reset();  // a new attribute starts at its own range
+        s.settings.color = ColorMode::Rgb;
+      }
+    }
+    ImGui::EndCombo();
+  }
+  if (!s.scalar_error.empty()) ImGui::TextWrapped("%s", s.scalar_error.c_str());
+  if (scalar.field.empty()) return;
+  comboOf("ramp", scalar.ramp, std::array{ColorRamp::Viridis, ColorRamp::Rainbow, ColorRamp::Grey},
+          colorRampName);
+  // Edited as a pair; only a range with min below max is applied.
+  ScalarRange shown = scalar.range.value_or(s.shown_scalar_range);
+  double bounds[2] = {shown.min, shown.max};
+  if (ImGui::InputScalarN("range", ImGuiDataType_Double, bounds, 2, nullptr, nullptr, "%.6g",
+                          ImGuiInputTextFlags_EnterReturnsTrue) &&
+      bounds[0] < bounds[1]) {
+    scalar.range = ScalarRange{bounds[0], bounds[1]};
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("auto")) scalar.range.reset();
+}
+
 // The level-of-detail part of the panel: budget, what the last update selected and drew, and the
 // background build's progress.
 void drawLodPanel(Session& s) {
@@ -243,10 +278,13 @@ void drawPanel(Session& s, const FrameStats& stats) {
   RenderSettings& r = s.settings;
   ImGui::Separator();
   ImGui::TextDisabled("Points");
-  comboOf("colour", r.color,
-          std::array{ColorMode::Rgb, ColorMode::Elevation, ColorMode::Intensity, ColorMode::Normal,
-                     ColorMode::Classification, ColorMode::Uniform},
-          colorModeName);
+  if (comboOf("colour", r.color,
+              std::array{ColorMode::Rgb, ColorMode::Elevation, ColorMode::Intensity,
+                         ColorMode::Normal, ColorMode::Classification, ColorMode::Uniform},
+              colorModeName)) {
+    r.scalar.field.clear();  // a mode chosen: the cloud's own colours again
+  }
+  drawScalarFieldPanel(s);
   if (r.color == ColorMode::Uniform) ImGui::ColorEdit3("uniform colour", r.uniform_color.data());
   comboOf("size", r.size_mode,
           std::array{PointSizeMode::Fixed, PointSizeMode::Attenuated, PointSizeMode::Adaptive},

@@ -42,6 +42,11 @@ struct Session {
   // The points `cloud` was uploaded from: picking reads the picked point back from them (the GPU
   // holds chunk-relative floats, not the file's values).
   std::unique_ptr<const PointCloud> cloud_points;
+  // The scalar colouring `cloud`'s colours show (settings.scalar when it was uploaded), the range
+  // it used (the attribute's own when none was asked), and why the asked one could not be shown.
+  ScalarColoring shown_scalar;
+  ScalarRange shown_scalar_range;
+  std::string scalar_error;
   // Level of detail: the octree (and the temporary folder holding it, with --no-cache) and the
   // scene streaming it; declared in this order so that they end in the reverse one.
   std::unique_ptr<OctreeLocation> lod_location;
@@ -222,6 +227,10 @@ bool measureKey(Session& s, int key, int mods);
 void flyToAnnotation(Session& s, const Annotation& annotation);
 // Moves the camera along a flight; true while one is under way.
 bool updateMeasureFlight(Session& s);
+// Uploads `cloud_points` as `cloud`, coloured by settings.scalar where it names an attribute the
+// cloud has (otherwise scalar_error says why, and the cloud's own colours are uploaded).
+void uploadShownCloud(Session& s);
+
 // Gives the renderer the overlay: the document, the measurement being drawn and, while the panel
 // shows its editor, the clip box's outline.
 void updateOverlay(Session& s);

@@ -6,11 +6,13 @@ Sits between the client and a real server (nginx) and spoils some answers on pur
   pass          forwards every answer as it is
   delay         waits --delay-ms before answering
   drop          sends the headers and half the body, then closes the connection
-  503           answers 503 Service Unavailable (Retry-After: 0)
+  503           answers 503 Service Unavailable (Retry-After: --retry-after, default 0)
   404           answers 404 Not Found
   truncate      sends half the body with a Content-Length that says so (Content-Range unchanged)
   ignore-range  asks upstream without Range and answers 200 with the whole file
   etag          rewrites the ETag to another value (the file "changed on the server")
+  no-validators forwards the answer without its ETag and Last-Modified (a server that states
+                no version of the file)
   stall         sends nothing for --delay-ms, then closes
 
 Which requests: those whose path ends with --path-suffix (default: all), after the first
@@ -42,13 +44,14 @@ def parse_args():
     parser.add_argument("--port", type=int, default=0)
     parser.add_argument("--mode", default="pass",
                         choices=["pass", "delay", "drop", "503", "404", "truncate",
-                                 "ignore-range", "etag", "stall"])
+                                 "ignore-range", "etag", "no-validators", "stall"])
     parser.add_argument("--path-suffix", default="")
     parser.add_argument("--after", type=int, default=0)
     parser.add_argument("--every", type=int, default=1)
     parser.add_argument("--times-per-request", type=int, default=0, help="0: no limit")
     parser.add_argument("--max-faults", type=int, default=0, help="0: no limit")
     parser.add_argument("--delay-ms", type=int, default=0)
+    parser.add_argument("--retry-after", default="0", help="the 503 answers' Retry-After")
     parser.add_argument("--log", required=True)
     return parser.parse_args()
 
@@ -129,7 +132,7 @@ def make_handler(faults, args):
                 self.send_response(status)
                 self.send_header("Content-Length", str(len(body)))
                 if status == 503:
-                    self.send_header("Retry-After", "0")
+                    self.send_header("Retry-After", args.retry_after)
                 self.end_headers()
                 if not head:
                     self.wfile.write(body)
@@ -159,6 +162,9 @@ def make_handler(faults, args):
             if mode == "etag":
                 answer_headers = [(n, '"changed-on-the-server"' if n.lower() == "etag" else v)
                                   for n, v in answer_headers]
+            if mode == "no-validators":
+                answer_headers = [(n, v) for n, v in answer_headers
+                                  if n.lower() not in ("etag", "last-modified")]
             send_body = body
             declared = len(body)
             if mode == "truncate":

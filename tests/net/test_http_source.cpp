@@ -1,8 +1,8 @@
 // The HTTP byte source against a real nginx on loopback, directly and through the fault proxy:
 // exact bytes, adjacent prefetches in one request, retries on 5xx, resets and short bodies and
 // never on 4xx, a server that ignores Range, a file that changes while read, a stalled server,
-// cancellation, the on-disk cache across opens, TLS verification, redirects and proxies from the
-// environment.
+// cancellation, the on-disk cache across opens (with an ETag, with only a date, with neither),
+// Retry-After, TLS verification, redirects and proxies from the environment.
 #include "net/http_byte_source.h"
 
 #include <arpa/inet.h>
@@ -329,6 +329,86 @@ TEST(HttpSource, TheCacheServesASecondOpenAfterOneCheck) {
   EXPECT_FALSE(source->stats().validated_by_cache);
   EXPECT_EQ(readRange(*source, 1000, 500), slice(changed, 1000, 500));
   EXPECT_EQ(source->stats().cache_hits, 0u);
+}
+
+// A server that sends no ETag (nginx's `etag off`, as some object stores and static servers do)
+// still has its ranges kept: the second open asks with If-Modified-Since, and a newer file on the
+// server is fetched again rather than served stale from the cache.
+TEST(HttpSource, WithoutAnETagTheCacheChecksTheDate) {
+  Served s("    etag off;");
+  auto client = std::make_shared<HttpClient>();
+  auto cache = std::make_shared<RangeCache>(s.dir / "cache", 64 << 20);
+  std::size_t lines_before = 0;
+  {
+    const auto source = HttpByteSource::open(s.nginx->url("data.bin"), client, cache);
+    readRange(*source, 200000, 4000);
+    lines_before = source->stats().requests;
+  }
+  ASSERT_EQ(s.nginx->accessLogOf(lines_before).size(), lines_before);
+  {
+    const auto source = HttpByteSource::open(s.nginx->url("data.bin"), client, cache);
+    EXPECT_TRUE(source->stats().validated_by_cache);
+    EXPECT_EQ(readRange(*source, 201000, 1000), slice(s.bytes, 201000, 1000));
+    EXPECT_EQ(source->stats().cache_hits, 1u);
+    EXPECT_EQ(source->stats().requests, 1u);
+  }
+  const std::vector<test::AccessLine> log = s.nginx->accessLogOf(lines_before + 1);
+  ASSERT_EQ(log.size(), lines_before + 1);
+  EXPECT_EQ(log.back().status, 304) << "the date was the same: Not Modified";
+
+  // Same size, a later date: the cached ranges are another version's.
+  const std::filesystem::path served = s.dir / "www" / "data.bin";
+  const auto modified = std::filesystem::last_write_time(served);
+  const std::vector<std::byte> changed = pattern(kFileSize, 41);
+  writeBytes(served, changed);
+  std::filesystem::last_write_time(served, modified + 2s);
+  const auto source = HttpByteSource::open(s.nginx->url("data.bin"), client, cache);
+  EXPECT_FALSE(source->stats().validated_by_cache);
+  EXPECT_EQ(readRange(*source, 201000, 1000), slice(changed, 201000, 1000));
+  EXPECT_EQ(source->stats().cache_hits, 0u);
+}
+
+// A server that states no version at all (no ETag, no Last-Modified): nothing says whether a
+// cached range is still the file's, so nothing is served from the cache; every open reads the
+// server again and gets the file as it is now.
+TEST(HttpSource, WithoutAnyVersionNothingIsServedFromTheCache) {
+  Served s;
+  auto proxy = s.proxy({"--mode", "no-validators"});
+  auto client = std::make_shared<HttpClient>();
+  auto cache = std::make_shared<RangeCache>(s.dir / "cache", 64 << 20);
+  {
+    const auto source = HttpByteSource::open(proxy->url("data.bin"), client, cache);
+    EXPECT_EQ(readRange(*source, 300000, 2000), slice(s.bytes, 300000, 2000));
+  }
+  const std::vector<std::byte> changed = pattern(kFileSize, 43);
+  writeBytes(s.dir / "www" / "data.bin", changed);
+  const auto source = HttpByteSource::open(proxy->url("data.bin"), client, cache);
+  EXPECT_FALSE(source->stats().validated_by_cache);
+  EXPECT_EQ(readRange(*source, 300000, 2000), slice(changed, 300000, 2000));
+  EXPECT_EQ(source->stats().cache_hits, 0u);
+  for (const test::ProxyLine& line : proxy->log()) {
+    EXPECT_NE(line.status, 304) << "no conditional request can be made without a version";
+  }
+}
+
+// A 503 with Retry-After: 1 is retried no sooner than a second later, although the backoff alone
+// would have waited 10-20 ms (the server asked for the time; the lower bound is the behaviour
+// under test, and load can only lengthen it).
+TEST(HttpSource, RetryAfterIsWaitedBeforeTheNextAttempt) {
+  Served s;
+  auto proxy = s.proxy({"--mode", "503", "--path-suffix", "data.bin", "--after", "1",
+                        "--max-faults", "1", "--retry-after", "1"});
+  auto client = std::make_shared<HttpClient>();
+  HttpSourceOptions options = fastRetries();
+  options.retry.max_delay = 5s;  // the cap on Retry-After: above the one asked for
+  const auto source = HttpByteSource::open(proxy->url("data.bin"), client, nullptr, options);
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(readRange(*source, 500000, 3000), slice(s.bytes, 500000, 3000));
+  EXPECT_GE(std::chrono::steady_clock::now() - start, 1s);
+  EXPECT_EQ(source->stats().retries, 1u);
+  int faults = 0;
+  for (const test::ProxyLine& line : proxy->log()) faults += line.status == 503;
+  EXPECT_EQ(faults, 1);
 }
 
 TEST(HttpSource, RedirectsAreFollowed) {

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "io/e57/e57_writer.h"
 #include "io/ply_writer.h"
 #include "io/point_file.h"
 #include "process/process_runner.h"
@@ -261,6 +262,137 @@ TEST(ProcessNormals, PropagationOrientsAClosedSphereConsistently) {
   }
 }
 
+// Points on the plane z = 0 (a jittered grid), for the sensor tests: their normals are +-z, and
+// the sensor's side of the plane decides the sign.
+std::vector<Xyz> planeGrid(int side, double x0) {
+  std::vector<Xyz> points;
+  for (int i = 0; i < side; ++i) {
+    for (int j = 0; j < side; ++j)
+      points.push_back({x0 + i * 0.1 + 0.013 * ((i * 7 + j * 3) % 5), j * 0.1, 0.0});
+  }
+  return points;
+}
+
+std::vector<double> normalZ(const PointCloud& cloud) {
+  std::vector<double> out;
+  for (std::size_t i = 0; i < cloud.count; ++i) out.push_back(cloud.normals[i].z);
+  return out;
+}
+
+TEST(ProcessNormals, OrientSensorFromPerPointColumns) {
+  // Every other point seen from below (sensor_z -10), the rest from above (+10).
+  TempDir dir;
+  const std::vector<Xyz> points = planeGrid(30, 0.0);
+  std::ostringstream ply;
+  ply.precision(17);
+  ply << "ply\nformat ascii 1.0\nelement vertex " << points.size()
+      << "\nproperty double x\nproperty double y\nproperty double z\n"
+         "property float sensor_x\nproperty float sensor_y\nproperty float sensor_z\n"
+         "end_header\n";
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    ply << points[i][0] << ' ' << points[i][1] << ' ' << points[i][2] << " 1.5 1.5 "
+        << (i % 2 ? 10 : -10) << '\n';
+  }
+  const auto in = dir.write("in.ply", ply.str());
+  NormalsStep step;
+  step.k = 8;
+  step.orientation = NormalOrientation::kSensor;
+  run(in, dir / "out.ply", {step});
+  const std::vector<double> z = normalZ(readPointFile(dir / "out.ply"));
+  ASSERT_EQ(z.size(), points.size());
+  for (std::size_t i = 0; i < z.size(); ++i) EXPECT_NEAR(z[i], i % 2 ? 1.0 : -1.0, 1e-6) << i;
+}
+
+TEST(ProcessNormals, OrientSensorFromPtxScansAndPcdViewpoint) {
+  TempDir dir;
+  // Two PTX scans of one plane, the first's scanner below it, the second's above (identity
+  // transforms: the points are given in the registered frame).
+  std::ostringstream ptx;
+  const std::vector<Xyz> a = planeGrid(12, 0.5),
+                         b = planeGrid(12, 5.0);  // no (0, 0, 0): PTX skips it
+  for (const auto& [points, sensor_z] : {std::pair{a, -10}, std::pair{b, 10}}) {
+    ptx << "12\n12\n1 1 " << sensor_z
+        << "\n1 0 0\n0 1 0\n0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n";
+    for (const Xyz& p : points) ptx << p[0] << ' ' << p[1] << ' ' << p[2] << " 0.5\n";
+  }
+  const auto in = dir.write("scans.ptx", ptx.str());
+  NormalsStep step;
+  step.k = 8;
+  step.orientation = NormalOrientation::kSensor;
+  run(in, dir / "out.ply", {step});
+  std::vector<double> z = normalZ(readPointFile(dir / "out.ply"));
+  ASSERT_EQ(z.size(), a.size() + b.size());
+  for (std::size_t i = 0; i < z.size(); ++i)
+    EXPECT_NEAR(z[i], i < a.size() ? -1.0 : 1.0, 1e-6) << i;
+
+  // One viewpoint for a whole PCD file, below the plane.
+  std::ostringstream pcd;
+  pcd << "VERSION 0.7\nFIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " << a.size()
+      << "\nHEIGHT 1\nVIEWPOINT 1 1 -3 1 0 0 0\nPOINTS " << a.size() << "\nDATA ascii\n";
+  for (const Xyz& p : a) pcd << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+  run(dir.write("view.pcd", pcd.str()), dir / "pcd.ply", {step});
+  z = normalZ(readPointFile(dir / "pcd.ply"));
+  ASSERT_EQ(z.size(), a.size());
+  for (std::size_t i = 0; i < z.size(); ++i) EXPECT_NEAR(z[i], -1.0, 1e-6) << i;
+}
+
+TEST(ProcessNormals, OrientSensorFromE57ScanPoses) {
+  // Two scans of the plane z = 0 in their own frames (the plane moved by minus the pose's
+  // translation), the first scanner below the plane, the second above.
+  TempDir dir;
+  const std::array<std::vector<Xyz>, 2> plane = {planeGrid(12, 0.0), planeGrid(12, 5.0)};
+  const std::array<std::array<double, 3>, 2> scanner = {{{1.0, 1.0, -10.0}, {6.0, 1.0, 10.0}}};
+  std::vector<E57ScanSource> scans(2);
+  for (std::size_t s = 0; s < 2; ++s) {
+    E57ScanSource& scan = scans[s];
+    scan.name = "scan " + std::to_string(s);
+    scan.record_count = plane[s].size();
+    scan.pose.translation = scanner[s];
+    for (const char* name : {"cartesianX", "cartesianY", "cartesianZ"}) {
+      E57Field f;
+      f.name = name;
+      f.kind = E57Field::Kind::Float;
+      scan.fields.push_back(f);
+    }
+    scan.fill = [&, s](std::uint64_t first, std::size_t count,
+                       std::vector<std::vector<double>>& values) {
+      for (std::size_t k = 0; k < count; ++k) {
+        for (std::size_t a = 0; a < 3; ++a) values[a][k] = plane[s][first + k][a] - scanner[s][a];
+      }
+    };
+  }
+  const auto in = dir / "scans.e57";
+  writeE57Scans(scans, in);
+  NormalsStep step;
+  step.k = 8;
+  step.orientation = NormalOrientation::kSensor;
+  run(in, dir / "out.ply", {step});
+  const std::vector<double> z = normalZ(readPointFile(dir / "out.ply"));
+  ASSERT_EQ(z.size(), plane[0].size() + plane[1].size());
+  for (std::size_t i = 0; i < z.size(); ++i)
+    EXPECT_NEAR(z[i], i < plane[0].size() ? -1.0 : 1.0, 1e-5) << i;
+}
+
+TEST(ProcessNormals, OrientSensorWithoutAScannerPositionIsAnErrorNamingTheFile) {
+  TempDir dir;
+  const auto in = writeCloud(dir, "in.ply", planeGrid(10, 0.0));
+  NormalsStep step;
+  step.k = 8;
+  step.orientation = NormalOrientation::kSensor;
+  try {
+    run(in, dir / "out.ply", {step});
+    FAIL() << "a file without a scanner position was oriented";
+  } catch (const std::invalid_argument& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("--normals 8 --orient sensor: " + in.string() +
+                           " (ply) has no scanner position"),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find("sensor_x/y/z"), std::string::npos) << message;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.ply"));
+}
+
 TEST(ProcessOutliers, StatisticalEqualsPclDefinition) {
   TempDir dir;
   const std::vector<Xyz> written = terrainWithNoise(4000, 3);
@@ -368,6 +500,65 @@ TEST(ProcessSubsample, VoxelKeepsThePointNearestEachOccupiedVoxelsCentroid) {
   EXPECT_EQ(kept, expected);
 }
 
+// The greedy definition by brute force: columns of width D in x from the minimum x, input order
+// within a column; a point is kept when no point kept before it is closer than D.
+std::vector<std::uint32_t> greedySpacing(const std::vector<Xyz>& points, double d) {
+  double x0 = points[0][0];
+  for (const Xyz& p : points) x0 = std::min(x0, p[0]);
+  std::vector<std::pair<std::int64_t, std::uint32_t>> order;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    order.push_back({std::int64_t(std::floor((points[i][0] - x0) / d)), std::uint32_t(i)});
+  std::sort(order.begin(), order.end());
+  std::vector<std::uint32_t> kept;
+  for (const auto& [column, i] : order) {
+    bool near = false;
+    for (std::uint32_t k : kept) near = near || d2(points[i], points[k]) < d * d;
+    if (!near) kept.push_back(i);
+  }
+  std::sort(kept.begin(), kept.end());
+  return kept;
+}
+
+TEST(ProcessSubsample, SpacingKeepsNoTwoPointsCloserThanDAndEqualsTheGreedyDefinition) {
+  TempDir dir;
+  const auto in = writeCloud(dir, "in.ply", terrainWithNoise(6000, 15));
+  const std::vector<Xyz> points = readPositions(in);
+  const double d = 0.9;
+  const std::vector<std::uint32_t> expected = greedySpacing(points, d);
+  SubsampleStep step;
+  step.method = SubsampleStep::Method::kSpacing;
+  step.size = d;
+  // At --memory 1 the 6000 points are two slabs: columns and the column before cross the cut.
+  const ProcessReport one = run(in, dir / "one.ply", {step});
+  const ProcessReport many = run(in, dir / "many.ply", {step}, 1);
+  EXPECT_EQ(one.tiles, 1u);
+  EXPECT_GE(many.tiles, 2u);
+  const std::vector<std::uint32_t> kept = ids(readPointFile(dir / "one.ply"));
+  EXPECT_EQ(kept, expected);
+  EXPECT_EQ(ids(readPointFile(dir / "many.ply")), expected);
+  EXPECT_LT(kept.size(), points.size() / 4);
+  // D wider than a slab (two slabs of about 20 units): a column spans both, and the column
+  // before it was decided by the other.
+  step.size = 27.0;
+  run(in, dir / "wide.ply", {step}, 1);
+  EXPECT_EQ(ids(readPointFile(dir / "wide.ply")), greedySpacing(points, 27.0));
+  // The two properties of the result, checked directly: no two kept points closer than D, and
+  // every removed point within D of a kept one.
+  std::vector<bool> is_kept(points.size(), false);
+  for (std::uint32_t k : kept) is_kept[k] = true;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    double nearest = INFINITY;
+    for (std::uint32_t k : kept) {
+      if (k != i) nearest = std::min(nearest, d2(points[i], points[k]));
+    }
+    if (is_kept[i]) {
+      EXPECT_GE(nearest, d * d) << i;
+    } else {
+      EXPECT_LT(nearest, d * d) << i;
+    }
+  }
+}
+
 TEST(ProcessSubsample, RandomKeepsExactlyNDistinctPoints) {
   TempDir dir;
   const auto in = writeCloud(dir, "in.ply", terrainWithNoise(5000, 6));
@@ -468,7 +659,11 @@ TEST(ProcessTiling, SameBytesAtAnyMemoryBudget) {
   distance.reference = ref;
   DistanceStep plane = distance;
   plane.plane = true;
-  const std::vector<ProcessStep> steps = {statistical, normals, radius, voxel, random, distance};
+  SubsampleStep spacing;
+  spacing.method = SubsampleStep::Method::kSpacing;
+  spacing.size = 0.15;
+  const std::vector<ProcessStep> steps = {statistical, normals, radius,  spacing,
+                                          voxel,       random,  distance};
   // 1 MB: tiles of 4096 points, so about fifteen tiles against one.
   const ProcessReport small = run(in, dir / "small.ply", steps, 1);
   const ProcessReport large = run(in, dir / "large.ply", steps, 16000);
@@ -537,10 +732,6 @@ TEST(ProcessSteps, BadParametersAreErrorsNamingTheStep) {
 TEST(ProcessSteps, UnavailableStepsAndOutputsFailBeforeAnyWork) {
   TempDir dir;
   const auto in = writeCloud(dir, "in.ply", terrainWithNoise(100, 11));
-  SubsampleStep spacing;
-  spacing.method = SubsampleStep::Method::kSpacing;
-  spacing.size = 1.0;
-  EXPECT_THROW(run(in, dir / "out.ply", {spacing}), std::invalid_argument);
   NormalsStep normals;
   normals.k = 8;
   EXPECT_THROW(run(in, dir / "out.copc", {normals}), std::invalid_argument);

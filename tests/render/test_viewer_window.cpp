@@ -28,6 +28,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -564,6 +565,54 @@ TEST(ViewerWindow, CommandLineFiltersReachTheViewer) {
     }
     EXPECT_EQ(viewer.quit(), 0) << viewer.log();
   }
+}
+
+// `view --color distance`: a scalar attribute through a ramp reaches the viewer's first
+// picture; every pixel drawn is one of the ramp's colours for the grid's values, computed here
+// (grey: round(255 t)).
+TEST(ViewerWindow, ScalarAttributeThroughAGreyRamp) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  std::ostringstream ply;
+  ply << "ply\nformat ascii 1.0\nelement vertex 900\nproperty float x\nproperty float y\n"
+         "property float z\nproperty float distance\nend_header\n";
+  for (int j = 0; j < 30; ++j) {
+    for (int i = 0; i < 30; ++i)
+      ply << i / 29.0 - 0.5 << ' ' << j / 29.0 - 0.5 << " 0 " << i << '\n';
+  }
+  const auto cloud = dir.write("distance.ply", ply.str());
+  std::set<std::array<int, 3>> ramp;
+  for (int i = 0; i < 30; ++i) {
+    const int v = int(std::lround(255.0 * i / 29.0));
+    ramp.insert({v, v, v});
+  }
+  const auto shots = dir.path() / "shots";
+  std::filesystem::create_directories(shots);
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  ViewerProcess viewer(
+      dir, display.name(),
+      {cloud.string(), "--width", "480", "--height", "360", "--screenshot-dir", shots.string(),
+       "--background", "255,0,255", "--point-size", "3", "--no-vsync", "--color", "distance",
+       "--color-ramp", "grey", "--color-range", "0,29"},
+      "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+  viewer.key("g");  // hide the panel
+  const RgbaImage image = viewer.settledScreenshot(shots);
+  std::set<std::array<int, 3>> seen;
+  std::size_t off_ramp = 0;
+  for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
+    const std::array<int, 3> c{image.pixels[i], image.pixels[i + 1], image.pixels[i + 2]};
+    if (c == std::array<int, 3>{255, 0, 255}) continue;
+    seen.insert(c);
+    off_ramp += ramp.count(c) == 0;
+  }
+  EXPECT_EQ(off_ramp, 0u) << "pixels of colours the ramp does not make";
+  EXPECT_GE(seen.size(), 25u) << "too few of the grid's 30 values seen";
+  EXPECT_EQ(viewer.quit(), 0) << viewer.log();
 }
 
 // The panel's right edge (10 + its 400 pixels) and a little more.

@@ -5,6 +5,7 @@
 
 #include "io/e57/e57_reader.h"
 #include "io/e57/e57_writer.h"
+#include "io/format_description.h"
 #include "io/point_file.h"
 
 namespace parallax {

@@ -95,11 +95,45 @@ class UnsupportedItems : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The groups of fields a reader may leave undecoded (a bit mask). In a layered chunk each group is
+// one or more layers of its own, preceded by its byte count, so a group nobody asked for is skipped
+// without decoding a symbol of it (the LAZ 1.4 design: a viewer reads x, y, z and colour only).
+// Positions, return numbers and scanner channels (POINT14's first two layers, which carry what
+// every other layer's context needs) are always decoded. Point-wise chunks (formats 0-5) are one
+// stream in which every field depends on the previous ones: they always decode everything.
+namespace fields {
+inline constexpr std::uint32_t kClassification = 1u << 0;  // the classification byte
+inline constexpr std::uint32_t kFlags = 1u << 1;      // classification flags, scan direction, edge
+inline constexpr std::uint32_t kIntensity = 1u << 2;  // 16 bits
+inline constexpr std::uint32_t kScanAngle = 1u << 3;
+inline constexpr std::uint32_t kUserData = 1u << 4;
+inline constexpr std::uint32_t kPointSource = 1u << 5;
+inline constexpr std::uint32_t kGpsTime = 1u << 6;
+inline constexpr std::uint32_t kRgb = 1u << 7;
+inline constexpr std::uint32_t kNir = 1u << 8;
+inline constexpr std::uint32_t kWavePacket = 1u << 9;
+inline constexpr std::uint32_t kExtraBytes = 1u << 10;
+inline constexpr std::uint32_t kAll = (1u << 11) - 1;
+inline constexpr std::uint32_t kPositionsOnly = 0;
+}  // namespace fields
+
+// Which chunk loop a decoder factory builds: the one specialised for the item set when there is
+// one (the common sets: formats 0-3 point-wise, each item through its concrete type; layered
+// chunks one item at a time over the whole chunk), or the general one every item set can go
+// through (a virtual call per item and point). Both decode the same records; the tests and the
+// benchmark compare them.
+enum class DecoderPath { kSpecialised, kGeneral };
+
 // Decodes whole chunks into raw records. One object per thread; it keeps its models between
 // chunks and resets them at the start of each.
 class ChunkDecoder {
  public:
   virtual ~ChunkDecoder() = default;
+  // Decode only the groups of `wanted` (fields::k*; every group by default) from the next chunk
+  // on. In the records decode() writes, the bytes of a group not decoded are unspecified (they
+  // repeat an earlier point's); the bytes of the groups decoded are exactly a full decode's.
+  // Codecs that cannot skip (point-wise) decode everything whatever is asked.
+  virtual void selectFields(std::uint32_t wanted) { (void)wanted; }
   // Decodes `point_count` records (each recordLength() bytes) from `chunk`, the chunk's bytes
   // as the chunk table delimits them, into `records`. Throws ChunkCorrupt when the stream runs
   // past the chunk's bytes, holds an impossible value, or (layered) disagrees with its own

@@ -81,6 +81,11 @@ class BytesDecoder final : public ItemDecoder, BytesState {
     }
     return {};
   }
+  std::size_t decodeRun(std::byte* item, std::size_t count, std::size_t stride,
+                        const std::uint8_t* contexts) override {
+    return decodeRunOf(*this, item, count, stride, contexts);
+  }
+
   void decode(std::byte* item, unsigned context) override {
     std::uint8_t* last = last_[enter(context)].data();
     for (std::size_t i = 0; i < count_; ++i) {

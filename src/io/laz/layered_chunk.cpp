@@ -104,26 +104,43 @@ std::string layerName(ItemType type, std::size_t layer) {
 
 class LayeredDecoder final : public ChunkDecoder {
  public:
-  explicit LayeredDecoder(std::span<const LazItem> items)
-      : items_(items.begin(), items.end()), point_(checkItems(items, false)[0]) {
+  LayeredDecoder(std::span<const LazItem> items, DecoderPath path)
+      : items_(items.begin(), items.end()),
+        point_(checkItems(items, false)[0]),
+        general_(path == DecoderPath::kGeneral) {
     const std::vector<unsigned> versions = checkItems(items, false);
     record_length_ = kPoint14Size;
     layer_count_ = kPoint14Layers;
+    // POINT14's layers after channel/returns/XY and Z, in layer order (layered_point14.h).
+    layer_group_ = {0,
+                    0,
+                    fields::kClassification,
+                    fields::kFlags,
+                    fields::kIntensity,
+                    fields::kScanAngle,
+                    fields::kUserData,
+                    fields::kPointSource,
+                    fields::kGpsTime};
     for (std::size_t i = 1; i < items.size(); ++i) {
       const LazItem& item = items[i];
       std::unique_ptr<ItemDecoder> d;
       switch (item.type) {
         case ItemType::Rgb14:
           d = layered::makeRgbDecoder(false, versions[i]);
+          layer_group_.push_back(fields::kRgb);
           break;
         case ItemType::RgbNir14:
           d = layered::makeRgbDecoder(true, versions[i]);
+          layer_group_.push_back(fields::kRgb);
+          layer_group_.push_back(fields::kNir);
           break;
         case ItemType::Wavepacket14:
           d = layered::makeWavepacketDecoder(versions[i]);
+          layer_group_.push_back(fields::kWavePacket);
           break;
         default:
           d = layered::makeBytesDecoder(item.size, versions[i]);
+          layer_group_.insert(layer_group_.end(), item.size, fields::kExtraBytes);
           break;
       }
       offsets_.push_back(record_length_);
@@ -132,10 +149,13 @@ class LayeredDecoder final : public ChunkDecoder {
       layer_count_ += d->layerCount();
       decoders_.push_back(std::move(d));
     }
+    assert(layer_group_.size() == layer_count_ && "a group for every layer");
     layers_.resize(layer_count_);
   }
 
   std::size_t recordLength() const override { return record_length_; }
+
+  void selectFields(std::uint32_t wanted) override { wanted_ = wanted; }
 
   void decode(std::span<const std::byte> chunk, std::size_t point_count,
               std::byte* records) override {
@@ -199,6 +219,11 @@ class LayeredDecoder final : public ChunkDecoder {
       const std::uint32_t size = loadLE<std::uint32_t>(chunk.data() + pos + 4 * i);
       layers_[i] = chunk.subspan(at, size);
       at += size;
+      // A layer nobody asked for is handed over empty: its item then repeats the last value,
+      // exactly as for a layer the writer left out, and not one of its bytes is read. Every
+      // layer's context comes from the first two layers or from itself, so the layers decoded
+      // are unchanged.
+      if (layer_group_[i] != 0 && (wanted_ & layer_group_[i]) == 0) layers_[i] = {};
     }
   }
 
@@ -228,8 +253,27 @@ class LayeredDecoder final : public ChunkDecoder {
   // stops early).
   template <bool kCheckEach>
   std::size_t decodePoints(std::size_t n, std::byte* records) {
-    static constexpr std::size_t kCheckInterval = 1024;
+    using layered::kCheckInterval;
     start(records);
+    if (!kCheckEach && !general_) {
+      // The fast path: POINT14 over the whole chunk (remembering each point's context), then
+      // each other item over the whole chunk. An item none of whose layers is wanted is not
+      // decoded at all (its bytes are unspecified, as selectFields says).
+      contexts_.resize(n);
+      std::byte* record = records;
+      for (std::size_t i = 1; i < n; ++i) {
+        record += record_length_;
+        contexts_[i] = std::uint8_t(point_.decode(record));
+        if (i % kCheckInterval == 0 && point_.failure()) return i;
+      }
+      for (std::size_t j = 0; j < decoders_.size(); ++j) {
+        if (!wantedItem(j)) continue;
+        const std::size_t done = decoders_[j]->decodeRun(records + record_length_ + offsets_[j],
+                                                         n - 1, record_length_, &contexts_[1]);
+        if (done != n - 1) return done;
+      }
+      return failed() ? n - 1 : kNoFailure;
+    }
     if constexpr (kCheckEach) {
       if (failed()) return std::min<std::size_t>(1, n - 1);
     }
@@ -238,13 +282,21 @@ class LayeredDecoder final : public ChunkDecoder {
       record += record_length_;
       const unsigned context = point_.decode(record);
       for (std::size_t j = 0; j < decoders_.size(); ++j) {
-        decoders_[j]->decode(record + offsets_[j], context);
+        if (wantedItem(j)) decoders_[j]->decode(record + offsets_[j], context);
       }
       if (kCheckEach || i % kCheckInterval == 0) {
         if (failed()) return i;
       }
     }
     return failed() ? n - 1 : kNoFailure;
+  }
+
+  // Whether any layer of item j (after POINT14) was asked for.
+  bool wantedItem(std::size_t j) const {
+    for (std::size_t l = 0; l < decoders_[j]->layerCount(); ++l) {
+      if (wanted_ & layer_group_[first_layer_[j] + l]) return true;
+    }
+    return false;
   }
 
   std::string failureMessage() const {
@@ -269,6 +321,10 @@ class LayeredDecoder final : public ChunkDecoder {
   std::size_t record_length_ = 0;
   std::size_t layer_count_ = 0;
   std::vector<std::span<const std::byte>> layers_;
+  std::vector<std::uint32_t> layer_group_;  // the fields:: group of each layer; 0: always decoded
+  std::uint32_t wanted_ = fields::kAll;
+  std::vector<std::uint8_t> contexts_;  // each point's context, from POINT14 (fast path)
+  bool general_ = false;  // point by point, every item through its virtual decode (tests)
 };
 
 class LayeredEncoder final : public ChunkEncoder {
@@ -347,8 +403,8 @@ class LayeredEncoder final : public ChunkEncoder {
 
 }  // namespace
 
-std::unique_ptr<ChunkDecoder> makeLayeredDecoder(std::span<const LazItem> items) {
-  return std::make_unique<LayeredDecoder>(items);
+std::unique_ptr<ChunkDecoder> makeLayeredDecoder(std::span<const LazItem> items, DecoderPath path) {
+  return std::make_unique<LayeredDecoder>(items, path);
 }
 
 std::unique_ptr<ChunkEncoder> makeLayeredEncoder(std::span<const LazItem> items) {

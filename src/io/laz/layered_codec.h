@@ -16,7 +16,10 @@ namespace parallax::laz {
 // point the chunk's header governs) when it holds more or its layer sizes are wrong; else the point
 // at which a layer stream ran past its bytes or held an impossible value; the records before that
 // point are decoded and valid. Item versions: see layered_items.h.
-std::unique_ptr<ChunkDecoder> makeLayeredDecoder(std::span<const LazItem> items);
+// The specialised path decodes POINT14 over the whole chunk, then each other item over the whole
+// chunk through its concrete type; the general one point by point, item by item.
+std::unique_ptr<ChunkDecoder> makeLayeredDecoder(std::span<const LazItem> items,
+                                                 DecoderPath path = DecoderPath::kSpecialised);
 std::unique_ptr<ChunkEncoder> makeLayeredEncoder(std::span<const LazItem> items);
 
 }  // namespace parallax::laz

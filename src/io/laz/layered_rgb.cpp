@@ -102,6 +102,11 @@ class RgbDecoder final : public ItemDecoder, RgbState {
     return checkLayer(nir_dec_, nir_present_, 1);
   }
 
+  std::size_t decodeRun(std::byte* item, std::size_t count, std::size_t stride,
+                        const std::uint8_t* contexts) override {
+    return decodeRunOf(*this, item, count, stride, contexts);
+  }
+
   void decode(std::byte* item, unsigned context) override {
     Colour& last = last_[enter(context)];
     RgbModels& m = *models_[current_];

@@ -117,6 +117,11 @@ class WavepacketDecoder final : public ItemDecoder, WavepacketState<IntegerDecod
   }
   LayerFailure failure() const override { return checkLayer(dec_, present_, 0); }
 
+  std::size_t decodeRun(std::byte* item, std::size_t count, std::size_t stride,
+                        const std::uint8_t* contexts) override {
+    return decodeRunOf(*this, item, count, stride, contexts);
+  }
+
   void decode(std::byte* item, unsigned context) override {
     Wavepacket& last = last_[enter(context)];
     if (present_) {

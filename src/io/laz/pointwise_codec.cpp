@@ -5,8 +5,13 @@
 #include "io/laz/pointwise_codec.h"
 
 #include <string>
+#include <type_traits>
+#include <utility>
 
+#include "io/laz/pointwise_gpstime.h"
 #include "io/laz/pointwise_items.h"
+#include "io/laz/pointwise_point10.h"
+#include "io/laz/pointwise_rgb.h"
 
 namespace parallax::laz {
 namespace {
@@ -57,6 +62,8 @@ void checkItem(const LazItem& item, std::size_t index, std::size_t count) {
   }
 }
 
+struct Empty {};
+
 struct Layout {
   std::vector<std::size_t> offsets;
   std::size_t record_length = 0;
@@ -73,11 +80,11 @@ Layout checkItems(std::span<const LazItem> items) {
   return layout;
 }
 
-class PointwiseDecoder final : public ChunkDecoder {
+// The general item set: any list of items, each decoded through its ItemDecoder (a virtual call
+// per item and point).
+class GeneralItems {
  public:
-  explicit PointwiseDecoder(std::span<const LazItem> items) {
-    Layout layout = checkItems(items);
-    record_length_ = layout.record_length;
+  GeneralItems(std::span<const LazItem> items, const Layout& layout) {
     for (std::size_t i = 0; i < items.size(); ++i) {
       const LazItem& item = items[i];
       std::unique_ptr<pointwise::ItemDecoder> coder;
@@ -98,9 +105,69 @@ class PointwiseDecoder final : public ChunkDecoder {
           coder = pointwise::makeBytesDecoder(item.version, item.size);
           break;
       }
-      items_.push_back({std::move(coder), layout.offsets[i]});
+      slots_.push_back({std::move(coder), layout.offsets[i]});
     }
   }
+  void start(const std::byte* first) {
+    for (Slot& slot : slots_) slot.coder->start(first + slot.offset);
+  }
+  void decode(ArithmeticDecoder& dec, std::byte* out) {
+    for (Slot& slot : slots_) slot.coder->decode(dec, out + slot.offset);
+  }
+
+ private:
+  struct Slot {
+    std::unique_ptr<pointwise::ItemDecoder> coder;
+    std::size_t offset;
+  };
+  std::vector<Slot> slots_;
+};
+
+// The item sets nearly every point-wise LAZ file holds: POINT10, then GPSTIME11 and/or RGB12, all
+// version 2 (point formats 0-3 as LASzip writes them). The items are members of known final
+// types, so a point is one inlined sequence of their decoders: no virtual call and no loop over
+// items per point. Decodes exactly what GeneralItems decodes (tests/io/test_laz_specialised.cpp).
+template <bool kGpsTime, bool kRgb>
+class Point10Items {
+ public:
+  static constexpr std::size_t kRgbOffset = kGpsTime ? 28 : 20;
+
+  void start(const std::byte* first) {
+    point_.start(first);
+    if constexpr (kGpsTime) gps_.start(first + 20);
+    if constexpr (kRgb) rgb_.start(first + kRgbOffset);
+  }
+  void decode(ArithmeticDecoder& dec, std::byte* out) {
+    point_.decode(dec, out);
+    if constexpr (kGpsTime) gps_.decode(dec, out + 20);
+    if constexpr (kRgb) rgb_.decode(dec, out + kRgbOffset);
+  }
+
+  // Whether `items` is this set.
+  static bool matches(std::span<const LazItem> items) {
+    const std::size_t count = 1 + (kGpsTime ? 1 : 0) + (kRgb ? 1 : 0);
+    if (items.size() != count) return false;
+    std::size_t i = 0;
+    const auto is = [&](ItemType type) { return items[i].type == type && items[i++].version == 2; };
+    if (!is(ItemType::Point10)) return false;
+    if (kGpsTime && !is(ItemType::GpsTime11)) return false;
+    if (kRgb && !is(ItemType::Rgb12)) return false;
+    return true;
+  }
+
+ private:
+  pointwise::point10::Point10DecoderV2 point_;
+  [[no_unique_address]] std::conditional_t<kGpsTime, pointwise::gpstime::GpsTimeDecoderV2, Empty>
+      gps_;
+  [[no_unique_address]] std::conditional_t<kRgb, pointwise::rgb::RgbDecoderV2, Empty> rgb_;
+};
+
+template <class Items>
+class PointwiseDecoder final : public ChunkDecoder {
+ public:
+  template <class... Args>
+  PointwiseDecoder(std::size_t record_length, Args&&... args)
+      : items_(std::forward<Args>(args)...), record_length_(record_length) {}
 
   void decode(std::span<const std::byte> chunk, std::size_t point_count,
               std::byte* records) override {
@@ -134,12 +201,12 @@ class PointwiseDecoder final : public ChunkDecoder {
                                 std::to_string(length));
     }
     std::memcpy(records, chunk.data(), length);
-    for (Slot& slot : items_) slot.coder->start(records + slot.offset);
+    items_.start(records);
     const std::span<const std::byte> stream = chunk.subspan(length);
     dec_.start(stream);
     std::byte* out = records + length;
     for (std::size_t i = 1; i < point_count; ++i, out += length) {
-      for (Slot& slot : items_) slot.coder->decode(dec_, out + slot.offset);
+      items_.decode(dec_, out);
       if (!dec_.ok()) {
         throw ChunkCorrupt(i, dec_.overran() ? "the compressed stream runs past the chunk's " +
                                                    std::to_string(chunk.size()) + " bytes"
@@ -149,14 +216,18 @@ class PointwiseDecoder final : public ChunkDecoder {
     return length + dec_.consumed(stream);
   }
 
-  struct Slot {
-    std::unique_ptr<pointwise::ItemDecoder> coder;
-    std::size_t offset;
-  };
-  std::vector<Slot> items_;
+  Items items_;
   std::size_t record_length_ = 0;
   ArithmeticDecoder dec_;
 };
+
+// The specialised decoder for `items` when there is one.
+template <bool kGpsTime, bool kRgb>
+std::unique_ptr<ChunkDecoder> specialisedFor(std::span<const LazItem> items,
+                                             std::size_t record_length) {
+  if (!Point10Items<kGpsTime, kRgb>::matches(items)) return nullptr;
+  return std::make_unique<PointwiseDecoder<Point10Items<kGpsTime, kRgb>>>(record_length);
+}
 
 class PointwiseEncoder final : public ChunkEncoder {
  public:
@@ -215,8 +286,17 @@ class PointwiseEncoder final : public ChunkEncoder {
 
 }  // namespace
 
-std::unique_ptr<ChunkDecoder> makePointwiseDecoder(std::span<const LazItem> items) {
-  return std::make_unique<PointwiseDecoder>(items);
+std::unique_ptr<ChunkDecoder> makePointwiseDecoder(std::span<const LazItem> items,
+                                                   DecoderPath path) {
+  const Layout layout = checkItems(items);
+  if (path == DecoderPath::kSpecialised) {
+    std::unique_ptr<ChunkDecoder> d = specialisedFor<true, true>(items, layout.record_length);
+    if (!d) d = specialisedFor<true, false>(items, layout.record_length);
+    if (!d) d = specialisedFor<false, true>(items, layout.record_length);
+    if (!d) d = specialisedFor<false, false>(items, layout.record_length);
+    if (d) return d;
+  }
+  return std::make_unique<PointwiseDecoder<GeneralItems>>(layout.record_length, items, layout);
 }
 
 std::unique_ptr<ChunkEncoder> makePointwiseEncoder(std::span<const LazItem> items) {

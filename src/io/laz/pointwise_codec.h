@@ -11,7 +11,10 @@
 namespace parallax::laz {
 
 // Throw UnsupportedItems for an item list the point-wise codec cannot code.
-std::unique_ptr<ChunkDecoder> makePointwiseDecoder(std::span<const LazItem> items);
+// The decoder is specialised for POINT10 with GPSTIME11 and/or RGB12, all version 2 (formats
+// 0-3), unless `path` asks for the general one (the tests compare the two).
+std::unique_ptr<ChunkDecoder> makePointwiseDecoder(std::span<const LazItem> items,
+                                                   DecoderPath path = DecoderPath::kSpecialised);
 std::unique_ptr<ChunkEncoder> makePointwiseEncoder(std::span<const LazItem> items);
 
 }  // namespace parallax::laz
