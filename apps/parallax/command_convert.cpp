@@ -56,6 +56,7 @@ struct ConvertArgs {
   std::vector<std::string> columns;
   std::vector<std::string> properties;  // PLY and text output: these attributes, in this order
   std::string las_version;
+  int point_format = -1;  // --point-format; -1: the input's, or chosen
   std::uint32_t laz_chunk = 50000;
   bool ascii = false;
   std::string pcd_data = "binary";  // PCD output: ascii, binary or binary_compressed
@@ -347,11 +348,13 @@ int runConvert(ConvertArgs args) {
   }
   int minor = 0;
   if (args.las_version == "1.2") minor = 2;
+  if (args.las_version == "1.3") minor = 3;
   if (args.las_version == "1.4") minor = 4;
   // The source travels with the options: what the output keeps of its header (a LAS output
   // its CRS) is the output row's decision.
   const PointWriteOptions write_options{.ply_ascii = args.ascii,
                                         .las_minor_version = minor,
+                                        .las_point_format = args.point_format,
                                         .laz_chunk_points = args.laz_chunk,
                                         .pcd_data = args.pcd_data == "ascii" ? PcdData::Ascii
                                                     : args.pcd_data == "binary"
@@ -440,8 +443,14 @@ Command addConvertCommand(CLI::App& app) {
                   "x,y,z,red,green,blue,nx,ny,nz (default: all, in the input's order)")
       ->delimiter(',');
   sub->add_option("--las-version", args->las_version,
-                  "LAS output: 1.2 or 1.4 (default: 1.2 unless the attributes need 1.4)")
-      ->check(CLI::IsMember({"1.2", "1.4"}));
+                  "LAS output: 1.2, 1.3 or 1.4 (default: a LAS input's; else 1.2 unless the "
+                  "attributes need 1.4)")
+      ->check(CLI::IsMember({"1.2", "1.3", "1.4"}));
+  sub->add_option("--point-format", args->point_format,
+                  "LAS output: the point data record format 0-10 (default: a LAS input's, "
+                  "grown only when the points have a field it lacks; else chosen from the "
+                  "attributes)")
+      ->check(CLI::Range(0, 10));
   sub->add_option("--laz-chunk", args->laz_chunk,
                   "LAZ output: points a chunk (default 50000, LASzip's)")
       ->check(CLI::Range(std::uint32_t(1), std::uint32_t(100'000'000)));

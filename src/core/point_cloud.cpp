@@ -182,6 +182,7 @@ PointCloud PointCloud::clone() const {
   copy.quantization = quantization;
   copy.positions = positions.clone();
   copy.colors = colors.clone();
+  copy.stored_colors = stored_colors.clone();
   copy.normals = normals.clone();
   copy.intensity = intensity.clone();
   copy.classification = classification.clone();

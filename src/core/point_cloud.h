@@ -31,6 +31,12 @@ struct Rgba8 {
   friend bool operator==(const Rgba8&, const Rgba8&) = default;
 };
 
+// A colour as a source with 16-bit channels stored it (LAS's Red, Green, Blue), whatever its range.
+struct Rgb16 {
+  std::uint16_t r, g, b;
+  friend bool operator==(const Rgb16&, const Rgb16&) = default;
+};
+
 // A property the model has no dedicated column for, kept under its source name and type so that
 // writers give it back unchanged. `data` holds count * scalarSize(type) bytes, native endian.
 struct ScalarColumn {
@@ -71,8 +77,15 @@ struct SourceTypes {
 struct PointCloud {
   std::uint64_t count = 0;
   Quantization quantization;
-  Column<Int3> positions;               // always count elements
-  Column<Rgba8> colors;                 // empty: no colour
+  Column<Int3> positions;  // always count elements
+  Column<Rgba8> colors;    // empty: no colour
+  // The colours exactly as a 16-bit source stored them (LAS: 8-bit values in the 16-bit fields
+  // stay 8-bit values, 16-bit ones stay 16-bit), so that a LAS or LAZ writer gives them back
+  // unchanged; empty when the source stored none or stored 8 bits (PLY uchar). When present,
+  // `colors` is their display form (las_reader.h's 8-bit rule), which every other consumer
+  // (renderer, PLY, text, E57, PCD writers) reads. Code that changes `colors` clears this
+  // column, or the old values would be written back.
+  Column<Rgb16> stored_colors;
   Column<Float3> normals;               // empty: no normals
   Column<float> intensity;              // empty: no intensity
   Column<std::uint8_t> classification;  // empty: no classification
@@ -82,6 +95,7 @@ struct PointCloud {
   Bounds3 bounds;
 
   bool hasColors() const { return !colors.empty(); }
+  bool hasStoredColors() const { return !stored_colors.empty(); }
   bool hasNormals() const { return !normals.empty(); }
   bool hasIntensity() const { return !intensity.empty(); }
   bool hasClassification() const { return !classification.empty(); }

@@ -26,6 +26,7 @@ PointCloud copyRecords(const PointCloud& cloud, std::uint64_t count, Pick pick) 
   };
   copyColumn(cloud.positions, out.positions);
   copyColumn(cloud.colors, out.colors);
+  copyColumn(cloud.stored_colors, out.stored_colors);
   copyColumn(cloud.normals, out.normals);
   copyColumn(cloud.intensity, out.intensity);
   copyColumn(cloud.classification, out.classification);

@@ -228,6 +228,18 @@ bool lasFormatHasColor(int format) {
 bool lasFormatHasNir(int format) {
   return format == 8 || format == 10;
 }
+int lasFormatHolding(bool extended, bool gps_time, bool color, bool nir, bool wave_packets) {
+  if (extended || nir) {
+    if (nir || (color && wave_packets)) return wave_packets ? 10 : 8;
+    if (wave_packets) return 9;
+    return color ? 7 : 6;
+  }
+  if (wave_packets) return color ? 5 : 4;
+  return (gps_time ? 1 : 0) + (color ? 2 : 0);
+}
+int lasMinorVersionFor(int format) {
+  return format >= 6 ? 4 : format >= 4 ? 3 : format >= 2 ? 2 : 0;
+}
 bool lasFormatHasWavePacket(int format) {
   return format == 4 || format == 5 || format == 9 || format == 10;
 }
@@ -283,6 +295,7 @@ LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& fi
   LasHeader header;
   header.file_source_id = loadLE<std::uint16_t>(h + 4);
   header.global_encoding = loadLE<std::uint16_t>(h + 6);
+  std::memcpy(header.guid.data(), h + 8, header.guid.size());
   header.version_major = loadLE<std::uint8_t>(h + 24);
   header.version_minor = loadLE<std::uint8_t>(h + 25);
   if (header.version_major != 1 || header.version_minor > 4) {
@@ -408,6 +421,20 @@ LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& fi
 LasHeader readLasHeader(const std::filesystem::path& path) {
   MappedFile file(path);
   return parseLasHeader(file.bytes(), path.string());
+}
+
+LasHeader readLasHeaderWithRecords(const std::filesystem::path& path) {
+  MappedFile file(path);
+  const std::span<const std::byte> bytes = file.bytes();
+  LasHeader header = parseLasHeader(bytes, path.string());
+  for (LasVlr& vlr : header.vlrs) {
+    // parseLasHeader checked that every payload lies inside the file.
+    if (vlr.data.size() != vlr.data_size) {
+      vlr.data.assign(bytes.begin() + std::ptrdiff_t(vlr.data_offset),
+                      bytes.begin() + std::ptrdiff_t(vlr.data_offset + vlr.data_size));
+    }
+  }
+  return header;
 }
 
 std::string describeLasHeader(const LasHeader& header) {

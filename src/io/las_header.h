@@ -37,6 +37,11 @@ bool lasFormatHasGpsTime(int format);
 bool lasFormatHasColor(int format);
 bool lasFormatHasNir(int format);
 bool lasFormatHasWavePacket(int format);
+// The smallest point format with the fields asked for: the extended (6-10) layout, GPS time,
+// colour, NIR, wave packets (NIR implies the extended layout; 6-10 always have GPS time).
+int lasFormatHolding(bool extended, bool gps_time, bool color, bool nir, bool wave_packets);
+// The first LAS 1.x version with `format`: 0-1 in 1.0, 2-3 in 1.2, 4-5 in 1.3, 6-10 in 1.4.
+int lasMinorVersionFor(int format);
 // Formats 6-10 (LAS 1.4) have 4-bit returns, an 8-bit class and a 16-bit scan angle.
 constexpr bool lasFormatIsExtended(int format) {
   return format >= 6;
@@ -93,6 +98,7 @@ struct LasHeader {
   std::uint8_t version_minor = 2;
   std::uint16_t file_source_id = 0;
   std::uint16_t global_encoding = 0;  // bit 0: standard GPS time, bit 4: CRS is WKT
+  std::array<std::byte, 16> guid{};   // project ID (GUID data 1-4), as stored
   std::string system_identifier;
   std::string generating_software;
   std::uint16_t creation_day = 0;
@@ -140,6 +146,10 @@ LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& fi
 
 // The header of a LAS file on disk (memory-mapped; reads only the header, VLRs and EVLRs).
 LasHeader readLasHeader(const std::filesystem::path& path);
+
+// The same, with the payload of every VLR and EVLR loaded (parseLasHeader leaves large EVLRs,
+// waveform data among them, in the file): what a LAS or LAZ writer carries over.
+LasHeader readLasHeaderWithRecords(const std::filesystem::path& path);
 
 // A few lines for `parallax info`: version, point format and record length, point count,
 // scale/offset, header bounds, CRS, extra bytes, generating software.

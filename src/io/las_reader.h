@@ -12,6 +12,9 @@
 //                                          as they are (source.color = UInt8); otherwise each is
 //                                          rounded to the nearest of value / 257 (so 65535 ->
 //                                          255 and c * 257 -> c; source.color = UInt16).
+//                                          That is the display form; the values as stored, 16
+//                                          bits whatever their range, are kept in stored_colors,
+//                                          which the LAS and LAZ writers give back unchanged.
 //   every other field -> a ScalarColumn, in this order and type:
 //     return_number, number_of_returns (uint8)
 //     formats 0-5:  scan_direction_flag, edge_of_flight_line, classification_flags (uint8),

@@ -211,6 +211,7 @@ void decodeLasRecords(const std::byte* records, std::size_t n, const LasDecodePl
       const std::byte* c = r + *plan.color_offset;
       if (!box.color_above_255) box.color_above_255 = anyAbove255(c, stride, m);
       storeColors(c, stride, m, plan.colors_8bit, out.colors.data() + o);
+      copyField<6>(c, stride, m, reinterpret_cast<std::byte*>(out.stored_colors.data() + o));
     }
     for (std::size_t f = 0; f < plan.fields.size(); ++f) {
       const LasFieldDecoder& field = plan.fields[f];
@@ -292,7 +293,10 @@ PointCloud allocateLasCloud(const LasHeader& header, const LasDecodePlan& plan, 
   cloud.positions = Column<Int3>(count);
   cloud.intensity = Column<float>(count);
   cloud.classification = Column<std::uint8_t>(count);
-  if (plan.color_offset) cloud.colors = Column<Rgba8>(count);
+  if (plan.color_offset) {
+    cloud.colors = Column<Rgba8>(count);
+    cloud.stored_colors = Column<Rgb16>(count);
+  }
   for (const auto& [name, type] : plan.columns) {
     cloud.scalars.push_back({name, type, ByteBuffer(count * scalarSize(type))});
   }

@@ -37,7 +37,14 @@ enum class Field {
   UserData,
   PointSourceId,
   GpsTime,
-  Nir
+  Nir,
+  WaveIndex,
+  WaveOffset,
+  WaveSize,
+  WaveLocation,
+  WaveDx,
+  WaveDy,
+  WaveDz
 };
 
 // Lower case without '_', ' ', '-' and a leading "scalar_" (CloudCompare's prefix).
@@ -69,6 +76,13 @@ Field fieldFor(std::string_view name) {
       {"gpstime", Field::GpsTime},
       {"nir", Field::Nir},
       {"nearinfrared", Field::Nir},
+      {"wavepacketdescriptorindex", Field::WaveIndex},
+      {"wavepacketoffset", Field::WaveOffset},
+      {"wavepacketsize", Field::WaveSize},
+      {"returnpointwaveformlocation", Field::WaveLocation},
+      {"waveformdx", Field::WaveDx},
+      {"waveformdy", Field::WaveDy},
+      {"waveformdz", Field::WaveDz},
   };
   std::string key = normalise(name);
   for (const auto& [text, field] : kNames) {
@@ -116,6 +130,43 @@ void withType(ScalarType type, F f) {
   }
 }
 
+// The C type of an extra bytes data type 1-10 (LAS 1.4 R15 Table 24).
+template <class F>
+void withExtraDataType(int data_type, F f) {
+  switch (data_type) {
+    case 1:
+      f(std::uint8_t{});
+      break;
+    case 2:
+      f(std::int8_t{});
+      break;
+    case 3:
+      f(std::uint16_t{});
+      break;
+    case 4:
+      f(std::int16_t{});
+      break;
+    case 5:
+      f(std::uint32_t{});
+      break;
+    case 6:
+      f(std::int32_t{});
+      break;
+    case 7:
+      f(std::uint64_t{});
+      break;
+    case 8:
+      f(std::int64_t{});
+      break;
+    case 9:
+      f(float{});
+      break;
+    default:
+      f(double{});
+      break;
+  }
+}
+
 void gather(const Source& source, std::size_t first, std::size_t n, double* out) {
   withType(source.type, [&](auto zero) {
     using T = decltype(zero);
@@ -143,12 +194,23 @@ struct BitTarget {
   int shift;
   unsigned max;
 };
-// A whole value converted (times `factor`, rounded for integers, clamped) into `type`.
+// A whole value converted (times `factor`, rounded for integers, clamped) into `type`, or into
+// a uint64 (wave packet offsets) when `type` is absent.
 struct ValueTarget {
   Source source;
   std::size_t offset;
-  ScalarType type;
+  std::optional<ScalarType> type;
   double factor;
+};
+// One value of the source's extra bytes, stored back in its own data type (LAS 1.4 R15 Table
+// 24: 1-10 are uchar, char, ushort, short, ulong, long, ulonglong, longlong, float, double; 0,
+// undocumented bytes, is one uchar here): raw = (value - add) / scale, rounded for integers.
+// A null source (the cloud lost that column) leaves the bytes zero.
+struct SourceExtraTarget {
+  Source source;
+  std::size_t offset;
+  int data_type;
+  double scale, add;
 };
 // An extra-bytes column copied in its own type.
 struct RawTarget {
@@ -162,6 +224,8 @@ struct Layout {
   std::vector<BitTarget> bits;
   std::vector<ValueTarget> values;
   std::vector<RawTarget> raws;
+  std::vector<SourceExtraTarget> source_extras;
+  std::vector<std::byte> source_extra_descriptors;  // the source's LASF_Spec 4 payload, verbatim
   std::vector<std::pair<std::string, ScalarType>> extra_types;
   std::optional<std::size_t> color_offset;
   Source return_number;  // data null when absent
@@ -187,6 +251,13 @@ std::uint8_t extraDataType(ScalarType type) {
       return 10;
   }
   return 0;
+}
+
+// Whether a source's VLR or EVLR is carried over: not the records describing the source's own
+// compression or layout (LASzip's, COPC's), which the writer makes anew or which would lie.
+bool carriedLasRecord(const LasVlr& vlr) {
+  return vlr.user_id != laz::kLaszipUserId && vlr.user_id != "copc" &&
+         vlr.user_id != "lascompatible";
 }
 
 Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options) {
@@ -219,50 +290,119 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options) {
                                    count)
                          : 0.0;
 
-  plan.minor_version = options.minor_version;
-  if (plan.minor_version == 0) {
-    bool needs14 = find(Field::Channel) || find(Field::Nir) ||
-                   (find(Field::ScanAngle) && !find(Field::ScanAngleRank)) || count > UINT32_MAX ||
-                   max_class > 31 || maxOf(Field::ReturnNumber) > 7 ||
-                   maxOf(Field::NumberOfReturns) > 7 || maxOf(Field::ClassFlags) >= 8 ||
-                   maxOf(Field::Overlap) > 0;
-    plan.minor_version = needs14 ? 4 : 2;
-  }
-  assert((plan.minor_version == 2 || plan.minor_version == 4) &&
-         "LAS minor version must be 2 or 4");
-  const bool v14 = plan.minor_version == 4;
-  if (v14) {
-    plan.point_format = find(Field::Nir) ? 8 : cloud.hasColors() ? 7 : 6;
+  const LasHeader* src = options.source.get();
+  // The first field the cloud holds that only formats 6-10 have room for; null when none.
+  const char* extended_field =
+      find(Field::Channel)                                         ? "scanner_channel"
+      : max_class > 31                                             ? "classification above 31"
+      : maxOf(Field::ReturnNumber) > 7                             ? "return_number above 7"
+      : maxOf(Field::NumberOfReturns) > 7                          ? "number_of_returns above 7"
+      : maxOf(Field::ClassFlags) >= 8 || maxOf(Field::Overlap) > 0 ? "the overlap flag"
+      : find(Field::ScanAngle) && !find(Field::ScanAngleRank) ? "scan_angle (0.006 degree steps)"
+                                                              : nullptr;
+  const bool has_wave = find(Field::WaveIndex) || find(Field::WaveOffset) ||
+                        find(Field::WaveSize) || find(Field::WaveLocation);
+  const bool format_forced = options.point_format >= 0;
+  assert(options.point_format <= kLasMaxPointFormat && "LAS point format must be 0-10");
+  assert(
+      (options.minor_version == 0 || (options.minor_version >= 2 && options.minor_version <= 4)) &&
+      "a forced LAS minor version must be 2, 3 or 4");
+  int format = 0;
+  int minor = options.minor_version;
+  if (format_forced) {
+    format = options.point_format;
+  } else if (src) {
+    format = src->point_format;
+    // The source's format grows (never shrinks) to hold what the cloud has.
+    const bool ext = lasFormatIsExtended(format) || extended_field || find(Field::Nir);
+    const bool gps = lasFormatHasGpsTime(format) || find(Field::GpsTime);
+    const bool color = lasFormatHasColor(format) || cloud.hasColors();
+    const bool nir = lasFormatHasNir(format) || find(Field::Nir);
+    const bool wave = lasFormatHasWavePacket(format) || has_wave;
+    const int grown = lasFormatHolding(ext, gps, color, nir, wave);
+    if (grown != format) {
+      const std::string why = extended_field && !lasFormatIsExtended(format) ? extended_field
+                              : nir && !lasFormatHasNir(format)              ? "nir"
+                              : color && !lasFormatHasColor(format)          ? "red, green, blue"
+                              : gps && !lasFormatHasGpsTime(format)          ? "gps_time"
+                                                                             : "wave packets";
+      plan.changes.push_back("point format " + std::to_string(format) + " -> " +
+                             std::to_string(grown) + ": the points' " + why +
+                             " has no field in format " + std::to_string(format));
+      format = grown;
+    }
   } else {
-    plan.point_format = (find(Field::GpsTime) ? 1 : 0) + (cloud.hasColors() ? 2 : 0);
+    if (minor == 0) {
+      bool needs14 = extended_field || find(Field::Nir) || count > UINT32_MAX;
+      minor = needs14 ? 4 : 2;
+    }
+    if (minor == 4) {
+      format = find(Field::Nir) ? 8 : cloud.hasColors() ? 7 : 6;
+    } else {
+      format = (find(Field::GpsTime) ? 1 : 0) + (cloud.hasColors() ? 2 : 0);
+    }
   }
-  const int format = plan.point_format;
+  if (minor == 0) {
+    minor = std::max(src ? int(src->version_minor) : 2, lasMinorVersionFor(format));
+    if (src && minor > src->version_minor) {
+      plan.changes.push_back("LAS 1." + std::to_string(src->version_minor) + " -> 1." +
+                             std::to_string(minor) + ": point format " + std::to_string(format) +
+                             " needs it");
+    }
+  } else if (lasMinorVersionFor(format) > minor) {
+    if (format_forced) {
+      throw std::invalid_argument("point format " + std::to_string(format) + " needs LAS 1." +
+                                  std::to_string(lasMinorVersionFor(format)) +
+                                  " or later, and LAS 1." + std::to_string(minor) +
+                                  " was asked for");
+    }
+    // The version was asked for: the format shrinks to one it holds.
+    const int shrunk =
+        lasFormatHolding(false, lasFormatHasGpsTime(format), lasFormatHasColor(format), false,
+                         lasFormatHasWavePacket(format) && minor >= 3);
+    plan.losses.push_back("point format " + std::to_string(format) + " -> " +
+                          std::to_string(shrunk) + " (LAS 1." + std::to_string(minor) +
+                          " has no format " + std::to_string(format) + ")");
+    format = shrunk;
+  }
+  for (const std::string& change : plan.changes) plan.losses.push_back(change);
+  plan.minor_version = minor;
+  plan.point_format = format;
+  const bool ext = lasFormatIsExtended(format);
   std::size_t record = lasPointFormatSize(format);
 
   auto bit = [&](Field field, std::size_t offset, int shift, unsigned max) {
     if (const ScalarColumn* column = find(field)) {
       layout.bits.push_back({sourceOf(*column), offset, shift, max});
       if (maxOf(field) > max) {
-        plan.losses.push_back(column->name + " clamped to " + std::to_string(max) + " (LAS 1." +
-                              std::to_string(plan.minor_version) + " field width)");
+        plan.losses.push_back(column->name + " clamped to " + std::to_string(max) +
+                              " (point format " + std::to_string(format) + " field width)");
       }
     }
   };
-  auto value = [&](Field field, std::size_t offset, ScalarType type, double factor = 1.0) {
+  auto value = [&](Field field, std::size_t offset, std::optional<ScalarType> type,
+                   double factor = 1.0) {
     if (const ScalarColumn* column = find(field)) {
       layout.values.push_back({sourceOf(*column), offset, type, factor});
     }
   };
+  // A field the format has no place for is kept as extra bytes.
+  auto extra = [&](Field field) {
+    if (const ScalarColumn* column = find(field)) extras.push_back(column);
+  };
   if (cloud.hasClassification()) {
     Source cls{reinterpret_cast<const std::byte*>(cloud.classification.data()), ScalarType::UInt8};
-    if (v14) {
+    if (ext) {
       layout.values.push_back({cls, 16, ScalarType::UInt8, 1.0});
     } else {
       layout.bits.push_back({cls, 15, 0, 31});
-      if (max_class > 31) plan.losses.push_back("classification above 31 clamped (LAS 1.2)");
+      if (max_class > 31) {
+        plan.losses.push_back("classification above 31 clamped (point format " +
+                              std::to_string(format) + ")");
+      }
     }
   }
-  if (v14) {
+  if (ext) {
     bit(Field::ReturnNumber, 14, 0, 15);
     bit(Field::NumberOfReturns, 14, 4, 15);
     bit(Field::ClassFlags, 15, 0, 15);
@@ -281,8 +421,7 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options) {
     }
     value(Field::PointSourceId, 20, ScalarType::UInt16);
     value(Field::GpsTime, 22, ScalarType::Float64);
-    if (format >= 7) layout.color_offset = 30;
-    value(Field::Nir, 36, ScalarType::UInt16);
+    if (find(Field::ScanAngleRank) && find(Field::ScanAngle)) extra(Field::ScanAngleRank);
   } else {
     bit(Field::ReturnNumber, 14, 0, 7);
     bit(Field::NumberOfReturns, 14, 3, 7);
@@ -299,20 +438,74 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options) {
     }
     value(Field::UserData, 17, ScalarType::UInt8);
     value(Field::PointSourceId, 18, ScalarType::UInt16);
-    value(Field::GpsTime, 20, ScalarType::Float64);
-    if (format >= 2) layout.color_offset = format == 3 ? 28 : 20;
-    // Fields LAS 1.2 has no place for become extra bytes.
-    for (Field field : {Field::Channel, Field::Nir, Field::Overlap}) {
-      if (const ScalarColumn* column = find(field)) extras.push_back(column);
-    }
-    if (find(Field::ScanAngleRank) && find(Field::ScanAngle))
-      extras.push_back(find(Field::ScanAngle));
+    if (lasFormatHasGpsTime(format)) value(Field::GpsTime, 20, ScalarType::Float64);
+    // Fields formats 0-5 have no place for become extra bytes.
+    extra(Field::Channel);
+    extra(Field::Overlap);
+    if (find(Field::ScanAngleRank) && find(Field::ScanAngle)) extra(Field::ScanAngle);
   }
-  if (v14 && find(Field::ScanAngleRank) && find(Field::ScanAngle)) {
-    extras.push_back(find(Field::ScanAngleRank));
+  if (!lasFormatHasGpsTime(format)) extra(Field::GpsTime);
+  if (lasFormatHasColor(format)) {
+    layout.color_offset = ext ? 30 : format == 2 ? 20 : 28;
+  } else if (cloud.hasColors()) {
+    plan.losses.push_back("red, green, blue (point format " + std::to_string(format) +
+                          " has no colour)");
+  }
+  if (lasFormatHasNir(format)) {
+    value(Field::Nir, 36, ScalarType::UInt16);
+  } else {
+    extra(Field::Nir);
+  }
+  // LAS 1.4 R15 Table 13: index, offset, size, location, x(t), y(t), z(t), the last 29 bytes.
+  const std::size_t wave = lasPointFormatSize(format) - 29;
+  for (auto [field, offset, type] :
+       {std::tuple{Field::WaveIndex, 0, std::optional(ScalarType::UInt8)},
+        std::tuple{Field::WaveOffset, 1, std::optional<ScalarType>()},
+        std::tuple{Field::WaveSize, 9, std::optional(ScalarType::UInt32)},
+        std::tuple{Field::WaveLocation, 13, std::optional(ScalarType::Float32)},
+        std::tuple{Field::WaveDx, 17, std::optional(ScalarType::Float32)},
+        std::tuple{Field::WaveDy, 21, std::optional(ScalarType::Float32)},
+        std::tuple{Field::WaveDz, 25, std::optional(ScalarType::Float32)}}) {
+    if (lasFormatHasWavePacket(format)) {
+      value(field, wave + std::size_t(offset), type);
+    } else {
+      extra(field);
+    }
   }
   if (const ScalarColumn* column = find(Field::ReturnNumber))
     layout.return_number = sourceOf(*column);
+
+  // The source's extra bytes, at their offsets after the fixed fields, from the columns the
+  // reader made of them (matched by name).
+  if (src && !src->extra_bytes.empty()) {
+    const std::size_t src_fixed = lasPointFormatSize(src->point_format);
+    for (const LasExtraBytes& described : src->extra_bytes) {
+      auto it = std::find_if(extras.begin(), extras.end(), [&](const ScalarColumn* column) {
+        return column->name == described.name;
+      });
+      Source source;
+      if (it != extras.end()) {
+        source = sourceOf(**it);
+        extras.erase(it);
+      } else {
+        plan.losses.push_back("extra bytes '" + described.name +
+                              "' written as zeros (the points have no such column)");
+      }
+      const int base = described.data_type == 0    ? 1
+                       : described.data_type <= 10 ? described.data_type
+                                                   : (described.data_type - 1) % 10 + 1;
+      layout.source_extras.push_back({source, record + described.record_offset - src_fixed, base,
+                                      described.scaled ? described.scale : 1.0,
+                                      described.scaled ? described.offset : 0.0});
+    }
+    record += src->record_length - src_fixed;
+    for (const LasVlr& vlr : src->vlrs) {
+      if (vlr.user_id == "LASF_Spec" && vlr.record_id == 4) {
+        layout.source_extra_descriptors = vlr.data;
+        break;
+      }
+    }
+  }
 
   // Extra bytes: normals, then the unmapped scalars, each in its own type.
   auto addExtra = [&](const std::string& name, Source source) {
@@ -341,6 +534,15 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options) {
                              " bytes is over LAS's 65 535 (too many scalar columns)");
   }
 
+  if (src && minor < 4) {
+    const auto evlrs = std::count_if(src->vlrs.begin(), src->vlrs.end(), [](const LasVlr& vlr) {
+      return vlr.extended && carriedLasRecord(vlr);
+    });
+    if (evlrs > 0) {
+      plan.losses.push_back(std::to_string(evlrs) + " EVLRs (LAS 1." + std::to_string(minor) +
+                            " has none)");
+    }
+  }
   if (cloud.source.has_alpha) plan.losses.push_back("alpha (LAS has no alpha)");
   if (cloud.hasIntensity()) {
     // Only worth a word when some value is not already a 16-bit integer.
@@ -398,17 +600,43 @@ void encodeBlock(const PointCloud& cloud, const Layout& layout, std::size_t firs
   }
   for (const ValueTarget& target : layout.values) {
     gather(target.source, first, n, values.data());
-    withType(target.type, [&](auto zero) {
+    if (!target.type) {
+      for (std::size_t i = 0; i < n; ++i) {
+        storeLE(out + i * stride + target.offset, clampRound<std::uint64_t>(values[i]));
+      }
+      continue;
+    }
+    withType(*target.type, [&](auto zero) {
       using T = decltype(zero);
       for (std::size_t i = 0; i < n; ++i) {
         storeLE(out + i * stride + target.offset, clampRound<T>(values[i] * target.factor));
       }
     });
   }
-  if (layout.color_offset) {
+  for (const SourceExtraTarget& target : layout.source_extras) {
+    if (!target.source.data) continue;
+    gather(target.source, first, n, values.data());
+    withExtraDataType(target.data_type, [&](auto zero) {
+      using T = decltype(zero);
+      for (std::size_t i = 0; i < n; ++i) {
+        const double raw = target.scale == 1.0 && target.add == 0.0
+                               ? values[i]
+                               : (values[i] - target.add) / target.scale;
+        storeLE(out + i * stride + target.offset, clampRound<T>(raw));
+      }
+    });
+  }
+  if (layout.color_offset && cloud.hasStoredColors()) {
+    // The values as the source stored them: never scaled between LAS files.
+    const Rgb16* colors = cloud.stored_colors.data() + first;
+    for (std::size_t i = 0; i < n; ++i) {
+      std::memcpy(out + i * stride + *layout.color_offset, colors + i, 6);
+    }
+  } else if (layout.color_offset) {
     const Rgba8* colors = cloud.colors.data() + first;
     for (std::size_t i = 0; i < n; ++i) {
-      // LAS 1.4 R15: colours are normalised to 16 bits; c * 257 maps 255 to 65535 exactly.
+      // 8-bit colours (PLY uchar): LAS 1.4 R15 normalises colours to 16 bits; c * 257 maps 255
+      // to 65535 exactly, and a LAS reader's value / 257 gives c back.
       std::uint16_t rgb[3] = {std::uint16_t(colors[i].r * 257), std::uint16_t(colors[i].g * 257),
                               std::uint16_t(colors[i].b * 257)};
       std::memcpy(out + i * stride + *layout.color_offset, rgb, 6);
@@ -446,11 +674,18 @@ std::vector<std::byte> vlrBytes(const LasVlr& vlr) {
   return bytes;
 }
 
+bool hasExtraBytes(const Layout& layout) {
+  return !layout.extra_types.empty() || !layout.source_extra_descriptors.empty();
+}
+
+// The source's descriptions as they were, then those of the columns added after them.
 LasVlr extraBytesVlr(const Layout& layout) {
   LasVlr vlr{.user_id = "LASF_Spec", .record_id = 4, .description = "Extra Bytes Record"};
-  vlr.data.resize(layout.extra_types.size() * kLasExtraBytesDescriptorSize);
+  vlr.data = layout.source_extra_descriptors;
+  const std::size_t kept = vlr.data.size();
+  vlr.data.resize(kept + layout.extra_types.size() * kLasExtraBytesDescriptorSize);
   for (std::size_t i = 0; i < layout.extra_types.size(); ++i) {
-    std::byte* d = vlr.data.data() + i * kLasExtraBytesDescriptorSize;
+    std::byte* d = vlr.data.data() + kept + i * kLasExtraBytesDescriptorSize;
     const auto& [name, type] = layout.extra_types[i];
     d[2] = std::byte(extraDataType(type));
     std::memcpy(d + 4, name.data(), std::min<std::size_t>(32, name.size()));
@@ -474,7 +709,7 @@ LasWritePlan encodeLasRecords(const PointCloud& cloud, const LasWriteOptions& op
 
 std::optional<LasVlr> lasExtraBytesVlr(const PointCloud& cloud, const LasWriteOptions& options) {
   const Layout layout = makeLayout(cloud, options);
-  if (layout.extra_types.empty()) return std::nullopt;
+  if (!hasExtraBytes(layout)) return std::nullopt;
   return extraBytesVlr(layout);
 }
 
@@ -483,16 +718,48 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
   const Layout layout = makeLayout(cloud, options);
   const LasWritePlan& plan = layout.plan;
   const bool v14 = plan.minor_version == 4;
-  const std::size_t header_size = v14 ? kLasHeaderSize14 : kLasHeaderSize12;
+  const std::size_t header_size = v14                       ? kLasHeaderSize14
+                                  : plan.minor_version == 3 ? kLasHeaderSize13
+                                                            : kLasHeaderSize12;
+  const LasHeader* src = options.source.get();
 
+  // The source's VLRs in their order (its extra bytes description where it was), then the
+  // records asked for that it does not have, then the extra bytes description if still due.
   std::vector<std::vector<std::byte>> vlrs;
-  bool has_wkt = false;
-  for (const LasVlr& vlr : options.vlrs) {
-    if (vlr.data.size() > 65535 || (vlr.user_id == "LASF_Spec" && vlr.record_id == 4)) continue;
+  std::vector<const LasVlr*> evlrs;
+  bool has_wkt = false, extra_bytes_written = false;
+  auto isExtraBytes = [](const LasVlr& vlr) {
+    return vlr.user_id == "LASF_Spec" && vlr.record_id == 4;
+  };
+  auto add = [&](const LasVlr& vlr) {
     has_wkt |= vlr.user_id == "LASF_Projection" && vlr.record_id == 2112;
     vlrs.push_back(vlrBytes(vlr));
+  };
+  if (src) {
+    for (const LasVlr& vlr : src->vlrs) {
+      if (!carriedLasRecord(vlr)) continue;
+      if (vlr.extended) {
+        if (v14) evlrs.push_back(&vlr);
+      } else if (isExtraBytes(vlr)) {
+        if (!hasExtraBytes(layout) || extra_bytes_written) continue;
+        LasVlr described = extraBytesVlr(layout);
+        described.description = vlr.description;
+        add(described);
+        extra_bytes_written = true;
+      } else {
+        add(vlr);
+      }
+    }
   }
-  if (!layout.extra_types.empty()) vlrs.push_back(vlrBytes(extraBytesVlr(layout)));
+  for (const LasVlr& vlr : options.vlrs) {
+    if (vlr.data.size() > 65535 || isExtraBytes(vlr)) continue;
+    const bool carried = src && std::any_of(src->vlrs.begin(), src->vlrs.end(), [&](const auto& v) {
+                           return v.user_id == vlr.user_id && v.record_id == vlr.record_id;
+                         });
+    if (!carried) add(vlr);
+  }
+  if (hasExtraBytes(layout) && !extra_bytes_written)
+    vlrs.push_back(vlrBytes(extraBytesVlr(layout)));
   const bool compress = options.laz_chunk_points > 0;
   laz::LaszipVlr laszip;
   if (compress) {
@@ -521,9 +788,10 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
                 std::max(total.hi.z, s.hi.z)};
     for (std::size_t r = 0; r < 16; ++r) total.by_return[r] += s.by_return[r];
   };
+  std::uint64_t end = point_data_offset + std::uint64_t(count) * stride;
   if (compress) {
     std::mutex stats_mutex;
-    writeLazPointData(
+    end = writeLazPointData(
         out, point_data_offset, laszip, count,
         [&](std::uint64_t first, std::size_t n, std::byte* records) {
           BlockStats stats;
@@ -554,24 +822,55 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
       }
     }
   }
+  // The source's EVLRs after the points (LAS 1.4 R15 2.7), payloads as they were.
+  const std::uint64_t evlr_offset = evlrs.empty() ? 0 : end;
+  for (const LasVlr* vlr : evlrs) {
+    std::byte head[kLasEvlrHeaderSize] = {};
+    std::memcpy(head + 2, vlr->user_id.data(), std::min<std::size_t>(16, vlr->user_id.size()));
+    storeLE(head + 18, vlr->record_id);
+    storeLE(head + 20, std::uint64_t(vlr->data.size()));
+    std::memcpy(head + 28, vlr->description.data(),
+                std::min<std::size_t>(32, vlr->description.size()));
+    out.write(head, sizeof head);
+    if (!vlr->data.empty()) out.write(vlr->data.data(), vlr->data.size());
+  }
 
   // The public header block (LAS 1.4 R15 Table 3; 1.2 is its first 227 bytes).
   std::byte* h = header.data();
   std::memcpy(h, "LASF", 4);
-  storeLE(h + 4, options.file_source_id);
+  storeLE(h + 4, src ? src->file_source_id : options.file_source_id);
   std::uint16_t encoding = options.gps_time_standard.value_or(false) ? 1 : 0;
+  if (src) {
+    // The source's bits, but the WKT bit, which belongs to 1.4 and is set below when due.
+    encoding = std::uint16_t(src->global_encoding & ~16u);
+    if (options.gps_time_standard) {
+      encoding = std::uint16_t((encoding & ~1u) | (*options.gps_time_standard ? 1u : 0u));
+    }
+  }
   // Formats 6-10 require the WKT bit (R15 2.4); a copied GeoTIFF-keys CRS is a doubt left as is.
-  if (v14 && (plan.point_format >= 6 || has_wkt)) encoding |= 16;
+  if (v14 && (plan.point_format >= 6 || has_wkt || (src && (src->global_encoding & 16)))) {
+    encoding |= 16;
+  }
   storeLE(h + 6, encoding);
   h[24] = std::byte(1);
   h[25] = std::byte(plan.minor_version);
-  std::memcpy(h + 26, "OTHER", 5);  // R15 Table 4: the system identifier of generated data
-  std::memcpy(h + 58, "Parallax", 8);
-  std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  storeLE(h + 90, std::uint16_t(utc.tm_yday + 1));
-  storeLE(h + 92, std::uint16_t(utc.tm_year + 1900));
+  if (src) {
+    std::memcpy(h + 8, src->guid.data(), src->guid.size());
+    std::memcpy(h + 26, src->system_identifier.data(),
+                std::min<std::size_t>(32, src->system_identifier.size()));
+    std::memcpy(h + 58, src->generating_software.data(),
+                std::min<std::size_t>(32, src->generating_software.size()));
+    storeLE(h + 90, src->creation_day);
+    storeLE(h + 92, src->creation_year);
+  } else {
+    std::memcpy(h + 26, "OTHER", 5);  // R15 Table 4: the system identifier of generated data
+    std::memcpy(h + 58, "Parallax", 8);
+    std::time_t now = std::time(nullptr);
+    std::tm utc{};
+    gmtime_r(&now, &utc);
+    storeLE(h + 90, std::uint16_t(utc.tm_yday + 1));
+    storeLE(h + 92, std::uint16_t(utc.tm_year + 1900));
+  }
   storeLE(h + 94, std::uint16_t(header_size));
   storeLE(h + 96, std::uint32_t(point_data_offset));
   storeLE(h + 100, std::uint32_t(vlrs.size()));
@@ -598,6 +897,8 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
     storeLE(h + 219, q.toWorld(2, total.lo.z));
   }
   if (v14) {
+    storeLE(h + 235, evlr_offset);
+    storeLE(h + 243, std::uint32_t(evlrs.size()));
     storeLE(h + 247, std::uint64_t(count));
     for (int r = 0; r < 15; ++r) storeLE(h + 255 + 8 * r, total.by_return[std::size_t(r + 1)]);
   }

@@ -1,7 +1,18 @@
-// Writing PointClouds as uncompressed LAS 1.2 or 1.4.
+// Writing PointClouds as uncompressed LAS 1.0-1.4 (and, with laz_chunk_points, LAZ).
 //
 // Positions are written as the cloud's own int32 values with its quantization as the header's
-// scale and offset: nothing is re-rounded. The point format is chosen from the attributes:
+// scale and offset: nothing is re-rounded.
+//
+// From a LAS or LAZ source (LasWriteOptions::source, which `parallax convert` sets), the records
+// are kept: the source's point format and version, its system identifier, generating software,
+// GUID, global encoding, file source ID and creation date, every VLR and EVLR (but its LASzip
+// and COPC records, which describe the source's compression and layout), its extra bytes at
+// their offsets with their descriptions (scaled ones stored back as raw = (value - offset) /
+// scale), and colours as stored (PointCloud::stored_colors). A format or version changes only
+// when asked (minor_version, point_format) or when the source's cannot hold what the cloud has;
+// the plan then says which field forced it (LasWritePlan::changes).
+//
+// Without a source the point format is chosen from the attributes:
 //   LAS 1.2: 0, +gps_time 1, +colors 2, both 3
 //   LAS 1.4: 6, +colors 7, +nir 8 (GPS time is always present in 6-10)
 // Version 1.4 is chosen (when not forced) if the cloud needs it: a scan_angle (int16),
@@ -11,17 +22,20 @@
 // Scalar columns with the names the LAS reader gives (las_reader.h), case-insensitively and
 // ignoring '_' and a "scalar_" prefix (so PDAL's ReturnNumber and CloudCompare's
 // scalar_Return_Number match too), fill the LAS fields; synthetic, key_point, withheld and overlap
-// columns fill the classification flags. Everything else, normals (nx ny nz, float) included, is
-// written as extra bytes with a LASF_Spec record 4 description, in its own type; names are cut to
-// 32 characters. Colours are written as 16-bit values c * 257 (255 -> 65535), as LAS 1.4 R15 asks
-// ("normalized to 16 bits"), whatever the source held: a file with 8-bit values in its 16-bit
-// fields comes back with the same colours, normalised. Alpha has no place in LAS and is dropped.
-// Extra bytes are a LAS 1.4 feature; they are written in 1.2 files too (record length above the
-// format's size), which common readers accept.
+// columns fill the classification flags; the wave packet columns fill formats 4, 5, 9 and 10.
+// Everything else, normals (nx ny nz, float) included, is written as extra bytes with a LASF_Spec
+// record 4 description, in its own type; names are cut to 32 characters.
+// Colours: stored_colors when the cloud has them (a LAS source's values, whatever their range),
+// else the 8-bit colours scaled to 16 bits as c * 257 (255 -> 65535), as LAS 1.4 R15 asks
+// ("normalized to 16 bits"): a PLY's uchar colours, which a LAS reader scales back. Colour is
+// never scaled between LAS files. Alpha has no place in LAS and is dropped.
+// Extra bytes are a LAS 1.4 feature; they are written in 1.0-1.3 files too (record length above
+// the format's size), which common readers accept.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,7 +47,11 @@
 namespace parallax {
 
 struct LasWriteOptions {
-  int minor_version = 0;  // 2 or 4; 0 chooses (above)
+  int minor_version = 0;  // 2, 3 or 4 forces the version; 0 keeps the source's, or chooses
+  int point_format = -1;  // 0-10 forces the point format; -1 keeps the source's, or chooses
+  // The LAS or LAZ header whose fields, records and layout the output keeps (above), with every
+  // VLR and EVLR payload loaded (readLasHeaderWithRecords); null for a cloud from elsewhere.
+  std::shared_ptr<const LasHeader> source;
   // Records copied as VLRs, e.g. the source's LASF_Projection records to keep the CRS. Records
   // with a payload over 65 535 bytes, and LASF_Spec record 4 (written here), are skipped.
   std::vector<LasVlr> vlrs;
@@ -53,6 +71,9 @@ struct LasWritePlan {
   std::size_t record_length = 0;
   std::vector<std::string> extra_bytes;  // names written as extra bytes, in record order
   std::vector<std::string> losses;       // what is dropped or changed, one phrase each
+  // The source's format or version changed without being asked, each with the field that forced
+  // it ("point format 3 -> 7: scanner_channel needs formats 6-10"); also listed in losses.
+  std::vector<std::string> changes;
 };
 
 // The layout writeLas would use for `cloud`, and what it would drop or change.

@@ -59,8 +59,9 @@ laz::LaszipVlr makeLaszipVlr(int point_format, std::size_t record_length,
   return vlr;
 }
 
-void writeLazPointData(OutputFile& out, std::uint64_t data_offset, const laz::LaszipVlr& vlr,
-                       std::uint64_t count, const LasRecordFiller& records, Progress* progress) {
+std::uint64_t writeLazPointData(OutputFile& out, std::uint64_t data_offset,
+                                const laz::LaszipVlr& vlr, std::uint64_t count,
+                                const LasRecordFiller& records, Progress* progress) {
   auto makeEncoder = [&vlr]() -> std::unique_ptr<laz::ChunkEncoder> {
     try {
       return vlr.compressor == 3 ? laz::makeLayeredEncoder(vlr.items)
@@ -122,6 +123,7 @@ void writeLazPointData(OutputFile& out, std::uint64_t data_offset, const laz::La
       laz::encodeChunkTable(table, vlr.chunk_size == laz::kVariableChunkSize);
   out.write(stream.data(), stream.size());
   out.writeAt(data_offset, &position, 8);
+  return position + sizeof header + stream.size();
 }
 
 void writeLaz(const PointCloud& cloud, const std::filesystem::path& path,

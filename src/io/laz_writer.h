@@ -41,8 +41,10 @@ laz::LaszipVlr makeLaszipVlr(int point_format, std::size_t record_length,
 using LasRecordFiller = std::function<void(std::uint64_t first, std::size_t n, std::byte* out)>;
 
 // Writes the LAZ point data of `count` points at the end of `out`: the chunk table offset (at
-// `data_offset`, the current end), the chunks, the table. Used by the LAS writer.
-void writeLazPointData(OutputFile& out, std::uint64_t data_offset, const laz::LaszipVlr& vlr,
-                       std::uint64_t count, const LasRecordFiller& records, Progress* progress);
+// `data_offset`, the current end), the chunks, the table; returns the offset of the end of the
+// table (where EVLRs may follow). Used by the LAS writer.
+std::uint64_t writeLazPointData(OutputFile& out, std::uint64_t data_offset,
+                                const laz::LaszipVlr& vlr, std::uint64_t count,
+                                const LasRecordFiller& records, Progress* progress);
 
 }  // namespace parallax

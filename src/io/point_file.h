@@ -82,8 +82,10 @@ PointFormat formatForExtension(const std::filesystem::path& path);
 
 struct PointWriteOptions {
   Progress* progress = nullptr;
-  bool ply_ascii = false;     // PLY: ascii instead of binary little endian
-  int las_minor_version = 0;  // LAS, LAZ: 2 or 4; 0 chooses from the attributes (las_writer.h)
+  bool ply_ascii = false;  // PLY: ascii instead of binary little endian
+  // LAS, LAZ: 2, 3 or 4 forces the version; 0 keeps a LAS source's or chooses (las_writer.h).
+  int las_minor_version = 0;
+  int las_point_format = -1;  // LAS, LAZ: 0-10 forces the point format; -1 keeps or chooses
   std::uint32_t laz_chunk_points = 50000;  // LAZ: points a chunk (laz_writer.h)
   // PCD: the DATA encoding (pcd_writer.h); ply_ascii also asks for ascii.
   PcdData pcd_data = PcdData::Binary;
@@ -92,8 +94,8 @@ struct PointWriteOptions {
   // is an InputError there.
   std::vector<std::string> properties;
   // The file the cloud was read from, if any: a LAS or LAZ output keeps a LAS or LAZ source's
-  // CRS records, GPS time type and file source id, and the losses name a CRS the output has no
-  // place for.
+  // header fields, VLRs, EVLRs, point format and version (las_writer.h), and the losses name
+  // what the output has no place for.
   std::filesystem::path source;
 };
 

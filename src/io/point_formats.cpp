@@ -240,9 +240,10 @@ FormatDescription describeLas(const std::filesystem::path& path) {
   return out;
 }
 
-// What a LAS or LAZ output keeps of a LAS or LAZ source (PointWriteOptions::source): its CRS
-// records, its GPS time type and file source id. A WKT CRS is LAS 1.4's (global encoding bit 4):
-// 1.4 is chosen for it unless 1.2 was asked for.
+// What a LAS or LAZ output keeps of a LAS or LAZ source (PointWriteOptions::source): its whole
+// header, every VLR and EVLR, its point format and version (las_writer.h). A WKT CRS is LAS
+// 1.4's (global encoding bit 4): from a source of another format, 1.4 is chosen for it unless
+// 1.2 was asked for.
 struct LasSourceCarry {
   LasWriteOptions options;
   bool wkt_in_12 = false;  // a WKT CRS written to LAS 1.2, which has no flag to say so
@@ -251,19 +252,18 @@ struct LasSourceCarry {
 LasSourceCarry lasCarry(const PointWriteOptions& options) {
   LasSourceCarry carry;
   carry.options.minor_version = options.las_minor_version;
+  carry.options.point_format = options.las_point_format;
   carry.options.progress = options.progress;
   if (options.source.empty()) return carry;
   const PointFormat source = detectPointFormat(options.source);
   if (source != PointFormat::Las && source != PointFormat::Laz) return carry;
-  const LasHeader header = readLasHeader(options.source);
-  const CoordinateSystem crs = coordinateSystemOf(header);
-  carry.options.vlrs = crs.records;
-  carry.options.gps_time_standard = header.gpsTimeIsStandard();
-  carry.options.file_source_id = header.file_source_id;
-  if (!crs.description.wkt.empty()) {
-    if (carry.options.minor_version == 0) carry.options.minor_version = 4;
-    carry.wkt_in_12 = carry.options.minor_version == 2;
-  }
+  auto header = std::make_shared<LasHeader>(readLasHeaderWithRecords(options.source));
+  carry.options.gps_time_standard = header->gpsTimeIsStandard();
+  carry.options.file_source_id = header->file_source_id;
+  const int minor =
+      carry.options.minor_version != 0 ? carry.options.minor_version : header->version_minor;
+  carry.wkt_in_12 = !header->crs.wkt.empty() && minor < 4;
+  carry.options.source = std::move(header);
   return carry;
 }
 
@@ -278,8 +278,7 @@ void checkNoPropertyOrder(const std::filesystem::path& path, const PointWriteOpt
 std::vector<std::string> lasLosses(const PointCloud& cloud, const std::filesystem::path&,
                                    const PointWriteOptions& options) {
   const LasSourceCarry carry = lasCarry(options);
-  std::vector<std::string> losses =
-      planLasWrite(cloud, {.minor_version = options.las_minor_version}).losses;
+  std::vector<std::string> losses = planLasWrite(cloud, carry.options).losses;
   if (carry.wkt_in_12) {
     losses.push_back(
         "the WKT coordinate reference system is copied, but LAS 1.2 has no "

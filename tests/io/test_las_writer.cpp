@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
+#include <memory>
+
 #include "io/las_reader.h"
 #include "io/ply_reader.h"
 #include "io/ply_writer.h"
@@ -152,6 +156,93 @@ TEST(LasWriter, EmptyCloudWritesAValidFile) {
   writeLas(empty, path);
   EXPECT_EQ(readLas(path).count, 0u);
   EXPECT_EQ(readLasHeader(path).point_format, 0);
+}
+
+// The point records of a LAS file in memory (header offsets of LAS 1.4 R15 Table 3).
+std::string recordsOf(const std::string& las) {
+  std::uint32_t offset = 0, legacy = 0;
+  std::uint16_t length = 0;
+  std::uint64_t count = 0;
+  std::memcpy(&offset, las.data() + 96, 4);
+  std::memcpy(&length, las.data() + 105, 2);
+  std::memcpy(&legacy, las.data() + 107, 4);
+  count = legacy;
+  if (las[25] >= 4 && legacy == 0) std::memcpy(&count, las.data() + 247, 8);
+  return las.substr(offset, std::size_t(count) * length);
+}
+
+std::string fileBytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// 8-bit values in the 16-bit colour fields (most LAS writers) and true 16-bit ones: both come
+// back as stored, in every format, with the source's format and version.
+TEST(LasWriter, RecordsOfASourceAreKeptByteForByte) {
+  test::TempDir dir;
+  for (auto [minor, format] : {std::pair{2, 0},
+                               {2, 1},
+                               {2, 2},
+                               {2, 3},
+                               {3, 4},
+                               {3, 5},
+                               {4, 6},
+                               {4, 7},
+                               {4, 8},
+                               {4, 9},
+                               {4, 10}}) {
+    for (bool eight_bit : {true, false}) {
+      SCOPED_TRACE("format " + std::to_string(format) + (eight_bit ? " 8-bit" : " 16-bit"));
+      LasTestFile file = manyPoints(minor, format);
+      for (std::size_t i = 0; i < file.points.size(); ++i) {
+        auto& p = file.points[i];
+        p.red = std::uint16_t(eight_bit ? i % 256 : i * 37);
+        p.green = std::uint16_t(eight_bit ? 84 : 1 + i * 3);
+        p.blue = std::uint16_t(eight_bit ? (i * 7) % 256 : 65535 - i);
+      }
+      const std::string bytes = test::makeLas(file);
+      const auto in = dir.write("in.las", bytes);
+      auto source = std::make_shared<LasHeader>(readLasHeaderWithRecords(in));
+      const auto out = dir / "out.las";
+      writeLas(readLas(in), out, {.source = source});
+      const std::string written = fileBytes(out);
+      EXPECT_EQ(int(std::uint8_t(written[104])), format);
+      EXPECT_EQ(int(written[25]), minor);
+      ASSERT_TRUE(recordsOf(written) == recordsOf(bytes));
+    }
+  }
+}
+
+TEST(LasWriter, PlyUcharColoursScaleTo16BitsAndBack) {
+  test::TempDir dir;
+  PointCloud cloud = readLasFromMemory(asBytes(test::makeLas(manyPoints(2, 2))), "in");
+  cloud.stored_colors = {};  // as from a PLY: 8-bit colours only
+  cloud.colors[0] = {84, 0, 255, 255};
+  writeLas(cloud, dir / "a.las");
+  const PointCloud back = readLas(dir / "a.las");
+  EXPECT_EQ(back.stored_colors[0], (Rgb16{84 * 257, 0, 65535}));
+  EXPECT_EQ(back.colors[0], (Rgba8{84, 0, 255, 255}));
+  writePly(back, dir / "b.ply");
+  EXPECT_EQ(readPly(dir / "b.ply").colors[0], (Rgba8{84, 0, 255, 255}));
+}
+
+TEST(LasWriter, AFieldTheSourceFormatLacksGrowsTheFormatAndIsNamed) {
+  test::TempDir dir;
+  const auto in = dir.write("in.las", test::makeLas(manyPoints(2, 1)));
+  auto source = std::make_shared<LasHeader>(readLasHeaderWithRecords(in));
+  PointCloud cloud = readLas(in);
+  for (ScalarColumn& column : cloud.scalars) {
+    if (column.name == "return_number") column.as<std::uint8_t>()[0] = 9;
+  }
+  const LasWritePlan plan = planLasWrite(cloud, {.source = source});
+  EXPECT_EQ(plan.point_format, 6);
+  EXPECT_EQ(plan.minor_version, 4);
+  ASSERT_EQ(plan.changes.size(), 2u);
+  EXPECT_NE(plan.changes[0].find("point format 1 -> 6"), std::string::npos) << plan.changes[0];
+  EXPECT_NE(plan.changes[0].find("return_number above 7"), std::string::npos) << plan.changes[0];
+  EXPECT_NE(plan.changes[1].find("LAS 1.2 -> 1.4"), std::string::npos) << plan.changes[1];
+  EXPECT_THROW(planLasWrite(cloud, {.minor_version = 2, .point_format = 6, .source = source}),
+               std::invalid_argument);
 }
 
 TEST(LasWriter, CrsRecordsAreCopied) {
