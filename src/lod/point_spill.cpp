@@ -52,6 +52,8 @@ template <class F>
 void forEachColumn(PointCloud& cloud, F&& f) {
   f(reinterpret_cast<std::byte*>(cloud.positions.data()), cloud.positions.size() * sizeof(Int3));
   f(reinterpret_cast<std::byte*>(cloud.colors.data()), cloud.colors.size() * sizeof(Rgba8));
+  f(reinterpret_cast<std::byte*>(cloud.stored_colors.data()),
+    cloud.stored_colors.size() * sizeof(Rgb16));
   f(reinterpret_cast<std::byte*>(cloud.normals.data()), cloud.normals.size() * sizeof(Float3));
   f(reinterpret_cast<std::byte*>(cloud.intensity.data()), cloud.intensity.size() * sizeof(float));
   f(reinterpret_cast<std::byte*>(cloud.classification.data()), cloud.classification.size());
@@ -130,6 +132,7 @@ class SpillReader final : public PointChunkSource {
     const std::size_t n = std::size_t(cloud.count);
     cloud.positions = Column<Int3>(n);
     if (entry.has_colors) cloud.colors = Column<Rgba8>(n);
+    if (entry.has_stored_colors) cloud.stored_colors = Column<Rgb16>(n);
     if (entry.has_normals) cloud.normals = Column<Float3>(n);
     if (entry.has_intensity) cloud.intensity = Column<float>(n);
     if (entry.has_classification) cloud.classification = Column<std::uint8_t>(n);
@@ -169,6 +172,7 @@ PointSpill::~PointSpill() {
 void PointSpill::add(PointCloud batch) {
   Batch entry;
   entry.has_colors = batch.hasColors();
+  entry.has_stored_colors = batch.hasStoredColors();
   entry.has_normals = batch.hasNormals();
   entry.has_intensity = batch.hasIntensity();
   entry.has_classification = batch.hasClassification();

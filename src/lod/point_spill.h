@@ -47,7 +47,8 @@ class PointSpill {
     PointCloud cloud;  // whole, or (in the file) with every column empty
     bool in_file = false;
     std::uint64_t offset = 0;
-    bool has_colors = false, has_normals = false, has_intensity = false, has_classification = false;
+    bool has_colors = false, has_stored_colors = false, has_normals = false, has_intensity = false,
+         has_classification = false;
   };
 
  private:

@@ -168,11 +168,16 @@ void PotreeLayout::encode(const PointCloud& cloud, std::uint64_t first, std::uin
         break;
       }
       case S::Rgb: {
+        // Colour as the source stored it (a LAS file's 16-bit values, whatever their range),
+        // else the 8-bit colour widened as LAS widens it (255 -> 65535).
+        const bool stored = cloud.hasStoredColors();
         const bool has = cloud.hasColors();
         for (std::uint64_t i = first; i < first + n; ++i) {
           const Rgba8 c = has ? cloud.colors[i] : Rgba8{0, 0, 0, 255};
-          const std::uint16_t rgb[3] = {std::uint16_t(c.r * 257), std::uint16_t(c.g * 257),
-                                        std::uint16_t(c.b * 257)};
+          const std::uint16_t rgb[3] = {
+              stored ? cloud.stored_colors[i].r : std::uint16_t(c.r * 257),
+              stored ? cloud.stored_colors[i].g : std::uint16_t(c.g * 257),
+              stored ? cloud.stored_colors[i].b : std::uint16_t(c.b * 257)};
           std::memcpy(base + (i - first) * stride, rgb, sizeof rgb);
           for (int e = 0; e < 3; ++e) widen(stats, a, e, rgb[e]);
         }

@@ -204,9 +204,17 @@ PointCloud PotreeRecordReader::decode(std::span<const std::byte> bytes, std::uin
     cloud.source.color = color_.scale_down ? ScalarType::UInt16 : ScalarType::UInt8;
     cloud.source.has_alpha = color_.alpha;
     const int channels = color_.alpha ? 4 : 3;
+    // 16-bit rgb (Potree's "rgb", as LAS stores colour) is also kept as stored, so that a
+    // conversion to LAS, LAZ or COPC writes the values the octree holds, whatever their range.
+    const bool keep_stored = color_.sixteen_bit && !color_.alpha;
+    if (keep_stored) cloud.stored_colors = Column<Rgb16>(n);
     for (std::size_t i = 0; i < n; ++i) {
       const std::byte* p = records + i * stride + color_.offset;
       std::uint8_t rgba[4] = {0, 0, 0, 255};
+      if (keep_stored) {
+        cloud.stored_colors[i] = {loadLE<std::uint16_t>(p), loadLE<std::uint16_t>(p + 2),
+                                  loadLE<std::uint16_t>(p + 4)};
+      }
       for (int c = 0; c < channels; ++c) {
         if (!color_.sixteen_bit) {
           rgba[c] = loadLE<std::uint8_t>(p + c);

@@ -165,6 +165,7 @@ class OnceSource final : public PointChunkSource {
   bool next(PointCloud& chunk, std::size_t max_points) override {
     const std::uint64_t n = std::min<std::uint64_t>(max_points, count_ - next_);
     chunk = PointCloud{};
+    if (n == 0) return false;  // and no memcpy from past the end (UBSan: null source)
     chunk.count = n;
     chunk.quantization = kMillimetres;
     chunk.positions = Column<Int3>(n);
@@ -172,7 +173,7 @@ class OnceSource final : public PointChunkSource {
     chunk.computeBounds();
     next_ += n;
     g_decoded_points += n;
-    return n > 0;
+    return true;
   }
 
  private:
