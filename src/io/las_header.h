@@ -73,6 +73,44 @@ struct LasExtraBytes {
   double offset = 0.0;
 };
 
+// Calls f with a value of the C type of an extra bytes data type 1-10 (LAS 1.4 R15 Table 24;
+// 10, and anything else a caller lets through, as double): the reader and the writer both.
+template <class F>
+inline void withExtraDataType(int data_type, F f) {
+  switch (data_type) {
+    case 1:
+      f(std::uint8_t{});
+      break;
+    case 2:
+      f(std::int8_t{});
+      break;
+    case 3:
+      f(std::uint16_t{});
+      break;
+    case 4:
+      f(std::int16_t{});
+      break;
+    case 5:
+      f(std::uint32_t{});
+      break;
+    case 6:
+      f(std::int32_t{});
+      break;
+    case 7:
+      f(std::uint64_t{});
+      break;
+    case 8:
+      f(std::int64_t{});
+      break;
+    case 9:
+      f(float{});
+      break;
+    default:
+      f(double{});
+      break;
+  }
+}
+
 // What the file says about its coordinate reference system. LAS 1.4 with the WKT bit (global
 // encoding bit 4) uses OGC WKT (LASF_Projection 2112); older files use GeoTIFF keys (34735, with
 // doubles in 34736 and text in 34737).

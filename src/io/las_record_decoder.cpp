@@ -87,42 +87,6 @@ LasDecodePlan makePlanImpl(const LasHeader& header) {
   return plan;
 }
 
-template <class F>
-void withExtraType(int data_type, F f) {
-  switch (data_type) {
-    case 1:
-      f(std::uint8_t{});
-      break;
-    case 2:
-      f(std::int8_t{});
-      break;
-    case 3:
-      f(std::uint16_t{});
-      break;
-    case 4:
-      f(std::int16_t{});
-      break;
-    case 5:
-      f(std::uint32_t{});
-      break;
-    case 6:
-      f(std::int32_t{});
-      break;
-    case 7:
-      f(std::uint64_t{});
-      break;
-    case 8:
-      f(std::int64_t{});
-      break;
-    case 9:
-      f(float{});
-      break;
-    default:
-      f(double{});
-      break;
-  }
-}
-
 template <std::size_t kSize>
 void copyField(const std::byte* src, std::size_t stride, std::size_t n, std::byte* dst) {
   for (std::size_t i = 0; i < n; ++i) std::memcpy(dst + i * kSize, src + i * stride, kSize);
@@ -261,7 +225,7 @@ void decodeLasRecords(const std::byte* records, std::size_t n, const LasDecodePl
         case LasFieldDecoder::Kind::Scaled: {
           double* dst = column.as<double>() + o;
           const double scale = field.scale, add = field.add;
-          withExtraType(field.data_type, [&](auto zero) {
+          withExtraDataType(field.data_type, [&](auto zero) {
             using T = decltype(zero);
             for (std::size_t i = 0; i < m; ++i) {
               dst[i] = double(loadLE<T>(src + i * stride)) * scale + add;

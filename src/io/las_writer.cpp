@@ -130,43 +130,6 @@ void withType(ScalarType type, F f) {
   }
 }
 
-// The C type of an extra bytes data type 1-10 (LAS 1.4 R15 Table 24).
-template <class F>
-void withExtraDataType(int data_type, F f) {
-  switch (data_type) {
-    case 1:
-      f(std::uint8_t{});
-      break;
-    case 2:
-      f(std::int8_t{});
-      break;
-    case 3:
-      f(std::uint16_t{});
-      break;
-    case 4:
-      f(std::int16_t{});
-      break;
-    case 5:
-      f(std::uint32_t{});
-      break;
-    case 6:
-      f(std::int32_t{});
-      break;
-    case 7:
-      f(std::uint64_t{});
-      break;
-    case 8:
-      f(std::int64_t{});
-      break;
-    case 9:
-      f(float{});
-      break;
-    default:
-      f(double{});
-      break;
-  }
-}
-
 void gather(const Source& source, std::size_t first, std::size_t n, double* out) {
   withType(source.type, [&](auto zero) {
     using T = decltype(zero);
