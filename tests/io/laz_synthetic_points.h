@@ -15,6 +15,8 @@
 #include <limits>
 #include <vector>
 
+#include "io/laz/chunk_codec.h"
+
 namespace parallax::laz::testing {
 
 struct SyntheticSpec {
@@ -210,6 +212,17 @@ inline std::vector<std::byte> makeSyntheticRecords(const SyntheticSpec& spec) {
     if (quiet_start) quiet_fields.assign(rec, rec + length);
   }
   return out;
+}
+
+// The layered items (LAS 1.4 R15 formats 6-10, as LASzip lists them) of a format with `extra`
+// extra bytes, at one layered version (3 or 4).
+inline std::vector<LazItem> layeredItemsFor(int format, std::size_t extra, std::uint16_t version) {
+  std::vector<LazItem> items{{ItemType::Point14, 30, version}};
+  if (format == 7) items.push_back({ItemType::Rgb14, 6, version});
+  if (format == 8 || format == 10) items.push_back({ItemType::RgbNir14, 8, version});
+  if (format == 9 || format == 10) items.push_back({ItemType::Wavepacket14, 29, version});
+  if (extra != 0) items.push_back({ItemType::Byte14, std::uint16_t(extra), version});
+  return items;
 }
 
 }  // namespace parallax::laz::testing

@@ -143,11 +143,7 @@ TEST(LazSelective, ParallaxChunksOfEveryLayeredFormatDecodeTheAskedFieldsAsAFull
       const std::size_t extra = format == 7 ? 3 : 0;
       const std::vector<std::byte> records = makeSyntheticRecords(
           {.format = format, .extra_bytes = extra, .count = 3000, .seed = 31, .quiet_span = 500});
-      std::vector<LazItem> items{{ItemType::Point14, 30, version}};
-      if (format == 7) items.push_back({ItemType::Rgb14, 6, version});
-      if (format == 8 || format == 10) items.push_back({ItemType::RgbNir14, 8, version});
-      if (format == 9 || format == 10) items.push_back({ItemType::Wavepacket14, 29, version});
-      if (extra != 0) items.push_back({ItemType::Byte14, std::uint16_t(extra), version});
+      const std::vector<LazItem> items = testing::layeredItemsFor(format, extra, version);
       auto encoder = makeLayeredEncoder(items);
       const std::size_t length = encoder->recordLength();
       const std::size_t count = records.size() / length;

@@ -22,6 +22,7 @@
 namespace parallax::laz {
 namespace {
 
+using testing::layeredItemsFor;
 using testing::LazTestFile;
 using testing::makeSyntheticRecords;
 using testing::readLazTestFile;
@@ -133,11 +134,7 @@ TEST(LazSpecialised, ParallaxLayeredChunksDecodeAsTheGeneralPath) {
       const std::size_t extra = format == 6 ? 2 : 0;
       const std::vector<std::byte> records = makeSyntheticRecords(
           {.format = format, .extra_bytes = extra, .count = 2500, .seed = 9, .quiet_span = 400});
-      std::vector<LazItem> items{{ItemType::Point14, 30, version}};
-      if (format == 7) items.push_back({ItemType::Rgb14, 6, version});
-      if (format == 8 || format == 10) items.push_back({ItemType::RgbNir14, 8, version});
-      if (format == 9 || format == 10) items.push_back({ItemType::Wavepacket14, 29, version});
-      if (extra != 0) items.push_back({ItemType::Byte14, std::uint16_t(extra), version});
+      const std::vector<LazItem> items = layeredItemsFor(format, extra, version);
       auto encoder = makeLayeredEncoder(items);
       const std::size_t length = encoder->recordLength();
       std::vector<std::uint8_t> chunk;
