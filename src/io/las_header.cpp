@@ -1,5 +1,6 @@
 #include "io/las_header.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -215,6 +216,25 @@ void readVlrs(LasHeader& header, std::span<const std::byte> bytes, const std::st
 }
 
 }  // namespace
+
+std::optional<std::size_t> lasUndescribedByteOffset(const std::string& name) {
+  static const std::string prefix = lasUndescribedByteName(0).substr(0, 23);
+  if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) return {};
+  std::size_t offset = 0;
+  for (std::size_t i = prefix.size(); i < name.size(); ++i) {
+    if (name[i] < '0' || name[i] > '9' || offset > 65535) return {};
+    offset = offset * 10 + std::size_t(name[i] - '0');
+  }
+  return offset;
+}
+
+std::size_t lasDescribedRecordEnd(const LasHeader& header) {
+  std::size_t end = lasPointFormatSize(header.point_format);
+  for (const LasExtraBytes& extra : header.extra_bytes) {
+    end = std::max(end, extra.record_offset + extra.size);
+  }
+  return end;
+}
 
 std::size_t lasPointFormatSize(int format) {
   return format >= 0 && format <= kLasMaxPointFormat ? kFormatSizes[std::size_t(format)] : 0;

@@ -73,6 +73,18 @@ struct LasExtraBytes {
   double offset = 0.0;
 };
 
+// The column a reader makes of the undescribed byte at `record_offset` (bytes after the format's
+// fields and the described extra bytes, which no extra bytes VLR names: kept one UInt8 column a
+// byte, so that a LAS or LAZ writer puts them back where they were); and the offset of such a
+// column's name, if it is one.
+inline std::string lasUndescribedByteName(std::size_t record_offset) {
+  return "undescribed_extra_byte_" + std::to_string(record_offset);
+}
+std::optional<std::size_t> lasUndescribedByteOffset(const std::string& name);
+// Where the described extra bytes end (the format's size when there are none).
+struct LasHeader;
+std::size_t lasDescribedRecordEnd(const LasHeader& header);
+
 // Calls f with a value of the C type of an extra bytes data type 1-10 (LAS 1.4 R15 Table 24;
 // 10, and anything else a caller lets through, as double): the reader and the writer both.
 template <class F>

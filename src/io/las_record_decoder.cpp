@@ -120,6 +120,11 @@ LasDecodePlan makePlanImpl(const LasHeader& header, const AttributeSelection& se
       add.copy(extra.name, e, extra.type, extra.record_offset);
     }
   }
+  // Bytes after those no extra bytes VLR describes: one column a byte, so that they are written
+  // back (las_header.h, lasUndescribedByteName).
+  for (std::size_t at = lasDescribedRecordEnd(header); at < header.record_length; ++at) {
+    add.copy(lasUndescribedByteName(at), f::kExtraBytes, ScalarType::UInt8, at);
+  }
   // Everything asked: every layer too (the records handed out are then whole, undescribed extra
   // bytes included).
   if (selection.all()) plan.laz_fields = laz::fields::kAll;

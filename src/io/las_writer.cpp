@@ -440,7 +440,11 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options) {
 
   // The source's extra bytes, at their offsets after the fixed fields, from the columns the
   // reader made of them (matched by name).
-  if (src && !src->extra_bytes.empty()) {
+  const auto undescribed = [](const ScalarColumn* column) {
+    return lasUndescribedByteOffset(column->name).has_value();
+  };
+  if (src &&
+      (!src->extra_bytes.empty() || std::any_of(extras.begin(), extras.end(), undescribed))) {
     const std::size_t src_fixed = lasPointFormatSize(src->point_format);
     for (const LasExtraBytes& described : src->extra_bytes) {
       auto it = std::find_if(extras.begin(), extras.end(), [&](const ScalarColumn* column) {
@@ -460,6 +464,18 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options) {
       layout.source_extras.push_back({source, record + described.record_offset - src_fixed, base,
                                       described.scaled ? described.scale : 1.0,
                                       described.scaled ? described.offset : 0.0});
+    }
+    // Undescribed bytes (the reader's one column a byte) go back where they were, raw and
+    // without a description; those past the source's record would be a column of another file.
+    for (auto it = extras.begin(); it != extras.end();) {
+      const std::optional<std::size_t> at = lasUndescribedByteOffset((*it)->name);
+      if (at && *at >= lasDescribedRecordEnd(*src) && *at < src->record_length &&
+          (*it)->type == ScalarType::UInt8) {
+        layout.raws.push_back({sourceOf(**it), record + *at - src_fixed, 1});
+        it = extras.erase(it);
+      } else {
+        ++it;
+      }
     }
     record += src->record_length - src_fixed;
     for (const LasVlr& vlr : src->vlrs) {

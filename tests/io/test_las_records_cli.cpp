@@ -1,7 +1,8 @@
 // LAS and LAZ records kept through `parallax convert`, checked against the source's bytes parsed
 // here, independently of Parallax's LAS header reader (LAS 1.4 R15, tables 3, 4 and 5): the
 // header's identifying fields, every VLR and EVLR, the records of the points a --clip-box keeps
-// (16-bit colours as stored), and the message when a forced point format drops a field.
+// (16-bit colours as stored), undescribed extra bytes, and the message when a forced point format
+// drops a field.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -207,6 +208,40 @@ TEST(LasRecordsCli, AForcedFormatNamesTheFieldItDrops) {
     ASSERT_EQ(b.substr(28, 6), std::string(6, '\0')) << "point " << i;
     ASSERT_EQ(b.substr(34), a.substr(28)) << "point " << i;
   }
+}
+
+// Bytes at the end of the records that no extra bytes VLR describes are kept where they were
+// (one column a byte, written back raw, with no description added), through LAS and LAZ.
+TEST(LasRecordsCli, UndescribedExtraBytesAreKept) {
+  test::TempDir dir;
+  const std::string plain = test::fileBytes(lazData("point-color-time.las"));
+  const auto data_offset = get<std::uint32_t>(plain, 96);
+  const auto length = get<std::uint16_t>(plain, 105);
+  const auto count = get<std::uint32_t>(plain, 107);
+  constexpr std::size_t kExtra = 5;
+  std::string bytes = plain.substr(0, data_offset);
+  put<std::uint16_t>(bytes, 105, std::uint16_t(length + kExtra));
+  for (std::uint32_t i = 0; i < count; ++i) {
+    bytes += plain.substr(data_offset + std::size_t(i) * length, length);
+    for (std::size_t k = 0; k < kExtra; ++k) bytes += char(i * 3 + k * 50);
+  }
+  std::ofstream(dir / "source.las", std::ios::binary) << bytes;
+  const RawLas source = parseRaw(dir / "source.las");
+  ASSERT_EQ(source.record_length, length + kExtra);
+  convert(dir, dir / "source.las", dir / "a.las");
+  convert(dir, dir / "source.las", dir / "a.laz");
+  convert(dir, dir / "a.laz", dir / "b.laz", "--laz-chunk 100");
+  convert(dir, dir / "b.laz", dir / "b.las");
+  for (const char* name : {"a.las", "a.laz", "b.laz", "b.las"}) {
+    expectSameHeader(parseRaw(dir / name), source, name);
+  }
+  EXPECT_EQ(parseRaw(dir / "a.las").records, source.records);
+  EXPECT_EQ(test::lazRecords(dir / "a.laz"), source.records);
+  EXPECT_EQ(test::lazRecords(dir / "b.laz"), source.records);
+  EXPECT_EQ(parseRaw(dir / "b.las").records, source.records);
+  // What a user sees of them.
+  const auto info = test::runParallax(dir, "info " + quoted((dir / "source.las").string()));
+  EXPECT_NE(info.out.find("undescribed_extra_byte_34"), std::string::npos) << info.out;
 }
 
 }  // namespace
