@@ -42,7 +42,8 @@ struct BitModel {
 
 // An adaptive model of `symbols` symbols (2..2048). The cumulative distribution is scaled to
 // 2^15; a decoder of more than 16 symbols also keeps a table from the top bits of a scaled value
-// to a symbol range, which only speeds up its search (the result is the same without it).
+// to a symbol range (about eight entries a symbol, finer than LASzip's), which only speeds up its
+// search (the result is the same without it).
 class SymbolModel {
  public:
   // `for_decoding` builds the lookup table (decoders of more than 16 symbols).
@@ -60,7 +61,7 @@ class SymbolModel {
   // The coders work on these directly (hot path).
   std::vector<std::uint32_t> distribution;  // symbols entries, distribution[0] == 0
   std::vector<std::uint32_t> counts;        // symbols entries
-  std::vector<std::uint32_t> table;         // table_size + 2 entries, empty without a table
+  std::vector<std::uint16_t> table;         // table_size + 2 entries, empty without a table
   std::uint32_t table_shift = 0;
   std::uint32_t table_size = 0;
   std::uint32_t symbols_until_update = 0;
