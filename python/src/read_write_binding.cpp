@@ -86,6 +86,37 @@ CloudPtr read(const std::string& path, const std::optional<std::vector<std::stri
   return handle;
 }
 
+// parallax.read_header: what the header says, without the points.
+py::dict readHeader(const std::string& path) {
+  refuseUrl(path);
+  PointFileHeader header;
+  CloudMetadata metadata;
+  {
+    py::gil_scoped_release release;
+    header = readPointFileHeader(path);
+    metadata = metadataOf(path, &header.crs);
+  }
+  py::dict result;
+  result["path"] = metadata.path;
+  result["format"] = metadata.format;
+  result["point_count"] =
+      header.point_count ? py::object(py::int_(*header.point_count)) : py::none();
+  result["bounds"] = py::none();
+  if (header.bounds) {
+    const auto& b = *header.bounds;
+    result["bounds"] = py::make_tuple(py::make_tuple(b.min[0], b.min[1], b.min[2]),
+                                      py::make_tuple(b.max[0], b.max[1], b.max[2]));
+  }
+  result["crs"] = metadata.crs_summary;
+  result["crs_wkt"] = metadata.crs_wkt.empty() ? py::object(py::none()) : py::str(metadata.crs_wkt);
+  result["point_format"] =
+      metadata.las_point_format ? py::object(py::int_(*metadata.las_point_format)) : py::none();
+  result["las_version"] =
+      metadata.las_version.empty() ? py::object(py::none()) : py::str(metadata.las_version);
+  result["vlrs"] = metadata.vlrs;
+  return result;
+}
+
 // parallax.read_chunks: an iterator of PointClouds of at most `points` points each.
 class ChunkReader {
  public:
@@ -212,6 +243,11 @@ classes, returns, intensity, elevation, gps_time, clip_box, clip_polygon, clip_m
 command line's filters (classes=[2, 6], returns=["first"], intensity=(0, 200),
 clip_box=(xmin, ymin, zmin, xmax, ymax, zmax), clip_polygon=[(x, y), ...]).
 Raises parallax.InputError (a ValueError) for a malformed or unreadable file.)doc");
+
+  m.def("read_header", &readHeader, py::arg("path"),
+        "What a point file's header says, without reading its points: a dict of path, format, "
+        "point_count (None where the format states none: text), bounds (the declared ones: LAS; "
+        "else None), crs, crs_wkt, point_format, las_version, vlrs");
 
   py::class_<ChunkReader>(m, "ChunkReader", "An iterator of PointClouds read in chunks")
       .def("__iter__", [](ChunkReader& reader) -> ChunkReader& { return reader; })
