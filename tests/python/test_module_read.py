@@ -229,3 +229,19 @@ def test_read_header_without_the_points(data_dir, generated):
     assert ply["point_format"] is None and ply["vlrs"] == []
     with pytest.raises(parallax.InputError, match="nothing.las"):
         parallax.read_header(str(data_dir / "nothing.las"))
+
+
+def test_progress_callback(generated, data_dir):
+    calls = []
+    pc = parallax.read(str(generated["ply-binary"]), progress=lambda done, total: calls.append((done, total)))
+    assert calls, "called at least once"
+    assert calls[-1] == (3000, 3000)
+    assert all(total == 3000 for _, total in calls)
+    assert [done for done, _ in calls] == sorted(done for done, _ in calls)
+    assert len(pc) == 3000
+
+    def stop(done, total):
+        raise RuntimeError("stopped by the callback")
+
+    with pytest.raises(RuntimeError, match="stopped by the callback"):
+        parallax.read(str(data_dir / "laz/point-color-time.las"), progress=stop)
