@@ -18,6 +18,7 @@ from ._parallax import (
     Vlr,
     read,
     read_chunks,
+    read_header,
     write,
 )
 
@@ -28,5 +29,6 @@ __all__ = [
     "Vlr",
     "read",
     "read_chunks",
+    "read_header",
     "write",
 ]

@@ -1,6 +1,6 @@
 # Type stubs of the compiled module parallax._parallax (python/src/*.cpp).
 from os import PathLike
-from typing import Iterator, Mapping, Optional, Sequence, Tuple, Union
+from typing import Callable, Iterator, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -79,7 +79,9 @@ def read(
     clip_box: Optional[Sequence[float]] = None,
     clip_polygon: Optional[Sequence[Tuple[float, float]]] = None,
     clip_mode: str = "inside",
+    progress: Optional[Callable[[int, Optional[int]], object]] = None,
 ) -> PointCloud: ...
+def read_header(path: str) -> dict[str, object]: ...
 def read_chunks(
     path: str, *, points: int = 1000000, text_columns: Sequence[str] = ()
 ) -> ChunkReader: ...

@@ -98,15 +98,21 @@ void computeWorld(CloudHandle& handle, int axis) {
   const double offset = cloud.quantization.offset[axis];
   const std::int32_t* q = &cloud.positions.data()->x + axis;
   double* out = world.data();
-  // Released GIL: the caller holds none of the Python objects this touches.
-  py::gil_scoped_release release;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cloud.count, 1 << 16),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t i = range.begin(); i < range.end(); ++i) {
-                        out[i] = double(q[3 * i]) * scale + offset;
-                      }
-                    });
-  handle.world[std::size_t(axis)] = std::move(world);
+  {
+    // Without the GIL while computing: the loop touches no Python object. It is taken again
+    // before the column is stored; a thread that computed it meanwhile stored it first, and
+    // arrays may view that one already: it is kept.
+    py::gil_scoped_release release;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cloud.count, 1 << 16),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                          out[i] = double(q[3 * i]) * scale + offset;
+                        }
+                      });
+  }
+  if (handle.world[std::size_t(axis)].size() != cloud.count) {
+    handle.world[std::size_t(axis)] = std::move(world);
+  }
 }
 
 }  // namespace

@@ -4,8 +4,13 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <memory>
+#include <mutex>
 #include <set>
 
+#include "core/progress.h"
 #include "io/coordinate_system.h"
 #include "io/las_header.h"
 #include "io/point_file.h"
@@ -70,20 +75,114 @@ void keepOnlyColumns(PointCloud& cloud, const std::vector<std::string>& wanted) 
   std::erase_if(cloud.scalars, [&](const ScalarColumn& c) { return !keep.count(c.name); });
 }
 
+// A Progress that calls a Python callable with (done, total) from whichever thread advances it:
+// at most every 1/200 of the total (every 2^20 units when the total is unknown), one call at a
+// time, with the GIL taken for it. An exception the callable raises is kept and raised again by
+// finish(), once the work is done (the readers cannot be interrupted mid-file).
+class PythonProgress final : public Progress {
+ public:
+  PythonProgress(py::object callback, std::uint64_t total)
+      : callback_(std::move(callback)),
+        total_(total),
+        step_(total ? std::max<std::uint64_t>(1, total / 200) : (1u << 20)),
+        next_(step_) {}
+
+  void advance(std::uint64_t amount) override {
+    const std::uint64_t done = done_.fetch_add(amount) + amount;
+    if (done < next_.load()) return;
+    const std::lock_guard lock(mutex_);
+    if (done < next_.load()) return;
+    next_ = done + step_;
+    call(done);
+  }
+
+  // The last call, (total, total) when the total was known; raises what the callable raised.
+  // Needs the GIL.
+  void finish() {
+    call(std::max(done_.load(), total_));
+    if (error_) throw std::move(*error_);
+  }
+
+ private:
+  void call(std::uint64_t done) {
+    if (error_) return;
+    py::gil_scoped_acquire gil;
+    try {
+      callback_(done, total_ ? py::object(py::int_(total_)) : py::object(py::none()));
+    } catch (py::error_already_set& error) {
+      error_ = std::make_unique<py::error_already_set>(std::move(error));
+    }
+  }
+
+  py::object callback_;
+  const std::uint64_t total_;
+  const std::uint64_t step_;
+  std::atomic<std::uint64_t> done_{0};
+  std::atomic<std::uint64_t> next_;
+  std::mutex mutex_;
+  std::unique_ptr<py::error_already_set> error_;
+};
+
+// What a read's progress counts to: points where the header states them, else bytes (text).
+std::uint64_t progressTotal(const std::string& path) {
+  if (detectPointFormat(path) == PointFormat::Text) return std::filesystem::file_size(path);
+  return headerPointCount(path).value_or(0);
+}
+
 CloudPtr read(const std::string& path, const std::optional<std::vector<std::string>>& columns,
               const std::vector<std::string>& text_columns, bool parallel,
-              const FilterArguments& filter_arguments) {
+              const FilterArguments& filter_arguments, const py::object& progress_callback) {
   refuseUrl(path);
   const PointFilter filter = pointFilterFrom(filter_arguments);  // before any I/O
   auto handle = std::make_shared<CloudHandle>();
+  std::unique_ptr<PythonProgress> progress;
+  if (!progress_callback.is_none()) {
+    py::gil_scoped_release release;
+    const std::uint64_t total = progressTotal(path);
+    py::gil_scoped_acquire gil;
+    progress = std::make_unique<PythonProgress>(progress_callback, total);
+  }
   {
     py::gil_scoped_release release;
-    handle->cloud = readPointFile(path, {.parallel = parallel, .text_columns = text_columns});
+    handle->cloud = readPointFile(
+        path, {.progress = progress.get(), .parallel = parallel, .text_columns = text_columns});
     if (!filter.keepsAll()) handle->cloud = filterPoints(handle->cloud, filter);
     handle->metadata = metadataOf(path, nullptr);
   }
+  if (progress) progress->finish();
   if (columns) keepOnlyColumns(handle->cloud, *columns);
   return handle;
+}
+
+// parallax.read_header: what the header says, without the points.
+py::dict readHeader(const std::string& path) {
+  refuseUrl(path);
+  PointFileHeader header;
+  CloudMetadata metadata;
+  {
+    py::gil_scoped_release release;
+    header = readPointFileHeader(path);
+    metadata = metadataOf(path, &header.crs);
+  }
+  py::dict result;
+  result["path"] = metadata.path;
+  result["format"] = metadata.format;
+  result["point_count"] =
+      header.point_count ? py::object(py::int_(*header.point_count)) : py::none();
+  result["bounds"] = py::none();
+  if (header.bounds) {
+    const auto& b = *header.bounds;
+    result["bounds"] = py::make_tuple(py::make_tuple(b.min[0], b.min[1], b.min[2]),
+                                      py::make_tuple(b.max[0], b.max[1], b.max[2]));
+  }
+  result["crs"] = metadata.crs_summary;
+  result["crs_wkt"] = metadata.crs_wkt.empty() ? py::object(py::none()) : py::str(metadata.crs_wkt);
+  result["point_format"] =
+      metadata.las_point_format ? py::object(py::int_(*metadata.las_point_format)) : py::none();
+  result["las_version"] =
+      metadata.las_version.empty() ? py::object(py::none()) : py::str(metadata.las_version);
+  result["vlrs"] = metadata.vlrs;
+  return result;
 }
 
 // parallax.read_chunks: an iterator of PointClouds of at most `points` points each.
@@ -193,10 +292,11 @@ void bindReadWrite(py::module_& m) {
          const std::vector<std::string>& text_columns, bool parallel, const py::object& classes,
          const py::object& returns, const py::object& intensity, const py::object& elevation,
          const py::object& gps_time, const py::object& clip_box, const py::object& clip_polygon,
-         const std::string& clip_mode) {
+         const std::string& clip_mode, const py::object& progress) {
         return read(
             path, columns, text_columns, parallel,
-            {classes, returns, intensity, elevation, gps_time, clip_box, clip_polygon, clip_mode});
+            {classes, returns, intensity, elevation, gps_time, clip_box, clip_polygon, clip_mode},
+            progress);
       },
       py::arg("path"), py::arg("columns") = py::none(), py::kw_only(),
       py::arg("text_columns") = std::vector<std::string>{}, py::arg("parallel") = true,
@@ -204,6 +304,7 @@ void bindReadWrite(py::module_& m) {
       py::arg("intensity") = py::none(), py::arg("elevation") = py::none(),
       py::arg("gps_time") = py::none(), py::arg("clip_box") = py::none(),
       py::arg("clip_polygon") = py::none(), py::arg("clip_mode") = "inside",
+      py::arg("progress") = py::none(),
       R"doc(Reads a whole point file of any format Parallax reads (detected by content).
 
 columns: the column names to keep (x, y, z always are); None keeps all.
@@ -211,7 +312,14 @@ text_columns: text files only, the columns' names ("x", "y", "z", "_" to skip on
 classes, returns, intensity, elevation, gps_time, clip_box, clip_polygon, clip_mode: the
 command line's filters (classes=[2, 6], returns=["first"], intensity=(0, 200),
 clip_box=(xmin, ymin, zmin, xmax, ymax, zmax), clip_polygon=[(x, y), ...]).
+progress: a callable(done, total) called as the file is read, in points (bytes for text;
+total None where unknown), last with done == total; e.g. a tqdm bar's update.
 Raises parallax.InputError (a ValueError) for a malformed or unreadable file.)doc");
+
+  m.def("read_header", &readHeader, py::arg("path"),
+        "What a point file's header says, without reading its points: a dict of path, format, "
+        "point_count (None where the format states none: text), bounds (the declared ones: LAS; "
+        "else None), crs, crs_wkt, point_format, las_version, vlrs");
 
   py::class_<ChunkReader>(m, "ChunkReader", "An iterator of PointClouds read in chunks")
       .def("__iter__", [](ChunkReader& reader) -> ChunkReader& { return reader; })

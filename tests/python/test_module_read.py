@@ -211,3 +211,37 @@ def test_errors_are_input_errors_naming_the_file(tmp_path, generated):
         list(parallax.read_chunks(str(truncated), points=100))
     with pytest.raises(ValueError, match="points: expected a positive"):
         parallax.read_chunks(str(generated["las"]), points=0)
+
+
+def test_read_header_without_the_points(data_dir, generated):
+    header = parallax.read_header(str(data_dir / "laz/point-color-time.las"))
+    pc = parallax.read(str(data_dir / "laz/point-color-time.las"))
+    assert header["format"] == "las"
+    assert header["point_count"] == len(pc) == 1065
+    # The header's declared bounds (doubles as LAS stores them) against the points' own.
+    np.testing.assert_allclose(np.array(header["bounds"]), np.array(pc.bounds), rtol=1e-15, atol=0)
+    assert header["point_format"] == 3 and header["las_version"] == "1.2"
+    assert header["crs"] == pc.crs
+    assert [v.record_id for v in header["vlrs"]] == [v.record_id for v in pc.vlrs]
+    ply = parallax.read_header(str(generated["ply-binary"]))
+    assert ply["format"] == "ply" and ply["point_count"] == 3000
+    assert ply["bounds"] is None
+    assert ply["point_format"] is None and ply["vlrs"] == []
+    with pytest.raises(parallax.InputError, match="nothing.las"):
+        parallax.read_header(str(data_dir / "nothing.las"))
+
+
+def test_progress_callback(generated, data_dir):
+    calls = []
+    pc = parallax.read(str(generated["ply-binary"]), progress=lambda done, total: calls.append((done, total)))
+    assert calls, "called at least once"
+    assert calls[-1] == (3000, 3000)
+    assert all(total == 3000 for _, total in calls)
+    assert [done for done, _ in calls] == sorted(done for done, _ in calls)
+    assert len(pc) == 3000
+
+    def stop(done, total):
+        raise RuntimeError("stopped by the callback")
+
+    with pytest.raises(RuntimeError, match="stopped by the callback"):
+        parallax.read(str(data_dir / "laz/point-color-time.las"), progress=stop)

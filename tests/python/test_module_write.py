@@ -110,3 +110,41 @@ def test_write_errors(tmp_path):
     with pytest.raises(parallax.InputError, match="a.unknown"):
         parallax.write(tmp_path / "a.unknown", {"x": np.zeros(3), "y": np.zeros(3), "z": np.zeros(3)})
     assert not (tmp_path / "a.ply").exists(), "nothing is left behind by a failed write"
+
+
+def test_dict_types_reach_the_file(tmp_path):
+    n = 50
+    rng = np.random.default_rng(5)
+    red = rng.integers(0, 65536, n).astype(np.uint16)
+    arrays = {
+        "x": rng.uniform(0, 10, n).astype(np.float32),
+        "y": rng.uniform(0, 10, n).astype(np.float32),
+        "z": rng.uniform(0, 10, n).astype(np.float32),
+        "red": red,
+        "green": red[::-1].copy(),
+        "blue": np.full(n, 65535, np.uint16),
+    }
+    ply = tmp_path / "float.ply"
+    parallax.write(ply, arrays)
+    header = ply.read_bytes().split(b"end_header")[0].decode()
+    assert "property float x" in header, header
+    assert "property ushort red" in header, header
+    # The file holds the float32 values given (x y z float, then ushort colours): within the
+    # 2^-28 grid everywhere (core/quantization.h: positions are int32 on the finest power-of-two
+    # grid that holds the bounds), bit for bit where a float32's ulp is far coarser (above 1).
+    body = ply.read_bytes().split(b"end_header\n", 1)[1]
+    records = np.frombuffer(body, dtype=[("xyz", "<f4", 3), ("rgb", "<u2", 3)])
+    for axis, name in enumerate("xyz"):
+        written, given = records["xyz"][:, axis], arrays[name]
+        big = np.abs(given) >= 1.0
+        np.testing.assert_array_equal(written[big], given[big])
+        np.testing.assert_allclose(written, given, rtol=0, atol=2.0**-28)
+    # PLY writes the display colour (8 bits) in the source's 16-bit type; LAS keeps the values.
+    np.testing.assert_array_equal(records["rgb"][:, 0], np.round(red / 257.0).astype(np.uint16) * 257)
+    # 16-bit colours kept as given in LAS (raw), shown as their nearest 8-bit value.
+    las = tmp_path / "colour.las"
+    parallax.write(las, arrays)
+    back = parallax.read(str(las))
+    np.testing.assert_array_equal(back.raw("red"), red)
+    np.testing.assert_array_equal(back.raw("blue"), arrays["blue"])
+    np.testing.assert_array_equal(back["red"], np.round(red / 257.0).astype(np.uint8))
