@@ -261,6 +261,82 @@ TEST_F(ConvertFilters, FromACopcFileToPotree) {
   EXPECT_EQ(octreeKeys(*openPotree(dir_ / "noise")), e.of(all_));
 }
 
+// The distributed build, task by task as a driver runs them (`convert --plan`, then each stage's
+// `convert-task` over every range or group), with the same filter options as a local `convert`:
+// the same octree, byte for byte. From LAZ, from a text file and from a Potree octree (inputs read
+// whole by one task each: their readers cannot skip; many ranges and groups are
+// test_distributed_convert.cpp's). The filter travels in plan.json, as the tasks read it.
+class DistributedConvertFilters : public ConvertFilters {
+ protected:
+  std::string readAll(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
+  void task(const std::string& stage, const std::filesystem::path& plan, std::size_t part) {
+    const RunResult r = runParallax(dir_, "convert-task " + stage + " " + quoted(plan.string()) +
+                                              " --part " + std::to_string(part));
+    ASSERT_EQ(r.exit_code, 0) << stage << " " << part << ": " << r.err;
+  }
+  // `convert in -o local/NAME OPTIONS` and the same through the tasks, to tasks/NAME: the same
+  // metadata.json, hierarchy.bin and octree.bin.
+  void expectTasksBuildTheLocalOctree(const std::filesystem::path& in, const std::string& name,
+                                      const std::string& options) {
+    const auto local = dir_ / "local" / name, tasks = dir_ / "tasks" / name;
+    const auto work = dir_ / (name + "_work");
+    ASSERT_NO_FATAL_FAILURE(convert(in, local, options));
+    ASSERT_NO_FATAL_FAILURE(convert(
+        in, tasks,
+        "--plan --tasks 3 --build-tasks 3 --work-dir " + quoted(work.string()) + " " + options));
+    const auto plan = work / "plan.json";
+    const std::size_t ranges = nlohmann::json::parse(readAll(plan)).at("ranges").size();
+    for (const std::string stage : {"scan", "cube", "count", "chunks", "distribute"}) {
+      const bool per_range = stage != "cube" && stage != "chunks";
+      for (std::size_t part = 0; part < (per_range ? ranges : 1); ++part) {
+        ASSERT_NO_FATAL_FAILURE(task(stage, plan, part));
+      }
+    }
+    const std::size_t groups =
+        nlohmann::json::parse(readAll(work / "chunks.json")).at("groups").size();
+    for (const std::string stage : {"build", "place"}) {
+      for (std::size_t part = 0; part < groups; ++part) {
+        ASSERT_NO_FATAL_FAILURE(task(stage, plan, part));
+      }
+    }
+    ASSERT_NO_FATAL_FAILURE(task("finish", plan, 0));
+    for (const char* file : {"metadata.json", "hierarchy.bin", "octree.bin"}) {
+      const std::string a = readAll(local / file), b = readAll(tasks / file);
+      EXPECT_FALSE(a.empty()) << file;
+      EXPECT_TRUE(a == b) << name << ": " << file << " differs (" << a.size() << " and " << b.size()
+                          << " bytes)";
+    }
+  }
+};
+
+TEST_F(DistributedConvertFilters, FromLazWithClassesAndAClipBox) {
+  convert(las_, dir_ / "in.laz", "");
+  expectTasksBuildTheLocalOctree(dir_ / "in.laz", "classes", "--classes 2,6,9-12");
+  expectTasksBuildTheLocalOctree(dir_ / "in.laz", "box", kBoxOption);
+}
+
+TEST_F(DistributedConvertFilters, FromATextFileWithAClipBoxOutside) {
+  std::ofstream text(dir_ / "in.txt");
+  text.precision(10);
+  const PointCloud cloud = readPointFile(las_);
+  for (std::uint64_t i = 0; i < cloud.count; ++i) {
+    text << cloud.worldX(i) << ' ' << cloud.worldY(i) << ' ' << cloud.worldZ(i) << ' '
+         << int(cloud.classification[i]) << '\n';
+  }
+  text.close();
+  expectTasksBuildTheLocalOctree(
+      dir_ / "in.txt", "text",
+      "--columns x,y,z,classification " + std::string(kBoxOption) + " --clip-mode outside");
+}
+
+TEST_F(DistributedConvertFilters, FromAPotreeOctreeWithClasses) {
+  convert(las_, dir_ / "all", "");
+  expectTasksBuildTheLocalOctree(dir_ / "all", "octree", "--classes 3-5,17");
+}
+
 TEST_F(ConvertFilters, AFilterThatKeepsNothingIsAClearError) {
   const RunResult r = runParallax(dir_, "convert " + quoted(las_.string()) + " -o " +
                                             quoted((dir_ / "none").string()) + " --classes 200");

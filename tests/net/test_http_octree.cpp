@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "lod/copc_writer.h"
+#include "lod/potree_reader.h"
 #include "loopback_servers.h"
 #include "render/image_file.h"
 #include "support/run_parallax.h"
@@ -376,6 +378,79 @@ TEST(HttpOctree, CopcFilesStreamLikeTheLocalFile) {
   const std::vector<test::AccessLine> log = nginx.accessLogOf(before + 1);
   ASSERT_EQ(log.size(), before + 1) << "one check of the file";
   EXPECT_EQ(log.back().status, 304);
+}
+
+// A COPC file whose hierarchy has child pages (Parallax's writer, one level a page, from the
+// suite's octree): read over HTTP, `info` (which reads every page: its nodes, levels and points)
+// and `render` give what the local file gives, the picture pixel for pixel; through the fault
+// proxy (dropped connections, 503, truncated bodies, hitting the page reads), `info` still does.
+TEST(HttpOctree, CopcChildHierarchyPagesStreamLikeTheLocalFile) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "www" / "tiles");
+  const std::filesystem::path local = dir / "www" / "tiles" / "paged.copc.laz";
+  {
+    auto octree = openPotree(dataset().root / "oct");
+    const CopcWriteResult written = writeCopc(*octree, local, {.page_levels = 1});
+    ASSERT_GT(written.pages, 3u) << "the file has child hierarchy pages";
+  }
+  Nginx nginx(dir / "nginx", {.root = dir / "www"});
+  const std::map<std::string, std::string> env{{"XDG_CACHE_HOME", (dir / "cache").string()}};
+  const std::string path = "tiles/paged.copc.laz";
+
+  const test::RunResult here = run(dir, env, "info --json " + quoted(local.string()));
+  ASSERT_EQ(here.exit_code, 0) << here.err;
+  const nlohmann::json expected = nlohmann::json::parse(here.out);
+  EXPECT_EQ(expected["points"], 200000);
+  const std::string view = kView;
+  const test::RunResult r_here = run(dir, env,
+                                     "render " + quoted(local.string()) + " -o " +
+                                         quoted((dir / "local.png").string()) + " " + view);
+  ASSERT_EQ(r_here.exit_code, 0) << r_here.err;
+  const RgbaImage reference = readPng(dir / "local.png");
+  std::size_t lit = 0;
+  for (std::size_t i = 0; i < reference.pixels.size(); i += 4) {
+    lit += reference.pixels[i] || reference.pixels[i + 1] || reference.pixels[i + 2];
+  }
+  EXPECT_GT(lit, 1000u) << "the picture shows the cloud";
+
+  // `url`'s info and picture against the local file's; each run with a cache of its own, so that
+  // every page is fetched again.
+  int runs = 0;
+  auto expectSameAsLocal = [&](const std::string& url, bool picture) {
+    const std::map<std::string, std::string> fresh{
+        {"XDG_CACHE_HOME", (dir / ("cache" + std::to_string(++runs))).string()}};
+    const test::RunResult info = run(dir, fresh, "info --json " + quoted(url));
+    ASSERT_EQ(info.exit_code, 0) << info.err;
+    const nlohmann::json got = nlohmann::json::parse(info.out);
+    for (const char* key : {"format", "format_details", "points", "bounds", "cube"}) {
+      EXPECT_EQ(got[key], expected[key]) << key << " of " << url;
+    }
+    if (!picture) return;
+    const auto png = dir / ("remote" + std::to_string(runs) + ".png");
+    const test::RunResult render =
+        run(dir, fresh, "render " + quoted(url) + " -o " + quoted(png.string()) + " " + view);
+    ASSERT_EQ(render.exit_code, 0) << render.err;
+    const RgbaImage got_picture = readPng(png);
+    ASSERT_EQ(got_picture.pixels.size(), reference.pixels.size());
+    EXPECT_TRUE(got_picture.pixels == reference.pixels) << "render " << url << " differs";
+  };
+  expectSameAsLocal(nginx.url(path), true);
+  // The child pages were read with range requests of their own: more than the header, the root
+  // page and the chunks of a single-page file would take.
+  std::size_t ranged = 0;
+  for (const test::AccessLine& line : nginx.settledAccessLog()) ranged += line.status == 206;
+  EXPECT_GT(ranged, 3u);
+
+  for (const std::vector<std::string>& faults :
+       {std::vector<std::string>{"--mode", "drop", "--every", "3", "--max-faults", "2"},
+        std::vector<std::string>{"--mode", "503", "--every", "2", "--max-faults", "2"},
+        std::vector<std::string>{"--mode", "truncate", "--every", "3", "--max-faults", "2"}}) {
+    FaultProxy proxy(dir / ("proxy" + std::to_string(runs)), nginx.port(), faults);
+    expectSameAsLocal(proxy.url(path), false);
+    int injected = 0;
+    for (const test::ProxyLine& line : proxy.log()) injected += line.action == faults[1];
+    EXPECT_EQ(injected, 2) << faults[1] << " faults injected";
+  }
 }
 
 TEST(HttpOctree, OtherFilesAreRefusedClearly) {

@@ -6,7 +6,7 @@
 #       LAZ written by `parallax convert` must decode in laz-perf to exactly the records of
 #       Parallax's LAS output of the same input: a generated scan (point format 2 with extra
 #       bytes), in one chunk and in many, and the LAS files of DATA (formats 0-3, extra bytes;
-#       formats 6 and 7 through the layered codec).
+#       formats 6, 7 and 8 through the layered codec).
 #   run_laz_oracle.sh files TOOL WORKDIR FILE...
 #       laz-perf and Parallax (TOOL: laz_test_tool) must decode each FILE to the same records.
 # WORKDIR is emptied first.
@@ -52,6 +52,25 @@ case $mode in
     "$parallax" convert "$work/scan.ply" -o "$work/format7.las" --las-version 1.4 -q
     "$parallax" convert "$work/scan.ply" -o "$work/format7.laz" --las-version 1.4 --laz-chunk 3000 -q
     node "$here/laz_oracle.cjs" compare "$work/format7.laz" "$work/format7.las"
+    # Point format 8 (7 and a near-infrared channel): the layered codec's NIR layer, on NIR
+    # values that change from point to point (a PLY's "nir" property), and on a scan without
+    # NIR (all zero).
+    awk 'BEGIN {
+      n = 5000
+      print "ply\nformat ascii 1.0\nelement vertex " n
+      print "property double x\nproperty double y\nproperty double z"
+      print "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty ushort nir"
+      print "end_header"
+      for (i = 0; i < n; i++)
+        print (i % 97) * 0.01, int(i / 97) * 0.01, ((i * 7919) % 1000) * 0.001, i % 256,
+              (i * 3) % 256, (i * 7) % 256, (i * 2654435761) % 65536
+    }' > "$work/nir.ply"
+    "$parallax" convert "$work/nir.ply" -o "$work/nir8.las" --point-format 8 -q
+    "$parallax" convert "$work/nir.ply" -o "$work/nir8.laz" --point-format 8 --laz-chunk 1000 -q
+    node "$here/laz_oracle.cjs" compare "$work/nir8.laz" "$work/nir8.las"
+    "$parallax" convert "$work/scan.ply" -o "$work/format8.las" --point-format 8 -q
+    "$parallax" convert "$work/scan.ply" -o "$work/format8.laz" --point-format 8 --laz-chunk 3000 -q
+    node "$here/laz_oracle.cjs" compare "$work/format8.laz" "$work/format8.las"
     "$parallax" convert "$data/point-color-time.las.laz" -o "$work/again.laz" --laz-chunk 100 -q
     node "$here/laz_oracle.cjs" compare "$work/again.laz" "$work/point-color-time.las"
     ;;
