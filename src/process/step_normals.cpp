@@ -157,7 +157,11 @@ void propagateOverTiles(const TileSet& tiles, std::uint32_t k) {
     std::uint8_t opposite;  // the normals point apart: one part flips against the other
   };
   std::vector<Join> joins;
+  auto lighter = [](const Join& a, const Join& b) {
+    return std::tie(a.weight, a.id_a, a.id_b) < std::tie(b.weight, b.id_a, b.id_b);
+  };
   for (std::size_t t = 0; t + 1 < tiles.tiles(); ++t) {
+    const std::size_t border_start = joins.size();
     const double width = std::max(band[t], band[t + 1]);
     std::vector<GridPoint> near;
     std::vector<Normal> near_normals;
@@ -191,6 +195,16 @@ void propagateOverTiles(const TileSet& tiles, std::uint32_t k) {
                          near_part[n.at], std::uint8_t(dot < 0.0)});
       }
     }
+    // Only the lightest join of two parts can be taken by the tree over the parts: the border's
+    // others are dropped, so the joins kept grow with the parts, not with the band's points.
+    std::sort(joins.begin() + std::ptrdiff_t(border_start), joins.end(),
+              [&](const Join& a, const Join& b) {
+                return std::tie(a.a, a.b) < std::tie(b.a, b.b) ||
+                       (std::tie(a.a, a.b) == std::tie(b.a, b.b) && lighter(a, b));
+              });
+    joins.erase(std::unique(joins.begin() + std::ptrdiff_t(border_start), joins.end(),
+                            [](const Join& a, const Join& b) { return a.a == b.a && a.b == b.b; }),
+                joins.end());
   }
   // Prim over the parts: joins lightest first (ties by the points' ids).
   std::vector<std::vector<std::size_t>> joins_of(parts.size());
@@ -198,11 +212,7 @@ void propagateOverTiles(const TileSet& tiles, std::uint32_t k) {
     joins_of[joins[j].a].push_back(j);
     joins_of[joins[j].b].push_back(j);
   }
-  auto heavier = [&](std::size_t x, std::size_t y) {
-    const Join& a = joins[x];
-    const Join& b = joins[y];
-    return std::tie(a.weight, a.id_a, a.id_b) > std::tie(b.weight, b.id_a, b.id_b);
-  };
+  auto heavier = [&](std::size_t x, std::size_t y) { return lighter(joins[y], joins[x]); };
   std::vector<std::uint32_t> order(parts.size());
   for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
