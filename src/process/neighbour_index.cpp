@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <unordered_set>
+#include <utility>
 
 namespace parallax {
 
@@ -37,10 +38,7 @@ Box boxOf(std::span<const GridPoint> points) {
 struct PointsAdaptor {
   const std::vector<GridPoint>* points;
   std::size_t kdtree_get_point_count() const { return points->size(); }
-  double kdtree_get_pt(std::uint32_t i, std::size_t axis) const {
-    const GridPoint& p = (*points)[i];
-    return axis == 0 ? p.x : (axis == 1 ? p.y : p.z);
-  }
+  double kdtree_get_pt(std::uint32_t i, std::size_t axis) const { return (&(*points)[i].x)[axis]; }
   template <class BBox>
   bool kdtree_get_bbox(BBox&) const {
     return false;
@@ -57,8 +55,11 @@ using KdTree =
 // on the other points of the tile: the tiled and untiled runs would differ.
 constexpr double kMargin = 1.0 + 1e-9;
 
+// The result sets see the tree's copy of the points (in leaf order) and report each as the
+// caller's index through `given`.
 struct NearestSet {
   const std::vector<GridPoint>* points;
+  const std::vector<std::uint32_t>* given;
   double q[3];
   std::size_t k;
   std::vector<Neighbour>* heap;
@@ -67,7 +68,7 @@ struct NearestSet {
   bool full() const { return heap->size() == k; }
   bool addPoint(double, std::uint32_t at) {
     const GridPoint& p = (*points)[at];
-    const Neighbour n{squaredDistance(q[0], q[1], q[2], p.x, p.y, p.z), at, p.id};
+    const Neighbour n{squaredDistance(q[0], q[1], q[2], p.x, p.y, p.z), (*given)[at], p.id};
     std::vector<Neighbour>& h = *heap;
     if (h.size() < k) {
       h.push_back(n);
@@ -84,6 +85,7 @@ struct NearestSet {
 
 struct RadiusSet {
   const std::vector<GridPoint>* points;
+  const std::vector<std::uint32_t>* given;
   double q[3];
   double r2;
   std::vector<Neighbour>* out;
@@ -92,19 +94,67 @@ struct RadiusSet {
   bool addPoint(double, std::uint32_t at) {
     const GridPoint& p = (*points)[at];
     const double d2 = squaredDistance(q[0], q[1], q[2], p.x, p.y, p.z);
-    if (d2 <= r2) out->push_back({d2, at, p.id});
+    if (d2 <= r2) out->push_back({d2, (*given)[at], p.id});
     return true;
   }
 };
 
 }  // namespace
 
+std::vector<std::uint32_t> spatialOrder(std::span<const GridPoint> points) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  double lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
+  for (const GridPoint& p : points) {
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], (&p.x)[a]);
+      hi[a] = std::max(hi[a], (&p.x)[a]);
+    }
+  }
+  double scale[3];
+  for (int a = 0; a < 3; ++a) scale[a] = hi[a] > lo[a] ? 2097151.0 / (hi[a] - lo[a]) : 0.0;
+  auto spread = [](std::uint64_t v) {  // 21 bits to every third of 63
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+  };
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::uint64_t key = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double cell = ((&points[i].x)[a] - lo[a]) * scale[a];
+      key |= spread(std::uint64_t(std::clamp(cell, 0.0, 2097151.0))) << a;
+    }
+    keyed[i] = {key, std::uint32_t(i)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<std::uint32_t> order(points.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = keyed[i].second;
+  return order;
+}
+
+// The tree is built over the points as given, then searched over a copy of them in its leaves'
+// order: a leaf's points are then adjacent in memory, where the given order scatters them over
+// the tile (a search touches a few leaves and every point in them; most of its time went to
+// cache misses). The same tree, the same distances: the same answers, a few times faster.
 struct NeighbourIndex::Tree {
+  std::vector<GridPoint> ordered;    // the points in leaf order
+  std::vector<std::uint32_t> given;  // ordered[i] is points[given[i]]
   PointsAdaptor adaptor;
   KdTree tree;
   explicit Tree(const std::vector<GridPoint>& points)
       : adaptor{&points}, tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {
     tree.buildIndex();
+    given.assign(tree.vAcc.begin(), tree.vAcc.end());
+    ordered.resize(points.size());
+    for (std::size_t i = 0; i < given.size(); ++i) {
+      ordered[i] = points[given[i]];
+      tree.vAcc[i] = std::uint32_t(i);
+    }
+    adaptor.points = &ordered;
   }
 };
 
@@ -154,7 +204,7 @@ void NeighbourIndex::nearest(double x, double y, double z, std::size_t k,
                              std::vector<Neighbour>& out) const {
   out.clear();
   if (k == 0 || !tree_) return;
-  NearestSet set{&points_, {x, y, z}, k, &out};
+  NearestSet set{&tree_->ordered, &tree_->given, {x, y, z}, k, &out};
   const double q[3] = {x, y, z};
   tree_->tree.findNeighbors(set, q, nanoflann::SearchParams());
   std::sort(out.begin(), out.end());
@@ -164,7 +214,7 @@ void NeighbourIndex::withinRadius(double x, double y, double z, double radius,
                                   std::vector<Neighbour>& out) const {
   out.clear();
   if (!tree_ || !(radius >= 0.0)) return;
-  RadiusSet set{&points_, {x, y, z}, radius * radius, &out};
+  RadiusSet set{&tree_->ordered, &tree_->given, {x, y, z}, radius * radius, &out};
   const double q[3] = {x, y, z};
   tree_->tree.findNeighbors(set, q, nanoflann::SearchParams());
   std::sort(out.begin(), out.end());

@@ -36,6 +36,12 @@ inline double squaredDistance(double ax, double ay, double az, double bx, double
   return (dx * dx + dy * dy) + dz * dz;
 }
 
+// The indices of `points` in Morton order (z-order of their positions over their bounds, 21 bits
+// an axis; ties by index). Queries asked in this order search the same part of a tree one after
+// another, which then stays in cache: asked in the input's order they spent most of their time
+// waiting for memory. Each answer is the same in any order.
+std::vector<std::uint32_t> spatialOrder(std::span<const GridPoint> points);
+
 class NeighbourIndex {
  public:
   // Takes the points (any order; `Neighbour::at` indexes them as given).

@@ -3,8 +3,10 @@
 // (and "curvature" with --curvature).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <queue>
 #include <stdexcept>
+#include <tuple>
 
 #include "process/local_plane.h"
 #include "process/process_runner.h"
@@ -31,22 +33,15 @@ void orient(const NormalsStep& step, const GridPoint& p, double n[3]) {
   }
 }
 
-// Hoppe et al. 1992: a minimum spanning tree over the K-nearest graph, edges weighted
+// Hoppe et al. 1992: a minimum spanning tree over the K-nearest graph of `live`, edges weighted
 // 1 - |n_i . n_j| (nearly parallel normals first), grown by Prim from the highest point (its
 // normal turned up); each point reached is flipped to agree with the one it was reached from.
 // A graph of several parts starts again from the highest point not yet reached. Ties in the
-// queue go to the smaller index: the tree does not depend on anything but the points.
-void propagateOrientation(const TileSet& tiles, std::uint32_t k) {
-  const std::vector<GridPoint> points = tiles.readPoints(0);
-  const std::vector<std::uint8_t> kept = tiles.readKept(0);
-  std::vector<Normal> normals = tiles.readRecords<Normal>(0, "normals");
-  std::vector<GridPoint> live;
-  std::vector<std::uint32_t> slot;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (!kept[i]) continue;
-    live.push_back(points[i]);
-    slot.push_back(std::uint32_t(i));
-  }
+// queue go to the smaller id: the tree depends on nothing but the points. `part[i]`: the part
+// (0, 1, ... in the order they were grown) point i was reached in; returns the parts' roots.
+std::vector<std::uint32_t> propagateOrientation(const std::vector<GridPoint>& live,
+                                                std::vector<Normal*>& normal_of, std::uint32_t k,
+                                                std::vector<std::uint32_t>& part) {
   const NeighbourIndex index(live);
   std::vector<std::vector<Neighbour>> graph(live.size());
   tbb::parallel_for(std::size_t(0), live.size(), [&](std::size_t i) {
@@ -62,13 +57,14 @@ void propagateOrientation(const TileSet& tiles, std::uint32_t k) {
     }
   }
   graph.clear();
-  auto normal = [&](std::uint32_t i) -> Normal& { return normals[slot[i]]; };
+  auto normal = [&](std::uint32_t i) -> Normal& { return *normal_of[i]; };
   auto weight = [&](std::uint32_t a, std::uint32_t b) {
     const Normal& na = normal(a);
     const Normal& nb = normal(b);
     return 1.0 - std::abs(double(na.x) * nb.x + double(na.y) * nb.y + double(na.z) * nb.z);
   };
-  std::vector<std::uint8_t> reached(live.size(), 0);
+  constexpr std::uint32_t kUnreached = std::numeric_limits<std::uint32_t>::max();
+  part.assign(live.size(), kUnreached);
   std::vector<std::uint32_t> by_height(live.size());
   for (std::uint32_t i = 0; i < by_height.size(); ++i) by_height[i] = i;
   std::sort(by_height.begin(), by_height.end(), [&](std::uint32_t a, std::uint32_t b) {
@@ -83,29 +79,174 @@ void propagateOrientation(const TileSet& tiles, std::uint32_t k) {
     }
   };
   std::priority_queue<Edge, std::vector<Edge>, std::greater<Edge>> queue;
+  std::vector<std::uint32_t> roots;
   for (std::uint32_t root : by_height) {
-    if (reached[root]) continue;
-    reached[root] = 1;
+    if (part[root] != kUnreached) continue;
+    const std::uint32_t current = std::uint32_t(roots.size());
+    roots.push_back(root);
+    part[root] = current;
     Normal& n = normal(root);
     if (n.z < 0.0f) n = {-n.x, -n.y, -n.z};
     auto grow = [&](std::uint32_t from) {
       for (std::uint32_t to : adjacent[from]) {
-        if (!reached[to]) queue.push({weight(from, to), live[to].id, from, to});
+        if (part[to] == kUnreached) queue.push({weight(from, to), live[to].id, from, to});
       }
     };
     grow(root);
     while (!queue.empty()) {
       const Edge e = queue.top();
       queue.pop();
-      if (reached[e.to]) continue;
-      reached[e.to] = 1;
+      if (part[e.to] != kUnreached) continue;
+      part[e.to] = current;
       const Normal& a = normal(e.from);
       Normal& b = normal(e.to);
       if (double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z < 0.0) b = {-b.x, -b.y, -b.z};
       grow(e.to);
     }
   }
-  tiles.writeRecords<Normal>(0, "normals", normals);
+  return roots;
+}
+
+// --orient propagate over several tiles, so the orientation crosses their borders:
+// 1. each tile's parts are oriented by propagateOrientation, every part from its own root;
+// 2. at each border, the K-nearest graph of the points within a band either side joins parts of
+//    the two tiles; of the edges joining two parts the lightest (1 - |n_a . n_b|, ties by ids)
+//    says whether one must be flipped to agree with the other;
+// 3. a spanning tree over the parts (Prim over those joins, lightest first, from the part of
+//    the highest root, then the highest root not yet reached) decides each part's flip;
+// 4. the flips are applied. With one tile, 2-4 do nothing: the whole cloud's tree.
+void propagateOverTiles(const TileSet& tiles, std::uint32_t k) {
+  struct Part {
+    GridPoint root;
+    std::uint8_t flip = 0;
+  };
+  std::vector<Part> parts;
+  std::vector<std::size_t> first_part(tiles.tiles() + 1, 0);
+  std::vector<double> band(tiles.tiles(), 0.0);
+  for (std::size_t t = 0; t < tiles.tiles(); ++t) {
+    const std::vector<GridPoint> points = tiles.readPoints(t);
+    const std::vector<std::uint8_t> kept = tiles.readKept(t);
+    std::vector<Normal> normals = tiles.readRecords<Normal>(t, "normals");
+    std::vector<GridPoint> live;
+    std::vector<Normal*> normal_of;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (!kept[i]) continue;
+      live.push_back(points[i]);
+      normal_of.push_back(&normals[i]);
+    }
+    std::vector<std::uint32_t> part;
+    const std::vector<std::uint32_t> roots = propagateOrientation(live, normal_of, k, part);
+    first_part[t] = parts.size();
+    for (std::uint32_t r : roots) parts.push_back({live[r], 0});
+    std::vector<std::uint32_t> part_of(points.size(), 0);
+    for (std::size_t i = 0, j = 0; i < points.size(); ++i) {
+      if (kept[i]) part_of[i] = std::uint32_t(first_part[t]) + part[j++];
+    }
+    // A band of about 4 K neighbours' reach on this tile's density.
+    band[t] = 4.0 * NeighbourIndex::radiusForCount(live, double(k));
+    tiles.writeRecords<Normal>(t, "normals", normals);
+    tiles.writeRecords<std::uint32_t>(t, "part", part_of);
+  }
+  first_part[tiles.tiles()] = parts.size();
+  if (tiles.tiles() == 1) return;
+
+  struct Join {
+    double weight;
+    std::uint64_t id_a, id_b;
+    std::uint32_t a, b;
+    std::uint8_t opposite;  // the normals point apart: one part flips against the other
+  };
+  std::vector<Join> joins;
+  auto lighter = [](const Join& a, const Join& b) {
+    return std::tie(a.weight, a.id_a, a.id_b) < std::tie(b.weight, b.id_a, b.id_b);
+  };
+  for (std::size_t t = 0; t + 1 < tiles.tiles(); ++t) {
+    const std::size_t border_start = joins.size();
+    const double width = std::max(band[t], band[t + 1]);
+    std::vector<GridPoint> near;
+    std::vector<Normal> near_normals;
+    std::vector<std::uint32_t> near_part;
+    std::size_t left = 0;
+    for (std::size_t side = t; side <= t + 1; ++side) {
+      const std::vector<GridPoint> points = tiles.readPoints(side);
+      const std::vector<std::uint8_t> kept = tiles.readKept(side);
+      const std::vector<Normal> normals = tiles.readRecords<Normal>(side, "normals");
+      const std::vector<std::uint32_t> part = tiles.readRecords<std::uint32_t>(side, "part");
+      for (std::size_t i = 0; i < points.size(); ++i) {
+        const bool in_band =
+            side == t ? points[i].x >= tiles.hi(t) - width : points[i].x < tiles.hi(t) + width;
+        if (!kept[i] || !in_band) continue;
+        near.push_back(points[i]);
+        near_normals.push_back(normals[i]);
+        near_part.push_back(part[i]);
+      }
+      if (side == t) left = near.size();
+    }
+    const NeighbourIndex index(near);
+    std::vector<Neighbour> found;
+    for (std::size_t i = 0; i < left; ++i) {
+      index.nearest(near[i].x, near[i].y, near[i].z, std::size_t(k) + 1, found);
+      for (const Neighbour& n : found) {
+        if (n.at < left) continue;  // the same tile: already in its part's tree
+        const Normal& a = near_normals[i];
+        const Normal& b = near_normals[n.at];
+        const double dot = double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z;
+        joins.push_back({1.0 - std::abs(dot), near[i].id, near[n.at].id, near_part[i],
+                         near_part[n.at], std::uint8_t(dot < 0.0)});
+      }
+    }
+    // Only the lightest join of two parts can be taken by the tree over the parts: the border's
+    // others are dropped, so the joins kept grow with the parts, not with the band's points.
+    std::sort(joins.begin() + std::ptrdiff_t(border_start), joins.end(),
+              [&](const Join& a, const Join& b) {
+                return std::tie(a.a, a.b) < std::tie(b.a, b.b) ||
+                       (std::tie(a.a, a.b) == std::tie(b.a, b.b) && lighter(a, b));
+              });
+    joins.erase(std::unique(joins.begin() + std::ptrdiff_t(border_start), joins.end(),
+                            [](const Join& a, const Join& b) { return a.a == b.a && a.b == b.b; }),
+                joins.end());
+  }
+  // Prim over the parts: joins lightest first (ties by the points' ids).
+  std::vector<std::vector<std::size_t>> joins_of(parts.size());
+  for (std::size_t j = 0; j < joins.size(); ++j) {
+    joins_of[joins[j].a].push_back(j);
+    joins_of[joins[j].b].push_back(j);
+  }
+  auto heavier = [&](std::size_t x, std::size_t y) { return lighter(joins[y], joins[x]); };
+  std::vector<std::uint32_t> order(parts.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    const GridPoint& p = parts[a].root;
+    const GridPoint& q = parts[b].root;
+    return p.z > q.z || (p.z == q.z && p.id < q.id);
+  });
+  std::vector<std::uint8_t> reached(parts.size(), 0);
+  std::priority_queue<std::size_t, std::vector<std::size_t>, decltype(heavier)> queue(heavier);
+  for (std::uint32_t root : order) {
+    if (reached[root]) continue;
+    reached[root] = 1;
+    for (std::size_t j : joins_of[root]) queue.push(j);
+    while (!queue.empty()) {
+      const Join& e = joins[queue.top()];
+      queue.pop();
+      if (reached[e.a] && reached[e.b]) continue;
+      const std::uint32_t from = reached[e.a] ? e.a : e.b;
+      const std::uint32_t to = reached[e.a] ? e.b : e.a;
+      reached[to] = 1;
+      parts[to].flip = parts[from].flip ^ e.opposite;
+      for (std::size_t j : joins_of[to]) queue.push(j);
+    }
+  }
+  for (std::size_t t = 0; t < tiles.tiles(); ++t) {
+    std::vector<Normal> normals = tiles.readRecords<Normal>(t, "normals");
+    const std::vector<std::uint8_t> kept = tiles.readKept(t);
+    const std::vector<std::uint32_t> part = tiles.readRecords<std::uint32_t>(t, "part");
+    for (std::size_t i = 0; i < normals.size(); ++i) {
+      if (kept[i] && parts[part[i]].flip)
+        normals[i] = {-normals[i].x, -normals[i].y, -normals[i].z};
+    }
+    tiles.writeRecords<Normal>(t, "normals", normals);
+  }
 }
 
 }  // namespace
@@ -115,14 +256,6 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
   // (process_runner.cpp), where the input's columns and scans are at hand; the tiles carry
   // positions only.
   const TileSet& tiles = context.tiles;
-  if (step.orientation == NormalOrientation::kPropagate && tiles.tiles() > 1) {
-    // The spanning tree joins the whole cloud; out of core it would need the tiles' graphs joined
-    // at their halos (NOTES.md). Refused rather than oriented per tile, which would make the
-    // output depend on --memory.
-    throw std::invalid_argument(
-        context.label + " --orient propagate: the cloud must fit one tile; give --memory " +
-        std::to_string((tiles.points() * kProcessBytesPerPoint >> 20) + 1) + " or more");
-  }
   auto bar = context.progress ? context.progress(context.label, tiles.points()) : nullptr;
   for (std::size_t t = 0; t < tiles.tiles(); ++t) {
     const std::vector<GridPoint> points = tiles.readPoints(t);
@@ -162,8 +295,8 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
     if (step.curvature) tiles.writeRecords<float>(t, "curvature", curvature);
     if (bar) bar->advance(points.size());
   }
-  if (step.orientation == NormalOrientation::kPropagate && tiles.tiles() == 1) {
-    propagateOrientation(tiles, step.k ? step.k : 8);
+  if (step.orientation == NormalOrientation::kPropagate) {
+    propagateOverTiles(tiles, step.k ? step.k : 8);
   }
 }
 

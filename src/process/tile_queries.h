@@ -36,8 +36,7 @@ struct StepContext {
 template <class Load, class Answer>
 void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& load,
                        const TileSet& searched, Answer&& answer) {
-  std::vector<std::uint32_t> pending(queries.size());
-  for (std::size_t i = 0; i < pending.size(); ++i) pending[i] = std::uint32_t(i);
+  std::vector<std::uint32_t> pending = spatialOrder(queries);
   tbb::enumerable_thread_specific<std::vector<Neighbour>> scratch;
   bool first = true;
   while (!pending.empty()) {

@@ -100,6 +100,27 @@ TEST(NeighbourIndex, WithinRadiusEqualsBruteForceBoundaryIncluded) {
   }
 }
 
+TEST(NeighbourIndex, SpatialOrderIsMortonOrderOfTheCubeCorners) {
+  // Corner (x, y, z) of the unit cube has Morton key x + 2y + 4z: listed in reverse, the order
+  // gives them back ascending. A permutation whatever the points, duplicates included.
+  std::vector<GridPoint> corners;
+  for (int i = 7; i >= 0; --i) {
+    corners.push_back({double(i & 1), double(i >> 1 & 1), double(i >> 2), std::uint64_t(i)});
+  }
+  const std::vector<std::uint32_t> order = spatialOrder(corners);
+  ASSERT_EQ(order.size(), 8u);
+  for (std::size_t i = 0; i < 8; ++i) EXPECT_EQ(corners[order[i]].id, i);
+
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  std::vector<GridPoint> points;
+  for (std::uint64_t i = 0; i < 5000; ++i) points.push_back({u(random), u(random), 0.5, i});
+  points.push_back(points[17]);
+  std::vector<std::uint32_t> sorted = spatialOrder(points);
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t i = 0; i < sorted.size(); ++i) EXPECT_EQ(sorted[i], i);
+}
+
 TEST(LocalPlane, TiltedPlaneAndCurvature) {
   // Points of the plane z = 0.5 x - 0.25 y + 3 on a grid: normal (-0.5, 0.25, 1) normalised.
   std::vector<GridPoint> points;
