@@ -21,6 +21,9 @@ packages=(
   # renderer and viewer: window, GL loading, headless EGL, math, panels, images, window tests
   libglfw3-dev libepoxy-dev libegl-dev libgl1-mesa-dri libglm-dev libimgui-dev libstb-dev
   xvfb xdotool
+  # VR (src/xr): the Khronos OpenXR loader; in tests, its core validation layer and hello_xr
+  # against the project's own test runtime (tests/xr/runtime)
+  libopenxr-dev libopenxr-loader1 openxr-layer-corevalidation libopenxr-utils
   # the real Potree client test (tests/lod/js) and the LAZ oracles (tests/io/js): Node.js (with
   # npm; see install_npm_packages)
   nodejs

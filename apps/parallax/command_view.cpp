@@ -16,6 +16,7 @@
 #include "network_options.h"
 #include "render_options.h"
 #include "viewer/viewer.h"
+#include "xr_view.h"
 
 namespace parallax::cli {
 namespace {
@@ -31,11 +32,21 @@ struct ViewCommandOptions {
   double profile_width = 1.0;
   RenderOptions render;
   LodOptions lod;
+  bool xr = false;
+  XrViewOptions xr_options;  // its input, render and lod are copied from the above
 };
 
 int runView(const ViewCommandOptions& o, const CLI::App& command,
             std::chrono::steady_clock::time_point start) {
   configureNetworkFrom(o.lod);
+  if (o.xr) {
+    XrViewOptions xr = o.xr_options;
+    xr.input = o.input;
+    xr.render = o.render;
+    xr.lod = o.lod;
+    if (xr.input.empty()) throw std::invalid_argument("--xr needs an INPUT");
+    return runXrView(xr);
+  }
   ViewerOptions viewer;
   viewer.start_time = start;
   viewer.lod = lodFrameSettingsFrom(o.lod);
@@ -115,6 +126,24 @@ Command addViewCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   addRenderOptions(*sub, options->render);
   addLodOptions(*sub, options->lod);
+  sub->add_flag("--xr", options->xr,
+                std::string("Show the cloud in an OpenXR headset (the runtime XR_RUNTIME_JSON or "
+                            "the active one names) instead of a window") +
+                    (xrViewAvailable() ? "" : "; not in this build"));
+  sub->add_option("--xr-origin", options->xr_options.origin,
+                  "The file coordinate X,Y,Z put at the stage's origin (default: the centre of "
+                  "the cloud's base)")
+      ->delimiter(',')
+      ->expected(3);
+  sub->add_option("--xr-scale", options->xr_options.scale,
+                  "Stage metres per file unit (default 1: true scale); stage = ((X-Ox)*S, "
+                  "(Z-Oz)*S, -(Y-Oy)*S)")
+      ->check(CLI::PositiveNumber);
+  sub->add_flag("--xr-tabletop", options->xr_options.tabletop,
+                "Fit the cloud in 1 m (a tabletop model) instead of true scale");
+  sub->add_option("--xr-frames", options->xr_options.frames,
+                  "End the session after N frames (0: when the runtime ends it)")
+      ->check(CLI::NonNegativeNumber);
   sub->footer(
       "Unlike render, view shows surfaces by default: round points sized to the local spacing "
       "(unless --size-mode, --point-size or --shape is given), lit by the normals where the "

@@ -1,0 +1,31 @@
+// `parallax view INPUT --xr`: the cloud in an OpenXR headset (src/xr), drawn headless through
+// EGL with the look options of `view` and `render`. Built where the OpenXR loader was found
+// (PARALLAX_XR); elsewhere --xr says so.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "render_options.h"
+
+namespace parallax::cli {
+
+struct XrViewOptions {
+  std::string input;
+  RenderOptions render;
+  LodOptions lod;
+  std::vector<double> origin;  // --xr-origin X,Y,Z; empty: the centre of the cloud's base
+  double scale = 0.0;          // --xr-scale S; 0: 1 (true scale), or the tabletop preset's
+  bool tabletop = false;       // --xr-tabletop: the cloud fits in 1 m
+  long long frames = 0;  // --xr-frames N: end the session after N frames; 0: the runtime ends it
+};
+
+// Runs the session; 0 when the runtime ended it. Throws XrError (no runtime, no headset: the
+// caller prints it and exits 1), InputError or std::invalid_argument.
+int runXrView(const XrViewOptions& options);
+
+// False in a build without OpenXR.
+bool xrViewAvailable();
+
+}  // namespace parallax::cli
