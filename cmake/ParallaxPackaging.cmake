@@ -10,6 +10,7 @@ include(GNUInstallDirs)
 # shaders are compiled into it, and the shared libraries it links come from Debian packages
 # (declared below). Documents go to share/doc/parallax.
 install(TARGETS parallax RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The Python package installs itself (python/CMakeLists.txt: PARALLAX_PYTHON_INSTALL_DIR).
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR}
         FILES_MATCHING PATTERN "*.md")
@@ -67,5 +68,12 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "libegl1, libgl1, libgl1-mesa-dri")
+if(PARALLAX_PYTHON_MODULE_BUILT)
+  # The Python module (python/CMakeLists.txt) is built for one interpreter's ABI and imports
+  # numpy at run time; neither is linked, so dpkg-shlibdeps cannot see them.
+  string(APPEND CPACK_DEBIAN_PACKAGE_DEPENDS
+         ", python3 (>= ${Python3_VERSION_MAJOR}.${Python3_VERSION_MINOR}), "
+         "python3 (<< ${Python3_VERSION_MAJOR}.${PARALLAX_PYTHON_NEXT_MINOR}), python3-numpy")
+endif()
 set(CPACK_GENERATOR DEB)
 include(CPack)

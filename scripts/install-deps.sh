@@ -31,6 +31,8 @@ packages=(
   pcl-tools
   # the distributed conversion's driver (python/parallax_dask) and its tests: Dask distributed
   python3-distributed
+  # the Python module (python/parallax: pybind11, numpy) and its tests (pytest)
+  pybind11-dev python3-dev python3-numpy python3-pytest
   # processing (src/process): neighbour search, a k-d tree (header only)
   libnanoflann-dev
 )

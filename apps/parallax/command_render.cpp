@@ -108,8 +108,11 @@ int runRender(const RenderCommandOptions& o) {
   checkOctreeUrl(o.input);
   pointFilterFrom(o.render.filter,
                   FilterTarget::Gpu);  // a malformed list is reported before the file is read
-  RenderSource source =
-      openRenderSource({.input = o.input, .preview = o.preview, .quiet = o.quiet}, o.lod);
+  RenderSource source = openRenderSource({.input = o.input,
+                                          .preview = o.preview,
+                                          .quiet = o.quiet,
+                                          .attributes = attributesDrawn(o.render)},
+                                         o.lod);
   paintScalarColors(source, o.render, o.quiet, "render");
   const double load_s = secondsSince(start);
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/attribute_selection.h"
 #include "filter_options.h"
 #include "lod/octree_cache.h"
 #include "render/camera.h"
@@ -69,6 +70,12 @@ void addRenderOptions(CLI::App& command, RenderOptions& options);
 
 // Validated settings; throws std::invalid_argument naming the option and its allowed values.
 RenderSettings renderSettingsFrom(const RenderOptions& options, double typical_spacing);
+
+// The attributes a picture with these options needs: positions, what the colour mode shows
+// (colour, intensity, classification or a scalar attribute) and what the filters test (classes,
+// returns, intensity, GPS time). A LAZ or COPC input reads only those (core/attribute_selection.h).
+// Throws as renderSettingsFrom does.
+AttributeSelection attributesDrawn(const RenderOptions& options);
 
 // What the viewer's look (render_settings.h viewerLook) may choose after `command` parsed
 // addRenderOptions: the size unless --size-mode, --point-size or --shape was given, the lighting

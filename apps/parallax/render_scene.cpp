@@ -22,12 +22,14 @@ RenderSource openRenderSource(const RenderSourceOptions& o, const LodOptions& lo
   if (isOctreePath(o.input)) {  // a Potree directory or a COPC file
     source.octree_dir = o.input;
     source.octree = openOctree(o.input);
+    source.octree->selectAttributes(o.attributes);
     return source;
   }
   const std::optional<std::uint64_t> points = pointsOverBudget(o.input, lod.budget);
   if (!points) {
     const auto progress = readingBar(o.quiet, "loading", o.input);
-    source.cloud = readPointFile(o.input, {.progress = progress.get()});  // every point drawn
+    source.cloud = readPointFile(
+        o.input, {.progress = progress.get(), .attributes = o.attributes});  // every point drawn
     return source;
   }
   if (o.preview) {

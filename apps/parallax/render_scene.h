@@ -38,6 +38,9 @@ struct RenderSourceOptions {
   bool preview = false;
   bool quiet = false;
   std::string_view command = "render";  // names the command in messages on stderr
+  // What the picture needs (attributesDrawn): a LAZ file within the budget and a COPC file read
+  // only those. Every attribute by default (pick reports a point's every attribute).
+  AttributeSelection attributes;
 };
 
 // Opens the input; throws InputError or std::invalid_argument naming the file or option.

@@ -5,85 +5,124 @@
 
 #include "core/byte_order.h"
 #include "io/las_reader.h"
+#include "io/laz/chunk_codec.h"
 
 namespace parallax {
 namespace {
 
-void addBits(LasDecodePlan& plan, const char* name, std::size_t offset, int shift, int mask) {
-  plan.fields.push_back(
-      {.kind = LasFieldDecoder::Kind::Bits, .offset = offset, .shift = shift, .mask = mask});
-  plan.columns.emplace_back(name, ScalarType::UInt8);
-}
-void addCopy(LasDecodePlan& plan, std::string name, ScalarType type, std::size_t offset) {
-  plan.fields.push_back(
-      {.kind = LasFieldDecoder::Kind::Copy, .offset = offset, .size = scalarSize(type)});
-  plan.columns.emplace_back(std::move(name), type);
-}
+// Builds the plan, leaving out the columns `selection` does not want and noting, for each column
+// kept, the LAZ field group (laz::fields) its bytes come from.
+class PlanBuilder {
+ public:
+  PlanBuilder(LasDecodePlan& plan, const AttributeSelection& selection)
+      : plan_(plan), selection_(selection) {}
 
-LasDecodePlan makePlanImpl(const LasHeader& header) {
+  bool wants(const std::string& name, std::uint32_t group) {
+    if (!selection_.wants(name)) return false;
+    plan_.laz_fields |= group;
+    return true;
+  }
+  void bits(const char* name, std::uint32_t group, std::size_t offset, int shift, int mask) {
+    if (!wants(name, group)) return;
+    plan_.fields.push_back(
+        {.kind = LasFieldDecoder::Kind::Bits, .offset = offset, .shift = shift, .mask = mask});
+    plan_.columns.emplace_back(name, ScalarType::UInt8);
+  }
+  void copy(const std::string& name, std::uint32_t group, ScalarType type, std::size_t offset) {
+    if (!wants(name, group)) return;
+    plan_.fields.push_back(
+        {.kind = LasFieldDecoder::Kind::Copy, .offset = offset, .size = scalarSize(type)});
+    plan_.columns.emplace_back(name, type);
+  }
+  void other(const std::string& name, std::uint32_t group, LasFieldDecoder field, ScalarType type) {
+    if (!wants(name, group)) return;
+    plan_.fields.push_back(field);
+    plan_.columns.emplace_back(name, type);
+  }
+
+ private:
+  LasDecodePlan& plan_;
+  const AttributeSelection& selection_;
+};
+
+LasDecodePlan makePlanImpl(const LasHeader& header, const AttributeSelection& selection) {
   using namespace las_names;
+  namespace f = laz::fields;
   LasDecodePlan plan;
+  PlanBuilder add(plan, selection);
   const int format = header.point_format;
   plan.record_length = header.record_length;
   plan.extended = lasFormatIsExtended(format);
+  plan.intensity = add.wants("intensity", f::kIntensity);
+  plan.classification = add.wants("classification", f::kClassification);
   std::size_t gps = plan.extended ? 22 : 20;
   std::size_t after_gps = lasFormatHasGpsTime(format) ? gps + 8 : gps;
-  if (lasFormatHasColor(format)) plan.color_offset = after_gps;
+  if (lasFormatHasColor(format) && add.wants("red", f::kRgb)) plan.color_offset = after_gps;
   if (plan.extended) {
-    addBits(plan, kReturnNumber, 14, 0, 15);
-    addBits(plan, kNumberOfReturns, 14, 4, 15);
-    addBits(plan, kClassificationFlags, 15, 0, 15);
-    addBits(plan, kScannerChannel, 15, 4, 3);
-    addBits(plan, kScanDirectionFlag, 15, 6, 1);
-    addBits(plan, kEdgeOfFlightLine, 15, 7, 1);
-    addCopy(plan, kUserData, ScalarType::UInt8, 17);
-    addCopy(plan, kScanAngle, ScalarType::Int16, 18);
-    addCopy(plan, kPointSourceId, ScalarType::UInt16, 20);
+    // Returns and the scanner channel share POINT14's first layer with the positions: always
+    // decoded (group 0).
+    add.bits(kReturnNumber, 0, 14, 0, 15);
+    add.bits(kNumberOfReturns, 0, 14, 4, 15);
+    add.bits(kClassificationFlags, f::kFlags, 15, 0, 15);
+    add.bits(kScannerChannel, 0, 15, 4, 3);
+    add.bits(kScanDirectionFlag, f::kFlags, 15, 6, 1);
+    add.bits(kEdgeOfFlightLine, f::kFlags, 15, 7, 1);
+    add.copy(kUserData, f::kUserData, ScalarType::UInt8, 17);
+    add.copy(kScanAngle, f::kScanAngle, ScalarType::Int16, 18);
+    add.copy(kPointSourceId, f::kPointSource, ScalarType::UInt16, 20);
   } else {
-    addBits(plan, kReturnNumber, 14, 0, 7);
-    addBits(plan, kNumberOfReturns, 14, 3, 7);
-    addBits(plan, kScanDirectionFlag, 14, 6, 1);
-    addBits(plan, kEdgeOfFlightLine, 14, 7, 1);
-    addBits(plan, kClassificationFlags, 15, 5, 7);
-    addCopy(plan, kScanAngleRank, ScalarType::Int8, 16);
-    addCopy(plan, kUserData, ScalarType::UInt8, 17);
-    addCopy(plan, kPointSourceId, ScalarType::UInt16, 18);
+    add.bits(kReturnNumber, 0, 14, 0, 7);
+    add.bits(kNumberOfReturns, 0, 14, 3, 7);
+    add.bits(kScanDirectionFlag, f::kFlags, 14, 6, 1);
+    add.bits(kEdgeOfFlightLine, f::kFlags, 14, 7, 1);
+    add.bits(kClassificationFlags, f::kFlags, 15, 5, 7);
+    add.copy(kScanAngleRank, f::kScanAngle, ScalarType::Int8, 16);
+    add.copy(kUserData, f::kUserData, ScalarType::UInt8, 17);
+    add.copy(kPointSourceId, f::kPointSource, ScalarType::UInt16, 18);
   }
-  if (lasFormatHasGpsTime(format)) addCopy(plan, kGpsTime, ScalarType::Float64, gps);
+  if (lasFormatHasGpsTime(format)) add.copy(kGpsTime, f::kGpsTime, ScalarType::Float64, gps);
   std::size_t end = after_gps + (lasFormatHasColor(format) ? 6 : 0);
   if (lasFormatHasNir(format)) {
-    addCopy(plan, kNir, ScalarType::UInt16, end);
+    add.copy(kNir, f::kNir, ScalarType::UInt16, end);
     end += 2;
   }
   if (lasFormatHasWavePacket(format)) {
     // LAS 1.4 R15 Table 13: index, offset, size, location, x(t), y(t), z(t): 29 bytes.
-    addCopy(plan, "wave_packet_descriptor_index", ScalarType::UInt8, end);
-    plan.fields.push_back({.kind = LasFieldDecoder::Kind::UInt64ToDouble, .offset = end + 1});
-    plan.columns.emplace_back("wave_packet_offset", ScalarType::Float64);
-    addCopy(plan, "wave_packet_size", ScalarType::UInt32, end + 9);
-    addCopy(plan, "return_point_waveform_location", ScalarType::Float32, end + 13);
-    addCopy(plan, "waveform_dx", ScalarType::Float32, end + 17);
-    addCopy(plan, "waveform_dy", ScalarType::Float32, end + 21);
-    addCopy(plan, "waveform_dz", ScalarType::Float32, end + 25);
+    const std::uint32_t w = f::kWavePacket;
+    add.copy("wave_packet_descriptor_index", w, ScalarType::UInt8, end);
+    add.other("wave_packet_offset", w,
+              {.kind = LasFieldDecoder::Kind::UInt64ToDouble, .offset = end + 1},
+              ScalarType::Float64);
+    add.copy("wave_packet_size", w, ScalarType::UInt32, end + 9);
+    add.copy("return_point_waveform_location", w, ScalarType::Float32, end + 13);
+    add.copy("waveform_dx", w, ScalarType::Float32, end + 17);
+    add.copy("waveform_dy", w, ScalarType::Float32, end + 21);
+    add.copy("waveform_dz", w, ScalarType::Float32, end + 25);
   }
   for (const LasExtraBytes& extra : header.extra_bytes) {
     int base = extra.data_type <= 10 ? extra.data_type : (extra.data_type - 1) % 10 + 1;
+    const std::uint32_t e = f::kExtraBytes;
     if (extra.scaled) {
-      plan.fields.push_back({.kind = LasFieldDecoder::Kind::Scaled,
-                             .offset = extra.record_offset,
-                             .data_type = base,
-                             .scale = extra.scale,
-                             .add = extra.offset});
-      plan.columns.emplace_back(extra.name, ScalarType::Float64);
+      add.other(extra.name, e,
+                {.kind = LasFieldDecoder::Kind::Scaled,
+                 .offset = extra.record_offset,
+                 .data_type = base,
+                 .scale = extra.scale,
+                 .add = extra.offset},
+                ScalarType::Float64);
     } else if (extra.is_64bit_int) {
-      plan.fields.push_back({.kind = base == 7 ? LasFieldDecoder::Kind::UInt64ToDouble
-                                               : LasFieldDecoder::Kind::Int64ToDouble,
-                             .offset = extra.record_offset});
-      plan.columns.emplace_back(extra.name, ScalarType::Float64);
+      add.other(extra.name, e,
+                {.kind = base == 7 ? LasFieldDecoder::Kind::UInt64ToDouble
+                                   : LasFieldDecoder::Kind::Int64ToDouble,
+                 .offset = extra.record_offset},
+                ScalarType::Float64);
     } else {
-      addCopy(plan, extra.name, extra.type, extra.record_offset);
+      add.copy(extra.name, e, extra.type, extra.record_offset);
     }
   }
+  // Everything asked: every layer too (the records handed out are then whole, undescribed extra
+  // bytes included).
+  if (selection.all()) plan.laz_fields = laz::fields::kAll;
   return plan;
 }
 
@@ -122,8 +161,8 @@ bool anyAbove255(const std::byte* c, std::size_t stride, std::size_t m) {
 
 }  // namespace
 
-LasDecodePlan makeLasDecodePlan(const LasHeader& header) {
-  return makePlanImpl(header);
+LasDecodePlan makeLasDecodePlan(const LasHeader& header, const AttributeSelection& selection) {
+  return makePlanImpl(header, selection);
 }
 
 void LasDecodeStats::merge(const LasDecodeStats& b) {
@@ -162,14 +201,18 @@ void decodeLasRecords(const std::byte* records, std::size_t n, const LasDecodePl
       }
       box.lo = lo, box.hi = hi;
     }
-    float* intensity = out.intensity.data() + o;
-    for (std::size_t i = 0; i < m; ++i)
-      intensity[i] = float(loadLE<std::uint16_t>(r + i * stride + 12));
-    std::uint8_t* cls = out.classification.data() + o;
-    if (plan.extended) {
-      for (std::size_t i = 0; i < m; ++i) cls[i] = std::uint8_t(r[i * stride + 16]);
-    } else {
-      for (std::size_t i = 0; i < m; ++i) cls[i] = std::uint8_t(r[i * stride + 15]) & 31;
+    if (plan.intensity) {
+      float* intensity = out.intensity.data() + o;
+      for (std::size_t i = 0; i < m; ++i)
+        intensity[i] = float(loadLE<std::uint16_t>(r + i * stride + 12));
+    }
+    if (plan.classification) {
+      std::uint8_t* cls = out.classification.data() + o;
+      if (plan.extended) {
+        for (std::size_t i = 0; i < m; ++i) cls[i] = std::uint8_t(r[i * stride + 16]);
+      } else {
+        for (std::size_t i = 0; i < m; ++i) cls[i] = std::uint8_t(r[i * stride + 15]) & 31;
+      }
     }
     if (plan.color_offset) {
       const std::byte* c = r + *plan.color_offset;
@@ -255,8 +298,8 @@ PointCloud allocateLasCloud(const LasHeader& header, const LasDecodePlan& plan, 
   cloud.count = count;
   cloud.quantization = header.quantization;
   cloud.positions = Column<Int3>(count);
-  cloud.intensity = Column<float>(count);
-  cloud.classification = Column<std::uint8_t>(count);
+  if (plan.intensity) cloud.intensity = Column<float>(count);
+  if (plan.classification) cloud.classification = Column<std::uint8_t>(count);
   if (plan.color_offset) {
     cloud.colors = Column<Rgba8>(count);
     cloud.stored_colors = Column<Rgb16>(count);

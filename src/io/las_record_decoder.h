@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/attribute_selection.h"
 #include "core/point_cloud.h"
 #include "io/las_header.h"
 
@@ -29,16 +30,22 @@ struct LasFieldDecoder {
 
 struct LasDecodePlan {
   std::size_t record_length = 0;
-  bool extended = false;  // formats 6-10
-  std::optional<std::size_t> color_offset;
+  bool extended = false;                         // formats 6-10
+  bool intensity = true, classification = true;  // those columns filled
+  std::optional<std::size_t> color_offset;       // none: no colour, or none asked for
   // The 8-bit rule (las_reader.h): colours below 256 everywhere are kept as they are, otherwise
   // scaled from 16 bits. Decided by the reader before the decode (and checked by it).
   bool colors_8bit = true;
   std::vector<LasFieldDecoder> fields;  // one per scalar column, in order
   std::vector<std::pair<std::string, ScalarType>> columns;
+  // The LAZ field groups (laz::fields::k*) the columns come from: what a layered LAZ decoder
+  // must decode for this plan (the rest of its layers are never read).
+  std::uint32_t laz_fields = 0;
 };
 
-LasDecodePlan makeLasDecodePlan(const LasHeader& header);
+// The columns of `header`'s records that `selection` asks for (every one by default); a column
+// not asked for is left out of the plan and of allocateLasCloud's cloud.
+LasDecodePlan makeLasDecodePlan(const LasHeader& header, const AttributeSelection& selection = {});
 
 // Integer bounds of the positions, and whether a colour of 256 or more was seen, gathered while
 // decoding (saves passes over the columns).

@@ -594,7 +594,7 @@ void encodeBlock(const PointCloud& cloud, const Layout& layout, std::size_t firs
     for (std::size_t i = 0; i < n; ++i) {
       std::memcpy(out + i * stride + *layout.color_offset, colors + i, 6);
     }
-  } else if (layout.color_offset) {
+  } else if (layout.color_offset && cloud.hasColors()) {
     const Rgba8* colors = cloud.colors.data() + first;
     for (std::size_t i = 0; i < n; ++i) {
       // 8-bit colours (PLY uchar): LAS 1.4 R15 normalises colours to 16 bits; c * 257 maps 255
@@ -603,6 +603,10 @@ void encodeBlock(const PointCloud& cloud, const Layout& layout, std::size_t firs
                               std::uint16_t(colors[i].b * 257)};
       std::memcpy(out + i * stride + *layout.color_offset, rgb, 6);
     }
+  } else if (layout.color_offset) {
+    // A format with colour asked for (--point-format 3) where the cloud has none: black, as the
+    // format's default; the reader of the cloud had no colour to keep.
+    for (std::size_t i = 0; i < n; ++i) std::memset(out + i * stride + *layout.color_offset, 0, 6);
   }
   for (const RawTarget& target : layout.raws) {
     if (target.size == 0) {  // a normal component, stride 12

@@ -23,9 +23,10 @@ namespace {
 
 using DecoderPool = tbb::enumerable_thread_specific<std::unique_ptr<LazChunkDecoder>>;
 
-LazChunkDecoder& decoderOf(DecoderPool& pool, const LazSource& source) {
+// The calling thread's decoder, decoding the field groups `fields` (LasDecodePlan::laz_fields).
+LazChunkDecoder& decoderOf(DecoderPool& pool, const LazSource& source, std::uint32_t fields) {
   std::unique_ptr<LazChunkDecoder>& decoder = pool.local();
-  if (!decoder) decoder = std::make_unique<LazChunkDecoder>(source);
+  if (!decoder) decoder = std::make_unique<LazChunkDecoder>(source, fields);
   return *decoder;
 }
 
@@ -33,10 +34,12 @@ LazChunkDecoder& decoderOf(DecoderPool& pool, const LazSource& source) {
 // or `parallel` false) and calls fn(index, records) for each. When chunks fail, the error of the
 // one earliest in the file is thrown, so a damaged file always reports the same first point.
 template <class F>
-void forEachChunk(LazSource& source, DecoderPool& pool, const std::vector<std::size_t>& indices,
-                  bool parallel, F fn) {
+void forEachChunk(LazSource& source, DecoderPool& pool, std::uint32_t fields,
+                  const std::vector<std::size_t>& indices, bool parallel, F fn) {
   if (source.sequential || !parallel || indices.size() < 2) {
-    for (std::size_t index : indices) fn(index, decoderOf(pool, source).decode(source, index));
+    for (std::size_t index : indices) {
+      fn(index, decoderOf(pool, source, fields).decode(source, index));
+    }
     return;
   }
   std::mutex error_mutex;
@@ -47,7 +50,7 @@ void forEachChunk(LazSource& source, DecoderPool& pool, const std::vector<std::s
     const std::size_t index = indices[k];
     if (index > failed.load(std::memory_order_relaxed)) return;
     try {
-      fn(index, decoderOf(pool, source).decode(source, index));
+      fn(index, decoderOf(pool, source, fields).decode(source, index));
     } catch (...) {
       const std::lock_guard lock(error_mutex);
       if (index < error_index) {
@@ -67,7 +70,7 @@ std::vector<std::size_t> range(std::size_t first, std::size_t last) {
 }
 
 PointCloud readSource(LazSource& s, const LazReadOptions& options) {
-  LasDecodePlan plan = makeLasDecodePlan(s.records);
+  LasDecodePlan plan = makeLasDecodePlan(s.records, options.attributes);
   const std::size_t count = s.records.point_count;
   PointCloud cloud = allocateLasCloud(s.records, plan, count);
   if (s.chunks.empty()) return cloud;
@@ -77,13 +80,13 @@ PointCloud readSource(LazSource& s, const LazReadOptions& options) {
   // The first chunk settles the colours of most files (a value of 256 or more there: 16-bit);
   // otherwise the decode guesses 8-bit and checks every colour on the way.
   {
-    const std::byte* records = decoderOf(pool, s).decode(s, 0);
+    const std::byte* records = decoderOf(pool, s, plan.laz_fields).decode(s, 0);
     const std::size_t n = s.chunks[0].points;
     plan.colors_8bit = !lasColorsAbove255(records, n, plan);
     decodeLasRecords(records, n, plan, cloud, 0, stats);
     if (options.progress) options.progress->advance(n);
   }
-  forEachChunk(s, pool, range(1, s.chunks.size()), options.parallel,
+  forEachChunk(s, pool, plan.laz_fields, range(1, s.chunks.size()), options.parallel,
                [&](std::size_t index, const std::byte* records) {
                  const laz::LazChunk& chunk = s.chunks[index];
                  LasDecodeStats local;
@@ -95,7 +98,7 @@ PointCloud readSource(LazSource& s, const LazReadOptions& options) {
   if (plan.colors_8bit && stats.color_above_255) {
     // Rare: 8-bit colours in the first chunk, 16-bit ones later. Decode again for the colours.
     plan.colors_8bit = false;
-    forEachChunk(s, pool, range(0, s.chunks.size()), options.parallel,
+    forEachChunk(s, pool, plan.laz_fields, range(0, s.chunks.size()), options.parallel,
                  [&](std::size_t index, const std::byte* records) {
                    const laz::LazChunk& chunk = s.chunks[index];
                    decodeLasColors(records, chunk.points, plan, cloud, chunk.first_point);
@@ -203,23 +206,25 @@ PointCloud readLazPreview(const std::filesystem::path& path, std::uint64_t max_p
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::map<std::size_t, std::size_t> slot_of;
   for (std::size_t k = 0; k < indices.size(); ++k) slot_of[indices[k]] = k;
-  forEachChunk(s, pool, indices, true, [&](std::size_t index, const std::byte* records) {
-    const std::size_t k = slot_of[index];
-    std::vector<std::byte>& buffer = buffers.local();
-    const std::size_t n = keep(k, records, buffer);
-    LasDecodeStats local;
-    decodeLasRecords(buffer.data(), n, plan, cloud, first[k], local);
-    const std::lock_guard lock(stats_mutex);
-    stats.merge(local);
-  });
+  forEachChunk(s, pool, plan.laz_fields, indices, true,
+               [&](std::size_t index, const std::byte* records) {
+                 const std::size_t k = slot_of[index];
+                 std::vector<std::byte>& buffer = buffers.local();
+                 const std::size_t n = keep(k, records, buffer);
+                 LasDecodeStats local;
+                 decodeLasRecords(buffer.data(), n, plan, cloud, first[k], local);
+                 const std::lock_guard lock(stats_mutex);
+                 stats.merge(local);
+               });
   if (stats.color_above_255) {
     plan.colors_8bit = false;
-    forEachChunk(s, pool, indices, true, [&](std::size_t index, const std::byte* records) {
-      const std::size_t k = slot_of[index];
-      std::vector<std::byte>& buffer = buffers.local();
-      const std::size_t n = keep(k, records, buffer);
-      decodeLasColors(buffer.data(), n, plan, cloud, first[k]);
-    });
+    forEachChunk(s, pool, plan.laz_fields, indices, true,
+                 [&](std::size_t index, const std::byte* records) {
+                   const std::size_t k = slot_of[index];
+                   std::vector<std::byte>& buffer = buffers.local();
+                   const std::size_t n = keep(k, records, buffer);
+                   decodeLasColors(buffer.data(), n, plan, cloud, first[k]);
+                 });
   }
   cloud.source.color = plan.colors_8bit ? ScalarType::UInt8 : ScalarType::UInt16;
   cloud.bounds = stats.world(cloud.quantization);
@@ -270,13 +275,14 @@ struct LazChunkReader::State {
   CoordinateSystem crs;  // of the records' header (1.4's in compatibility mode)
 };
 
-LazChunkReader::LazChunkReader(const std::filesystem::path& path)
+LazChunkReader::LazChunkReader(const std::filesystem::path& path,
+                               const AttributeSelection& attributes)
     : state_(std::make_unique<State>()) {
   State& st = *state_;
   st.source = openFile(path);
   LazSource& s = *st.source;
   st.key = fileKey(path);
-  st.plan = makeLasDecodePlan(s.records);
+  st.plan = makeLasDecodePlan(s.records, attributes);
   st.crs = coordinateSystemOf(s.records);
   if (!st.plan.color_offset || s.chunks.empty()) return;
   {
@@ -294,9 +300,10 @@ LazChunkReader::LazChunkReader(const std::filesystem::path& path)
     sample.push_back(s.chunks.size() - 1);
   }
   std::atomic<bool> big{false};
-  forEachChunk(s, st.pool, sample, true, [&](std::size_t index, const std::byte* records) {
-    if (lasColorsAbove255(records, s.chunks[index].points, st.plan)) big = true;
-  });
+  forEachChunk(s, st.pool, st.plan.laz_fields, sample, true,
+               [&](std::size_t index, const std::byte* records) {
+                 if (lasColorsAbove255(records, s.chunks[index].points, st.plan)) big = true;
+               });
   st.plan.colors_8bit = !big;
 }
 
@@ -348,7 +355,7 @@ bool LazChunkReader::next(PointCloud& chunk, std::size_t max_points) {
     }
     if (last_chunk > first_chunk) {
       const std::uint64_t base = s.chunks[first_chunk].first_point;
-      forEachChunk(s, st.pool, range(first_chunk, last_chunk), true,
+      forEachChunk(s, st.pool, st.plan.laz_fields, range(first_chunk, last_chunk), true,
                    [&](std::size_t index, const std::byte* records) {
                      const laz::LazChunk& c = s.chunks[index];
                      LasDecodeStats local;
@@ -364,7 +371,7 @@ bool LazChunkReader::next(PointCloud& chunk, std::size_t max_points) {
     // replaces stays in `spare`, in case this batch is decoded again).
     if (filled < n && st.next_chunk < s.chunks.size()) {
       const laz::LazChunk& c = s.chunks[st.next_chunk];
-      const std::byte* records = decoderOf(st.pool, s).decode(s, st.next_chunk);
+      const std::byte* records = decoderOf(st.pool, s, st.plan.laz_fields).decode(s, st.next_chunk);
       st.spare.assign(records, records + std::size_t(c.points) * length);
       std::swap(st.pending, st.spare);
       new_pending = true;

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "core/attribute_selection.h"
 #include "core/point_cloud.h"
 #include "core/progress.h"
 #include "io/las_header.h"
@@ -28,6 +29,9 @@ namespace parallax {
 struct LazReadOptions {
   Progress* progress = nullptr;  // advanced by points read
   bool parallel = true;          // all cores (TBB); false runs on the calling thread only
+  // The columns filled; the others are absent, and in layered chunks (formats 6-10) their
+  // layers are never read (laz::ChunkDecoder::selectFields). Positions always.
+  AttributeSelection attributes;
 };
 
 // Reads every point. Throws InputError for malformed input.
@@ -65,7 +69,9 @@ LazSummary summarizeLaz(const std::filesystem::path& path);
 // passes and uses colours in the last only, so its colours are right.)
 class LazChunkReader final : public PointChunkSource {
  public:
-  explicit LazChunkReader(const std::filesystem::path& path);
+  // `attributes`: the columns each batch holds (as LazReadOptions::attributes).
+  explicit LazChunkReader(const std::filesystem::path& path,
+                          const AttributeSelection& attributes = {});
   ~LazChunkReader() override;
   LazChunkReader(LazChunkReader&&) noexcept;
 

@@ -53,6 +53,9 @@ struct PointReadOptions {
   // Text files only: the columns' names ("x", "y", "z", "r", ..., "_" to skip one), overriding a
   // header line and the common layouts. Empty: from the file.
   std::vector<std::string> text_columns;
+  // The attributes the caller uses (core/attribute_selection.h); formats that can skip the
+  // others (LAZ) leave them out. Every attribute by default.
+  AttributeSelection attributes;
 };
 
 // Reads a whole point file of any supported format. Throws InputError for unreadable or malformed

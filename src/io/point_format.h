@@ -18,6 +18,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/attribute_selection.h"
 #include "core/bounds.h"
 #include "core/point_cloud.h"
 #include "core/quantization.h"
@@ -47,6 +48,8 @@ struct ChunkSourceOptions {
   // builder's counting pass found it); formats with their own (LAS) keep theirs. Null: the
   // format chooses.
   const Quantization* quantization = nullptr;
+  // The attributes the builder keeps (PointReadOptions::attributes); every one by default.
+  AttributeSelection attributes;
 };
 
 // One row of the table. Every function gets the file's path and reports bad input as InputError

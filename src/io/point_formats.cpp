@@ -334,10 +334,13 @@ PointFormatEntry lazFormat() {
     return hasLasSignature(head) && looksLikeLaz(head);
   };
   row.read = [](const std::filesystem::path& path, const PointReadOptions& options) {
-    return readLaz(path, {.progress = options.progress, .parallel = options.parallel});
+    return readLaz(path, {.progress = options.progress,
+                          .parallel = options.parallel,
+                          .attributes = options.attributes});
   };
-  row.open_chunks = [](const std::filesystem::path& path, const ChunkSourceOptions&) {
-    return std::unique_ptr<PointChunkSource>(std::make_unique<LazChunkReader>(path));
+  row.open_chunks = [](const std::filesystem::path& path, const ChunkSourceOptions& options) {
+    return std::unique_ptr<PointChunkSource>(
+        std::make_unique<LazChunkReader>(path, options.attributes));
   };
   row.write = [](const PointCloud& cloud, const std::filesystem::path& path,
                  const PointWriteOptions& options) {

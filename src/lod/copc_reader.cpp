@@ -315,6 +315,13 @@ class CopcOctree final : public Octree {
     return decodeChunk(node.name, offset, bytes, count, cancel);
   }
 
+  void selectAttributes(const AttributeSelection& attributes) override {
+    const bool colors_8bit = plan_.colors_8bit;
+    plan_ = makeLasDecodePlan(header_, attributes);
+    plan_.colors_8bit = colors_8bit;  // the file's rule, decided at opening
+    describeColumns();
+  }
+
   CopcDetails details() const {
     return {.file = in_->name(),
             .file_bytes = in_->size(),
@@ -375,7 +382,7 @@ class CopcOctree final : public Octree {
     return cloud;
   }
 
-  std::unique_ptr<laz::ChunkDecoder> takeDecoder() const {
+  std::unique_ptr<laz::ChunkDecoder> pooledDecoder() const {
     {
       const std::lock_guard lock(decoders_mutex_);
       if (!decoders_.empty()) {
@@ -385,6 +392,12 @@ class CopcOctree final : public Octree {
       }
     }
     return laz::makeLayeredDecoder(items_);
+  }
+  // A decoder reading only the layers plan_'s columns come from.
+  std::unique_ptr<laz::ChunkDecoder> takeDecoder() const {
+    std::unique_ptr<laz::ChunkDecoder> decoder = pooledDecoder();
+    decoder->selectFields(plan_.laz_fields);
+    return decoder;
   }
   void releaseDecoder(std::unique_ptr<laz::ChunkDecoder> decoder) const {
     const std::lock_guard lock(decoders_mutex_);
@@ -401,8 +414,6 @@ class CopcOctree final : public Octree {
                                                  .data(),
                                              root.point_count, plan_);
     }
-    // One point: empty columns would read as absent attributes.
-    const PointCloud prototype = allocateLasCloud(header_, plan_, 1);
     info_.point_count = header_.point_count;
     info_.cube = info_vlr_.cube();
     info_.bounds = header_.bounds;
@@ -413,11 +424,19 @@ class CopcOctree final : public Octree {
     if (!bounds_ok) info_.bounds = info_.cube;  // a header without bounds: the cube will do
     info_.quantization = header_.quantization;
     info_.spacing = info_vlr_.spacing;
+    describeColumns();
+  }
+
+  // What info() says of the columns loadNode() gives (plan_'s).
+  void describeColumns() {
+    // One point: empty columns would read as absent attributes.
+    const PointCloud prototype = allocateLasCloud(header_, plan_, 1);
     info_.attributes = prototype.attributeNames();
     info_.has_colors = prototype.hasColors();
     info_.has_normals = prototype.hasNormals();
     info_.has_intensity = prototype.hasIntensity();
     // The info VLR's GPS time range (COPC 1.0), where the file has points with GPS time.
+    info_.gps_time_range.reset();
     if (prototype.findScalar("gps_time") && header_.point_count > 0 &&
         info_vlr_.gps_time_min <= info_vlr_.gps_time_max) {
       info_.gps_time_range = {{info_vlr_.gps_time_min, info_vlr_.gps_time_max}};

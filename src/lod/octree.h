@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "core/attribute_selection.h"
 #include "core/bounds.h"
 #include "core/point_cloud.h"
 #include "core/quantization.h"
@@ -107,6 +108,11 @@ class Octree {
                         std::span<const OctreeNode> hierarchy) const {
     (void)nodes, (void)hierarchy;
   }
+  // The attributes loadNode() need give from now on (positions always); info().attributes and
+  // its has_* flags then describe those. Octrees whose nodes cost the same whatever is asked
+  // ignore it (default); COPC never reads the LAZ layers of the others. Call it before loading
+  // nodes (it does not synchronise with loader threads).
+  virtual void selectAttributes(const AttributeSelection& attributes) { (void)attributes; }
 };
 
 }  // namespace parallax

@@ -490,6 +490,9 @@ int runViewer(const ViewerOptions& options) {
                context->renderer().c_str());
   if (!options.input.empty()) openFile(s, options.input, true);
 
+  if (const char* trace = std::getenv("PARALLAX_VIEW_TRACE_KEYS")) {
+    s.trace_keys = std::strcmp(trace, "0") != 0 && *trace != '\0';
+  }
   auto last = std::chrono::steady_clock::now();
   FrameStats stats;
   bool busy = true;  // drew points or had input last frame: poll; otherwise wait for events
@@ -678,6 +681,10 @@ int runViewer(const ViewerOptions& options) {
       writeScreenshot(s, width, height);
     }
     glfwSwapBuffers(window);
+    for (const int key : s.keys_this_frame) {
+      std::fprintf(stderr, "parallax view: key %d handled and drawn\n", key);
+    }
+    s.keys_this_frame.clear();
     startBuild(s);
   }
   // What a moving camera felt like, in the figures of `parallax bench render --orbit`.

@@ -62,8 +62,9 @@ void scaleStereo(Session& s, double separation_factor, double convergence_factor
 }
 
 void onKey(GLFWwindow* window, int key, int, int action, int mods) {
-  if ((action != GLFW_PRESS && action != GLFW_REPEAT) || ImGui::GetIO().WantCaptureKeyboard) return;
   Session& s = sessionOf(window);
+  if (s.trace_keys && action == GLFW_PRESS) s.keys_this_frame.push_back(key);
+  if ((action != GLFW_PRESS && action != GLFW_REPEAT) || ImGui::GetIO().WantCaptureKeyboard) return;
   // Held keys repeat only for the stereo adjustments.
   const bool adjust = key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET ||
                       key == GLFW_KEY_MINUS || key == GLFW_KEY_EQUAL;

@@ -103,6 +103,10 @@ struct Session {
   bool screenshot_requested = false;
   bool screenshot_with_panel = false;  // Shift + P: the window as seen, panel included
   int screenshot_count = 0;
+  // PARALLAX_VIEW_TRACE_KEYS=1: each key pressed is logged once the frame that handled it has
+  // been drawn, so that a driver (the window tests) waits on the viewer, never for a fixed time.
+  bool trace_keys = false;
+  std::vector<int> keys_this_frame;
   double scroll_steps = 0;
   std::vector<std::string> dropped;
   double last_click_time = -1;

@@ -45,6 +45,16 @@ case $mode in
     for doc in README.md ARCHITECTURE.md FORMATS.md STYLE.md; do
       [[ -f $prefix/share/doc/parallax/$doc ]] || fail "no share/doc/parallax/$doc installed"
     done
+    # The Python package, where this build has it (python/CMakeLists.txt), imports from there and
+    # reads the file the installed executable wrote.
+    if [[ -d $build/python/parallax ]]; then
+      site=$prefix/lib/python3/dist-packages
+      [[ -f $site/parallax/__init__.py && -f $site/parallax/py.typed ]] ||
+        fail "no Python package in $site/parallax"
+      (cd "$work" && PYTHONPATH=$site /usr/bin/python3 -c \
+        "import sys, parallax; sys.exit(0 if len(parallax.read('g.las')) == 1000 else 1)") ||
+        fail "the installed Python module could not read $work/g.las"
+    fi
     echo "OK: installed into $prefix; $("$prefix/bin/parallax" --version | head -n 1)"
     ;;
   deb)

@@ -113,10 +113,15 @@ TEST(ViewerWindow, OpensDrawsThePanelTurnsOnDragAndTakesScreenshots) {
   const RgbaImage before = settledScreenshot();
 
   // Drag to the right across the part of the window that the panel does not cover.
-  ASSERT_EQ(
-      xdo("mousemove --window " + window + " 500 240 mousedown 1 mousemove --window " + window +
-          " 560 260 sleep 0.3 mousemove --window " + window + " 640 280 sleep 0.3 mouseup 1"),
-      0);
+  // Each step in a frame of its own, waited on with a screenshot (P comes after the step's events
+  // and its file is written by the frame that took them), never a fixed time.
+  ASSERT_EQ(xdo("mousemove --window " + window + " 500 240 mousedown 1 mousemove --window " +
+                window + " 560 260"),
+            0);
+  screenshot();
+  ASSERT_EQ(xdo("mousemove --window " + window + " 640 280"), 0);
+  screenshot();
+  ASSERT_EQ(xdo("mouseup 1"), 0);
   const RgbaImage after = settledScreenshot();
   const RgbaImage window_shot = screenshot("shift+p");
 

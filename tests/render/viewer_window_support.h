@@ -162,7 +162,8 @@ class ViewerProcess {
               args.insert(args.begin(), {PARALLAX_EXECUTABLE, "view"});
               return args;
             }(),
-            {"DISPLAY=" + display, "ASAN_OPTIONS=detect_leaks=0"}, log_.string()) {
+            {"DISPLAY=" + display, "ASAN_OPTIONS=detect_leaks=0", "PARALLAX_VIEW_TRACE_KEYS=1"},
+            log_.string()) {
     const auto window_file = dir / (log_name + ".window");
     if (run(env_ + "timeout 60 xdotool search --sync --name Parallax > " + window_file.string()) ==
         0) {
@@ -178,37 +179,62 @@ class ViewerProcess {
   void key(const std::string& name) {
     EXPECT_EQ(run(env_ + "xdotool key --window " + window_ + " " + name + " > /dev/null 2>&1"), 0)
         << name;
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    sync();
+  }
+  // Waits (at most 30 s) until the viewer has handled every input sent before and drawn a frame
+  // after it: a Pause key (bound to nothing) follows them, and PARALLAX_VIEW_TRACE_KEYS makes the
+  // viewer log each key once the frame that took it is drawn. X delivers the events in order, so
+  // the next input lands in a later frame: two clicks are never taken as one.
+  void sync() {
+    EXPECT_EQ(run(env_ + "xdotool key --window " + window_ + " Pause > /dev/null 2>&1"), 0);
+    const std::size_t expected = ++syncs_;
+    EXPECT_TRUE(waitFor(
+        [&] {
+          const std::string text = log();
+          std::size_t count = 0;
+          for (auto at = text.find(kPauseHandled); at != std::string::npos;
+               at = text.find(kPauseHandled, at + 1)) {
+            ++count;
+          }
+          return count >= expected;
+        },
+        std::chrono::seconds(30)))
+        << "the viewer did not take input " << expected << ": " << log();
   }
   // A left-button drag from (x0, y0) to (x1, y1), window coordinates.
   void drag(int x0, int y0, int x1, int y1) {
     const std::string at = "mousemove --window " + window_ + " ";
     EXPECT_EQ(run(env_ + "xdotool " + at + std::to_string(x0) + " " + std::to_string(y0) +
                   " mousedown 1 " + at + std::to_string((x0 + x1) / 2) + " " +
-                  std::to_string((y0 + y1) / 2) + " sleep 0.3 " + at + std::to_string(x1) + " " +
-                  std::to_string(y1) + " sleep 0.3 mouseup 1 > /dev/null 2>&1"),
+                  std::to_string((y0 + y1) / 2) + " > /dev/null 2>&1"),
               0);
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    sync();  // each step of the drag in a frame of its own: the camera follows it
+    EXPECT_EQ(run(env_ + "xdotool " + at + std::to_string(x1) + " " + std::to_string(y1) +
+                  " > /dev/null 2>&1"),
+              0);
+    sync();
+    EXPECT_EQ(run(env_ + "xdotool mouseup 1 > /dev/null 2>&1"), 0);
+    sync();
   }
   // A left click with Ctrl held at (x, y), window coordinates: picks a point.
   void ctrlClick(int x, int y) {
     EXPECT_EQ(run(env_ + "xdotool mousemove --window " + window_ + " " + std::to_string(x) + " " +
                   std::to_string(y) + " keydown ctrl click 1 keyup ctrl > /dev/null 2>&1"),
               0);
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    sync();
   }
   // A plain left click at (x, y), window coordinates (with a measurement tool: adds a point).
   void click(int x, int y) {
     EXPECT_EQ(run(env_ + "xdotool mousemove --window " + window_ + " " + std::to_string(x) + " " +
                   std::to_string(y) + " click 1 > /dev/null 2>&1"),
               0);
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    sync();
   }
   // `clicks` steps of the wheel forward (towards the cloud) at the window's middle.
   void scroll(int clicks) {
     for (int i = 0; i < clicks; ++i) {
       EXPECT_EQ(run(env_ + "xdotool click --window " + window_ + " 4 > /dev/null 2>&1"), 0);
-      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      sync();
     }
   }
   // `clicks` steps of the wheel backwards (down a scrolled panel) with the pointer at (x, y).
@@ -218,9 +244,8 @@ class ViewerProcess {
               0);
     for (int i = 0; i < clicks; ++i) {
       EXPECT_EQ(run(env_ + "xdotool click --window " + window_ + " 5 > /dev/null 2>&1"), 0);
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      sync();
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
   }
   RgbaImage screenshot(const std::filesystem::path& shots) {
     const auto path = shots / ("parallax-screenshot-" + std::to_string(++shots_) + ".png");
@@ -262,7 +287,7 @@ class ViewerProcess {
                   " > /dev/null 2>&1"),
               0)
         << name;
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    sync();
   }
   // Waits up to `timeout` for the viewer to end; its exit status, or -1 while it runs.
   int wait(std::chrono::milliseconds timeout) { return viewer_.wait(timeout); }
@@ -277,8 +302,10 @@ class ViewerProcess {
   std::filesystem::path log_;
   std::string env_;
   Child viewer_;
+  static constexpr const char* kPauseHandled = "parallax view: key 284 handled and drawn";
   std::string window_;
   int shots_ = 0;
+  std::size_t syncs_ = 0;
 };
 
 }  // namespace parallax::test

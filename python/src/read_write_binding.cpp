@@ -1,0 +1,257 @@
+// parallax.read, parallax.read_chunks and parallax.write: the format table (io/point_file.h)
+// behind Python functions. The GIL is released for the I/O and the decoding.
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <algorithm>
+#include <set>
+
+#include "io/coordinate_system.h"
+#include "io/las_header.h"
+#include "io/point_file.h"
+#include "python_module.h"
+
+namespace py = pybind11;
+
+namespace parallax::python {
+
+namespace {
+
+bool isUrl(const std::string& path) {
+  return path.rfind("http://", 0) == 0 || path.rfind("https://", 0) == 0;
+}
+
+void refuseUrl(const std::string& path) {
+  if (isUrl(path)) {
+    throw py::value_error(path +
+                          ": point files are read from local paths; octrees (COPC, Potree 2.0) "
+                          "stream over http(s) through the command line's `convert`");
+  }
+}
+
+CloudMetadata metadataOf(const std::filesystem::path& path, const CoordinateSystem* crs) {
+  CloudMetadata metadata;
+  metadata.path = path.string();
+  const PointFormat format = detectPointFormat(path);
+  metadata.format = std::string(format.id());
+  const CoordinateSystem stated = crs ? *crs : readPointFileHeader(path).crs;
+  metadata.crs_wkt = stated.description.wkt;
+  metadata.crs_summary = stated.summary();
+  if (format == PointFormat::Las || format == PointFormat::Laz) {
+    const LasHeader header = readLasHeaderWithRecords(path);
+    metadata.las_point_format = header.point_format;
+    metadata.las_version = header.versionString();
+    metadata.vlrs = header.vlrs;
+  }
+  return metadata;
+}
+
+// Drops the columns not in `wanted` (x, y and z are always kept: positions are one column).
+void keepOnlyColumns(PointCloud& cloud, const std::vector<std::string>& wanted) {
+  const auto names = columnNames(cloud);
+  for (const auto& name : wanted) {
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+      std::string list;
+      for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+      throw py::key_error("columns: no column '" + name + "' in this file; its columns: " + list);
+    }
+  }
+  const std::set<std::string> keep(wanted.begin(), wanted.end());
+  const auto any = [&](std::initializer_list<const char*> group) {
+    return std::any_of(group.begin(), group.end(), [&](const char* n) { return keep.count(n); });
+  };
+  if (!any({"red", "green", "blue", "alpha"})) {
+    cloud.colors = {};
+    cloud.stored_colors = {};
+  }
+  if (!any({"nx", "ny", "nz"})) cloud.normals = {};
+  if (!keep.count("intensity")) cloud.intensity = {};
+  if (!keep.count("classification")) cloud.classification = {};
+  std::erase_if(cloud.scalars, [&](const ScalarColumn& c) { return !keep.count(c.name); });
+}
+
+CloudPtr read(const std::string& path, const std::optional<std::vector<std::string>>& columns,
+              const std::vector<std::string>& text_columns, bool parallel,
+              const FilterArguments& filter_arguments) {
+  refuseUrl(path);
+  const PointFilter filter = pointFilterFrom(filter_arguments);  // before any I/O
+  auto handle = std::make_shared<CloudHandle>();
+  {
+    py::gil_scoped_release release;
+    handle->cloud = readPointFile(path, {.parallel = parallel, .text_columns = text_columns});
+    if (!filter.keepsAll()) handle->cloud = filterPoints(handle->cloud, filter);
+    handle->metadata = metadataOf(path, nullptr);
+  }
+  if (columns) keepOnlyColumns(handle->cloud, *columns);
+  return handle;
+}
+
+// parallax.read_chunks: an iterator of PointClouds of at most `points` points each.
+class ChunkReader {
+ public:
+  ChunkReader(const std::string& path, std::size_t points,
+              const std::vector<std::string>& text_columns)
+      : points_(points) {
+    refuseUrl(path);
+    if (points == 0) throw py::value_error("points: expected a positive number of points a chunk");
+    py::gil_scoped_release release;
+    source_ = openPointChunks(path, {.text_columns = text_columns});
+    metadata_ = metadataOf(path, &source_->crs());
+  }
+
+  CloudPtr next() {
+    auto handle = std::make_shared<CloudHandle>();
+    bool more = false;
+    {
+      py::gil_scoped_release release;
+      more = source_->next(handle->cloud, points_);
+    }
+    if (!more) throw py::stop_iteration();
+    handle->metadata = metadata_;
+    return handle;
+  }
+
+  std::uint64_t pointCount() const { return source_->pointCount(); }
+  const Quantization& quantization() const { return source_->quantization(); }
+
+ private:
+  std::unique_ptr<PointChunkSource> source_;
+  CloudMetadata metadata_;
+  std::size_t points_;
+};
+
+PcdData pcdDataOf(const std::string& name) {
+  if (name == "binary") return PcdData::Binary;
+  if (name == "ascii") return PcdData::Ascii;
+  if (name == "binary_compressed") return PcdData::BinaryCompressed;
+  throw py::value_error(
+      "pcd_data: expected \"binary\", \"ascii\" or \"binary_compressed\", found '" + name + "'");
+}
+
+int lasMinorOf(const std::optional<std::string>& version) {
+  if (!version) return 0;
+  if (*version == "1.2") return 2;
+  if (*version == "1.3") return 3;
+  if (*version == "1.4") return 4;
+  throw py::value_error("las_version: expected \"1.2\", \"1.3\" or \"1.4\", found '" + *version +
+                        "'");
+}
+
+void write(const std::filesystem::path& path, const py::object& points, bool ascii,
+           const std::optional<std::string>& las_version, int point_format,
+           std::uint32_t laz_chunk_points, const std::string& pcd_data,
+           const std::vector<std::string>& properties,
+           const std::optional<std::array<double, 3>>& scale,
+           const std::optional<std::array<double, 3>>& offset) {
+  PointWriteOptions options{.ply_ascii = ascii,
+                            .las_minor_version = lasMinorOf(las_version),
+                            .las_point_format = point_format,
+                            .laz_chunk_points = laz_chunk_points,
+                            .pcd_data = pcdDataOf(pcd_data),
+                            .properties = properties};
+  // A cloud read from a file is written as it is (no copy), keeping a LAS source's header, VLRs
+  // and records as `parallax convert` does; a dict of arrays becomes a cloud first.
+  CloudPtr owner;
+  PointCloud built;
+  const PointCloud* cloud = nullptr;
+  if (py::isinstance<CloudHandle>(points)) {
+    owner = points.cast<CloudPtr>();
+    cloud = &owner->cloud;
+    options.source = owner->metadata.path;
+    if (scale || offset) {
+      throw py::value_error("scale, offset: only for a dict of arrays; a PointCloud keeps its own");
+    }
+  } else if (py::isinstance<py::dict>(points)) {
+    built = cloudFromArrays(points.cast<py::dict>(), scale, offset);
+    cloud = &built;
+  } else {
+    throw py::type_error("write: expected a parallax.PointCloud or a dict of numpy arrays, found " +
+                         std::string(py::str(points.get_type())));
+  }
+  if (point_format < -1 || point_format > 10) {
+    throw py::value_error("point_format: expected a LAS point format 0-10, found " +
+                          std::to_string(point_format));
+  }
+  std::vector<std::string> losses;
+  {
+    py::gil_scoped_release release;
+    losses = describeWriteLosses(*cloud, path, options);
+    writePointFile(*cloud, path, options);
+  }
+  // What the output has no place for, as the command line reports it.
+  for (const auto& loss : losses) {
+    PyErr_WarnEx(PyExc_UserWarning, (path.string() + ": not kept: " + loss).c_str(), 1);
+  }
+}
+
+}  // namespace
+
+void bindReadWrite(py::module_& m) {
+  m.def(
+      "read",
+      [](const std::string& path, const std::optional<std::vector<std::string>>& columns,
+         const std::vector<std::string>& text_columns, bool parallel, const py::object& classes,
+         const py::object& returns, const py::object& intensity, const py::object& elevation,
+         const py::object& gps_time, const py::object& clip_box, const py::object& clip_polygon,
+         const std::string& clip_mode) {
+        return read(
+            path, columns, text_columns, parallel,
+            {classes, returns, intensity, elevation, gps_time, clip_box, clip_polygon, clip_mode});
+      },
+      py::arg("path"), py::arg("columns") = py::none(), py::kw_only(),
+      py::arg("text_columns") = std::vector<std::string>{}, py::arg("parallel") = true,
+      py::arg("classes") = py::none(), py::arg("returns") = py::none(),
+      py::arg("intensity") = py::none(), py::arg("elevation") = py::none(),
+      py::arg("gps_time") = py::none(), py::arg("clip_box") = py::none(),
+      py::arg("clip_polygon") = py::none(), py::arg("clip_mode") = "inside",
+      R"doc(Reads a whole point file of any format Parallax reads (detected by content).
+
+columns: the column names to keep (x, y, z always are); None keeps all.
+text_columns: text files only, the columns' names ("x", "y", "z", "_" to skip one).
+classes, returns, intensity, elevation, gps_time, clip_box, clip_polygon, clip_mode: the
+command line's filters (classes=[2, 6], returns=["first"], intensity=(0, 200),
+clip_box=(xmin, ymin, zmin, xmax, ymax, zmax), clip_polygon=[(x, y), ...]).
+Raises parallax.InputError (a ValueError) for a malformed or unreadable file.)doc");
+
+  py::class_<ChunkReader>(m, "ChunkReader", "An iterator of PointClouds read in chunks")
+      .def("__iter__", [](ChunkReader& reader) -> ChunkReader& { return reader; })
+      .def("__next__", &ChunkReader::next)
+      .def_property_readonly("point_count", &ChunkReader::pointCount)
+      .def_property_readonly("scale",
+                             [](const ChunkReader& reader) {
+                               const auto& s = reader.quantization().scale;
+                               return py::make_tuple(s[0], s[1], s[2]);
+                             })
+      .def_property_readonly("offset", [](const ChunkReader& reader) {
+        const auto& o = reader.quantization().offset;
+        return py::make_tuple(o[0], o[1], o[2]);
+      });
+  m.def(
+      "read_chunks",
+      [](const std::string& path, std::size_t points,
+         const std::vector<std::string>& text_columns) {
+        return std::make_unique<ChunkReader>(path, points, text_columns);
+      },
+      py::arg("path"), py::kw_only(), py::arg("points") = 1'000'000,
+      py::arg("text_columns") = std::vector<std::string>{},
+      "The points of a file of any size in PointClouds of at most `points` points, in file order "
+      "(the format table's chunk source: memory stays bounded by the chunk)");
+
+  m.def(
+      "write", &write, py::arg("path"), py::arg("points"), py::kw_only(), py::arg("ascii") = false,
+      py::arg("las_version") = py::none(), py::arg("point_format") = -1,
+      py::arg("laz_chunk_points") = 50000, py::arg("pcd_data") = "binary",
+      py::arg("properties") = std::vector<std::string>{}, py::arg("scale") = py::none(),
+      py::arg("offset") = py::none(),
+      R"doc(Writes a PointCloud, or a dict of numpy arrays (x, y, z in world coordinates required),
+in the format of the path's extension (.ply .las .laz .xyz/.txt/.csv .pcd .e57 .ptx ...).
+
+A PointCloud read from a LAS or LAZ file keeps its header fields, VLRs and point format, as
+`parallax convert` does. ascii: PLY or PCD text. las_version ("1.2", "1.3", "1.4") and
+point_format (0-10): LAS and LAZ. properties: PLY and text, the columns in this order.
+scale, offset: a dict's position grid (default: the finest that holds its bounds).
+The file appears under its name only when complete. Attributes the format has no place for are
+reported with a UserWarning.)doc");
+}
+
+}  // namespace parallax::python
