@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <ctime>
 #include <sstream>
 
 #include "core/byte_order.h"
@@ -455,6 +456,72 @@ LasHeader readLasHeaderWithRecords(const std::filesystem::path& path) {
     }
   }
   return header;
+}
+
+std::size_t lasHeaderSizeFor(int minor_version) {
+  return minor_version >= 4   ? kLasHeaderSize14
+         : minor_version == 3 ? kLasHeaderSize13
+                              : kLasHeaderSize12;
+}
+
+void stampGeneratedBy(LasHeader& header) {
+  header.system_identifier = "OTHER";
+  header.generating_software = "Parallax";
+  std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  header.creation_day = std::uint16_t(utc.tm_yday + 1);
+  header.creation_year = std::uint16_t(utc.tm_year + 1900);
+}
+
+std::vector<std::byte> encodeLasHeader(const LasHeader& header, bool compressed) {
+  const std::size_t size = lasHeaderSizeFor(header.version_minor);
+  std::vector<std::byte> bytes(size);
+  std::byte* h = bytes.data();
+  auto text = [](std::byte* to, const std::string& s) {
+    std::memcpy(to, s.data(), std::min<std::size_t>(32, s.size()));
+  };
+  std::memcpy(h, "LASF", 4);
+  storeLE(h + 4, header.file_source_id);
+  storeLE(h + 6, header.global_encoding);
+  std::memcpy(h + 8, header.guid.data(), header.guid.size());
+  h[24] = std::byte(header.version_major);
+  h[25] = std::byte(header.version_minor);
+  text(h + 26, header.system_identifier);
+  text(h + 58, header.generating_software);
+  storeLE(h + 90, header.creation_day);
+  storeLE(h + 92, header.creation_year);
+  storeLE(h + 94, std::uint16_t(size));
+  storeLE(h + 96, header.point_data_offset);
+  storeLE(h + 100, header.vlr_count);
+  // LAZ: LASzip's bit 7 says the points are compressed (the laszip VLR says how).
+  h[104] = std::byte(header.point_format | (compressed ? 0x80 : 0));
+  storeLE(h + 105, header.record_length);
+  // Legacy counts are zero for formats 6-10 (R15 2.4) and when they would overflow.
+  const bool legacy = header.point_format < 6 && header.point_count <= UINT32_MAX;
+  storeLE(h + 107, std::uint32_t(legacy ? header.point_count : 0));
+  for (std::size_t r = 0; r < 5; ++r) {
+    storeLE(h + 111 + 4 * r, std::uint32_t(legacy ? header.points_by_return[r] : 0));
+  }
+  const Quantization& q = header.quantization;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    storeLE(h + 131 + 8 * axis, q.scale[axis]);
+    storeLE(h + 155 + 8 * axis, q.offset[axis]);
+  }
+  if (header.point_count > 0) {
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      storeLE(h + 179 + 16 * axis, header.bounds.max[axis]);
+      storeLE(h + 187 + 16 * axis, header.bounds.min[axis]);
+    }
+  }
+  if (header.version_minor >= 3) storeLE(h + 227, header.waveform_offset);
+  if (header.version_minor >= 4) {
+    storeLE(h + 235, header.evlr_offset);
+    storeLE(h + 243, header.evlr_count);
+    storeLE(h + 247, header.point_count);
+    for (std::size_t r = 0; r < 15; ++r) storeLE(h + 255 + 8 * r, header.points_by_return[r]);
+  }
+  return bytes;
 }
 
 std::string describeLasHeader(const LasHeader& header) {

@@ -201,6 +201,24 @@ LasHeader readLasHeader(const std::filesystem::path& path);
 // waveform data among them, in the file): what a LAS or LAZ writer carries over.
 LasHeader readLasHeaderWithRecords(const std::filesystem::path& path);
 
+// The public header block of `header` for its version 1.0-1.4 (LAS 1.4 R15 Table 3; 1.0-1.2
+// are its first 227 bytes, 1.3 its first 235), the one encoding every LAS, LAZ and COPC writer
+// uses. Written as given: version, file source ID, global encoding, GUID, system identifier and
+// generating software (at most 32 bytes each), creation date, point data offset, VLR count,
+// point format (with LASzip's bit 7 when `compressed`), record length, scale and offset, the
+// 1.3 waveform offset and 1.4's EVLR offset and count. The header size is the version's
+// standard one. The legacy 32-bit counts hold the point count and returns 1-5 for formats 0-5
+// while the count fits (zero otherwise, R15 2.4); 1.4's 64-bit ones always. The bounds are
+// written only when there are points (zero otherwise).
+std::vector<std::byte> encodeLasHeader(const LasHeader& header, bool compressed);
+
+// The header's size for LAS 1.`minor_version`: 227 (1.0-1.2), 235 (1.3), 375 (1.4).
+std::size_t lasHeaderSizeFor(int minor_version);
+
+// Sets what a file Parallax generated (not carried from a source) states about its origin:
+// system identifier "OTHER" (R15 Table 4), generating software "Parallax", today's date (UTC).
+void stampGeneratedBy(LasHeader& header);
+
 // A few lines for `parallax info`: version, point format and record length, point count,
 // scale/offset, header bounds, CRS, extra bytes, generating software.
 std::string describeLasHeader(const LasHeader& header);

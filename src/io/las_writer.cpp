@@ -8,7 +8,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
-#include <ctime>
 #include <mutex>
 
 #include "core/byte_order.h"
@@ -701,9 +700,7 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
   const Layout layout = makeLayout(cloud, options);
   const LasWritePlan& plan = layout.plan;
   const bool v14 = plan.minor_version == 4;
-  const std::size_t header_size = v14                       ? kLasHeaderSize14
-                                  : plan.minor_version == 3 ? kLasHeaderSize13
-                                                            : kLasHeaderSize12;
+  const std::size_t header_size = lasHeaderSizeFor(plan.minor_version);
   const LasHeader* src = options.source.get();
 
   // The source's VLRs in their order (its extra bytes description where it was), then the
@@ -757,8 +754,8 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
   for (const auto& vlr : vlrs) point_data_offset += vlr.size();
 
   OutputFile out(path);
-  std::vector<std::byte> header(header_size);
-  out.write(header.data(), header.size());  // rewritten at the end with counts and bounds
+  const std::vector<std::byte> placeholder(header_size);
+  out.write(placeholder.data(), placeholder.size());  // rewritten at the end: counts and bounds
   for (const auto& vlr : vlrs) out.write(vlr.data(), vlr.size());
 
   const std::size_t count = cloud.count;
@@ -818,10 +815,10 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
     if (!vlr->data.empty()) out.write(vlr->data.data(), vlr->data.size());
   }
 
-  // The public header block (LAS 1.4 R15 Table 3; 1.2 is its first 227 bytes).
-  std::byte* h = header.data();
-  std::memcpy(h, "LASF", 4);
-  storeLE(h + 4, src ? src->file_source_id : options.file_source_id);
+  // The public header block.
+  LasHeader fields;
+  fields.version_minor = std::uint8_t(plan.minor_version);
+  fields.file_source_id = src ? src->file_source_id : options.file_source_id;
   std::uint16_t encoding = options.gps_time_standard.value_or(false) ? 1 : 0;
   if (src) {
     // The source's bits, but the WKT bit, which belongs to 1.4 and is set below when due.
@@ -834,57 +831,31 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
   if (v14 && (plan.point_format >= 6 || has_wkt || (src && (src->global_encoding & 16)))) {
     encoding |= 16;
   }
-  storeLE(h + 6, encoding);
-  h[24] = std::byte(1);
-  h[25] = std::byte(plan.minor_version);
+  fields.global_encoding = encoding;
   if (src) {
-    std::memcpy(h + 8, src->guid.data(), src->guid.size());
-    std::memcpy(h + 26, src->system_identifier.data(),
-                std::min<std::size_t>(32, src->system_identifier.size()));
-    std::memcpy(h + 58, src->generating_software.data(),
-                std::min<std::size_t>(32, src->generating_software.size()));
-    storeLE(h + 90, src->creation_day);
-    storeLE(h + 92, src->creation_year);
+    fields.guid = src->guid;
+    fields.system_identifier = src->system_identifier;
+    fields.generating_software = src->generating_software;
+    fields.creation_day = src->creation_day;
+    fields.creation_year = src->creation_year;
   } else {
-    std::memcpy(h + 26, "OTHER", 5);  // R15 Table 4: the system identifier of generated data
-    std::memcpy(h + 58, "Parallax", 8);
-    std::time_t now = std::time(nullptr);
-    std::tm utc{};
-    gmtime_r(&now, &utc);
-    storeLE(h + 90, std::uint16_t(utc.tm_yday + 1));
-    storeLE(h + 92, std::uint16_t(utc.tm_year + 1900));
+    stampGeneratedBy(fields);
   }
-  storeLE(h + 94, std::uint16_t(header_size));
-  storeLE(h + 96, std::uint32_t(point_data_offset));
-  storeLE(h + 100, std::uint32_t(vlrs.size()));
-  // LAZ: LASzip's bit 7 says the points are compressed (the laszip VLR says how).
-  h[104] = std::byte(plan.point_format | (compress ? 0x80 : 0));
-  storeLE(h + 105, std::uint16_t(stride));
-  // Legacy counts are zero for formats 6-10 (R15 2.4) and when they would overflow.
-  bool legacy = plan.point_format < 6 && count <= UINT32_MAX;
-  storeLE(h + 107, std::uint32_t(legacy ? count : 0));
-  for (int r = 0; r < 5; ++r) {
-    storeLE(h + 111 + 4 * r, std::uint32_t(legacy ? total.by_return[std::size_t(r + 1)] : 0));
-  }
+  fields.point_data_offset = std::uint32_t(point_data_offset);
+  fields.vlr_count = std::uint32_t(vlrs.size());
+  fields.point_format = plan.point_format;
+  fields.record_length = std::uint16_t(stride);
+  fields.point_count = count;
+  for (std::size_t r = 0; r < 15; ++r) fields.points_by_return[r] = total.by_return[r + 1];
   const Quantization& q = cloud.quantization;
-  for (int axis = 0; axis < 3; ++axis) {
-    storeLE(h + 131 + 8 * axis, q.scale[std::size_t(axis)]);
-    storeLE(h + 155 + 8 * axis, q.offset[std::size_t(axis)]);
-  }
-  if (count > 0) {
-    storeLE(h + 179, q.toWorld(0, total.hi.x));
-    storeLE(h + 187, q.toWorld(0, total.lo.x));
-    storeLE(h + 195, q.toWorld(1, total.hi.y));
-    storeLE(h + 203, q.toWorld(1, total.lo.y));
-    storeLE(h + 211, q.toWorld(2, total.hi.z));
-    storeLE(h + 219, q.toWorld(2, total.lo.z));
-  }
-  if (v14) {
-    storeLE(h + 235, evlr_offset);
-    storeLE(h + 243, std::uint32_t(evlrs.size()));
-    storeLE(h + 247, std::uint64_t(count));
-    for (int r = 0; r < 15; ++r) storeLE(h + 255 + 8 * r, total.by_return[std::size_t(r + 1)]);
-  }
+  fields.quantization = q;
+  fields.bounds.min = {q.toWorld(0, total.lo.x), q.toWorld(1, total.lo.y),
+                       q.toWorld(2, total.lo.z)};
+  fields.bounds.max = {q.toWorld(0, total.hi.x), q.toWorld(1, total.hi.y),
+                       q.toWorld(2, total.hi.z)};
+  fields.evlr_offset = evlr_offset;
+  fields.evlr_count = std::uint32_t(evlrs.size());
+  const std::vector<std::byte> header = encodeLasHeader(fields, compress);
   out.writeAt(0, header.data(), header.size());
   out.commit();
 }

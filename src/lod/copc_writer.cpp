@@ -6,7 +6,6 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <ctime>
 #include <limits>
 #include <stdexcept>
 
@@ -194,8 +193,8 @@ CopcWriteResult writeCopc(Octree& octree, const std::filesystem::path& path,
   for (const auto& vlr : vlrs) point_data_offset += vlr.size();
 
   OutputFile out(path);
-  std::vector<std::byte> header(kLasHeaderSize14);
-  out.write(header.data(), header.size());  // rewritten at the end
+  const std::vector<std::byte> placeholder(kLasHeaderSize14);
+  out.write(placeholder.data(), placeholder.size());  // rewritten at the end
   for (const auto& vlr : vlrs) out.write(vlr.data(), vlr.size());
   const std::int64_t table_placeholder = -1;
   out.write(&table_placeholder, 8);
@@ -318,41 +317,26 @@ CopcWriteResult writeCopc(Octree& octree, const std::filesystem::path& path,
   storeLE(table_at.data(), std::int64_t(table_offset));
   out.writeAt(point_data_offset, table_at.data(), table_at.size());
 
-  // The LAS 1.4 header (R15 Table 3).
-  std::byte* h = header.data();
-  std::memcpy(h, "LASF", 4);
-  storeLE(h + 6, std::uint16_t((options.gps_time_standard.value_or(false) ? 1 : 0) | 16));
-  h[24] = std::byte(1);
-  h[25] = std::byte(4);
-  std::memcpy(h + 26, "OTHER", 5);
-  std::memcpy(h + 58, "Parallax", 8);
-  std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  storeLE(h + 90, std::uint16_t(utc.tm_yday + 1));
-  storeLE(h + 92, std::uint16_t(utc.tm_year + 1900));
-  storeLE(h + 94, std::uint16_t(kLasHeaderSize14));
-  storeLE(h + 96, std::uint32_t(point_data_offset));
-  storeLE(h + 100, std::uint32_t(vlrs.size()));
-  h[104] = std::byte(plan.point_format | 0x80);  // LASzip's compression bit
-  storeLE(h + 105, std::uint16_t(plan.record_length));
+  // The LAS 1.4 header.
+  LasHeader fields;
+  fields.version_minor = 4;
+  fields.global_encoding = std::uint16_t((options.gps_time_standard.value_or(false) ? 1 : 0) | 16);
+  stampGeneratedBy(fields);
+  fields.point_data_offset = std::uint32_t(point_data_offset);
+  fields.vlr_count = std::uint32_t(vlrs.size());
+  fields.point_format = plan.point_format;
+  fields.record_length = std::uint16_t(plan.record_length);
+  fields.point_count = result.points;
+  for (std::size_t r = 0; r < 15; ++r) fields.points_by_return[r] = total.by_return[r + 1];
   const Quantization& q = info.quantization;
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    storeLE(h + 131 + 8 * axis, q.scale[axis]);
-    storeLE(h + 155 + 8 * axis, q.offset[axis]);
-  }
-  if (result.points > 0) {
-    storeLE(h + 179, q.toWorld(0, total.hi.x));
-    storeLE(h + 187, q.toWorld(0, total.lo.x));
-    storeLE(h + 195, q.toWorld(1, total.hi.y));
-    storeLE(h + 203, q.toWorld(1, total.lo.y));
-    storeLE(h + 211, q.toWorld(2, total.hi.z));
-    storeLE(h + 219, q.toWorld(2, total.lo.z));
-  }
-  storeLE(h + 235, evlr_offset);
-  storeLE(h + 243, std::uint32_t(1));
-  storeLE(h + 247, result.points);
-  for (std::size_t r = 0; r < 15; ++r) storeLE(h + 255 + 8 * r, total.by_return[r + 1]);
+  fields.quantization = q;
+  fields.bounds.min = {q.toWorld(0, total.lo.x), q.toWorld(1, total.lo.y),
+                       q.toWorld(2, total.lo.z)};
+  fields.bounds.max = {q.toWorld(0, total.hi.x), q.toWorld(1, total.hi.y),
+                       q.toWorld(2, total.hi.z)};
+  fields.evlr_offset = evlr_offset;
+  fields.evlr_count = 1;                                                // the hierarchy
+  const std::vector<std::byte> header = encodeLasHeader(fields, true);  // LASzip-compressed
   out.writeAt(0, header.data(), header.size());
   out.commit();
 

@@ -7,6 +7,8 @@
 #include <iterator>
 #include <memory>
 
+#include "core/byte_order.h"
+#include "io/las_header.h"
 #include "io/las_reader.h"
 #include "io/ply_reader.h"
 #include "io/ply_writer.h"
@@ -309,6 +311,93 @@ TEST(LasWriter, TextToLasKeepsTheDecimalValues) {
   EXPECT_NEAR(las.worldX(0), 512345.678, 1e-9);
   EXPECT_NEAR(las.worldZ(1), -0.05, 1e-12);
   EXPECT_EQ(las.colors[1], (Rgba8{255, 0, 128, 255}));
+}
+
+}  // namespace
+}  // namespace parallax
+
+namespace parallax {
+namespace {
+
+// encodeLasHeader, the one header encoder of the LAS, LAZ and COPC writers: every field it writes
+// read back by parseLasHeader, for each version, with the byte offsets of R15 Table 3.
+TEST(LasHeaderEncoder, WritesEveryVersionsFieldsWhereTheReaderFindsThem) {
+  for (const int minor : {0, 1, 2, 3, 4}) {
+    SCOPED_TRACE("LAS 1." + std::to_string(minor));
+    LasHeader in;
+    in.version_minor = std::uint8_t(minor);
+    in.file_source_id = 513;
+    in.global_encoding = minor == 4 ? 17 : 1;
+    for (std::size_t i = 0; i < in.guid.size(); ++i) in.guid[i] = std::byte(i + 1);
+    in.system_identifier = "a system identifier over thirty-two bytes long";
+    in.generating_software = "tests";
+    in.creation_day = 45;
+    in.creation_year = 2026;
+    in.point_format = minor == 4 ? 6 : 1;
+    in.record_length = std::uint16_t(lasPointFormatSize(in.point_format));
+    in.point_data_offset = std::uint32_t(lasHeaderSizeFor(minor));
+    in.point_count = 0;
+    in.quantization.scale = {0.01, 0.001, 0.5};
+    in.quantization.offset = {100.0, -200.0, 3.0};
+    const std::vector<std::byte> bytes = encodeLasHeader(in, false);
+    ASSERT_EQ(bytes.size(), minor == 4 ? 375u : minor == 3 ? 235u : 227u);
+    const LasHeader out = parseLasHeader(bytes, "encoded.las");
+    EXPECT_EQ(out.version_minor, minor);
+    EXPECT_EQ(out.file_source_id, 513);
+    EXPECT_EQ(out.global_encoding, in.global_encoding);
+    EXPECT_EQ(out.guid, in.guid);
+    EXPECT_EQ(out.system_identifier, "a system identifier over thirty-");  // 32 bytes kept
+    EXPECT_EQ(out.generating_software, "tests");
+    EXPECT_EQ(out.creation_day, 45);
+    EXPECT_EQ(out.creation_year, 2026);
+    EXPECT_EQ(out.header_size, bytes.size());
+    EXPECT_EQ(out.point_format, in.point_format);
+    EXPECT_EQ(out.record_length, in.record_length);
+    EXPECT_EQ(out.point_count, 0u);
+    EXPECT_EQ(out.quantization.scale, in.quantization.scale);
+    EXPECT_EQ(out.quantization.offset, in.quantization.offset);
+  }
+}
+
+// The counts and bounds: legacy counts for formats 0-5 only, 1.4's 64-bit ones, max before min.
+TEST(LasHeaderEncoder, WritesCountsAndBoundsAtTheirOffsets) {
+  LasHeader in;
+  in.version_minor = 4;
+  in.point_format = 3;
+  in.record_length = 34;
+  in.point_count = 7;
+  for (std::size_t r = 0; r < 15; ++r) in.points_by_return[r] = r + 1;
+  in.bounds.min = {1.5, 2.5, 3.5};
+  in.bounds.max = {4.5, 5.5, 6.5};
+  in.evlr_offset = 1234;
+  in.evlr_count = 2;
+  std::vector<std::byte> bytes = encodeLasHeader(in, true);
+  EXPECT_EQ(std::to_integer<int>(bytes[104]), 3 | 0x80);  // LASzip's bit
+  EXPECT_EQ(loadLE<std::uint32_t>(bytes.data() + 107), 7u);
+  for (std::size_t r = 0; r < 5; ++r) {
+    EXPECT_EQ(loadLE<std::uint32_t>(bytes.data() + 111 + 4 * r), r + 1);
+  }
+  const double expected_bounds[] = {4.5, 1.5, 5.5, 2.5, 6.5, 3.5};
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_EQ(loadLE<double>(bytes.data() + 179 + 8 * i), expected_bounds[i]);
+  }
+  EXPECT_EQ(loadLE<std::uint64_t>(bytes.data() + 235), 1234u);
+  EXPECT_EQ(loadLE<std::uint32_t>(bytes.data() + 243), 2u);
+  EXPECT_EQ(loadLE<std::uint64_t>(bytes.data() + 247), 7u);
+  for (std::size_t r = 0; r < 15; ++r) {
+    EXPECT_EQ(loadLE<std::uint64_t>(bytes.data() + 255 + 8 * r), r + 1);
+  }
+  // Formats 6-10: the legacy counts are zero (R15 2.4).
+  in.point_format = 6;
+  bytes = encodeLasHeader(in, false);
+  EXPECT_EQ(std::to_integer<int>(bytes[104]), 6);
+  EXPECT_EQ(loadLE<std::uint32_t>(bytes.data() + 107), 0u);
+  EXPECT_EQ(loadLE<std::uint32_t>(bytes.data() + 111), 0u);
+  EXPECT_EQ(loadLE<std::uint64_t>(bytes.data() + 247), 7u);
+  // No points: the bounds stay zero.
+  in.point_count = 0;
+  bytes = encodeLasHeader(in, false);
+  for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(loadLE<double>(bytes.data() + 179 + 8 * i), 0.0);
 }
 
 }  // namespace
