@@ -11,6 +11,8 @@
 #include <unordered_set>
 #include <utility>
 
+#include "core/morton.h"
+
 namespace parallax {
 
 namespace {
@@ -112,21 +114,12 @@ std::vector<std::uint32_t> spatialOrder(std::span<const GridPoint> points) {
   }
   double scale[3];
   for (int a = 0; a < 3; ++a) scale[a] = hi[a] > lo[a] ? 2097151.0 / (hi[a] - lo[a]) : 0.0;
-  auto spread = [](std::uint64_t v) {  // 21 bits to every third of 63
-    v &= 0x1fffff;
-    v = (v | v << 32) & 0x1f00000000ffffULL;
-    v = (v | v << 16) & 0x1f0000ff0000ffULL;
-    v = (v | v << 8) & 0x100f00f00f00f00fULL;
-    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-    v = (v | v << 2) & 0x1249249249249249ULL;
-    return v;
-  };
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     std::uint64_t key = 0;
     for (int a = 0; a < 3; ++a) {
       const double cell = ((&points[i].x)[a] - lo[a]) * scale[a];
-      key |= spread(std::uint64_t(std::clamp(cell, 0.0, 2097151.0))) << a;
+      key |= spreadBits21(std::uint64_t(std::clamp(cell, 0.0, 2097151.0))) << a;
     }
     keyed[i] = {key, std::uint32_t(i)};
   }
