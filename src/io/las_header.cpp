@@ -474,6 +474,22 @@ void stampGeneratedBy(LasHeader& header) {
   header.creation_year = std::uint16_t(utc.tm_year + 1900);
 }
 
+void LasPointTotals::merge(const LasPointTotals& other) {
+  lo = {std::min(lo.x, other.lo.x), std::min(lo.y, other.lo.y), std::min(lo.z, other.lo.z)};
+  hi = {std::max(hi.x, other.hi.x), std::max(hi.y, other.hi.y), std::max(hi.z, other.hi.z)};
+  for (std::size_t r = 0; r < by_return.size(); ++r) by_return[r] += other.by_return[r];
+}
+
+void LasPointTotals::writeTo(LasHeader& header, std::uint64_t point_count) const {
+  header.point_count = point_count;
+  for (std::size_t r = 0; r < header.points_by_return.size(); ++r) {
+    header.points_by_return[r] = by_return[r + 1];
+  }
+  const Quantization& q = header.quantization;
+  header.bounds.min = {q.toWorld(0, lo.x), q.toWorld(1, lo.y), q.toWorld(2, lo.z)};
+  header.bounds.max = {q.toWorld(0, hi.x), q.toWorld(1, hi.y), q.toWorld(2, hi.z)};
+}
+
 std::vector<std::byte> encodeLasHeader(const LasHeader& header, bool compressed) {
   const std::size_t size = lasHeaderSizeFor(header.version_minor);
   std::vector<std::byte> bytes(size);

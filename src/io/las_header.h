@@ -6,6 +6,7 @@
 // All multi-byte values in a LAS file are little endian; this code assumes a little-endian host.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "core/bounds.h"
+#include "core/point_cloud.h"
 #include "core/quantization.h"
 #include "core/scalar_type.h"
 #include "io/laz/chunk_codec.h"
@@ -218,6 +220,25 @@ std::size_t lasHeaderSizeFor(int minor_version);
 // Sets what a file Parallax generated (not carried from a source) states about its origin:
 // system identifier "OTHER" (R15 Table 4), generating software "Parallax", today's date (UTC).
 void stampGeneratedBy(LasHeader& header);
+
+// What a LAS header states of the points it heads, gathered while their records are written:
+// the quantized bounds and the count by return number. Each block of records gathers its own
+// (on any thread) and the blocks are merged in order; both writers of LAS headers (the LAS/LAZ
+// writer and the COPC writer) use it.
+struct LasPointTotals {
+  Int3 lo{INT32_MAX, INT32_MAX, INT32_MAX};
+  Int3 hi{INT32_MIN, INT32_MIN, INT32_MIN};
+  std::array<std::uint64_t, 16> by_return{};  // indexed by return number, 0-15
+
+  void addPosition(const Int3& p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  void merge(const LasPointTotals& other);
+  // Sets the header's point count, counts by return (returns 1-15) and bounds, in world units
+  // through `header.quantization`, which must already be the file's.
+  void writeTo(LasHeader& header, std::uint64_t point_count) const;
+};
 
 // A few lines for `parallax info`: version, point format and record length, point count,
 // scale/offset, header bounds, CRS, extra bytes, generating software.

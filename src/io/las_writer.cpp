@@ -544,14 +544,8 @@ T clampRound(double v) {
   }
 }
 
-struct BlockStats {
-  Int3 lo{INT32_MAX, INT32_MAX, INT32_MAX};
-  Int3 hi{INT32_MIN, INT32_MIN, INT32_MIN};
-  std::array<std::uint64_t, 16> by_return{};
-};
-
 void encodeBlock(const PointCloud& cloud, const Layout& layout, std::size_t first, std::size_t n,
-                 std::byte* out, BlockStats& stats) {
+                 std::byte* out, LasPointTotals& stats) {
   const std::size_t stride = layout.plan.record_length;
   std::memset(out, 0, n * stride);
   std::vector<double> values(n);
@@ -559,8 +553,7 @@ void encodeBlock(const PointCloud& cloud, const Layout& layout, std::size_t firs
   for (std::size_t i = 0; i < n; ++i) {
     const Int3& p = positions[i];
     std::memcpy(out + i * stride, &p, 12);
-    stats.lo = {std::min(stats.lo.x, p.x), std::min(stats.lo.y, p.y), std::min(stats.lo.z, p.z)};
-    stats.hi = {std::max(stats.hi.x, p.x), std::max(stats.hi.y, p.y), std::max(stats.hi.z, p.z)};
+    stats.addPosition(p);
   }
   if (cloud.hasIntensity()) {
     const float* intensity = cloud.intensity.data() + first;
@@ -684,7 +677,7 @@ LasWritePlan planLasWrite(const PointCloud& cloud, const LasWriteOptions& option
 LasWritePlan encodeLasRecords(const PointCloud& cloud, const LasWriteOptions& options,
                               std::byte* out) {
   const Layout layout = makeLayout(cloud, options);
-  BlockStats stats;
+  LasPointTotals stats;
   if (cloud.count > 0) encodeBlock(cloud, layout, 0, std::size_t(cloud.count), out, stats);
   return layout.plan;
 }
@@ -760,24 +753,17 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
 
   const std::size_t count = cloud.count;
   const std::size_t stride = plan.record_length;
-  BlockStats total;
-  auto addStats = [&total](const BlockStats& s) {
-    total.lo = {std::min(total.lo.x, s.lo.x), std::min(total.lo.y, s.lo.y),
-                std::min(total.lo.z, s.lo.z)};
-    total.hi = {std::max(total.hi.x, s.hi.x), std::max(total.hi.y, s.hi.y),
-                std::max(total.hi.z, s.hi.z)};
-    for (std::size_t r = 0; r < 16; ++r) total.by_return[r] += s.by_return[r];
-  };
+  LasPointTotals total;
   std::uint64_t end = point_data_offset + std::uint64_t(count) * stride;
   if (compress) {
     std::mutex stats_mutex;
     end = writeLazPointData(
         out, point_data_offset, laszip, count,
         [&](std::uint64_t first, std::size_t n, std::byte* records) {
-          BlockStats stats;
+          LasPointTotals stats;
           encodeBlock(cloud, layout, std::size_t(first), n, records, stats);
           const std::lock_guard lock(stats_mutex);
-          addStats(stats);
+          total.merge(stats);
         },
         options.progress);
   } else {
@@ -785,19 +771,19 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
     constexpr std::size_t kBlock = 1 << 16;
     constexpr std::size_t kBatch = 8;
     std::vector<std::vector<std::byte>> buffers(kBatch);
-    std::vector<BlockStats> stats(kBatch);
+    std::vector<LasPointTotals> stats(kBatch);
     for (std::size_t batch = 0; batch < count; batch += kBlock * kBatch) {
       std::size_t blocks = std::min(kBatch, (count - batch + kBlock - 1) / kBlock);
       tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
         std::size_t first = batch + b * kBlock;
         std::size_t n = std::min(kBlock, count - first);
         buffers[b].resize(n * stride);
-        stats[b] = BlockStats{};
+        stats[b] = LasPointTotals{};
         encodeBlock(cloud, layout, first, n, buffers[b].data(), stats[b]);
       });
       for (std::size_t b = 0; b < blocks; ++b) {
         out.write(buffers[b].data(), buffers[b].size());
-        addStats(stats[b]);
+        total.merge(stats[b]);
         if (options.progress) options.progress->advance(buffers[b].size() / stride);
       }
     }
@@ -845,14 +831,8 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
   fields.vlr_count = std::uint32_t(vlrs.size());
   fields.point_format = plan.point_format;
   fields.record_length = std::uint16_t(stride);
-  fields.point_count = count;
-  for (std::size_t r = 0; r < 15; ++r) fields.points_by_return[r] = total.by_return[r + 1];
-  const Quantization& q = cloud.quantization;
-  fields.quantization = q;
-  fields.bounds.min = {q.toWorld(0, total.lo.x), q.toWorld(1, total.lo.y),
-                       q.toWorld(2, total.lo.z)};
-  fields.bounds.max = {q.toWorld(0, total.hi.x), q.toWorld(1, total.hi.y),
-                       q.toWorld(2, total.hi.z)};
+  fields.quantization = cloud.quantization;
+  total.writeTo(fields, count);
   fields.evlr_offset = evlr_offset;
   fields.evlr_count = std::uint32_t(evlrs.size());
   const std::vector<std::byte> header = encodeLasHeader(fields, compress);

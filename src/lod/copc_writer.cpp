@@ -39,11 +39,9 @@ std::vector<std::byte> vlrBytes(const std::string& user_id, std::uint16_t record
 
 // What a node's records add to the header and the info VLR.
 struct RecordStats {
-  Int3 lo{INT32_MAX, INT32_MAX, INT32_MAX};
-  Int3 hi{INT32_MIN, INT32_MIN, INT32_MIN};
+  LasPointTotals las;
   double gps_min = std::numeric_limits<double>::infinity();
   double gps_max = -std::numeric_limits<double>::infinity();
-  std::array<std::uint64_t, 16> by_return{};
 
   // Formats 6-10: x y z at 0, 4, 8; return number in the low 4 bits of byte 14; GPS time at 22.
   void add(const std::byte* records, std::size_t n, std::size_t stride) {
@@ -51,20 +49,17 @@ struct RecordStats {
       const std::byte* r = records + i * stride;
       const Int3 p{loadLE<std::int32_t>(r), loadLE<std::int32_t>(r + 4),
                    loadLE<std::int32_t>(r + 8)};
-      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+      las.addPosition(p);
       const double t = loadLE<double>(r + 22);
       gps_min = std::min(gps_min, t);
       gps_max = std::max(gps_max, t);
-      ++by_return[std::size_t(std::to_integer<unsigned>(r[14]) & 15u)];
+      ++las.by_return[std::size_t(std::to_integer<unsigned>(r[14]) & 15u)];
     }
   }
   void merge(const RecordStats& o) {
-    lo = {std::min(lo.x, o.lo.x), std::min(lo.y, o.lo.y), std::min(lo.z, o.lo.z)};
-    hi = {std::max(hi.x, o.hi.x), std::max(hi.y, o.hi.y), std::max(hi.z, o.hi.z)};
+    las.merge(o.las);
     gps_min = std::min(gps_min, o.gps_min);
     gps_max = std::max(gps_max, o.gps_max);
-    for (std::size_t r = 0; r < by_return.size(); ++r) by_return[r] += o.by_return[r];
   }
 };
 
@@ -326,14 +321,8 @@ CopcWriteResult writeCopc(Octree& octree, const std::filesystem::path& path,
   fields.vlr_count = std::uint32_t(vlrs.size());
   fields.point_format = plan.point_format;
   fields.record_length = std::uint16_t(plan.record_length);
-  fields.point_count = result.points;
-  for (std::size_t r = 0; r < 15; ++r) fields.points_by_return[r] = total.by_return[r + 1];
-  const Quantization& q = info.quantization;
-  fields.quantization = q;
-  fields.bounds.min = {q.toWorld(0, total.lo.x), q.toWorld(1, total.lo.y),
-                       q.toWorld(2, total.lo.z)};
-  fields.bounds.max = {q.toWorld(0, total.hi.x), q.toWorld(1, total.hi.y),
-                       q.toWorld(2, total.hi.z)};
+  fields.quantization = info.quantization;
+  total.las.writeTo(fields, result.points);
   fields.evlr_offset = evlr_offset;
   fields.evlr_count = 1;                                                // the hierarchy
   const std::vector<std::byte> header = encodeLasHeader(fields, true);  // LASzip-compressed
