@@ -79,7 +79,10 @@ case $mode in
     # package may list it under /lib or /usr/lib).
     resolved=$(ldd "$executable")
     for name in $(objdump -p "$executable" | awk '$1 == "NEEDED" { print $2 }'); do
-      path=$(awk -v name="$name" '$1 == name && $2 == "=>" { print $3 }' <<<"$resolved")
+      # ldd lists the dynamic loader by its path alone ("/lib64/ld-linux-x86-64.so.2 (0x...)");
+      # code built position-independent needs it by name for thread-local variables.
+      path=$(awk -v name="$name" '($1 == name && $2 == "=>") { print $3 }
+        (substr($1, 1, 1) == "/" && substr($1, length($1) - length(name)) == "/" name) { print $1 }' <<<"$resolved" | head -n 1)
       [[ $path == /* ]] || fail "$name, needed by the packaged parallax, is not found: $resolved"
       owner=
       for candidate in "$path" "/usr$path" "${path#/usr}"; do
