@@ -62,6 +62,17 @@ struct XrHeadset::State {
   XrSessionStats stats;
 
   void check(XrResult result, const char* call) const { parallax::check(instance, result, call); }
+  // OpenXR's two-call idiom: the count first, then that many elements filled, each starting as
+  // `blank` (typed structs need their type set before the runtime fills them).
+  template <typename T, typename Call>
+  std::vector<T> enumerate(const char* call_name, T blank, Call call) const {
+    uint32_t count = 0;
+    check(call(0u, &count, static_cast<T*>(nullptr)), call_name);
+    std::vector<T> items(count, blank);
+    check(call(count, &count, items.data()), call_name);
+    items.resize(count);
+    return items;
+  }
 };
 
 XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_unique<State>()) {
@@ -119,15 +130,14 @@ XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_uni
   s.check(xrGetSystemProperties(s.instance, s.system, &system_properties), "xrGetSystemProperties");
   s.stats.system = system_properties.systemName;
 
-  uint32_t views = 0;
-  s.check(xrEnumerateViewConfigurationViews(
-              s.instance, s.system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0, &views, nullptr),
-          "xrEnumerateViewConfigurationViews");
-  s.config_views.assign(views, {XR_TYPE_VIEW_CONFIGURATION_VIEW});
-  s.check(xrEnumerateViewConfigurationViews(s.instance, s.system,
-                                            XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, views,
-                                            &views, s.config_views.data()),
-          "xrEnumerateViewConfigurationViews");
+  s.config_views = s.enumerate(
+      "xrEnumerateViewConfigurationViews", XrViewConfigurationView{XR_TYPE_VIEW_CONFIGURATION_VIEW},
+      [&](uint32_t capacity, uint32_t* filled, XrViewConfigurationView* items) {
+        return xrEnumerateViewConfigurationViews(s.instance, s.system,
+                                                 XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO,
+                                                 capacity, filled, items);
+      });
+  const std::size_t views = s.config_views.size();
   if (views != 2)
     throw XrError("OpenXR: the stereo view configuration has " + std::to_string(views) +
                   " views, expected 2");
@@ -163,12 +173,11 @@ XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_uni
   session_info.systemId = s.system;
   s.check(xrCreateSession(s.instance, &session_info, &s.session), "xrCreateSession");
 
-  uint32_t space_count = 0;
-  s.check(xrEnumerateReferenceSpaces(s.session, 0, &space_count, nullptr),
-          "xrEnumerateReferenceSpaces");
-  std::vector<XrReferenceSpaceType> spaces(space_count);
-  s.check(xrEnumerateReferenceSpaces(s.session, space_count, &space_count, spaces.data()),
-          "xrEnumerateReferenceSpaces");
+  const std::vector<XrReferenceSpaceType> spaces =
+      s.enumerate("xrEnumerateReferenceSpaces", XrReferenceSpaceType{},
+                  [&](uint32_t capacity, uint32_t* filled, XrReferenceSpaceType* items) {
+                    return xrEnumerateReferenceSpaces(s.session, capacity, filled, items);
+                  });
   XrReferenceSpaceCreateInfo space_info{XR_TYPE_REFERENCE_SPACE_CREATE_INFO};
   space_info.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_LOCAL;
   for (auto type : spaces) {
@@ -177,12 +186,11 @@ XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_uni
   space_info.poseInReferenceSpace.orientation.w = 1.0f;
   s.check(xrCreateReferenceSpace(s.session, &space_info, &s.space), "xrCreateReferenceSpace");
 
-  uint32_t format_count = 0;
-  s.check(xrEnumerateSwapchainFormats(s.session, 0, &format_count, nullptr),
-          "xrEnumerateSwapchainFormats");
-  std::vector<int64_t> formats(format_count);
-  s.check(xrEnumerateSwapchainFormats(s.session, format_count, &format_count, formats.data()),
-          "xrEnumerateSwapchainFormats");
+  const std::vector<int64_t> formats =
+      s.enumerate("xrEnumerateSwapchainFormats", int64_t{},
+                  [&](uint32_t capacity, uint32_t* filled, int64_t* items) {
+                    return xrEnumerateSwapchainFormats(s.session, capacity, filled, items);
+                  });
   // Linear RGBA8, as the renderer's pictures and PNGs are; sRGB where the runtime has nothing else.
   int64_t format = 0;
   for (int64_t f : formats) {
@@ -201,14 +209,12 @@ XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_uni
   swapchain_info.arraySize = 1;
   swapchain_info.mipCount = 1;
   s.check(xrCreateSwapchain(s.session, &swapchain_info, &s.swapchain), "xrCreateSwapchain");
-  uint32_t image_count = 0;
-  s.check(xrEnumerateSwapchainImages(s.swapchain, 0, &image_count, nullptr),
-          "xrEnumerateSwapchainImages");
-  s.images.assign(image_count, {XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR});
-  s.check(
-      xrEnumerateSwapchainImages(s.swapchain, image_count, &image_count,
-                                 reinterpret_cast<XrSwapchainImageBaseHeader*>(s.images.data())),
-      "xrEnumerateSwapchainImages");
+  s.images = s.enumerate(
+      "xrEnumerateSwapchainImages", XrSwapchainImageOpenGLKHR{XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR},
+      [&](uint32_t capacity, uint32_t* filled, XrSwapchainImageOpenGLKHR* items) {
+        return xrEnumerateSwapchainImages(s.swapchain, capacity, filled,
+                                          reinterpret_cast<XrSwapchainImageBaseHeader*>(items));
+      });
   glCreateFramebuffers(1, &s.framebuffer);
 }
 
