@@ -26,12 +26,13 @@ struct ProcessArgs {
   bool quiet = false;
   FilterOptions filter_options;
   // The step options, each occurrence one step; their order comes from CLI11's parse order.
-  std::vector<std::string> normals, normals_radius, outliers, subsample, distance_to;
+  std::vector<std::string> normals, normals_radius, outliers, subsample, distance_to, ground;
   bool curvature = false;
   std::string orient = "up";
   bool mark_outliers = false;
   std::string local_model;
   std::uint32_t local_k = 6;
+  bool keep_classes = false;
   CLI::App* sub = nullptr;
 };
 
@@ -63,6 +64,10 @@ std::vector<ProcessStep> stepsInOrder(const ProcessArgs& args) {
       step.k = args.local_k;
       if (!args.local_model.empty()) parseLocalModel(args.local_model, step);
       steps.push_back(step);
+    } else if (name == "--ground") {
+      GroundStep step = parseGround(next(args.ground));
+      step.keep_classes = args.keep_classes;
+      steps.push_back(step);
     }
   }
   return steps;
@@ -78,7 +83,7 @@ int runProcessCommand(const ProcessArgs& args) {
   if (options.steps.empty()) {
     throw std::invalid_argument(
         "process: no step given (--normals K, --normals-radius R, --outliers, --subsample, "
-        "--distance-to)");
+        "--distance-to, --ground)");
   }
   options.memory_mb = args.memory_mb;
   options.write.ply_ascii = args.ascii;
@@ -102,7 +107,8 @@ Command addProcessCommand(CLI::App& app) {
   auto args = std::make_shared<ProcessArgs>();
   CLI::App* sub = app.add_subcommand(
       "process",
-      "Normals, outlier removal, subsampling and distances to another cloud, the steps run in the "
+      "Normals, outlier removal, subsampling, distances to another cloud and ground "
+      "classification, the steps run in the "
       "order given, out of core within --memory; every other attribute is kept");
   args->sub = sub;
   sub->add_option(
@@ -149,6 +155,14 @@ Command addProcessCommand(CLI::App& app) {
   sub->add_option("--local-k", args->local_k,
                   "Distance steps: points of the local model (default 6)")
       ->check(CLI::Range(std::uint32_t(3), std::uint32_t(1000)));
+  sub->add_option("--ground", args->ground,
+                  "Step: ground classification, class 2 (ground) and 1 (the rest): "
+                  "smrf[:cell=1,slope=0.15,window=18,scalar=1.25,threshold=0.5] (Pingel et al. "
+                  "2013, PDAL's parameters and defaults; a grid of the cloud's extent must fit "
+                  "--memory)");
+  sub->add_flag("--keep-classes", args->keep_classes,
+                "Ground steps: classify only points of class 0 or 1; the others (noise 7, "
+                "buildings 6, ...) keep their class and stay out of the ground surface");
   sub->add_option("--memory", args->memory_mb,
                   "Memory budget in MB for the tiles (default 2048); the output does not depend "
                   "on it")

@@ -92,6 +92,7 @@ class RecordReader {
 
 struct Added {
   bool normals = false, curvature = false, distance = false, mark = false;
+  bool classes = false;  // a ground step's "class" records: nonzero replaces the input's class
   // The last normals step asked for --orient sensor: the normals are turned towards each
   // point's sensor as they are written.
   bool towards_sensor = false;
@@ -141,7 +142,8 @@ ScalarColumn& scalarFor(PointCloud& cloud, const std::string& name) {
 // The steps' columns on `out` (gathered from `batch`): one value a point in each vector.
 void addColumns(PointCloud& out, const PointCloud& batch, const Added& added,
                 const std::vector<float>& n3, const std::vector<float>& c1,
-                const std::vector<float>& d1, const std::vector<std::uint8_t>& m1) {
+                const std::vector<float>& d1, const std::vector<std::uint8_t>& m1,
+                const std::vector<std::uint8_t>& k1) {
   out.quantization = batch.quantization;
   out.source = batch.source;
   if (added.normals) {
@@ -154,6 +156,15 @@ void addColumns(PointCloud& out, const PointCloud& batch, const Added& added,
   }
   if (added.distance) {
     std::memcpy(scalarFor(out, "distance").data.data(), d1.data(), d1.size() * sizeof(float));
+  }
+  if ((added.mark || added.classes) && !out.hasClassification()) {
+    out.classification = Column<std::uint8_t>(out.count);
+    std::memset(out.classification.data(), 0, out.count);
+  }
+  if (added.classes) {
+    for (std::size_t i = 0; i < out.count; ++i) {
+      if (k1[i]) out.classification[i] = k1[i];
+    }
   }
   if (added.mark) {
     if (!out.hasClassification()) {
@@ -171,7 +182,7 @@ void addColumns(PointCloud& out, const PointCloud& batch, const Added& added,
 PointCloud outputLayout(const PointCloud& batch, const Added& added) {
   const std::uint64_t first = 0;
   PointCloud out = gatherPoints(batch, std::span<const std::uint64_t>(&first, 1));
-  addColumns(out, batch, added, std::vector<float>(3, 0.0f), {0.0f}, {0.0f}, {0});
+  addColumns(out, batch, added, std::vector<float>(3, 0.0f), {0.0f}, {0.0f}, {0}, {0});
   return out;
 }
 
@@ -182,10 +193,11 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
                        std::vector<std::unique_ptr<RecordReader>>& curvature,
                        std::vector<std::unique_ptr<RecordReader>>& distance,
                        std::vector<std::unique_ptr<RecordReader>>& mark,
+                       std::vector<std::unique_ptr<RecordReader>>& classes,
                        const SensorPositions* sensor) {
   std::vector<std::uint64_t> take;
   std::vector<float> n3, c1, d1;
-  std::vector<std::uint8_t> m1;
+  std::vector<std::uint8_t> m1, k1;
   for (std::size_t i = 0; i < batch.count; ++i) {
     const std::size_t t = tiles.tileOf(batch.worldX(i));
     const bool keep = *kept[t]->next() != std::byte{0};
@@ -193,6 +205,7 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
     const std::byte* c = added.curvature ? curvature[t]->next() : nullptr;
     const std::byte* d = added.distance ? distance[t]->next() : nullptr;
     const std::byte* m = added.mark ? mark[t]->next() : nullptr;
+    const std::byte* k = added.classes ? classes[t]->next() : nullptr;
     if (!keep) continue;
     take.push_back(i);
     if (n) {
@@ -204,9 +217,10 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
     if (c) c1.push_back(*reinterpret_cast<const float*>(c));
     if (d) d1.push_back(*reinterpret_cast<const float*>(d));
     if (m) m1.push_back(std::uint8_t(*m));
+    if (k) k1.push_back(std::uint8_t(*k));
   }
   PointCloud out = gatherPoints(batch, std::span<const std::uint64_t>(take));
-  addColumns(out, batch, added, n3, c1, d1, m1);
+  addColumns(out, batch, added, n3, c1, d1, m1, k1);
   out.computeBounds();
   return out;
 }
@@ -273,8 +287,13 @@ ProcessReport runProcess(const ProcessOptions& options) {
 
   Added added;
   for (const ProcessStep& step : options.steps) {
-    const StepContext context{tiles, work.path(), max_tile_points, options.progress,
-                              describeStep(step)};
+    const StepContext context{tiles,
+                              work.path(),
+                              max_tile_points,
+                              options.progress,
+                              describeStep(step),
+                              options.memory_mb,
+                              &options.inputs};
     if (const auto* n = std::get_if<NormalsStep>(&step)) {
       runNormalsStep(*n, context);
       added.normals = true;
@@ -285,6 +304,9 @@ ProcessReport runProcess(const ProcessOptions& options) {
       added.mark = added.mark || o->mark;
     } else if (const auto* s = std::get_if<SubsampleStep>(&step)) {
       runSubsampleStep(*s, context);
+    } else if (const auto* g = std::get_if<GroundStep>(&step)) {
+      runGroundStep(*g, context);
+      added.classes = true;
     } else {
       runDistanceStep(std::get<DistanceStep>(step), context);
       added.distance = true;
@@ -312,6 +334,7 @@ ProcessReport runProcess(const ProcessOptions& options) {
   auto curvature = open(added.curvature, "curvature", 4);
   auto distance = open(added.distance, "distance", 4);
   auto mark = open(added.mark, "mark", 1);
+  auto classes = open(added.classes, "class", 1);
 
   auto bar = options.progress ? options.progress("writing", report.input_points) : nullptr;
   const PointFormat format = formatForExtension(options.output);
@@ -329,8 +352,8 @@ ProcessReport runProcess(const ProcessOptions& options) {
     if (first && !stream.crs().empty()) las.vlrs = stream.crs().records;
     PointCloud batch;
     while (stream.next(batch, kBatchPoints)) {
-      PointCloud out =
-          outputBatch(batch, tiles, added, kept, normals, curvature, distance, mark, sensor);
+      PointCloud out = outputBatch(batch, tiles, added, kept, normals, curvature, distance, mark,
+                                   classes, sensor);
       if (bar) bar->advance(batch.count);
       if (first) {
         signature = attributeSignature(outputLayout(batch, added));

@@ -110,6 +110,38 @@ SubsampleStep parseSubsample(const std::string& value) {
   return subsample;
 }
 
+GroundStep parseGround(const std::string& value) {
+  const std::string step = "--ground " + value;
+  GroundStep ground;
+  const auto colon = value.find(':');
+  const std::string method = value.substr(0, colon);
+  if (method != "smrf") fail(step, "expected smrf[:key=value,...], got '" + method + "'");
+  ground.method = GroundStep::Method::kSmrf;
+  if (colon == std::string::npos) return ground;
+  SmrfParameters& p = ground.smrf;
+  for (const std::string& pair : split(value.substr(colon + 1), ',')) {
+    const auto equals = pair.find('=');
+    if (equals == std::string::npos) {
+      fail(step, "expected key=value (cell, slope, window, scalar, threshold), got '" + pair + "'");
+    }
+    const std::string key = pair.substr(0, equals), text = pair.substr(equals + 1);
+    if (key == "cell") {
+      p.cell = positiveNumber(step, "cell", text);
+    } else if (key == "slope") {
+      p.slope = positiveNumber(step, "slope", text);
+    } else if (key == "window") {
+      p.window = positiveNumber(step, "window", text);
+    } else if (key == "scalar") {
+      p.scalar = text == "0" ? 0.0 : positiveNumber(step, "scalar", text);
+    } else if (key == "threshold") {
+      p.threshold = positiveNumber(step, "threshold", text);
+    } else {
+      fail(step, "unknown key '" + key + "' (smrf takes cell, slope, window, scalar, threshold)");
+    }
+  }
+  return ground;
+}
+
 void parseOrientation(const std::string& value, NormalsStep& step) {
   const std::string name = "--orient " + value;
   if (value == "up") {
@@ -158,6 +190,12 @@ std::string describeStep(const ProcessStep& step) {
       case SubsampleStep::Method::kRandom:
         return "--subsample random:" + std::to_string(s->count);
     }
+  }
+  if (const auto* g = std::get_if<GroundStep>(&step)) {
+    const SmrfParameters& p = g->smrf;
+    return "--ground smrf:cell=" + number(p.cell) + ",slope=" + number(p.slope) +
+           ",window=" + number(p.window) + ",scalar=" + number(p.scalar) +
+           ",threshold=" + number(p.threshold) + (g->keep_classes ? " --keep-classes" : "");
   }
   const auto& d = std::get<DistanceStep>(step);
   return "--distance-to " + d.reference.string() + (d.plane ? " --local-model plane" : "");

@@ -11,6 +11,8 @@
 #include <variant>
 #include <vector>
 
+#include "terrain/smrf.h"
+
 namespace parallax {
 
 enum class NormalOrientation {
@@ -49,7 +51,16 @@ struct DistanceStep {
   std::uint32_t k = 6;  // neighbours of the local model
 };
 
-using ProcessStep = std::variant<NormalsStep, OutliersStep, SubsampleStep, DistanceStep>;
+// --ground: a whole-cloud grid step (terrain/): class 2 (ground) or 1 (the rest) for every kept
+// point, or with --keep-classes for those of class 0 or 1 only.
+struct GroundStep {
+  enum class Method { kSmrf } method = Method::kSmrf;
+  SmrfParameters smrf;
+  bool keep_classes = false;
+};
+
+using ProcessStep =
+    std::variant<NormalsStep, OutliersStep, SubsampleStep, DistanceStep, GroundStep>;
 
 // "--normals 16", "--outliers statistical:8,2", ...: how the step was asked for (messages).
 std::string describeStep(const ProcessStep& step);
@@ -59,6 +70,9 @@ NormalsStep parseNormalsK(const std::string& value);
 NormalsStep parseNormalsRadius(const std::string& value);
 OutliersStep parseOutliers(const std::string& value);
 SubsampleStep parseSubsample(const std::string& value);
+// "smrf" or "smrf:cell=1,slope=0.15,window=18,scalar=1.25,threshold=0.5" (any of the keys, in
+// any order; the others keep PDAL's defaults).
+GroundStep parseGround(const std::string& value);
 // "up", "sensor", "propagate" or "X,Y,Z"; applied to `step`.
 void parseOrientation(const std::string& value, NormalsStep& step);
 // "plane"; applied to `step`.

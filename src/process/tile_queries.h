@@ -25,7 +25,10 @@ struct StepContext {
   std::filesystem::path work_dir;
   std::uint64_t max_tile_points = 0;
   ProgressFactory progress;
-  std::string label;  // the step as given ("--normals 16"), for progress and messages
+  std::string label;            // the step as given ("--normals 16"), for progress and messages
+  std::uint64_t memory_mb = 0;  // what a whole-cloud grid may take
+  const std::vector<ConvertInput>* inputs = nullptr;  // the run's inputs, read again by steps
+                                                      // that need their other columns
 };
 
 // For each of `queries` (the tile's kept points), calls `answer(hood, grid, query, scratch)`,
@@ -82,14 +85,17 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
 }
 
 // The steps (step_*.cpp). Each reads and writes the tiles' records (tile_set.h): "kept",
-// "normals" (3 floats), "curvature" (float), "distance" (float), "mark" (1: class 7).
+// "normals" (3 floats), "curvature" (float), "distance" (float), "mark" (1: class 7), "class"
+// (the class to write, 0: the input's).
 struct NormalsStep;
 struct OutliersStep;
 struct SubsampleStep;
 struct DistanceStep;
+struct GroundStep;
 void runNormalsStep(const NormalsStep& step, const StepContext& context);
 void runOutliersStep(const OutliersStep& step, const StepContext& context);
 void runSubsampleStep(const SubsampleStep& step, const StepContext& context);
 void runDistanceStep(const DistanceStep& step, const StepContext& context);
+void runGroundStep(const GroundStep& step, const StepContext& context);
 
 }  // namespace parallax

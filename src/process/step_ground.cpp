@@ -1,0 +1,124 @@
+// --ground smrf: a whole-cloud grid step. Two passes over the tiles with a grid of the whole
+// cloud's extent between them: the first lowers the minimum surface with every candidate point
+// (memory: the grid's cells, not the points), the filter runs on the grid, the second writes
+// each candidate's class ("class" records: 2 ground, 1 the rest, 0 left as the input has it).
+// The minimum of a cell does not depend on the order points arrive in, so neither does the
+// result on the tiling.
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+
+#include "core/error.h"
+#include "process/process_steps.h"
+#include "process/tile_queries.h"
+#include "terrain/smrf.h"
+
+namespace parallax {
+
+namespace {
+
+constexpr std::uint8_t kGround = 2, kUnclassified = 1;
+// A grid cell's bytes at the filter's peak: the minimum, its measured copy, the last and the
+// current opening with the row pass between them, the ground and its slope (double each), the
+// object and fill flags.
+constexpr std::uint64_t kGridBytesPerCell = 64;
+
+struct FileCloser {
+  void operator()(std::FILE* f) const { std::fclose(f); }
+};
+
+// The input's classes ("class_in" records, 0 where an input has none): the inputs read once
+// more, each point routed to its tile by its x as the spill did, so records follow tile order.
+void writeInputClasses(const StepContext& context) {
+  const TileSet& tiles = context.tiles;
+  std::vector<std::unique_ptr<std::FILE, FileCloser>> files(tiles.tiles());
+  for (std::size_t t = 0; t < tiles.tiles(); ++t) {
+    files[t].reset(std::fopen(tiles.file(t, "class_in").c_str(), "wb"));
+    if (!files[t]) throw std::runtime_error("cannot write " + tiles.file(t, "class_in").string());
+  }
+  for (const ConvertInput& input : *context.inputs) {
+    PointStream stream(input.path, input.text_columns, nullptr, &input.filter);
+    PointCloud batch;
+    while (stream.next(batch, std::size_t(1) << 20)) {
+      for (std::size_t i = 0; i < batch.count; ++i) {
+        const std::uint8_t c = batch.hasClassification() ? batch.classification[i] : 0;
+        if (std::fputc(c, files[tiles.tileOf(batch.worldX(i))].get()) == EOF) {
+          throw std::runtime_error("cannot write the input classes to the work folder");
+        }
+      }
+    }
+  }
+  for (auto& f : files) {
+    if (std::fflush(f.get()) != 0) throw std::runtime_error("cannot write the input classes");
+  }
+}
+
+// Which points of tile `t` the filter classifies: kept, not marked as noise by an earlier step,
+// and with --keep-classes only those whose class so far is 0 (never classified) or 1.
+std::vector<std::uint8_t> candidates(const GroundStep& step, const TileSet& tiles, std::size_t t) {
+  std::vector<std::uint8_t> take = tiles.readKept(t);
+  if (tiles.has(t, "mark")) {
+    const std::vector<std::uint8_t> mark = tiles.readRecords<std::uint8_t>(t, "mark");
+    for (std::size_t i = 0; i < take.size(); ++i) take[i] = take[i] && !mark[i];
+  }
+  if (step.keep_classes) {
+    const std::vector<std::uint8_t> input = tiles.readRecords<std::uint8_t>(t, "class_in");
+    const std::vector<std::uint8_t> set = tiles.has(t, "class")
+                                              ? tiles.readRecords<std::uint8_t>(t, "class")
+                                              : std::vector<std::uint8_t>(take.size(), 0);
+    for (std::size_t i = 0; i < take.size(); ++i) {
+      const std::uint8_t now = set[i] ? set[i] : input[i];
+      take[i] = take[i] && now <= kUnclassified;
+    }
+  }
+  return take;
+}
+
+}  // namespace
+
+void runGroundStep(const GroundStep& step, const StepContext& context) {
+  const TileSet& tiles = context.tiles;
+  const SmrfParameters& p = step.smrf;
+  const std::uint64_t cells = ElevationGrid::cellsCovering(tiles.min()[0], tiles.min()[1],
+                                                           tiles.max()[0], tiles.max()[1], p.cell);
+  const std::uint64_t budget = context.memory_mb * (std::uint64_t(1) << 20);
+  if (tiles.points() > 0 && (cells > budget / kGridBytesPerCell || cells > (1ull << 32))) {
+    throw std::invalid_argument(
+        context.label + ": the cloud's extent at cell " + std::to_string(p.cell) + " is " +
+        std::to_string(cells) + " cells, " + std::to_string(cells * kGridBytesPerCell >> 20) +
+        " MB at " + std::to_string(kGridBytesPerCell) + " bytes a cell, over --memory " +
+        std::to_string(context.memory_mb) + ": raise --memory or the cell");
+  }
+  if (tiles.points() == 0) return;
+  auto bar = context.progress ? context.progress(context.label, 2 * tiles.points()) : nullptr;
+  if (step.keep_classes) writeInputClasses(context);
+
+  ElevationGrid minimum = ElevationGrid::covering(tiles.min()[0], tiles.min()[1], tiles.max()[0],
+                                                  tiles.max()[1], p.cell);
+  for (std::size_t t = 0; t < tiles.tiles(); ++t) {
+    const std::vector<GridPoint> points = tiles.readPoints(t);
+    const std::vector<std::uint8_t> take = candidates(step, tiles, t);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (take[i]) minimum.addMinimum(points[i].x, points[i].y, points[i].z);
+    }
+    if (bar) bar->advance(points.size());
+  }
+  const SmrfSurface surface = smrfSurface(std::move(minimum), p);
+
+  for (std::size_t t = 0; t < tiles.tiles(); ++t) {
+    const std::vector<GridPoint> points = tiles.readPoints(t);
+    const std::vector<std::uint8_t> take = candidates(step, tiles, t);
+    std::vector<std::uint8_t> classes = tiles.has(t, "class")
+                                            ? tiles.readRecords<std::uint8_t>(t, "class")
+                                            : std::vector<std::uint8_t>(points.size(), 0);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (!take[i]) continue;
+      classes[i] =
+          smrfIsGround(surface, p, points[i].x, points[i].y, points[i].z) ? kGround : kUnclassified;
+    }
+    tiles.writeRecords<std::uint8_t>(t, "class", classes);
+    if (bar) bar->advance(points.size());
+  }
+}
+
+}  // namespace parallax
