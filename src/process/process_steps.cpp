@@ -115,16 +115,47 @@ GroundStep parseGround(const std::string& value) {
   GroundStep ground;
   const auto colon = value.find(':');
   const std::string method = value.substr(0, colon);
-  if (method != "smrf") fail(step, "expected smrf[:key=value,...], got '" + method + "'");
-  ground.method = GroundStep::Method::kSmrf;
+  if (method != "smrf" && method != "pmf") {
+    fail(step, "expected smrf[:key=value,...] or pmf[:key=value,...], got '" + method + "'");
+  }
+  ground.method = method == "smrf" ? GroundStep::Method::kSmrf : GroundStep::Method::kPmf;
   if (colon == std::string::npos) return ground;
+  const std::string keys = method == "smrf"
+                               ? "cell, slope, window, scalar, threshold"
+                               : "max_window_size, slope, initial_distance, max_distance, "
+                                 "cell_size, base, exponential";
   SmrfParameters& p = ground.smrf;
+  PmfParameters& m = ground.pmf;
   for (const std::string& pair : split(value.substr(colon + 1), ',')) {
     const auto equals = pair.find('=');
     if (equals == std::string::npos) {
-      fail(step, "expected key=value (cell, slope, window, scalar, threshold), got '" + pair + "'");
+      fail(step, "expected key=value (" + keys + "), got '" + pair + "'");
     }
     const std::string key = pair.substr(0, equals), text = pair.substr(equals + 1);
+    if (method == "pmf") {
+      if (key == "max_window_size") {
+        m.max_window_size = positiveNumber(step, key, text);
+      } else if (key == "slope") {
+        m.slope = positiveNumber(step, key, text);
+      } else if (key == "initial_distance") {
+        m.initial_distance = positiveNumber(step, key, text);
+      } else if (key == "max_distance") {
+        m.max_distance = positiveNumber(step, key, text);
+      } else if (key == "cell_size") {
+        m.cell_size = positiveNumber(step, key, text);
+      } else if (key == "base") {
+        m.base = positiveNumber(step, key, text);
+        if (m.base <= 1.0) fail(step, "base must be above 1, got '" + text + "'");
+      } else if (key == "exponential") {
+        if (text != "true" && text != "false") {
+          fail(step, "exponential must be true or false, got '" + text + "'");
+        }
+        m.exponential = text == "true";
+      } else {
+        fail(step, "unknown key '" + key + "' (pmf takes " + keys + ")");
+      }
+      continue;
+    }
     if (key == "cell") {
       p.cell = positiveNumber(step, "cell", text);
     } else if (key == "slope") {
@@ -136,7 +167,7 @@ GroundStep parseGround(const std::string& value) {
     } else if (key == "threshold") {
       p.threshold = positiveNumber(step, "threshold", text);
     } else {
-      fail(step, "unknown key '" + key + "' (smrf takes cell, slope, window, scalar, threshold)");
+      fail(step, "unknown key '" + key + "' (smrf takes " + keys + ")");
     }
   }
   return ground;
@@ -192,10 +223,19 @@ std::string describeStep(const ProcessStep& step) {
     }
   }
   if (const auto* g = std::get_if<GroundStep>(&step)) {
+    const std::string keep = g->keep_classes ? " --keep-classes" : "";
+    if (g->method == GroundStep::Method::kPmf) {
+      const PmfParameters& m = g->pmf;
+      return "--ground pmf:max_window_size=" + number(m.max_window_size) +
+             ",slope=" + number(m.slope) + ",initial_distance=" + number(m.initial_distance) +
+             ",max_distance=" + number(m.max_distance) + ",cell_size=" + number(m.cell_size) +
+             ",base=" + number(m.base) + ",exponential=" + (m.exponential ? "true" : "false") +
+             keep;
+    }
     const SmrfParameters& p = g->smrf;
     return "--ground smrf:cell=" + number(p.cell) + ",slope=" + number(p.slope) +
            ",window=" + number(p.window) + ",scalar=" + number(p.scalar) +
-           ",threshold=" + number(p.threshold) + (g->keep_classes ? " --keep-classes" : "");
+           ",threshold=" + number(p.threshold) + keep;
   }
   const auto& d = std::get<DistanceStep>(step);
   return "--distance-to " + d.reference.string() + (d.plane ? " --local-model plane" : "");

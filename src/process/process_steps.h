@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "terrain/pmf.h"
 #include "terrain/smrf.h"
 
 namespace parallax {
@@ -54,8 +55,9 @@ struct DistanceStep {
 // --ground: a whole-cloud grid step (terrain/): class 2 (ground) or 1 (the rest) for every kept
 // point, or with --keep-classes for those of class 0 or 1 only.
 struct GroundStep {
-  enum class Method { kSmrf } method = Method::kSmrf;
+  enum class Method { kSmrf, kPmf } method = Method::kSmrf;
   SmrfParameters smrf;
+  PmfParameters pmf;
   bool keep_classes = false;
 };
 
@@ -71,7 +73,9 @@ NormalsStep parseNormalsRadius(const std::string& value);
 OutliersStep parseOutliers(const std::string& value);
 SubsampleStep parseSubsample(const std::string& value);
 // "smrf" or "smrf:cell=1,slope=0.15,window=18,scalar=1.25,threshold=0.5" (any of the keys, in
-// any order; the others keep PDAL's defaults).
+// any order; the others keep PDAL's defaults); "pmf" or "pmf:max_window_size=33,slope=0.7,
+// initial_distance=0.15,max_distance=10,cell_size=1,base=2,exponential=true" (PCL's names and
+// defaults).
 GroundStep parseGround(const std::string& value);
 // "up", "sensor", "propagate" or "X,Y,Z"; applied to `step`.
 void parseOrientation(const std::string& value, NormalsStep& step);

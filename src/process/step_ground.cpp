@@ -1,4 +1,4 @@
-// --ground smrf: a whole-cloud grid step. Two passes over the tiles with a grid of the whole
+// --ground smrf|pmf: a whole-cloud grid step. Two passes over the tiles with a grid of the whole
 // cloud's extent between them: the first lowers the minimum surface with every candidate point
 // (memory: the grid's cells, not the points), the filter runs on the grid, the second writes
 // each candidate's class ("class" records: 2 ground, 1 the rest, 0 left as the input has it).
@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "process/process_steps.h"
 #include "process/tile_queries.h"
+#include "terrain/pmf.h"
 #include "terrain/smrf.h"
 
 namespace parallax {
@@ -74,50 +75,100 @@ std::vector<std::uint8_t> candidates(const GroundStep& step, const TileSet& tile
   return take;
 }
 
+// The minimum surface of the points `take` says, over every tile (`take(t)`: a flag a point).
+template <class Take>
+ElevationGrid minimumSurface(const TileSet& tiles, double cell, Take&& take) {
+  ElevationGrid minimum =
+      ElevationGrid::covering(tiles.min()[0], tiles.min()[1], tiles.max()[0], tiles.max()[1], cell);
+  for (std::size_t t = 0; t < tiles.tiles(); ++t) {
+    const std::vector<GridPoint> points = tiles.readPoints(t);
+    const std::vector<std::uint8_t> flags = take(t);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (flags[i]) minimum.addMinimum(points[i].x, points[i].y, points[i].z);
+    }
+  }
+  return minimum;
+}
+
+// PMF's iterations (terrain/pmf.h), each a pass over the tiles that lowers the "pmf" flags of
+// the points above the opening of the last surface and builds the next surface from the others.
+void runPmf(const GroundStep& step, const StepContext& context) {
+  const TileSet& tiles = context.tiles;
+  const PmfParameters& p = step.pmf;
+  ElevationGrid minimum =
+      minimumSurface(tiles, p.cell_size, [&](std::size_t t) { return candidates(step, tiles, t); });
+  for (const PmfIteration& iteration : pmfIterations(p)) {
+    const ElevationGrid opened = pmfOpen(minimum, iteration.radius);
+    ElevationGrid next(minimum.x0(), minimum.y0(), minimum.cell(), minimum.nx(), minimum.ny());
+    for (std::size_t t = 0; t < tiles.tiles(); ++t) {
+      const std::vector<GridPoint> points = tiles.readPoints(t);
+      std::vector<std::uint8_t> ground = tiles.has(t, "pmf")
+                                             ? tiles.readRecords<std::uint8_t>(t, "pmf")
+                                             : candidates(step, tiles, t);
+      for (std::size_t i = 0; i < points.size(); ++i) {
+        if (!ground[i]) continue;
+        const GridPoint& q = points[i];
+        if (q.z - opened.at(opened.column(q.x), opened.row(q.y)) >= iteration.threshold) {
+          ground[i] = 0;
+        } else {
+          next.addMinimum(q.x, q.y, q.z);
+        }
+      }
+      tiles.writeRecords<std::uint8_t>(t, "pmf", ground);
+    }
+    minimum = std::move(next);
+  }
+}
+
 }  // namespace
 
 void runGroundStep(const GroundStep& step, const StepContext& context) {
   const TileSet& tiles = context.tiles;
-  const SmrfParameters& p = step.smrf;
+  const bool pmf = step.method == GroundStep::Method::kPmf;
+  const double cell = pmf ? step.pmf.cell_size : step.smrf.cell;
   const std::uint64_t cells = ElevationGrid::cellsCovering(tiles.min()[0], tiles.min()[1],
-                                                           tiles.max()[0], tiles.max()[1], p.cell);
+                                                           tiles.max()[0], tiles.max()[1], cell);
   const std::uint64_t budget = context.memory_mb * (std::uint64_t(1) << 20);
   if (tiles.points() > 0 && (cells > budget / kGridBytesPerCell || cells > (1ull << 32))) {
     throw std::invalid_argument(
-        context.label + ": the cloud's extent at cell " + std::to_string(p.cell) + " is " +
+        context.label + ": the cloud's extent at cell " + std::to_string(cell) + " is " +
         std::to_string(cells) + " cells, " + std::to_string(cells * kGridBytesPerCell >> 20) +
         " MB at " + std::to_string(kGridBytesPerCell) + " bytes a cell, over --memory " +
         std::to_string(context.memory_mb) + ": raise --memory or the cell");
   }
   if (tiles.points() == 0) return;
-  auto bar = context.progress ? context.progress(context.label, 2 * tiles.points()) : nullptr;
+  auto bar = context.progress ? context.progress(context.label, tiles.tiles()) : nullptr;
   if (step.keep_classes) writeInputClasses(context);
 
-  ElevationGrid minimum = ElevationGrid::covering(tiles.min()[0], tiles.min()[1], tiles.max()[0],
-                                                  tiles.max()[1], p.cell);
-  for (std::size_t t = 0; t < tiles.tiles(); ++t) {
-    const std::vector<GridPoint> points = tiles.readPoints(t);
-    const std::vector<std::uint8_t> take = candidates(step, tiles, t);
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      if (take[i]) minimum.addMinimum(points[i].x, points[i].y, points[i].z);
-    }
-    if (bar) bar->advance(points.size());
+  SmrfSurface surface;
+  if (pmf) {
+    runPmf(step, context);
+  } else {
+    surface = smrfSurface(
+        minimumSurface(tiles, cell, [&](std::size_t t) { return candidates(step, tiles, t); }),
+        step.smrf);
   }
-  const SmrfSurface surface = smrfSurface(std::move(minimum), p);
 
   for (std::size_t t = 0; t < tiles.tiles(); ++t) {
     const std::vector<GridPoint> points = tiles.readPoints(t);
     const std::vector<std::uint8_t> take = candidates(step, tiles, t);
+    const std::vector<std::uint8_t> pmf_ground =
+        pmf ? tiles.readRecords<std::uint8_t>(t, "pmf") : std::vector<std::uint8_t>();
     std::vector<std::uint8_t> classes = tiles.has(t, "class")
                                             ? tiles.readRecords<std::uint8_t>(t, "class")
                                             : std::vector<std::uint8_t>(points.size(), 0);
     for (std::size_t i = 0; i < points.size(); ++i) {
       if (!take[i]) continue;
-      classes[i] =
-          smrfIsGround(surface, p, points[i].x, points[i].y, points[i].z) ? kGround : kUnclassified;
+      const bool ground =
+          pmf ? pmf_ground[i] != 0
+              : smrfIsGround(surface, step.smrf, points[i].x, points[i].y, points[i].z);
+      classes[i] = ground ? kGround : kUnclassified;
     }
     tiles.writeRecords<std::uint8_t>(t, "class", classes);
-    if (bar) bar->advance(points.size());
+    if (bar) bar->advance(1);
+  }
+  if (pmf) {
+    for (std::size_t t = 0; t < tiles.tiles(); ++t) std::filesystem::remove(tiles.file(t, "pmf"));
   }
 }
 

@@ -216,7 +216,14 @@ TEST(GroundSmrf, BadParametersAreErrorsNamingTheStep) {
   EXPECT_EQ(message("smrf:cell"),
             "--ground smrf:cell: expected key=value (cell, slope, window, "
             "scalar, threshold), got 'cell'");
-  EXPECT_EQ(message("tin"), "--ground tin: expected smrf[:key=value,...], got 'tin'");
+  EXPECT_EQ(message("tin"),
+            "--ground tin: expected smrf[:key=value,...] or pmf[:key=value,...], got 'tin'");
+  EXPECT_EQ(message("pmf:base=1"), "--ground pmf:base=1: base must be above 1, got '1'");
+  EXPECT_EQ(message("pmf:exponential=yes"),
+            "--ground pmf:exponential=yes: exponential must be true or false, got 'yes'");
+  EXPECT_EQ(message("pmf:cell=2"),
+            "--ground pmf:cell=2: unknown key 'cell' (pmf takes max_window_size, slope, "
+            "initial_distance, max_distance, cell_size, base, exponential)");
   const GroundStep step = parseGround("smrf:window=12,threshold=0.3");
   EXPECT_EQ(step.smrf.window, 12.0);
   EXPECT_EQ(step.smrf.threshold, 0.3);
