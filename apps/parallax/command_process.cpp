@@ -158,8 +158,12 @@ Command addProcessCommand(CLI::App& app) {
   sub->add_option("--ground", args->ground,
                   "Step: ground classification, class 2 (ground) and 1 (the rest): "
                   "smrf[:cell=1,slope=0.15,window=18,scalar=1.25,threshold=0.5] (Pingel et al. "
-                  "2013, PDAL's parameters and defaults; a grid of the cloud's extent must fit "
-                  "--memory)");
+                  "2013, PDAL's parameters and defaults), "
+                  "pmf[:max_window_size=33,slope=0.7,initial_distance=0.15,max_distance=10,"
+                  "cell_size=1,base=2,exponential=true] (Zhang et al. 2003, PCL's), "
+                  "csf[:resolution=0.5,rigidness=3,iterations=500,time_step=0.65,"
+                  "class_threshold=0.5,slope_smoothing=true] (Zhang et al. 2016, the CSF "
+                  "library's); a grid of the cloud's extent must fit --memory");
   sub->add_flag("--keep-classes", args->keep_classes,
                 "Ground steps: classify only points of class 0 or 1; the others (noise 7, "
                 "buildings 6, ...) keep their class and stay out of the ground surface");

@@ -115,15 +115,20 @@ GroundStep parseGround(const std::string& value) {
   GroundStep ground;
   const auto colon = value.find(':');
   const std::string method = value.substr(0, colon);
-  if (method != "smrf" && method != "pmf") {
-    fail(step, "expected smrf[:key=value,...] or pmf[:key=value,...], got '" + method + "'");
+  if (method != "smrf" && method != "pmf" && method != "csf") {
+    fail(step, "expected smrf[:key=value,...], pmf[:key=value,...] or csf[:key=value,...], got '" +
+                   method + "'");
   }
-  ground.method = method == "smrf" ? GroundStep::Method::kSmrf : GroundStep::Method::kPmf;
+  ground.method = method == "smrf"  ? GroundStep::Method::kSmrf
+                  : method == "pmf" ? GroundStep::Method::kPmf
+                                    : GroundStep::Method::kCsf;
   if (colon == std::string::npos) return ground;
-  const std::string keys = method == "smrf"
-                               ? "cell, slope, window, scalar, threshold"
-                               : "max_window_size, slope, initial_distance, max_distance, "
-                                 "cell_size, base, exponential";
+  const std::string keys = method == "smrf" ? "cell, slope, window, scalar, threshold"
+                           : method == "pmf"
+                               ? "max_window_size, slope, initial_distance, max_distance, "
+                                 "cell_size, base, exponential"
+                               : "resolution, rigidness, iterations, time_step, class_threshold, "
+                                 "slope_smoothing";
   SmrfParameters& p = ground.smrf;
   PmfParameters& m = ground.pmf;
   for (const std::string& pair : split(value.substr(colon + 1), ',')) {
@@ -132,6 +137,28 @@ GroundStep parseGround(const std::string& value) {
       fail(step, "expected key=value (" + keys + "), got '" + pair + "'");
     }
     const std::string key = pair.substr(0, equals), text = pair.substr(equals + 1);
+    if (method == "csf") {
+      CsfParameters& c = ground.csf;
+      if (key == "resolution") {
+        c.resolution = positiveNumber(step, key, text);
+      } else if (key == "rigidness") {
+        c.rigidness = int(wholeNumber(step, key, text, 1, 3));
+      } else if (key == "iterations") {
+        c.iterations = int(wholeNumber(step, key, text, 1, 100000));
+      } else if (key == "time_step") {
+        c.time_step = positiveNumber(step, key, text);
+      } else if (key == "class_threshold") {
+        c.class_threshold = positiveNumber(step, key, text);
+      } else if (key == "slope_smoothing") {
+        if (text != "true" && text != "false") {
+          fail(step, "slope_smoothing must be true or false, got '" + text + "'");
+        }
+        c.slope_smoothing = text == "true";
+      } else {
+        fail(step, "unknown key '" + key + "' (csf takes " + keys + ")");
+      }
+      continue;
+    }
     if (method == "pmf") {
       if (key == "max_window_size") {
         m.max_window_size = positiveNumber(step, key, text);
@@ -224,6 +251,14 @@ std::string describeStep(const ProcessStep& step) {
   }
   if (const auto* g = std::get_if<GroundStep>(&step)) {
     const std::string keep = g->keep_classes ? " --keep-classes" : "";
+    if (g->method == GroundStep::Method::kCsf) {
+      const CsfParameters& c = g->csf;
+      return "--ground csf:resolution=" + number(c.resolution) +
+             ",rigidness=" + std::to_string(c.rigidness) +
+             ",iterations=" + std::to_string(c.iterations) + ",time_step=" + number(c.time_step) +
+             ",class_threshold=" + number(c.class_threshold) +
+             ",slope_smoothing=" + (c.slope_smoothing ? "true" : "false") + keep;
+    }
     if (g->method == GroundStep::Method::kPmf) {
       const PmfParameters& m = g->pmf;
       return "--ground pmf:max_window_size=" + number(m.max_window_size) +

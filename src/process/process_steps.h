@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "terrain/csf.h"
 #include "terrain/pmf.h"
 #include "terrain/smrf.h"
 
@@ -55,9 +56,10 @@ struct DistanceStep {
 // --ground: a whole-cloud grid step (terrain/): class 2 (ground) or 1 (the rest) for every kept
 // point, or with --keep-classes for those of class 0 or 1 only.
 struct GroundStep {
-  enum class Method { kSmrf, kPmf } method = Method::kSmrf;
+  enum class Method { kSmrf, kPmf, kCsf } method = Method::kSmrf;
   SmrfParameters smrf;
   PmfParameters pmf;
+  CsfParameters csf;
   bool keep_classes = false;
 };
 
@@ -75,7 +77,8 @@ SubsampleStep parseSubsample(const std::string& value);
 // "smrf" or "smrf:cell=1,slope=0.15,window=18,scalar=1.25,threshold=0.5" (any of the keys, in
 // any order; the others keep PDAL's defaults); "pmf" or "pmf:max_window_size=33,slope=0.7,
 // initial_distance=0.15,max_distance=10,cell_size=1,base=2,exponential=true" (PCL's names and
-// defaults).
+// defaults); "csf" or "csf:resolution=0.5,rigidness=3,iterations=500,time_step=0.65,
+// class_threshold=0.5,slope_smoothing=true" (the CSF library's names and defaults).
 GroundStep parseGround(const std::string& value);
 // "up", "sensor", "propagate" or "X,Y,Z"; applied to `step`.
 void parseOrientation(const std::string& value, NormalsStep& step);

@@ -1,4 +1,4 @@
-// --ground smrf|pmf: a whole-cloud grid step. Two passes over the tiles with a grid of the whole
+// --ground smrf|pmf|csf: a whole-cloud grid step. Two passes over the tiles with a grid of the whole
 // cloud's extent between them: the first lowers the minimum surface with every candidate point
 // (memory: the grid's cells, not the points), the filter runs on the grid, the second writes
 // each candidate's class ("class" records: 2 ground, 1 the rest, 0 left as the input has it).
@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "process/process_steps.h"
 #include "process/tile_queries.h"
+#include "terrain/csf.h"
 #include "terrain/pmf.h"
 #include "terrain/smrf.h"
 
@@ -125,7 +126,8 @@ void runPmf(const GroundStep& step, const StepContext& context) {
 void runGroundStep(const GroundStep& step, const StepContext& context) {
   const TileSet& tiles = context.tiles;
   const bool pmf = step.method == GroundStep::Method::kPmf;
-  const double cell = pmf ? step.pmf.cell_size : step.smrf.cell;
+  const bool csf = step.method == GroundStep::Method::kCsf;
+  const double cell = pmf ? step.pmf.cell_size : csf ? step.csf.resolution : step.smrf.cell;
   const std::uint64_t cells = ElevationGrid::cellsCovering(tiles.min()[0], tiles.min()[1],
                                                            tiles.max()[0], tiles.max()[1], cell);
   const std::uint64_t budget = context.memory_mb * (std::uint64_t(1) << 20);
@@ -141,12 +143,14 @@ void runGroundStep(const GroundStep& step, const StepContext& context) {
   if (step.keep_classes) writeInputClasses(context);
 
   SmrfSurface surface;
+  CsfCloth cloth;
+  auto candidatesOf = [&](std::size_t t) { return candidates(step, tiles, t); };
   if (pmf) {
     runPmf(step, context);
+  } else if (csf) {
+    cloth = csfCloth(minimumSurface(tiles, cell, candidatesOf), step.csf);
   } else {
-    surface = smrfSurface(
-        minimumSurface(tiles, cell, [&](std::size_t t) { return candidates(step, tiles, t); }),
-        step.smrf);
+    surface = smrfSurface(minimumSurface(tiles, cell, candidatesOf), step.smrf);
   }
 
   for (std::size_t t = 0; t < tiles.tiles(); ++t) {
@@ -159,9 +163,10 @@ void runGroundStep(const GroundStep& step, const StepContext& context) {
                                             : std::vector<std::uint8_t>(points.size(), 0);
     for (std::size_t i = 0; i < points.size(); ++i) {
       if (!take[i]) continue;
-      const bool ground =
-          pmf ? pmf_ground[i] != 0
-              : smrfIsGround(surface, step.smrf, points[i].x, points[i].y, points[i].z);
+      const GridPoint& q = points[i];
+      const bool ground = pmf   ? pmf_ground[i] != 0
+                          : csf ? csfIsGround(cloth, step.csf, q.x, q.y, q.z)
+                                : smrfIsGround(surface, step.smrf, q.x, q.y, q.z);
       classes[i] = ground ? kGround : kUnclassified;
     }
     tiles.writeRecords<std::uint8_t>(t, "class", classes);

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
@@ -163,6 +164,12 @@ TEST(GroundSmrf, SameBytesAtAnyMemoryBudget) {
   const std::string a = bytesOf(dir / "small.las"), b = bytesOf(dir / "large.las");
   EXPECT_GT(a.size(), 38000u * 20u);
   EXPECT_TRUE(a == b) << "the output depends on --memory";
+  for (const char* other : {"pmf", "csf:resolution=1"}) {
+    run(in, dir / "small.las", other, false, 1);
+    run(in, dir / "large.las", other, false, 2048);
+    EXPECT_TRUE(bytesOf(dir / "small.las") == bytesOf(dir / "large.las"))
+        << other << ": the output depends on --memory";
+  }
 }
 
 TEST(GroundSmrf, KeepClassesClassifiesOnlyClassZeroAndOneAndLeavesNoiseOutOfTheSurface) {
@@ -197,6 +204,55 @@ TEST(GroundSmrf, KeepClassesClassifiesOnlyClassZeroAndOneAndLeavesNoiseOutOfTheS
   EXPECT_GT(missed, 0u);
 }
 
+// Ground called object and object called ground, by kind of object.
+struct Confusion {
+  std::size_t ground_missed = 0, roofs_taken = 0, trees_taken = 0;
+};
+
+Confusion confusion(const Scene& s, const PointCloud& out) {
+  Confusion c;
+  for (std::size_t i = 0; i < out.count; ++i) {
+    const bool ground = out.classification[i] == 2;
+    if (s.label[i] == 2) {
+      c.ground_missed += !ground;
+    } else if (s.building[i] >= 0) {
+      c.roofs_taken += ground;
+    } else {
+      c.trees_taken += ground;
+    }
+  }
+  return c;
+}
+
+TEST(GroundCsf, AnalyticTerrainClothSettlesOnTheGroundAndSpansTheRoofs) {
+  TempDir dir;
+  const Scene s = scene(false);
+  const auto in = writeScene(dir, "scene.las", s, [](std::size_t) { return std::uint8_t(0); });
+  auto classify = [&](const std::string& parameters) {
+    run(in, dir / "out.las", parameters, false);
+    const Confusion c = confusion(s, readPointFile(dir / "out.las"));
+    std::printf("%s: ground missed %zu, roof points taken %zu, tree points taken %zu\n",
+                parameters.c_str(), c.ground_missed, c.roofs_taken, c.trees_taken);
+    return c;
+  };
+  // A 1 m cloth, stiff (3, flat terrain) or less (2, relief), with or without slope smoothing:
+  // every label right. The 16 m roofs are pits 5-8 m deep in the upside-down cloud: the cloth
+  // spans them; the trees are above ground points of their own cells, which the cloth rests on.
+  for (const char* parameters : {"csf:resolution=1", "csf:resolution=1,rigidness=2",
+                                 "csf:resolution=1,slope_smoothing=false"}) {
+    const Confusion c = classify(parameters);
+    EXPECT_EQ(c.ground_missed, 0u) << parameters;
+    EXPECT_EQ(c.roofs_taken, 0u) << parameters;
+    EXPECT_EQ(c.trees_taken, 0u) << parameters;
+  }
+  // The softest cloth (rigidness 1, for steep slopes) sags into the roofs' pits.
+  EXPECT_GT(classify("csf:resolution=1,rigidness=1").roofs_taken, 100u);
+  // Three time steps: the cloth has not come down to the ground yet.
+  EXPECT_GT(classify("csf:resolution=1,iterations=3").ground_missed, 35000u);
+  // A threshold below the cloth's distance between cells' lowest points and the others.
+  EXPECT_GT(classify("csf:resolution=1,class_threshold=0.02").ground_missed, 10000u);
+}
+
 TEST(GroundSmrf, BadParametersAreErrorsNamingTheStep) {
   auto message = [](const std::string& value) {
     try {
@@ -217,7 +273,12 @@ TEST(GroundSmrf, BadParametersAreErrorsNamingTheStep) {
             "--ground smrf:cell: expected key=value (cell, slope, window, "
             "scalar, threshold), got 'cell'");
   EXPECT_EQ(message("tin"),
-            "--ground tin: expected smrf[:key=value,...] or pmf[:key=value,...], got 'tin'");
+            "--ground tin: expected smrf[:key=value,...], pmf[:key=value,...] or "
+            "csf[:key=value,...], got 'tin'");
+  EXPECT_EQ(message("csf:rigidness=4"),
+            "--ground csf:rigidness=4: rigidness must be a whole number from 1 to 3, got '4'");
+  EXPECT_EQ(message("csf:time_step=0"),
+            "--ground csf:time_step=0: time_step must be a positive number, got '0'");
   EXPECT_EQ(message("pmf:base=1"), "--ground pmf:base=1: base must be above 1, got '1'");
   EXPECT_EQ(message("pmf:exponential=yes"),
             "--ground pmf:exponential=yes: exponential must be true or false, got 'yes'");
