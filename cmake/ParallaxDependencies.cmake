@@ -28,6 +28,11 @@ parallax_require_package(nlohmann_json_FOUND nlohmann-json3-dev "nlohmann JSON")
 find_package(nanoflann CONFIG QUIET)
 parallax_require_package(nanoflann_FOUND libnanoflann-dev "nanoflann")
 
+# The ground's triangulation of src/terrain (--height-above-ground): CGAL's 2D Delaunay
+# triangulation, header only.
+find_package(CGAL CONFIG QUIET)
+parallax_require_package(CGAL_FOUND libcgal-dev "CGAL")
+
 # HTTP(S) byte ranges (src/net): libcurl, OpenSSL flavour (HTTP/2 through nghttp2).
 pkg_check_modules(libcurl QUIET IMPORTED_TARGET libcurl)
 parallax_require_package(libcurl_FOUND libcurl4-openssl-dev "libcurl")

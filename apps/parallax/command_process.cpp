@@ -33,6 +33,7 @@ struct ProcessArgs {
   std::string local_model;
   std::uint32_t local_k = 6;
   bool keep_classes = false;
+  bool height_above_ground = false;
   CLI::App* sub = nullptr;
 };
 
@@ -64,6 +65,8 @@ std::vector<ProcessStep> stepsInOrder(const ProcessArgs& args) {
       step.k = args.local_k;
       if (!args.local_model.empty()) parseLocalModel(args.local_model, step);
       steps.push_back(step);
+    } else if (name == "--height-above-ground") {
+      steps.push_back(HeightAboveGroundStep{});
     } else if (name == "--ground") {
       GroundStep step = parseGround(next(args.ground));
       step.keep_classes = args.keep_classes;
@@ -83,7 +86,7 @@ int runProcessCommand(const ProcessArgs& args) {
   if (options.steps.empty()) {
     throw std::invalid_argument(
         "process: no step given (--normals K, --normals-radius R, --outliers, --subsample, "
-        "--distance-to, --ground)");
+        "--distance-to, --ground, --height-above-ground)");
   }
   options.memory_mb = args.memory_mb;
   options.write.ply_ascii = args.ascii;
@@ -167,6 +170,10 @@ Command addProcessCommand(CLI::App& app) {
   sub->add_flag("--keep-classes", args->keep_classes,
                 "Ground steps: classify only points of class 0 or 1; the others (noise 7, "
                 "buildings 6, ...) keep their class and stay out of the ground surface");
+  sub->add_flag("--height-above-ground", args->height_above_ground,
+                "Step: height_above_ground (float), z less the ground's under the point: a 2D "
+                "Delaunay triangulation of the class 2 points (the input's or an earlier "
+                "--ground's); outside their convex hull the nearest one's z");
   sub->add_option("--memory", args->memory_mb,
                   "Memory budget in MB for the tiles (default 2048); the output does not depend "
                   "on it")

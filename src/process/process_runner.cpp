@@ -93,6 +93,7 @@ class RecordReader {
 struct Added {
   bool normals = false, curvature = false, distance = false, mark = false;
   bool classes = false;  // a ground step's "class" records: nonzero replaces the input's class
+  bool height = false;   // --height-above-ground's "hag" records
   // The last normals step asked for --orient sensor: the normals are turned towards each
   // point's sensor as they are written.
   bool towards_sensor = false;
@@ -143,7 +144,7 @@ ScalarColumn& scalarFor(PointCloud& cloud, const std::string& name) {
 void addColumns(PointCloud& out, const PointCloud& batch, const Added& added,
                 const std::vector<float>& n3, const std::vector<float>& c1,
                 const std::vector<float>& d1, const std::vector<std::uint8_t>& m1,
-                const std::vector<std::uint8_t>& k1) {
+                const std::vector<std::uint8_t>& k1, const std::vector<float>& h1) {
   out.quantization = batch.quantization;
   out.source = batch.source;
   if (added.normals) {
@@ -156,6 +157,10 @@ void addColumns(PointCloud& out, const PointCloud& batch, const Added& added,
   }
   if (added.distance) {
     std::memcpy(scalarFor(out, "distance").data.data(), d1.data(), d1.size() * sizeof(float));
+  }
+  if (added.height) {
+    std::memcpy(scalarFor(out, "height_above_ground").data.data(), h1.data(),
+                h1.size() * sizeof(float));
   }
   if ((added.mark || added.classes) && !out.hasClassification()) {
     out.classification = Column<std::uint8_t>(out.count);
@@ -182,7 +187,7 @@ void addColumns(PointCloud& out, const PointCloud& batch, const Added& added,
 PointCloud outputLayout(const PointCloud& batch, const Added& added) {
   const std::uint64_t first = 0;
   PointCloud out = gatherPoints(batch, std::span<const std::uint64_t>(&first, 1));
-  addColumns(out, batch, added, std::vector<float>(3, 0.0f), {0.0f}, {0.0f}, {0}, {0});
+  addColumns(out, batch, added, std::vector<float>(3, 0.0f), {0.0f}, {0.0f}, {0}, {0}, {0.0f});
   return out;
 }
 
@@ -194,9 +199,10 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
                        std::vector<std::unique_ptr<RecordReader>>& distance,
                        std::vector<std::unique_ptr<RecordReader>>& mark,
                        std::vector<std::unique_ptr<RecordReader>>& classes,
+                       std::vector<std::unique_ptr<RecordReader>>& heights,
                        const SensorPositions* sensor) {
   std::vector<std::uint64_t> take;
-  std::vector<float> n3, c1, d1;
+  std::vector<float> n3, c1, d1, h1;
   std::vector<std::uint8_t> m1, k1;
   for (std::size_t i = 0; i < batch.count; ++i) {
     const std::size_t t = tiles.tileOf(batch.worldX(i));
@@ -206,6 +212,7 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
     const std::byte* d = added.distance ? distance[t]->next() : nullptr;
     const std::byte* m = added.mark ? mark[t]->next() : nullptr;
     const std::byte* k = added.classes ? classes[t]->next() : nullptr;
+    const std::byte* h = added.height ? heights[t]->next() : nullptr;
     if (!keep) continue;
     take.push_back(i);
     if (n) {
@@ -218,9 +225,10 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
     if (d) d1.push_back(*reinterpret_cast<const float*>(d));
     if (m) m1.push_back(std::uint8_t(*m));
     if (k) k1.push_back(std::uint8_t(*k));
+    if (h) h1.push_back(*reinterpret_cast<const float*>(h));
   }
   PointCloud out = gatherPoints(batch, std::span<const std::uint64_t>(take));
-  addColumns(out, batch, added, n3, c1, d1, m1, k1);
+  addColumns(out, batch, added, n3, c1, d1, m1, k1, h1);
   out.computeBounds();
   return out;
 }
@@ -304,6 +312,9 @@ ProcessReport runProcess(const ProcessOptions& options) {
       added.mark = added.mark || o->mark;
     } else if (const auto* s = std::get_if<SubsampleStep>(&step)) {
       runSubsampleStep(*s, context);
+    } else if (const auto* h = std::get_if<HeightAboveGroundStep>(&step)) {
+      runHeightAboveGroundStep(*h, context);
+      added.height = true;
     } else if (const auto* g = std::get_if<GroundStep>(&step)) {
       runGroundStep(*g, context);
       added.classes = true;
@@ -335,6 +346,7 @@ ProcessReport runProcess(const ProcessOptions& options) {
   auto distance = open(added.distance, "distance", 4);
   auto mark = open(added.mark, "mark", 1);
   auto classes = open(added.classes, "class", 1);
+  auto heights = open(added.height, "hag", 4);
 
   auto bar = options.progress ? options.progress("writing", report.input_points) : nullptr;
   const PointFormat format = formatForExtension(options.output);
@@ -353,7 +365,7 @@ ProcessReport runProcess(const ProcessOptions& options) {
     PointCloud batch;
     while (stream.next(batch, kBatchPoints)) {
       PointCloud out = outputBatch(batch, tiles, added, kept, normals, curvature, distance, mark,
-                                   classes, sensor);
+                                   classes, heights, sensor);
       if (bar) bar->advance(batch.count);
       if (first) {
         signature = attributeSignature(outputLayout(batch, added));

@@ -249,6 +249,7 @@ std::string describeStep(const ProcessStep& step) {
         return "--subsample random:" + std::to_string(s->count);
     }
   }
+  if (std::holds_alternative<HeightAboveGroundStep>(step)) return "--height-above-ground";
   if (const auto* g = std::get_if<GroundStep>(&step)) {
     const std::string keep = g->keep_classes ? " --keep-classes" : "";
     if (g->method == GroundStep::Method::kCsf) {

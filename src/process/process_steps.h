@@ -63,8 +63,13 @@ struct GroundStep {
   bool keep_classes = false;
 };
 
-using ProcessStep =
-    std::variant<NormalsStep, OutliersStep, SubsampleStep, DistanceStep, GroundStep>;
+// --height-above-ground: `height_above_ground` (float), z less the height of the 2D Delaunay
+// triangulation of the ground points (class 2 so far: the input's or an earlier --ground's) at
+// the point's x y; outside the ground's convex hull, less the nearest ground point's z.
+struct HeightAboveGroundStep {};
+
+using ProcessStep = std::variant<NormalsStep, OutliersStep, SubsampleStep, DistanceStep, GroundStep,
+                                 HeightAboveGroundStep>;
 
 // "--normals 16", "--outliers statistical:8,2", ...: how the step was asked for (messages).
 std::string describeStep(const ProcessStep& step);

@@ -29,8 +29,8 @@ struct FileCloser {
   void operator()(std::FILE* f) const { std::fclose(f); }
 };
 
-// The input's classes ("class_in" records, 0 where an input has none): the inputs read once
-// more, each point routed to its tile by its x as the spill did, so records follow tile order.
+}  // namespace
+
 void writeInputClasses(const StepContext& context) {
   const TileSet& tiles = context.tiles;
   std::vector<std::unique_ptr<std::FILE, FileCloser>> files(tiles.tiles());
@@ -55,6 +55,19 @@ void writeInputClasses(const StepContext& context) {
   }
 }
 
+std::vector<std::uint8_t> currentClasses(const TileSet& tiles, std::size_t t) {
+  std::vector<std::uint8_t> classes = tiles.readRecords<std::uint8_t>(t, "class_in");
+  if (tiles.has(t, "class")) {
+    const std::vector<std::uint8_t> set = tiles.readRecords<std::uint8_t>(t, "class");
+    for (std::size_t i = 0; i < classes.size(); ++i) {
+      if (set[i]) classes[i] = set[i];
+    }
+  }
+  return classes;
+}
+
+namespace {
+
 // Which points of tile `t` the filter classifies: kept, not marked as noise by an earlier step,
 // and with --keep-classes only those whose class so far is 0 (never classified) or 1.
 std::vector<std::uint8_t> candidates(const GroundStep& step, const TileSet& tiles, std::size_t t) {
@@ -64,14 +77,8 @@ std::vector<std::uint8_t> candidates(const GroundStep& step, const TileSet& tile
     for (std::size_t i = 0; i < take.size(); ++i) take[i] = take[i] && !mark[i];
   }
   if (step.keep_classes) {
-    const std::vector<std::uint8_t> input = tiles.readRecords<std::uint8_t>(t, "class_in");
-    const std::vector<std::uint8_t> set = tiles.has(t, "class")
-                                              ? tiles.readRecords<std::uint8_t>(t, "class")
-                                              : std::vector<std::uint8_t>(take.size(), 0);
-    for (std::size_t i = 0; i < take.size(); ++i) {
-      const std::uint8_t now = set[i] ? set[i] : input[i];
-      take[i] = take[i] && now <= kUnclassified;
-    }
+    const std::vector<std::uint8_t> now = currentClasses(tiles, t);
+    for (std::size_t i = 0; i < take.size(); ++i) take[i] = take[i] && now[i] <= kUnclassified;
   }
   return take;
 }
@@ -140,7 +147,7 @@ void runGroundStep(const GroundStep& step, const StepContext& context) {
   }
   if (tiles.points() == 0) return;
   auto bar = context.progress ? context.progress(context.label, tiles.tiles()) : nullptr;
-  if (step.keep_classes) writeInputClasses(context);
+  if (step.keep_classes && !tiles.has(0, "class_in")) writeInputClasses(context);
 
   SmrfSurface surface;
   CsfCloth cloth;

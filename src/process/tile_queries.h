@@ -86,16 +86,25 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
 
 // The steps (step_*.cpp). Each reads and writes the tiles' records (tile_set.h): "kept",
 // "normals" (3 floats), "curvature" (float), "distance" (float), "mark" (1: class 7), "class"
-// (the class to write, 0: the input's).
+// (the class to write, 0: the input's), "hag" (float: height above ground).
 struct NormalsStep;
 struct OutliersStep;
 struct SubsampleStep;
 struct DistanceStep;
 struct GroundStep;
+struct HeightAboveGroundStep;
 void runNormalsStep(const NormalsStep& step, const StepContext& context);
 void runOutliersStep(const OutliersStep& step, const StepContext& context);
 void runSubsampleStep(const SubsampleStep& step, const StepContext& context);
 void runDistanceStep(const DistanceStep& step, const StepContext& context);
 void runGroundStep(const GroundStep& step, const StepContext& context);
+void runHeightAboveGroundStep(const HeightAboveGroundStep& step, const StepContext& context);
+
+// Classes, for the steps that read them (step_ground.cpp): the inputs read once more, each point
+// routed to its tile by its x as the spill did, into "class_in" records (0 where an input has no
+// classification); and a tile's classes as the run has them so far (a ground step's "class"
+// record where nonzero, else the input's).
+void writeInputClasses(const StepContext& context);
+std::vector<std::uint8_t> currentClasses(const TileSet& tiles, std::size_t tile);
 
 }  // namespace parallax

@@ -253,6 +253,72 @@ TEST(GroundCsf, AnalyticTerrainClothSettlesOnTheGroundAndSpansTheRoofs) {
   EXPECT_GT(classify("csf:resolution=1,class_threshold=0.02").ground_missed, 10000u);
 }
 
+ProcessReport runWithHeight(const std::filesystem::path& in, const std::filesystem::path& out,
+                            std::uint64_t memory_mb) {
+  ProcessOptions options;
+  options.inputs = {ConvertInput{.path = in}};
+  options.output = out;
+  options.steps = {parseGround("smrf"), HeightAboveGroundStep{}};
+  options.memory_mb = memory_mb;
+  return runProcess(options);
+}
+
+TEST(HeightAboveGround, AnalyticTerrainHeightsAndTheSameBytesAtAnyMemory) {
+  TempDir dir;
+  const Scene s = scene(false);
+  const auto in = writeScene(dir, "scene.las", s, [](std::size_t) { return std::uint8_t(0); });
+  const ProcessReport tiled = runWithHeight(in, dir / "small.las", 1);
+  runWithHeight(in, dir / "large.las", 2048);
+  EXPECT_GT(tiled.tiles, 5u);
+  EXPECT_TRUE(bytesOf(dir / "small.las") == bytesOf(dir / "large.las"))
+      << "the heights depend on --memory";
+  const PointCloud out = readPointFile(dir / "large.las");
+  const ScalarColumn* hag = out.findScalar("height_above_ground");
+  ASSERT_NE(hag, nullptr);
+  ASSERT_EQ(hag->type, ScalarType::Float32);
+  double worst_ground = 0, worst_tree = 0, worst_roof = 0;
+  for (std::size_t i = 0; i < out.count; ++i) {
+    const double h = hag->as<float>()[i];
+    // Against the analytic ground under the point (the LAS file's millimetres allowed for).
+    const double expected = s.points[i][2] - groundZ(s.points[i][0], s.points[i][1]);
+    const double error = std::abs(h - expected);
+    if (s.label[i] == 2) {
+      worst_ground = std::max(worst_ground, std::abs(h));  // a vertex of the triangulation
+    } else if (s.building[i] < 0) {
+      worst_tree = std::max(worst_tree, error);
+    } else {
+      worst_roof = std::max(worst_roof, error);
+    }
+  }
+  std::printf(
+      "height above ground: worst |h| of ground points %.3g, worst error under trees "
+      "%.3g, under roofs %.3g\n",
+      worst_ground, worst_tree, worst_roof);
+  EXPECT_LT(worst_ground, 1e-4);
+  EXPECT_LT(worst_tree, 0.01);  // linear between ground points 0.5 m apart, millimetres in the file
+  EXPECT_LT(worst_roof, 0.1);   // linear across a roof 12-16 m wide (measured 0.046)
+  EXPECT_GT(worst_roof, 0.0);
+}
+
+TEST(HeightAboveGround, NoGroundIsAnErrorNamingTheStep) {
+  TempDir dir;
+  const Scene s = scene(false);
+  const auto in = writeScene(dir, "scene.las", s, [](std::size_t) { return std::uint8_t(1); });
+  ProcessOptions options;
+  options.inputs = {ConvertInput{.path = in}};
+  options.output = dir / "out.las";
+  options.steps = {HeightAboveGroundStep{}};
+  try {
+    runProcess(options);
+    ADD_FAILURE() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("--height-above-ground: no ground point (class 2)"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.las"));
+}
+
 TEST(GroundSmrf, BadParametersAreErrorsNamingTheStep) {
   auto message = [](const std::string& value) {
     try {

@@ -1,0 +1,87 @@
+// --height-above-ground: each kept point's z less the ground's height under it, the ground being
+// the 2D Delaunay triangulation of the ground points (terrain/ground_triangulation.h), out of
+// core: a tile is answered from the ground points of its slab and a halo in x, and the points
+// whose triangle's circumcircle reaches past the halo (the triangle could then differ from the
+// whole ground's) are answered again with the halo doubled, until none is left, as the
+// neighbourhood steps do (NOTES.md). Memory: a tile and the ground points of its halo.
+#include <cmath>
+#include <stdexcept>
+
+#include "process/process_steps.h"
+#include "process/tile_queries.h"
+#include "terrain/ground_triangulation.h"
+
+namespace parallax {
+
+namespace {
+
+constexpr std::uint8_t kGroundClass = 2;
+
+std::vector<std::uint8_t> groundFlags(const TileSet& tiles, std::size_t t) {
+  std::vector<std::uint8_t> flags = currentClasses(tiles, t);
+  const std::vector<std::uint8_t> kept = tiles.readKept(t);
+  for (std::size_t i = 0; i < flags.size(); ++i) flags[i] = kept[i] && flags[i] == kGroundClass;
+  return flags;
+}
+
+}  // namespace
+
+void runHeightAboveGroundStep(const HeightAboveGroundStep&, const StepContext& context) {
+  const TileSet& tiles = context.tiles;
+  if (!tiles.has(0, "class_in")) writeInputClasses(context);
+  std::uint64_t ground_points = 0;
+  for (std::size_t t = 0; t < tiles.tiles(); ++t) {
+    for (std::uint8_t g : groundFlags(tiles, t)) ground_points += g;
+  }
+  if (ground_points == 0 && tiles.points() > 0) {
+    throw std::invalid_argument(context.label +
+                                ": no ground point (class 2) in the input; classify it first "
+                                "(--ground smrf before --height-above-ground)");
+  }
+  auto bar = context.progress ? context.progress(context.label, tiles.points()) : nullptr;
+  // The first halo: eight times the ground points' mean spacing.
+  const double area =
+      std::max(1e-12, (tiles.max()[0] - tiles.min()[0]) * (tiles.max()[1] - tiles.min()[1]));
+  const double first_halo =
+      8.0 * std::sqrt(area / double(std::max<std::uint64_t>(1, ground_points)));
+  for (std::size_t t = 0; t < tiles.tiles(); ++t) {
+    const std::vector<GridPoint> points = tiles.readPoints(t);
+    const std::vector<std::uint8_t> kept = tiles.readKept(t);
+    std::vector<float> hag(points.size(), 0.0f);
+    std::vector<std::uint32_t> pending;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (kept[i]) pending.push_back(std::uint32_t(i));
+    }
+    for (double halo = first_halo; !pending.empty(); halo *= 2.0) {
+      const double lo = tiles.lo(t) - halo, hi = tiles.hi(t) + halo;
+      const bool everything = lo <= tiles.min()[0] && hi > tiles.max()[0];
+      std::vector<std::array<double, 3>> ground;
+      for (std::size_t u = 0; u < tiles.tiles(); ++u) {
+        if (tiles.hi(u) <= lo || tiles.lo(u) >= hi || tiles.count(u) == 0) continue;
+        const std::vector<GridPoint> others = u == t ? points : tiles.readPoints(u);
+        const std::vector<std::uint8_t> flags = groundFlags(tiles, u);
+        for (std::size_t i = 0; i < others.size(); ++i) {
+          if (flags[i] && others[i].x >= lo && others[i].x < hi) {
+            ground.push_back({others[i].x, others[i].y, others[i].z});
+          }
+        }
+      }
+      const GroundTriangulation triangulation(ground);
+      std::vector<std::uint32_t> again;
+      for (std::uint32_t i : pending) {
+        const GridPoint& q = points[i];
+        const GroundTriangulation::Answer answer = triangulation.at(q.x, q.y);
+        if (everything || (q.x - answer.reach >= lo && q.x + answer.reach < hi)) {
+          hag[i] = float(q.z - answer.z);
+        } else {
+          again.push_back(i);
+        }
+      }
+      pending = std::move(again);
+    }
+    tiles.writeRecords<float>(t, "hag", hag);
+    if (bar) bar->advance(points.size());
+  }
+}
+
+}  // namespace parallax

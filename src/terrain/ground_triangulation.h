@@ -1,0 +1,44 @@
+// The ground's surface as a 2D Delaunay triangulation of ground points (CGAL's
+// Delaunay_triangulation_2 with exact predicates, Debian's header-only libcgal-dev): the
+// height above ground of `process --height-above-ground`.
+//
+// Every answer says how far around the query it depends on the points (its reach), so that a
+// caller holding only the ground points of a region can tell whether the answer is the one the
+// whole ground's triangulation would give: a Delaunay triangle is one of the whole ground's when
+// no ground point lies in its circumcircle, which is known once every ground point within the
+// circle is held (the points being in general position: four cocircular points have two
+// triangulations, and each may come out).
+#pragma once
+
+#include <array>
+#include <limits>
+#include <memory>
+#include <span>
+
+namespace parallax {
+
+class GroundTriangulation {
+ public:
+  // `ground`: x, y, z of the ground points, any order; points of equal x and y count once, with
+  // the lowest z. Empty: every answer is NaN.
+  explicit GroundTriangulation(std::span<const std::array<double, 3>> ground);
+  ~GroundTriangulation();
+  GroundTriangulation(const GroundTriangulation&) = delete;
+  GroundTriangulation& operator=(const GroundTriangulation&) = delete;
+
+  struct Answer {
+    double z = std::numeric_limits<double>::quiet_NaN();  // the ground's height at (x, y)
+    // The answer depends on the ground points within this distance of (x, y) only: the
+    // farthest point of the triangle's circumcircle; infinite outside the ground's convex hull,
+    // where the height is the nearest ground point's (a larger ground may hold the point).
+    double reach = std::numeric_limits<double>::infinity();
+  };
+  // Linear within the triangle holding (x, y); outside the convex hull the nearest ground point.
+  Answer at(double x, double y) const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace parallax
