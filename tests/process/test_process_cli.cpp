@@ -57,5 +57,37 @@ TEST(ProcessCli, BadParametersExitWithTheStepNamed) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
 }
 
+TEST(ProcessCli, GroundThenHeightAboveGroundFromTheCommandLine) {
+  TempDir dir;
+  const std::filesystem::path las = test::testDataFile("laz/1815.las");
+  auto r = runParallax(dir, "process " + las.string() + " -o " + (dir / "g.las").string() +
+                                " --ground smrf:cell=30,window=300,slope=0.05 "
+                                "--height-above-ground -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const PointCloud out = readPointFile(dir / "g.las");
+  ASSERT_EQ(out.count, 1247u);
+  const ScalarColumn* hag = out.findScalar("height_above_ground");
+  ASSERT_NE(hag, nullptr);
+  std::size_t ground = 0;
+  for (std::size_t i = 0; i < out.count; ++i) {
+    ASSERT_TRUE(out.classification[i] == 1 || out.classification[i] == 2);
+    if (out.classification[i] == 2) {
+      ++ground;
+      EXPECT_EQ(hag->as<float>()[i], 0.0f);  // a vertex of the ground's triangulation
+    }
+  }
+  EXPECT_GT(ground, 100u);
+  // Heights before any ground: the input's own class 2 points (1815.las has 244).
+  r = runParallax(dir, "process " + las.string() + " -o " + (dir / "h.las").string() +
+                           " --height-above-ground -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = runParallax(dir, "process " + las.string() + " -o " + (dir / "o.las").string() +
+                           " --ground smrf:window=0");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--ground smrf:window=0: window must be a positive number, got '0'"),
+            std::string::npos)
+      << r.err;
+}
+
 }  // namespace
 }  // namespace parallax
