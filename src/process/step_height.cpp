@@ -3,7 +3,10 @@
 // core: a tile is answered from the ground points of its slab and a halo in x, and the points
 // whose triangle's circumcircle reaches past the halo (the triangle could then differ from the
 // whole ground's) are answered again with the halo doubled, until none is left, as the
-// neighbourhood steps do (NOTES.md). Memory: a tile and the ground points of its halo.
+// neighbourhood steps do (NOTES.md), the halo grown at once to the widest reach pending. Memory:
+// a tile and the ground points of its halo; a point outside the loaded ground's convex hull
+// needs the whole ground (terrain/NOTES.md).
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -52,7 +55,8 @@ void runHeightAboveGroundStep(const HeightAboveGroundStep&, const StepContext& c
     for (std::size_t i = 0; i < points.size(); ++i) {
       if (kept[i]) pending.push_back(std::uint32_t(i));
     }
-    for (double halo = first_halo; !pending.empty(); halo *= 2.0) {
+    const double whole = tiles.max()[0] - tiles.min()[0] + 1.0;  // a halo that loads everything
+    for (double halo = first_halo; !pending.empty();) {
       const double lo = tiles.lo(t) - halo, hi = tiles.hi(t) + halo;
       const bool everything = lo <= tiles.min()[0] && hi > tiles.max()[0];
       std::vector<std::array<double, 3>> ground;
@@ -68,6 +72,9 @@ void runHeightAboveGroundStep(const HeightAboveGroundStep&, const StepContext& c
       }
       const GroundTriangulation triangulation(ground);
       std::vector<std::uint32_t> again;
+      // The next halo: the widest reach still pending (at least twice this one); everything at
+      // once for a point outside the loaded ground's hull (only the whole ground answers it).
+      double next = 2.0 * halo;
       for (std::uint32_t i : pending) {
         const GridPoint& q = points[i];
         const GroundTriangulation::Answer answer = triangulation.at(q.x, q.y);
@@ -75,9 +82,13 @@ void runHeightAboveGroundStep(const HeightAboveGroundStep&, const StepContext& c
           hag[i] = float(q.z - answer.z);
         } else {
           again.push_back(i);
+          const double need =
+              std::max(q.x + answer.reach - tiles.hi(t), tiles.lo(t) - (q.x - answer.reach));
+          next = std::max(next, std::min(whole, 1.01 * need));
         }
       }
       pending = std::move(again);
+      halo = next;
     }
     tiles.writeRecords<float>(t, "hag", hag);
     if (bar) bar->advance(points.size());
