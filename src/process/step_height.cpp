@@ -51,9 +51,10 @@ void runHeightAboveGroundStep(const HeightAboveGroundStep&, const StepContext& c
     const std::vector<GridPoint> points = tiles.readPoints(t);
     const std::vector<std::uint8_t> kept = tiles.readKept(t);
     std::vector<float> hag(points.size(), 0.0f);
+    // The kept points in Morton order: each triangle search starts from the last one's.
     std::vector<std::uint32_t> pending;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      if (kept[i]) pending.push_back(std::uint32_t(i));
+    for (std::uint32_t i : spatialOrder(points)) {
+      if (kept[i]) pending.push_back(i);
     }
     const double whole = tiles.max()[0] - tiles.min()[0] + 1.0;  // a halo that loads everything
     for (double halo = first_halo; !pending.empty();) {

@@ -24,6 +24,7 @@ using Point = Kernel::Point_2;
 
 struct GroundTriangulation::State {
   Delaunay triangulation;
+  Delaunay::Face_handle last;  // where the next search starts
 };
 
 GroundTriangulation::GroundTriangulation(std::span<const std::array<double, 3>> ground)
@@ -51,7 +52,8 @@ GroundTriangulation::Answer GroundTriangulation::at(double x, double y) const {
   if (dt.dimension() == 2) {
     Delaunay::Locate_type type;
     int index = 0;
-    Delaunay::Face_handle face = dt.locate(q, type, index);
+    Delaunay::Face_handle face = dt.locate(q, type, index, state_->last);
+    state_->last = face;
     if (type == Delaunay::FACE || type == Delaunay::EDGE || type == Delaunay::VERTEX) {
       if (dt.is_infinite(face)) face = face->neighbor(face->index(dt.infinite_vertex()));
       const Point& a = face->vertex(0)->point();

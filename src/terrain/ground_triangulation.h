@@ -34,6 +34,8 @@ class GroundTriangulation {
     double reach = std::numeric_limits<double>::infinity();
   };
   // Linear within the triangle holding (x, y); outside the convex hull the nearest ground point.
+  // The search starts from the last answer's triangle (a walk, O(distance)): ask in a spatial
+  // order. Not safe to call from several threads at once.
   Answer at(double x, double y) const;
 
  private:
