@@ -32,10 +32,23 @@ std::vector<std::uint8_t> groundFlags(const TileSet& tiles, std::size_t t) {
 void runHeightAboveGroundStep(const HeightAboveGroundStep&, const StepContext& context) {
   const TileSet& tiles = context.tiles;
   if (!tiles.has(0, "class_in")) writeInputClasses(context);
+  // The whole ground's convex hull (the hull of each tile's hull), added to every tile's ground:
+  // a point outside a tile's triangulation is then outside the whole ground's, and answered by
+  // its nearest ground point without loading the whole ground.
   std::uint64_t ground_points = 0;
+  std::vector<std::array<double, 3>> hull;
   for (std::size_t t = 0; t < tiles.tiles(); ++t) {
-    for (std::uint8_t g : groundFlags(tiles, t)) ground_points += g;
+    const std::vector<GridPoint> points = tiles.readPoints(t);
+    const std::vector<std::uint8_t> flags = groundFlags(tiles, t);
+    std::vector<std::array<double, 3>> ground;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (flags[i]) ground.push_back({points[i].x, points[i].y, points[i].z});
+    }
+    ground_points += ground.size();
+    const std::vector<std::array<double, 3>> own = GroundTriangulation::convexHull(ground);
+    hull.insert(hull.end(), own.begin(), own.end());
   }
+  hull = GroundTriangulation::convexHull(hull);
   if (ground_points == 0 && tiles.points() > 0) {
     throw std::invalid_argument(context.label +
                                 ": no ground point (class 2) in the input; classify it first "
@@ -60,7 +73,7 @@ void runHeightAboveGroundStep(const HeightAboveGroundStep&, const StepContext& c
     for (double halo = first_halo; !pending.empty();) {
       const double lo = tiles.lo(t) - halo, hi = tiles.hi(t) + halo;
       const bool everything = lo <= tiles.min()[0] && hi > tiles.max()[0];
-      std::vector<std::array<double, 3>> ground;
+      std::vector<std::array<double, 3>> ground = hull;
       for (std::size_t u = 0; u < tiles.tiles(); ++u) {
         if (tiles.hi(u) <= lo || tiles.lo(u) >= hi || tiles.count(u) == 0) continue;
         const std::vector<GridPoint> others = u == t ? points : tiles.readPoints(u);
@@ -71,7 +84,7 @@ void runHeightAboveGroundStep(const HeightAboveGroundStep&, const StepContext& c
           }
         }
       }
-      const GroundTriangulation triangulation(ground);
+      const GroundTriangulation triangulation(ground, true);
       std::vector<std::uint32_t> again;
       // The next halo: the widest reach still pending (at least twice this one); everything at
       // once for a point outside the loaded ground's hull (only the whole ground answers it).

@@ -4,9 +4,12 @@
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <CGAL/convex_hull_2.h>
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -27,8 +30,9 @@ struct GroundTriangulation::State {
   Delaunay::Face_handle last;  // where the next search starts
 };
 
-GroundTriangulation::GroundTriangulation(std::span<const std::array<double, 3>> ground)
-    : state_(std::make_unique<State>()) {
+GroundTriangulation::GroundTriangulation(std::span<const std::array<double, 3>> ground,
+                                         bool holds_hull)
+    : state_(std::make_unique<State>()), holds_hull_(holds_hull) {
   // Sorted by (x, y, z) and one point per (x, y): the set, not the order the caller found the
   // points in, decides which of equal points stays.
   std::vector<std::array<double, 3>> sorted(ground.begin(), ground.end());
@@ -72,8 +76,35 @@ GroundTriangulation::Answer GroundTriangulation::at(double x, double y) const {
       return answer;
     }
   }
-  answer.z = dt.nearest_vertex(q)->info();
+  const Delaunay::Vertex_handle nearest = dt.nearest_vertex(q);
+  answer.z = nearest->info();
+  if (holds_hull_) answer.reach = std::sqrt(CGAL::squared_distance(nearest->point(), q));
   return answer;
+}
+
+std::vector<std::array<double, 3>> GroundTriangulation::convexHull(
+    std::span<const std::array<double, 3>> points) {
+  std::vector<std::pair<Point, double>> in;
+  in.reserve(points.size());
+  for (const auto& p : points) in.emplace_back(Point(p[0], p[1]), p[2]);
+  std::vector<Point> xy;
+  xy.reserve(in.size());
+  for (const auto& p : in) xy.push_back(p.first);
+  std::vector<Point> hull;
+  CGAL::convex_hull_2(xy.begin(), xy.end(), std::back_inserter(hull));
+  // The z of each hull vertex: the lowest of the points at its x and y.
+  std::sort(in.begin(), in.end(), [](const auto& a, const auto& b) {
+    return std::make_tuple(a.first.x(), a.first.y(), a.second) <
+           std::make_tuple(b.first.x(), b.first.y(), b.second);
+  });
+  std::vector<std::array<double, 3>> out;
+  for (const Point& h : hull) {
+    const auto at = std::lower_bound(in.begin(), in.end(), h, [](const auto& a, const Point& b) {
+      return std::make_pair(a.first.x(), a.first.y()) < std::make_pair(b.x(), b.y());
+    });
+    out.push_back({h.x(), h.y(), at->second});
+  }
+  return out;
 }
 
 }  // namespace parallax

@@ -14,14 +14,19 @@
 #include <limits>
 #include <memory>
 #include <span>
+#include <vector>
 
 namespace parallax {
 
 class GroundTriangulation {
  public:
   // `ground`: x, y, z of the ground points, any order; points of equal x and y count once, with
-  // the lowest z. Empty: every answer is NaN.
-  explicit GroundTriangulation(std::span<const std::array<double, 3>> ground);
+  // the lowest z. Empty: every answer is NaN. `holds_hull`: `ground` holds every vertex of the
+  // whole ground's convex hull (convexHull below), so that a point outside this triangulation's
+  // hull is outside the whole ground's, and its answer (the nearest ground point) reaches only as
+  // far as that point.
+  explicit GroundTriangulation(std::span<const std::array<double, 3>> ground,
+                               bool holds_hull = false);
   ~GroundTriangulation();
   GroundTriangulation(const GroundTriangulation&) = delete;
   GroundTriangulation& operator=(const GroundTriangulation&) = delete;
@@ -29,8 +34,9 @@ class GroundTriangulation {
   struct Answer {
     double z = std::numeric_limits<double>::quiet_NaN();  // the ground's height at (x, y)
     // The answer depends on the ground points within this distance of (x, y) only: the
-    // farthest point of the triangle's circumcircle; infinite outside the ground's convex hull,
-    // where the height is the nearest ground point's (a larger ground may hold the point).
+    // farthest point of the triangle's circumcircle; outside the convex hull, where the height
+    // is the nearest ground point's, infinite (a larger ground may hold the point) unless the
+    // triangulation holds the whole ground's hull (then the nearest point's distance).
     double reach = std::numeric_limits<double>::infinity();
   };
   // Linear within the triangle holding (x, y); outside the convex hull the nearest ground point.
@@ -38,9 +44,14 @@ class GroundTriangulation {
   // order. Not safe to call from several threads at once.
   Answer at(double x, double y) const;
 
+  // The vertices of the convex hull of `points` (x and y; z kept), counter-clockwise.
+  static std::vector<std::array<double, 3>> convexHull(
+      std::span<const std::array<double, 3>> points);
+
  private:
   struct State;
   std::unique_ptr<State> state_;
+  bool holds_hull_ = false;
 };
 
 }  // namespace parallax
