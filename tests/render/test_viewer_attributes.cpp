@@ -114,6 +114,16 @@ TEST(ViewerAttributes, ColourSwitchesReadTheNodesAgainAndDrawWhatRenderDraws) {
   };
   EXPECT_GT(sameFraction(viewer.settledScreenshot(shots, matches(rgb)), rgb), 0.98);
 
+  // Picking reads the node whole: the point's intensity is reported though not drawn.
+  viewer.ctrlClick(240, 180);
+  EXPECT_TRUE(viewer.logged("parallax view: picked ")) << viewer.log();
+  const std::string log = viewer.log();
+  const std::size_t picked = log.find("parallax view: picked ");
+  ASSERT_NE(picked, std::string::npos);
+  const std::string line = log.substr(picked, log.find('\n', picked) - picked);
+  EXPECT_NE(line.find(" intensity="), std::string::npos) << line;
+  EXPECT_NE(line.find(" gps_time="), std::string::npos) << line;
+
   viewer.key("c");  // elevation: positions only, nothing to read again
   viewer.key("c");  // intensity
   EXPECT_TRUE(viewer.logged("parallax view: colour intensity")) << viewer.log();
