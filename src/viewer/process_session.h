@@ -29,7 +29,8 @@ struct ProcessSession {
   std::vector<std::string> steps;
   std::string new_step = "normals 16";  // the field of the step to add
   std::string output;                   // the result's file (its extension picks the format)
-  bool clip_box_only = false;           // only the points in the clip box (while it is on)
+  // Only the points of the clip box while it is on (what is shown; the panel's checkbox).
+  bool clip_box_only = true;
   // The run under way (valid() while it is), what it writes, its steps and when it started.
   std::future<ProcessReport> run;
   std::shared_ptr<ProcessProgress> progress;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <set>
 #include <sstream>
@@ -86,6 +87,43 @@ TEST(ViewerProcess, NormalsComputedInTheViewerLightTheCloud) {
   // Lit by its new normals: the dome shades from one side to the other.
   const auto lit = [](const RgbaImage& image) { return cloudColours(image).size() >= 20; };
   EXPECT_TRUE(lit(viewer.settledScreenshot(shots, lit))) << viewer.log();
+  EXPECT_EQ(viewer.quit(), 0) << viewer.log();
+}
+
+// With the clip box on (here the command line's), the steps run on the points inside it only.
+TEST(ViewerProcess, WithTheClipBoxOnOnlyItsPointsAreProcessed) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto cloud = dir.write("grid.ply", gridPly());
+  const PointCloud grid = readPointFile(cloud);
+  std::uint64_t inside = 0;  // the grid's points in the box below, counted here
+  for (std::size_t i = 0; i < grid.count; ++i) {
+    const double x = grid.worldX(i), y = grid.worldY(i);
+    inside += x >= -0.2 && x <= 0.3 && y >= -0.6 && y <= 0.1;
+  }
+  ASSERT_GT(inside, 300u);
+  ASSERT_LT(inside, grid.count / 2);
+  const auto output = dir / "box-normals.ply";
+  const auto shots = dir.path() / "shots";
+  std::filesystem::create_directories(shots);
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  std::vector<std::string> args = {cloud.string(),   "--screenshot-dir", shots.string(),
+                                   "--no-vsync",     "--clip-box",       "-0.2,-0.6,-1,0.3,0.1,1",
+                                   "--process-step", "normals 8",        "--process-output",
+                                   output.string()};
+  for (const std::string& option : sharedOptions()) args.push_back(option);
+  ViewerProcess viewer(dir, display.name(), args, "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+  viewer.key("k");
+  EXPECT_TRUE(viewer.logged("(its clip box) into " + output.string())) << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: processed into " + output.string())) << viewer.log();
+  const PointCloud saved = readPointFile(output);
+  EXPECT_EQ(saved.count, inside);
+  EXPECT_TRUE(saved.hasNormals());
   EXPECT_EQ(viewer.quit(), 0) << viewer.log();
 }
 
