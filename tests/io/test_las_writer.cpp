@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "core/byte_order.h"
+#include "core/point_gather.h"
 #include "io/las_header.h"
 #include "io/las_reader.h"
 #include "io/ply_reader.h"
@@ -176,6 +177,73 @@ std::string recordsOf(const std::string& las) {
 std::string fileBytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The stream writer, fed in uneven batches (one point, across LAZ chunk borders, the rest), writes
+// the bytes writeLas writes for the whole cloud: LAS and LAZ, a 1.2 and a 1.4 source.
+TEST(LasStreamWriter, BatchesGiveTheBytesOfTheWholeCloud) {
+  test::TempDir dir;
+  for (auto [minor, format] : {std::pair{2, 3}, {4, 7}}) {
+    const auto in = dir.write("in.las", test::makeLas(manyPoints(minor, format)));
+    auto source = std::make_shared<LasHeader>(readLasHeaderWithRecords(in));
+    const PointCloud cloud = readLas(in);
+    ASSERT_EQ(cloud.count, 5000u);
+    for (std::uint32_t chunk : {0u, 1000u}) {
+      SCOPED_TRACE("format " + std::to_string(format) + " chunk " + std::to_string(chunk));
+      const LasWriteOptions options{.source = source, .laz_chunk_points = chunk};
+      writeLas(cloud, dir / "whole.las", options);
+      std::filesystem::remove(dir / "streamed.las");
+      LasStreamWriter writer(dir / "streamed.las", cloud, cloud.count, options);
+      EXPECT_EQ(writer.plan().point_format, format);
+      std::uint64_t first = 0;
+      for (std::uint64_t n : {1, 999, 1, 2500, 1499}) {
+        writer.write(slicePoints(cloud, first, n));
+        first += n;
+      }
+      ASSERT_EQ(first, cloud.count);
+      EXPECT_FALSE(std::filesystem::exists(dir / "streamed.las")) << "renamed only at the end";
+      writer.finish();
+      const std::string whole = fileBytes(dir / "whole.las");
+      EXPECT_GT(whole.size(), chunk ? 5000u * 4 : 5000u * 34);  // every point is in
+      EXPECT_TRUE(whole == fileBytes(dir / "streamed.las"));
+    }
+  }
+}
+
+// The format is decided before the first record, from the layout cloud's maxima: a one-point
+// layout holding a class of 40 gives LAS 1.4 format 6 to batches whose first ones have classes
+// below 32, as writeLas does for the whole; a writer dropped unfinished leaves no file.
+TEST(LasStreamWriter, TheLayoutsMaximaDecideTheFormatOfEveryBatch) {
+  test::TempDir dir;
+  PointCloud cloud;
+  cloud.count = 3000;
+  cloud.positions = Column<Int3>(cloud.count);
+  cloud.classification = Column<std::uint8_t>(cloud.count);
+  for (std::size_t i = 0; i < cloud.count; ++i) {
+    cloud.positions[i] = {int(i), -int(i) * 3, int(i % 17)};
+    cloud.classification[i] = std::uint8_t(i == 2500 ? 40 : i % 32);
+  }
+  writeLas(cloud, dir / "whole.las");
+  EXPECT_EQ(readLasHeader(dir / "whole.las").point_format, 6);
+  {
+    LasStreamWriter unfinished(dir / "unfinished.las", slicePoints(cloud, 0, 1), cloud.count);
+    EXPECT_EQ(unfinished.plan().point_format, 0);
+    unfinished.write(slicePoints(cloud, 0, 2000));
+  }
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+    EXPECT_EQ(entry.path().filename(), "whole.las");  // neither the file nor its partial copy
+  }
+  LasStreamWriter writer(dir / "streamed.las", slicePoints(cloud, 2500, 1), cloud.count);
+  EXPECT_EQ(writer.plan().minor_version, 4);
+  EXPECT_EQ(writer.plan().point_format, 6);
+  writer.write(slicePoints(cloud, 0, 2000));
+  writer.write(slicePoints(cloud, 2000, 1000));
+  writer.finish();
+  EXPECT_TRUE(fileBytes(dir / "whole.las") == fileBytes(dir / "streamed.las"));
+  const PointCloud back = readLas(dir / "streamed.las");
+  ASSERT_EQ(back.count, cloud.count);
+  EXPECT_EQ(back.classification[2500], 40);
+  EXPECT_EQ(back.classification[2499], 2499 % 32);
 }
 
 // 8-bit values in the 16-bit colour fields (most LAS writers) and true 16-bit ones: both come
