@@ -3,7 +3,9 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cassert>
+#include <cctype>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -15,6 +17,8 @@
 #include "io/las_writer.h"
 #include "io/laz_writer.h"
 #include "io/ply_writer.h"
+#include "lod/copc_converter.h"
+#include "lod/potree_converter.h"
 #include "process/sensor_positions.h"
 #include "process/tile_queries.h"
 #include "process/tile_set.h"
@@ -26,12 +30,32 @@ namespace {
 constexpr std::size_t kBatchPoints = std::size_t(1) << 20;
 constexpr std::uint8_t kLowNoiseClass = 7;
 
+}  // namespace
+
+ProcessOutput outputKind(const std::filesystem::path& output) {
+  const std::string text = output.string();
+  std::string lower = text;
+  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (lower.size() > 9 && lower.ends_with(".copc.laz")) return ProcessOutput::kCopc;
+  std::error_code ignored;
+  if (!text.empty() && text.back() == '/') return ProcessOutput::kPotree;
+  if (std::filesystem::is_directory(output, ignored)) return ProcessOutput::kPotree;
+  if (formatForExtension(output) == PointFormat::Unknown && !output.has_extension())
+    return ProcessOutput::kPotree;
+  return ProcessOutput::kPointFile;
+}
+
+namespace {
+
 void checkSteps(const ProcessOptions& options) {
-  const PointFormat format = formatForExtension(options.output);
-  if (format == PointFormat::Unknown) {
+  const ProcessOutput kind = outputKind(options.output);
+  if (kind == ProcessOutput::kPotree) checkPotreeOutput(options.output);
+  if (kind == ProcessOutput::kPointFile &&
+      formatForExtension(options.output) == PointFormat::Unknown) {
     throw std::invalid_argument("process: cannot write " + options.output.string() +
                                 ": the output is a point file (.ply, .las, .laz, .xyz, .txt, "
-                                ".csv, .pts); convert it to an octree afterwards");
+                                ".csv, .pts), a COPC file (.copc.laz) or a Potree directory (a "
+                                "name ending in '/' or without extension)");
   }
   if (options.inputs.empty()) throw std::invalid_argument("process: no input");
 }
@@ -39,7 +63,8 @@ void checkSteps(const ProcessOptions& options) {
 // The hidden work folder, removed with everything in it however the run ends.
 class WorkFolder {
  public:
-  explicit WorkFolder(const std::filesystem::path& output) {
+  explicit WorkFolder(std::filesystem::path output) {
+    if (!output.has_filename()) output = output.parent_path();  // "dir/": beside dir
     const std::filesystem::path parent =
         output.has_parent_path() ? output.parent_path() : std::filesystem::path(".");
     std::string name = ".";
@@ -299,6 +324,7 @@ struct WritePass {
   const TileSet& tiles;
   const Added& added;
   const std::vector<SensorPositions>& sensors;
+  std::filesystem::path output;  // a point file: the output's, or the octree's temporary LAS
 };
 
 // The last pass: the inputs once more, in order, each point matched with its tile's next records
@@ -310,6 +336,7 @@ struct WritePass {
 std::optional<PointCloud> writeOutput(const WritePass& pass, ProcessReport& report,
                                       const PointCloud* las_layout) {
   const ProcessOptions& options = pass.options;
+  const std::filesystem::path& output = pass.output;
   const TileSet& tiles = pass.tiles;
   const Added& added = pass.added;
   auto open = [&](bool wanted, const std::string& what, std::size_t size) {
@@ -333,7 +360,7 @@ std::optional<PointCloud> writeOutput(const WritePass& pass, ProcessReport& repo
   auto mark = open(added.mark, "mark", 1);
 
   auto bar = options.progress ? options.progress("writing", report.input_points) : nullptr;
-  const PointFormat format = formatForExtension(options.output);
+  const PointFormat format = formatForExtension(output);
   const bool las_output = format == PointFormat::Las || format == PointFormat::Laz;
   std::unique_ptr<PlyStreamWriter> ply;
   std::unique_ptr<LasStreamWriter> las_writer;
@@ -359,13 +386,13 @@ std::optional<PointCloud> writeOutput(const WritePass& pass, ProcessReport& repo
       if (first) {
         signature = attributeSignature(layout);
         quantization = out.quantization;
-        report.losses = describeWriteLosses(layout, options.output, options.write);
+        report.losses = describeWriteLosses(layout, output, options.write);
         if (format == PointFormat::Ply) {
           PlyWriteOptions ply_options{
               .format = options.write.ply_ascii ? PlyFormat::Ascii : PlyFormat::BinaryLittleEndian,
               .properties = options.write.properties};
-          ply = std::make_unique<PlyStreamWriter>(options.output, layout, report.output_points,
-                                                  ply_options);
+          ply =
+              std::make_unique<PlyStreamWriter>(output, layout, report.output_points, ply_options);
         }
         first = false;
       } else if (attributeSignature(layout) != signature || !(out.quantization == quantization)) {
@@ -382,7 +409,7 @@ std::optional<PointCloud> writeOutput(const WritePass& pass, ProcessReport& repo
         if (!las_writer) {
           // The first batch's maxima stand for the whole's unless the caller knows them.
           las_writer = std::make_unique<LasStreamWriter>(
-              options.output, las_layout ? *las_layout : maxima.cloud(), report.output_points, las);
+              output, las_layout ? *las_layout : maxima.cloud(), report.output_points, las);
         }
       }
       if (out.count == 0) continue;
@@ -409,7 +436,7 @@ std::optional<PointCloud> writeOutput(const WritePass& pass, ProcessReport& repo
     }
     las_writer->finish();
   } else {
-    writePointFile(joinBatches(held), options.output, options.write);
+    writePointFile(joinBatches(held), output, options.write);
   }
   return std::nullopt;
 }
@@ -447,11 +474,37 @@ ProcessReport runProcess(const ProcessOptions& options) {
   }
 
   // The write: the inputs once more, in order (twice for a LAS or LAZ output whose point
-  // format the first batch did not foresee).
+  // format the first batch did not foresee). An octree is built from a point file of the
+  // result in the work folder, read by the builder as any input: LAS when every input is LAS or
+  // LAZ (their CRS and the positions' scale and offset carried exactly, what the steps added as
+  // extra bytes, normals as nx ny nz, which the LAS reader gives back as normals), PLY otherwise
+  // (a LAS file would add LAS's fixed fields, zeros, to a cloud that never had them).
   report.output_points = tiles.keptPoints();
-  const WritePass pass{options, tiles, added, sensors};
+  const ProcessOutput kind = outputKind(options.output);
+  const bool las_inputs =
+      std::all_of(options.inputs.begin(), options.inputs.end(), [](const ConvertInput& input) {
+        std::error_code ignored;
+        if (std::filesystem::is_directory(input.path, ignored)) return false;
+        const PointFormat format = detectPointFormat(input.path);
+        return format == PointFormat::Las || format == PointFormat::Laz;
+      });
+  const WritePass pass{options, tiles, added, sensors,
+                       kind == ProcessOutput::kPointFile
+                           ? options.output
+                           : work.path() / (las_inputs ? "processed.las" : "processed.ply")};
   if (const std::optional<PointCloud> maxima = writeOutput(pass, report, nullptr)) {
     writeOutput(pass, report, &*maxima);
+  }
+  if (kind == ProcessOutput::kPointFile) return report;
+  report.losses.clear();  // those of the temporary LAS; an octree keeps every attribute
+  PotreeConvertOptions build;
+  build.build.memory_bytes = options.memory_mb << 20;
+  build.progress = options.progress;
+  const std::vector<ConvertInput> processed = {ConvertInput{.path = pass.output}};
+  if (kind == ProcessOutput::kPotree) {
+    convertToPotree(processed, options.output, build);
+  } else {
+    convertToCopc(processed, options.output, {.potree = build});
   }
   return report;
 }
