@@ -16,6 +16,7 @@
 #include "io/point_file.h"
 #include "io/test_las_builder.h"
 #include "io/text_reader.h"
+#include "support/allocation_counter.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
@@ -206,6 +207,45 @@ TEST(LasStreamWriter, BatchesGiveTheBytesOfTheWholeCloud) {
       const std::string whole = fileBytes(dir / "whole.las");
       EXPECT_GT(whole.size(), chunk ? 5000u * 4 : 5000u * 34);  // every point is in
       EXPECT_TRUE(whole == fileBytes(dir / "streamed.las"));
+    }
+  }
+}
+
+// Memory is a batch and the blocks in flight, not the file: 2 M points (48 MB of LAS records)
+// streamed in batches of 65 536, LAS and LAZ (chunks of 1 000 points, so the chunks in flight are
+// small whatever the core count), with no single allocation of 4 MB (allocation_counter.h).
+TEST(LasStreamWriter, HoldsABatchNotTheFile) {
+  test::TempDir dir;
+  constexpr std::size_t kPoints = 2000000, kBatch = 65536;
+  PointCloud cloud;
+  cloud.count = kPoints;
+  cloud.positions = Column<Int3>(kPoints);
+  ScalarColumn distance{"distance", ScalarType::Float32, ByteBuffer(kPoints * 4)};
+  for (std::size_t i = 0; i < kPoints; ++i) {
+    cloud.positions[i] = {int(i % 1000), int(i / 1000), int(i % 7)};
+    distance.as<float>()[i] = float(i) * 0.25f;
+  }
+  cloud.scalars.push_back(std::move(distance));
+  for (std::uint32_t chunk : {0u, 1000u}) {
+    SCOPED_TRACE(chunk);
+    const auto path = dir / (chunk ? "out.laz" : "out.las");
+    std::uint64_t largest = 0;
+    {
+      test::AllocationScope allocations;
+      LasStreamWriter writer(path, slicePoints(cloud, 0, 1), kPoints, {.laz_chunk_points = chunk});
+      for (std::size_t first = 0; first < kPoints; first += kBatch) {
+        writer.write(slicePoints(cloud, first, std::min(kBatch, kPoints - first)));
+      }
+      writer.finish();
+      largest = allocations.largest();
+    }
+    EXPECT_LT(largest, std::uint64_t(4) << 20);
+    const PointCloud back = readPointFile(path);
+    ASSERT_EQ(back.count, kPoints);
+    EXPECT_EQ(back.positions[kPoints - 1], cloud.positions[kPoints - 1]);
+    EXPECT_EQ(back.findScalar("distance")->valueAsDouble(kPoints - 1), (kPoints - 1) * 0.25);
+    if (!chunk) {
+      EXPECT_EQ(std::filesystem::file_size(path), 227 + 54 + 192 + kPoints * 24);
     }
   }
 }
