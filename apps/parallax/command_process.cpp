@@ -120,7 +120,7 @@ Command addProcessCommand(CLI::App& app) {
       ->required();
   sub->add_option("-o,--output", args->output,
                   "Output point file, its extension picks the format (.ply .las .laz .xyz .txt "
-                  ".csv .pts); PLY is written as it goes, the others are held whole")
+                  ".csv .pts); PLY, LAS and LAZ are written as they go, text is held whole")
       ->required();
   sub->add_option(
       "--normals", args->normals,

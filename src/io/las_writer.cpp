@@ -8,7 +8,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
-#include <mutex>
+#include <optional>
 
 #include "core/byte_order.h"
 #include "io/las_reader.h"
@@ -222,7 +222,12 @@ bool carriedLasRecord(const LasVlr& vlr) {
          vlr.user_id != "lascompatible";
 }
 
-Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options) {
+// The layout of `cloud`'s columns in the records of a file of `point_count` points. Without
+// `decided`, the version and point format are chosen from the columns and their maxima (the
+// cloud's); with it, they are decided's, so that the batches of one streamed file all bind their
+// columns to the one layout chosen for the file.
+Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options,
+                  std::uint64_t point_count, const LasWritePlan* decided = nullptr) {
   Layout layout;
   LasWritePlan& plan = layout.plan;
   const std::size_t count = cloud.count;
@@ -271,7 +276,10 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options) {
       "a forced LAS minor version must be 2, 3 or 4");
   int format = 0;
   int minor = options.minor_version;
-  if (format_forced) {
+  if (decided) {
+    format = decided->point_format;
+    minor = decided->minor_version;
+  } else if (format_forced) {
     format = options.point_format;
   } else if (src) {
     format = src->point_format;
@@ -295,7 +303,7 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options) {
     }
   } else {
     if (minor == 0) {
-      bool needs14 = extended_field || find(Field::Nir) || count > UINT32_MAX;
+      bool needs14 = extended_field || find(Field::Nir) || point_count > UINT32_MAX;
       minor = needs14 ? 4 : 2;
     }
     if (minor == 4) {
@@ -671,51 +679,81 @@ LasVlr extraBytesVlr(const Layout& layout) {
 }  // namespace
 
 LasWritePlan planLasWrite(const PointCloud& cloud, const LasWriteOptions& options) {
-  return makeLayout(cloud, options).plan;
+  return makeLayout(cloud, options, cloud.count).plan;
 }
 
 LasWritePlan encodeLasRecords(const PointCloud& cloud, const LasWriteOptions& options,
                               std::byte* out) {
-  const Layout layout = makeLayout(cloud, options);
+  const Layout layout = makeLayout(cloud, options, cloud.count);
   LasPointTotals stats;
   if (cloud.count > 0) encodeBlock(cloud, layout, 0, std::size_t(cloud.count), out, stats);
   return layout.plan;
 }
 
 std::optional<LasVlr> lasExtraBytesVlr(const PointCloud& cloud, const LasWriteOptions& options) {
-  const Layout layout = makeLayout(cloud, options);
+  const Layout layout = makeLayout(cloud, options, cloud.count);
   if (!hasExtraBytes(layout)) return std::nullopt;
   return extraBytesVlr(layout);
 }
 
-void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
-              const LasWriteOptions& options) {
-  const Layout layout = makeLayout(cloud, options);
-  const LasWritePlan& plan = layout.plan;
+LasWritePlan planLasWrite(const PointCloud& layout, const LasWriteOptions& options,
+                          std::uint64_t point_count) {
+  return makeLayout(layout, options, point_count).plan;
+}
+
+struct LasStreamWriter::State {
+  LasWriteOptions options;
+  Layout layout;  // of the layout cloud: the plan, the extra bytes' description
+  std::uint64_t point_count = 0;
+  Quantization quantization;
+  std::size_t point_data_offset = 0;
+  std::size_t vlr_count = 0;
+  std::vector<const LasVlr*> evlrs;  // the source's, written after the points
+  bool has_wkt = false;
+  OutputFile out;
+  std::optional<LazPointDataWriter> laz;
+  LasPointTotals total;
+  std::uint64_t written = 0;
+  // Records of a batch, encoded in parallel blocks.
+  std::vector<std::vector<std::byte>> buffers;
+  std::vector<LasPointTotals> stats;
+
+  State(const std::filesystem::path& path, const LasWriteOptions& write_options)
+      : options(write_options), out(path) {}
+};
+
+LasStreamWriter::LasStreamWriter(const std::filesystem::path& path, const PointCloud& layout,
+                                 std::uint64_t point_count, const LasWriteOptions& options)
+    : state_(std::make_unique<State>(path, options)) {
+  State& s = *state_;
+  s.layout = makeLayout(layout, options, point_count);
+  s.point_count = point_count;
+  s.quantization = layout.quantization;
+  const Layout& plan_layout = s.layout;
+  const LasWritePlan& plan = plan_layout.plan;
   const bool v14 = plan.minor_version == 4;
   const std::size_t header_size = lasHeaderSizeFor(plan.minor_version);
-  const LasHeader* src = options.source.get();
+  const LasHeader* src = s.options.source.get();
 
   // The source's VLRs in their order (its extra bytes description where it was), then the
   // records asked for that it does not have, then the extra bytes description if still due.
   std::vector<std::vector<std::byte>> vlrs;
-  std::vector<const LasVlr*> evlrs;
-  bool has_wkt = false, extra_bytes_written = false;
+  bool extra_bytes_written = false;
   auto isExtraBytes = [](const LasVlr& vlr) {
     return vlr.user_id == "LASF_Spec" && vlr.record_id == 4;
   };
   auto add = [&](const LasVlr& vlr) {
-    has_wkt |= vlr.user_id == "LASF_Projection" && vlr.record_id == 2112;
+    s.has_wkt |= vlr.user_id == "LASF_Projection" && vlr.record_id == 2112;
     vlrs.push_back(vlrBytes(vlr));
   };
   if (src) {
     for (const LasVlr& vlr : src->vlrs) {
       if (!carriedLasRecord(vlr)) continue;
       if (vlr.extended) {
-        if (v14) evlrs.push_back(&vlr);
+        if (v14) s.evlrs.push_back(&vlr);
       } else if (isExtraBytes(vlr)) {
-        if (!hasExtraBytes(layout) || extra_bytes_written) continue;
-        LasVlr described = extraBytesVlr(layout);
+        if (!hasExtraBytes(plan_layout) || extra_bytes_written) continue;
+        LasVlr described = extraBytesVlr(plan_layout);
         described.description = vlr.description;
         add(described);
         extra_bytes_written = true;
@@ -724,15 +762,15 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
       }
     }
   }
-  for (const LasVlr& vlr : options.vlrs) {
+  for (const LasVlr& vlr : s.options.vlrs) {
     if (vlr.data.size() > 65535 || isExtraBytes(vlr)) continue;
     const bool carried = src && std::any_of(src->vlrs.begin(), src->vlrs.end(), [&](const auto& v) {
                            return v.user_id == vlr.user_id && v.record_id == vlr.record_id;
                          });
     if (!carried) add(vlr);
   }
-  if (hasExtraBytes(layout) && !extra_bytes_written)
-    vlrs.push_back(vlrBytes(extraBytesVlr(layout)));
+  if (hasExtraBytes(plan_layout) && !extra_bytes_written)
+    vlrs.push_back(vlrBytes(extraBytesVlr(plan_layout)));
   const bool compress = options.laz_chunk_points > 0;
   laz::LaszipVlr laszip;
   if (compress) {
@@ -743,78 +781,96 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
     vlr.data = laz::laszipVlrPayload(laszip);
     vlrs.push_back(vlrBytes(vlr));
   }
-  std::size_t point_data_offset = header_size;
-  for (const auto& vlr : vlrs) point_data_offset += vlr.size();
+  s.point_data_offset = header_size;
+  for (const auto& vlr : vlrs) s.point_data_offset += vlr.size();
+  s.vlr_count = vlrs.size();
 
-  OutputFile out(path);
   const std::vector<std::byte> placeholder(header_size);
-  out.write(placeholder.data(), placeholder.size());  // rewritten at the end: counts and bounds
-  for (const auto& vlr : vlrs) out.write(vlr.data(), vlr.size());
+  s.out.write(placeholder.data(), placeholder.size());  // rewritten at the end: counts and bounds
+  for (const auto& vlr : vlrs) s.out.write(vlr.data(), vlr.size());
+  if (compress) s.laz.emplace(s.out, s.point_data_offset, laszip, options.progress);
+}
 
-  const std::size_t count = cloud.count;
-  const std::size_t stride = plan.record_length;
-  LasPointTotals total;
-  std::uint64_t end = point_data_offset + std::uint64_t(count) * stride;
-  if (compress) {
-    std::mutex stats_mutex;
-    end = writeLazPointData(
-        out, point_data_offset, laszip, count,
-        [&](std::uint64_t first, std::size_t n, std::byte* records) {
-          LasPointTotals stats;
-          encodeBlock(cloud, layout, std::size_t(first), n, records, stats);
-          const std::lock_guard lock(stats_mutex);
-          total.merge(stats);
-        },
-        options.progress);
-  } else {
-    // Blocks encoded in parallel, a batch at a time, written in order.
-    constexpr std::size_t kBlock = 1 << 16;
-    constexpr std::size_t kBatch = 8;
-    std::vector<std::vector<std::byte>> buffers(kBatch);
-    std::vector<LasPointTotals> stats(kBatch);
-    for (std::size_t batch = 0; batch < count; batch += kBlock * kBatch) {
-      std::size_t blocks = std::min(kBatch, (count - batch + kBlock - 1) / kBlock);
-      tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
-        std::size_t first = batch + b * kBlock;
-        std::size_t n = std::min(kBlock, count - first);
-        buffers[b].resize(n * stride);
-        stats[b] = LasPointTotals{};
-        encodeBlock(cloud, layout, first, n, buffers[b].data(), stats[b]);
-      });
-      for (std::size_t b = 0; b < blocks; ++b) {
-        out.write(buffers[b].data(), buffers[b].size());
-        total.merge(stats[b]);
-        if (options.progress) options.progress->advance(buffers[b].size() / stride);
+LasStreamWriter::~LasStreamWriter() = default;
+
+const LasWritePlan& LasStreamWriter::plan() const {
+  return state_->layout.plan;
+}
+
+void LasStreamWriter::write(const PointCloud& batch) {
+  State& s = *state_;
+  assert(batch.quantization == s.quantization &&
+         "every batch of a LAS file has the layout cloud's scale and offset");
+  assert(s.written + batch.count <= s.point_count && "more points than the writer was told of");
+  if (batch.count == 0) return;
+  const Layout layout = makeLayout(batch, s.options, s.point_count, &s.layout.plan);
+  assert(layout.plan.record_length == s.layout.plan.record_length &&
+         "every batch of a LAS file has the layout cloud's columns");
+  const std::size_t count = batch.count;
+  const std::size_t stride = layout.plan.record_length;
+  // Blocks encoded in parallel, a batch of blocks at a time, written in order.
+  constexpr std::size_t kBlock = 1 << 16;
+  constexpr std::size_t kBatch = 8;
+  s.buffers.resize(kBatch);
+  s.stats.resize(kBatch);
+  for (std::size_t at = 0; at < count; at += kBlock * kBatch) {
+    const std::size_t blocks = std::min(kBatch, (count - at + kBlock - 1) / kBlock);
+    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
+      const std::size_t first = at + b * kBlock;
+      const std::size_t n = std::min(kBlock, count - first);
+      s.buffers[b].resize(n * stride);
+      s.stats[b] = LasPointTotals{};
+      encodeBlock(batch, layout, first, n, s.buffers[b].data(), s.stats[b]);
+    });
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const std::size_t n = s.buffers[b].size() / stride;
+      if (s.laz) {
+        s.laz->add(s.buffers[b].data(), n);  // advances the progress as chunks are written
+      } else {
+        s.out.write(s.buffers[b].data(), s.buffers[b].size());
+        if (s.options.progress) s.options.progress->advance(n);
       }
+      s.total.merge(s.stats[b]);
     }
   }
+  s.written += count;
+}
+
+void LasStreamWriter::finish() {
+  State& s = *state_;
+  assert(s.written == s.point_count && "fewer points than the writer was told of");
+  const LasWritePlan& plan = s.layout.plan;
+  const bool v14 = plan.minor_version == 4;
+  const LasHeader* src = s.options.source.get();
+  std::uint64_t end =
+      s.laz ? s.laz->finish() : s.point_data_offset + s.written * std::uint64_t(plan.record_length);
   // The source's EVLRs after the points (LAS 1.4 R15 2.7), payloads as they were.
-  const std::uint64_t evlr_offset = evlrs.empty() ? 0 : end;
-  for (const LasVlr* vlr : evlrs) {
+  const std::uint64_t evlr_offset = s.evlrs.empty() ? 0 : end;
+  for (const LasVlr* vlr : s.evlrs) {
     std::byte head[kLasEvlrHeaderSize] = {};
     std::memcpy(head + 2, vlr->user_id.data(), std::min<std::size_t>(16, vlr->user_id.size()));
     storeLE(head + 18, vlr->record_id);
     storeLE(head + 20, std::uint64_t(vlr->data.size()));
     std::memcpy(head + 28, vlr->description.data(),
                 std::min<std::size_t>(32, vlr->description.size()));
-    out.write(head, sizeof head);
-    if (!vlr->data.empty()) out.write(vlr->data.data(), vlr->data.size());
+    s.out.write(head, sizeof head);
+    if (!vlr->data.empty()) s.out.write(vlr->data.data(), vlr->data.size());
   }
 
   // The public header block.
   LasHeader fields;
   fields.version_minor = std::uint8_t(plan.minor_version);
-  fields.file_source_id = src ? src->file_source_id : options.file_source_id;
-  std::uint16_t encoding = options.gps_time_standard.value_or(false) ? 1 : 0;
+  fields.file_source_id = src ? src->file_source_id : s.options.file_source_id;
+  std::uint16_t encoding = s.options.gps_time_standard.value_or(false) ? 1 : 0;
   if (src) {
     // The source's bits, but the WKT bit, which belongs to 1.4 and is set below when due.
     encoding = std::uint16_t(src->global_encoding & ~16u);
-    if (options.gps_time_standard) {
-      encoding = std::uint16_t((encoding & ~1u) | (*options.gps_time_standard ? 1u : 0u));
+    if (s.options.gps_time_standard) {
+      encoding = std::uint16_t((encoding & ~1u) | (*s.options.gps_time_standard ? 1u : 0u));
     }
   }
   // Formats 6-10 require the WKT bit (R15 2.4); a copied GeoTIFF-keys CRS is a doubt left as is.
-  if (v14 && (plan.point_format >= 6 || has_wkt || (src && (src->global_encoding & 16)))) {
+  if (v14 && (plan.point_format >= 6 || s.has_wkt || (src && (src->global_encoding & 16)))) {
     encoding |= 16;
   }
   fields.global_encoding = encoding;
@@ -827,17 +883,24 @@ void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
   } else {
     stampGeneratedBy(fields);
   }
-  fields.point_data_offset = std::uint32_t(point_data_offset);
-  fields.vlr_count = std::uint32_t(vlrs.size());
+  fields.point_data_offset = std::uint32_t(s.point_data_offset);
+  fields.vlr_count = std::uint32_t(s.vlr_count);
   fields.point_format = plan.point_format;
-  fields.record_length = std::uint16_t(stride);
-  fields.quantization = cloud.quantization;
-  total.writeTo(fields, count);
+  fields.record_length = std::uint16_t(plan.record_length);
+  fields.quantization = s.quantization;
+  s.total.writeTo(fields, s.written);
   fields.evlr_offset = evlr_offset;
-  fields.evlr_count = std::uint32_t(evlrs.size());
-  const std::vector<std::byte> header = encodeLasHeader(fields, compress);
-  out.writeAt(0, header.data(), header.size());
-  out.commit();
+  fields.evlr_count = std::uint32_t(s.evlrs.size());
+  const std::vector<std::byte> header = encodeLasHeader(fields, s.laz.has_value());
+  s.out.writeAt(0, header.data(), header.size());
+  s.out.commit();
+}
+
+void writeLas(const PointCloud& cloud, const std::filesystem::path& path,
+              const LasWriteOptions& options) {
+  LasStreamWriter writer(path, cloud, cloud.count, options);
+  writer.write(cloud);
+  writer.finish();
 }
 
 }  // namespace parallax

@@ -88,6 +88,44 @@ LasWritePlan encodeLasRecords(const PointCloud& cloud, const LasWriteOptions& op
 // The LASF_Spec record 4 that describes the extra bytes of that plan; nullopt without any.
 std::optional<LasVlr> lasExtraBytesVlr(const PointCloud& cloud, const LasWriteOptions& options);
 
+// The layout a file of `point_count` points whose columns and column maxima are `layout`'s
+// would have (what LasStreamWriter decides at its construction).
+LasWritePlan planLasWrite(const PointCloud& layout, const LasWriteOptions& options,
+                          std::uint64_t point_count);
+
+// A LAS or LAZ file (options.laz_chunk_points > 0, laz_writer.h) whose points arrive in batches,
+// in file order, with memory bounded by a batch (and LAZ's chunks in flight) whatever the
+// count: the bytes writeLas writes for the batches joined into one cloud. The header (counts,
+// bounds, returns) is written by finish(), the one header encoder (encodeLasHeader); the file is
+// written under a temporary name and renamed by finish() (removed if the writer is destroyed
+// unfinished).
+//
+// The layout (version, point format, extra bytes) is decided at construction, as writeLas
+// decides it for the whole cloud: from `layout`'s columns and quantization, and from their
+// maxima (a classification above 31, return numbers above 7, the overlap flag need formats
+// 6-10). So `layout` holds the columns of every batch to come and, for each, a value at least
+// the maximum of what is to come for the columns those tests read; a one-point cloud holding
+// each column's maximum does. `point_count` is the number of points to come (over 2^32 - 1
+// needs LAS 1.4).
+class LasStreamWriter {
+ public:
+  LasStreamWriter(const std::filesystem::path& path, const PointCloud& layout,
+                  std::uint64_t point_count, const LasWriteOptions& options = {});
+  ~LasStreamWriter();
+  LasStreamWriter(const LasStreamWriter&) = delete;
+  LasStreamWriter& operator=(const LasStreamWriter&) = delete;
+
+  const LasWritePlan& plan() const;
+  // Appends the batch's points: the layout's columns and quantization (asserted).
+  void write(const PointCloud& batch);
+  // The EVLRs, the header, the rename; asserts that point_count points were written.
+  void finish();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
 // Writes to a temporary file beside `path`, renamed at the end. Throws std::runtime_error on I/O
 // failure; asserts nothing about the cloud beyond its own invariants.
 void writeLas(const PointCloud& cloud, const std::filesystem::path& path,

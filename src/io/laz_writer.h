@@ -12,7 +12,7 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <functional>
+#include <memory>
 
 #include "core/point_cloud.h"
 #include "io/las_writer.h"
@@ -37,14 +37,29 @@ void writeLaz(const PointCloud& cloud, const std::filesystem::path& path,
 laz::LaszipVlr makeLaszipVlr(int point_format, std::size_t record_length,
                              std::uint32_t chunk_points);
 
-// Fills `n` records from point `first` on (thread-safe: called for several chunks at once).
-using LasRecordFiller = std::function<void(std::uint64_t first, std::size_t n, std::byte* out)>;
+// The LAZ point data of a LAS file whose records arrive in order, a block at a time: the chunk
+// table offset (at `data_offset`, the current end of `out`), then each chunk of
+// vlr.chunk_size points compressed as soon as a batch of them (two a core) is complete, encoded
+// on every core and written in file order, then the table. Holds at most one batch of records
+// and its compressed chunks, whatever the point count. Used by the LAS writer (las_writer.h).
+class LazPointDataWriter {
+ public:
+  // Throws std::runtime_error when the codec of the VLR's items is missing, before any write.
+  LazPointDataWriter(OutputFile& out, std::uint64_t data_offset, const laz::LaszipVlr& vlr,
+                     Progress* progress);
+  ~LazPointDataWriter();
+  LazPointDataWriter(const LazPointDataWriter&) = delete;
+  LazPointDataWriter& operator=(const LazPointDataWriter&) = delete;
 
-// Writes the LAZ point data of `count` points at the end of `out`: the chunk table offset (at
-// `data_offset`, the current end), the chunks, the table; returns the offset of the end of the
-// table (where EVLRs may follow). Used by the LAS writer.
-std::uint64_t writeLazPointData(OutputFile& out, std::uint64_t data_offset,
-                                const laz::LaszipVlr& vlr, std::uint64_t count,
-                                const LasRecordFiller& records, Progress* progress);
+  // Appends `n` records of vlr.recordLength() bytes each.
+  void add(const std::byte* records, std::size_t n);
+  // Compresses what is left (the last chunk may be short), writes the chunk table and its offset;
+  // returns the offset of the end of the table (where EVLRs may follow).
+  std::uint64_t finish();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 }  // namespace parallax

@@ -3,9 +3,13 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cassert>
+#include <cctype>
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "core/error.h"
@@ -13,6 +17,8 @@
 #include "io/las_writer.h"
 #include "io/laz_writer.h"
 #include "io/ply_writer.h"
+#include "lod/copc_converter.h"
+#include "lod/potree_converter.h"
 #include "process/sensor_positions.h"
 #include "process/tile_queries.h"
 #include "process/tile_set.h"
@@ -24,12 +30,32 @@ namespace {
 constexpr std::size_t kBatchPoints = std::size_t(1) << 20;
 constexpr std::uint8_t kLowNoiseClass = 7;
 
+}  // namespace
+
+ProcessOutput outputKind(const std::filesystem::path& output) {
+  const std::string text = output.string();
+  std::string lower = text;
+  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (lower.size() > 9 && lower.ends_with(".copc.laz")) return ProcessOutput::kCopc;
+  std::error_code ignored;
+  if (!text.empty() && text.back() == '/') return ProcessOutput::kPotree;
+  if (std::filesystem::is_directory(output, ignored)) return ProcessOutput::kPotree;
+  if (formatForExtension(output) == PointFormat::Unknown && !output.has_extension())
+    return ProcessOutput::kPotree;
+  return ProcessOutput::kPointFile;
+}
+
+namespace {
+
 void checkSteps(const ProcessOptions& options) {
-  const PointFormat format = formatForExtension(options.output);
-  if (format == PointFormat::Unknown) {
+  const ProcessOutput kind = outputKind(options.output);
+  if (kind == ProcessOutput::kPotree) checkPotreeOutput(options.output);
+  if (kind == ProcessOutput::kPointFile &&
+      formatForExtension(options.output) == PointFormat::Unknown) {
     throw std::invalid_argument("process: cannot write " + options.output.string() +
                                 ": the output is a point file (.ply, .las, .laz, .xyz, .txt, "
-                                ".csv, .pts); convert it to an octree afterwards");
+                                ".csv, .pts), a COPC file (.copc.laz) or a Potree directory (a "
+                                "name ending in '/' or without extension)");
   }
   if (options.inputs.empty()) throw std::invalid_argument("process: no input");
 }
@@ -37,7 +63,8 @@ void checkSteps(const ProcessOptions& options) {
 // The hidden work folder, removed with everything in it however the run ends.
 class WorkFolder {
  public:
-  explicit WorkFolder(const std::filesystem::path& output) {
+  explicit WorkFolder(std::filesystem::path output) {
+    if (!output.has_filename()) output = output.parent_path();  // "dir/": beside dir
     const std::filesystem::path parent =
         output.has_parent_path() ? output.parent_path() : std::filesystem::path(".");
     std::string name = ".";
@@ -172,10 +199,6 @@ void addColumns(PointCloud& out, const PointCloud& batch, const Added& added,
     }
   }
   if (added.mark) {
-    if (!out.hasClassification()) {
-      out.classification = Column<std::uint8_t>(out.count);
-      std::memset(out.classification.data(), 0, out.count);
-    }
     for (std::size_t i = 0; i < out.count; ++i) {
       if (m1[i]) out.classification[i] = kLowNoiseClass;
     }
@@ -233,7 +256,7 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
   return out;
 }
 
-// The batches of an output that is not streamed (LAS, LAZ, text) joined into one cloud.
+// The batches of an output that is not streamed (text) joined into one cloud.
 PointCloud joinBatches(std::vector<PointCloud>& batches) {
   PointCloud all;
   std::uint64_t total = 0;
@@ -256,6 +279,7 @@ PointCloud joinBatches(std::vector<PointCloud>& batches) {
   };
   join(&PointCloud::positions);
   join(&PointCloud::colors);
+  join(&PointCloud::stored_colors);
   join(&PointCloud::normals);
   join(&PointCloud::intensity);
   join(&PointCloud::classification);
@@ -280,6 +304,162 @@ std::vector<std::string> attributeSignature(const PointCloud& cloud) {
 }
 
 }  // namespace
+
+// The largest value of each scalar column and of the classification over the kept points, in
+// a one-point cloud with the output's columns: what a LAS or LAZ output's point format is chosen
+// from (las_writer.h: LasStreamWriter), as if the whole output were one cloud.
+class ColumnMaxima {
+ public:
+  bool empty() const { return cloud_.count == 0; }
+  const PointCloud& cloud() const { return cloud_; }
+  PointCloud take() { return std::move(cloud_); }
+  // The first batch's one-point layout (outputLayout), before the first add.
+  void start(PointCloud layout) {
+    cloud_ = std::move(layout);
+    for (ScalarColumn& s : cloud_.scalars) s.setFromDouble(0, 0.0);
+    if (cloud_.hasClassification()) cloud_.classification[0] = 0;
+  }
+  void add(const PointCloud& batch) {
+    for (std::size_t c = 0; c < batch.scalars.size(); ++c) {
+      const ScalarColumn& column = batch.scalars[c];
+      double m = cloud_.scalars[c].valueAsDouble(0);
+      for (std::size_t i = 0; i < batch.count; ++i) m = std::max(m, column.valueAsDouble(i));
+      cloud_.scalars[c].setFromDouble(0, m);
+    }
+    if (batch.hasClassification()) {
+      std::uint8_t& m = cloud_.classification[0];
+      for (std::size_t i = 0; i < batch.count; ++i) m = std::max(m, batch.classification[i]);
+    }
+  }
+
+ private:
+  PointCloud cloud_;
+};
+
+// What the last pass needs besides the options.
+struct WritePass {
+  const ProcessOptions& options;
+  const TileSet& tiles;
+  const Added& added;
+  const std::vector<SensorPositions>& sensors;
+  std::filesystem::path output;  // a point file: the output's, or the octree's temporary LAS
+};
+
+// The last pass: the inputs once more, in order, each point matched with its tile's next records
+// and written as it comes (PLY, LAS, LAZ; text is held whole: its writer takes one cloud). A LAS
+// or LAZ output's point format is chosen before its first record, from `las_layout` (a
+// ColumnMaxima cloud) or, without one, from the first batch; returns the maxima of every kept
+// point when they ask for another layout than the one written (a class above 31 first seen after
+// the first batch), to write again with: once, as the maxima are then known.
+std::optional<PointCloud> writeOutput(const WritePass& pass, ProcessReport& report,
+                                      const PointCloud* las_layout) {
+  const ProcessOptions& options = pass.options;
+  const std::filesystem::path& output = pass.output;
+  const TileSet& tiles = pass.tiles;
+  const Added& added = pass.added;
+  auto open = [&](bool wanted, const std::string& what, std::size_t size) {
+    std::vector<std::unique_ptr<RecordReader>> readers(tiles.tiles());
+    if (!wanted) return readers;
+    for (std::size_t t = 0; t < tiles.tiles(); ++t) {
+      if (!tiles.has(t, what) && tiles.count(t) > 0) {
+        // A step that wrote these records for some tiles writes them for all; absent: zeros.
+        const std::vector<std::byte> zeros(tiles.count(t) * size, std::byte{0});
+        tiles.writeRecords<std::byte>(t, what, zeros);
+      }
+      if (tiles.count(t) > 0)
+        readers[t] = std::make_unique<RecordReader>(tiles.file(t, what), size);
+    }
+    return readers;
+  };
+  auto kept = open(true, "kept", 1);
+  auto normals = open(added.normals, "normals", 12);
+  auto curvature = open(added.curvature, "curvature", 4);
+  auto distance = open(added.distance, "distance", 4);
+  auto mark = open(added.mark, "mark", 1);
+  auto classes = open(added.classes, "class", 1);
+  auto heights = open(added.height, "hag", 4);
+
+  auto bar = options.progress ? options.progress("writing", report.input_points) : nullptr;
+  const PointFormat format = formatForExtension(output);
+  const bool las_output = format == PointFormat::Las || format == PointFormat::Laz;
+  std::unique_ptr<PlyStreamWriter> ply;
+  std::unique_ptr<LasStreamWriter> las_writer;
+  ColumnMaxima maxima;
+  std::vector<PointCloud> held;  // formats written whole
+  std::vector<std::string> signature;
+  Quantization quantization;
+  LasWriteOptions las;
+  if (format == PointFormat::Laz) las.laz_chunk_points = kDefaultLazChunkPoints;
+  bool first = true;
+  for (std::size_t input_index = 0; input_index < options.inputs.size(); ++input_index) {
+    const ConvertInput& input = options.inputs[input_index];
+    const SensorPositions* sensor =
+        added.towards_sensor && added.normals ? &pass.sensors[input_index] : nullptr;
+    PointStream stream(input.path, input.text_columns, nullptr, &input.filter);
+    if (first && !stream.crs().empty()) las.vlrs = stream.crs().records;
+    PointCloud batch;
+    while (stream.next(batch, kBatchPoints)) {
+      PointCloud out = outputBatch(batch, tiles, added, kept, normals, curvature, distance, mark,
+                                   classes, heights, sensor);
+      if (bar) bar->advance(batch.count);
+      const PointCloud layout = outputLayout(batch, added);
+      if (first) {
+        signature = attributeSignature(layout);
+        quantization = out.quantization;
+        report.losses = describeWriteLosses(layout, output, options.write);
+        if (format == PointFormat::Ply) {
+          PlyWriteOptions ply_options{
+              .format = options.write.ply_ascii ? PlyFormat::Ascii : PlyFormat::BinaryLittleEndian,
+              .properties = options.write.properties};
+          ply =
+              std::make_unique<PlyStreamWriter>(output, layout, report.output_points, ply_options);
+        }
+        first = false;
+      } else if (attributeSignature(layout) != signature || !(out.quantization == quantization)) {
+        throw InputError({.file = input.path.string(),
+                          .expected = "the attributes and quantization of " +
+                                      options.inputs.front().path.string() +
+                                      " (the inputs of one process run are one cloud)",
+                          .found = "other attributes or another scale and offset",
+                          .hint = "convert the inputs into one file first"});
+      }
+      if (las_output) {
+        if (maxima.empty()) maxima.start(outputLayout(batch, added));
+        maxima.add(out);
+        if (!las_writer) {
+          // The first batch's maxima stand for the whole's unless the caller knows them.
+          las_writer = std::make_unique<LasStreamWriter>(
+              output, las_layout ? *las_layout : maxima.cloud(), report.output_points, las);
+        }
+      }
+      if (out.count == 0) continue;
+      if (ply) {
+        ply->write(out);
+      } else if (las_writer) {
+        las_writer->write(out);
+      } else {
+        held.push_back(std::move(out));
+      }
+    }
+  }
+  if (first)
+    throw InputError(
+        {.file = options.inputs.front().path.string(), .expected = "points", .found = "none"});
+  if (ply) {
+    ply->finish();
+  } else if (las_writer) {
+    const LasWritePlan whole = planLasWrite(maxima.cloud(), las, report.output_points);
+    if (whole.point_format != las_writer->plan().point_format ||
+        whole.minor_version != las_writer->plan().minor_version) {
+      assert(!las_layout && "a layout from every point's maxima is the whole's");
+      return maxima.take();  // the writer, unfinished, removes its temporary file
+    }
+    las_writer->finish();
+  } else {
+    writePointFile(joinBatches(held), output, options.write);
+  }
+  return std::nullopt;
+}
 
 ProcessReport runProcess(const ProcessOptions& options) {
   checkSteps(options);
@@ -324,96 +504,38 @@ ProcessReport runProcess(const ProcessOptions& options) {
     }
   }
 
-  // The write: the inputs once more, in order, each point matched with its tile's next records.
+  // The write: the inputs once more, in order (twice for a LAS or LAZ output whose point
+  // format the first batch did not foresee). An octree is built from a point file of the
+  // result in the work folder, read by the builder as any input: LAS when every input is LAS or
+  // LAZ (their CRS and the positions' scale and offset carried exactly, what the steps added as
+  // extra bytes, normals as nx ny nz, which the LAS reader gives back as normals), PLY otherwise
+  // (a LAS file would add LAS's fixed fields, zeros, to a cloud that never had them).
   report.output_points = tiles.keptPoints();
-  auto open = [&](bool wanted, const std::string& what, std::size_t size) {
-    std::vector<std::unique_ptr<RecordReader>> readers(tiles.tiles());
-    if (!wanted) return readers;
-    for (std::size_t t = 0; t < tiles.tiles(); ++t) {
-      if (!tiles.has(t, what) && tiles.count(t) > 0) {
-        // A step that wrote these records for some tiles writes them for all; absent: zeros.
-        const std::vector<std::byte> zeros(tiles.count(t) * size, std::byte{0});
-        tiles.writeRecords<std::byte>(t, what, zeros);
-      }
-      if (tiles.count(t) > 0)
-        readers[t] = std::make_unique<RecordReader>(tiles.file(t, what), size);
-    }
-    return readers;
-  };
-  auto kept = open(true, "kept", 1);
-  auto normals = open(added.normals, "normals", 12);
-  auto curvature = open(added.curvature, "curvature", 4);
-  auto distance = open(added.distance, "distance", 4);
-  auto mark = open(added.mark, "mark", 1);
-  auto classes = open(added.classes, "class", 1);
-  auto heights = open(added.height, "hag", 4);
-
-  auto bar = options.progress ? options.progress("writing", report.input_points) : nullptr;
-  const PointFormat format = formatForExtension(options.output);
-  std::unique_ptr<PlyStreamWriter> ply;
-  std::vector<PointCloud> held;  // formats written whole
-  std::vector<std::string> signature;
-  Quantization quantization;
-  LasWriteOptions las;
-  bool first = true;
-  for (std::size_t input_index = 0; input_index < options.inputs.size(); ++input_index) {
-    const ConvertInput& input = options.inputs[input_index];
-    const SensorPositions* sensor =
-        added.towards_sensor && added.normals ? &sensors[input_index] : nullptr;
-    PointStream stream(input.path, input.text_columns, nullptr, &input.filter);
-    if (first && !stream.crs().empty()) las.vlrs = stream.crs().records;
-    PointCloud batch;
-    while (stream.next(batch, kBatchPoints)) {
-      PointCloud out = outputBatch(batch, tiles, added, kept, normals, curvature, distance, mark,
-                                   classes, heights, sensor);
-      if (bar) bar->advance(batch.count);
-      if (first) {
-        signature = attributeSignature(outputLayout(batch, added));
-        quantization = out.quantization;
-        report.losses =
-            describeWriteLosses(outputLayout(batch, added), options.output, options.write);
-        if (format == PointFormat::Ply) {
-          PlyWriteOptions ply_options{
-              .format = options.write.ply_ascii ? PlyFormat::Ascii : PlyFormat::BinaryLittleEndian,
-              .properties = options.write.properties};
-          ply = std::make_unique<PlyStreamWriter>(options.output, outputLayout(batch, added),
-                                                  report.output_points, ply_options);
-        }
-        first = false;
-      } else if (attributeSignature(outputLayout(batch, added)) != signature ||
-                 !(out.quantization == quantization)) {
-        throw InputError({.file = input.path.string(),
-                          .expected = "the attributes and quantization of " +
-                                      options.inputs.front().path.string() +
-                                      " (the inputs of one process run are one cloud)",
-                          .found = "other attributes or another scale and offset",
-                          .hint = "convert the inputs into one file first"});
-      }
-      if (out.count == 0) continue;
-      if (ply) {
-        ply->write(out);
-      } else {
-        held.push_back(std::move(out));
-      }
-    }
+  const ProcessOutput kind = outputKind(options.output);
+  const bool las_inputs =
+      std::all_of(options.inputs.begin(), options.inputs.end(), [](const ConvertInput& input) {
+        std::error_code ignored;
+        if (std::filesystem::is_directory(input.path, ignored)) return false;
+        const PointFormat format = detectPointFormat(input.path);
+        return format == PointFormat::Las || format == PointFormat::Laz;
+      });
+  const WritePass pass{options, tiles, added, sensors,
+                       kind == ProcessOutput::kPointFile
+                           ? options.output
+                           : work.path() / (las_inputs ? "processed.las" : "processed.ply")};
+  if (const std::optional<PointCloud> maxima = writeOutput(pass, report, nullptr)) {
+    writeOutput(pass, report, &*maxima);
   }
-  if (first)
-    throw InputError(
-        {.file = options.inputs.front().path.string(), .expected = "points", .found = "none"});
-  if (ply) {
-    ply->finish();
-    return report;
-  }
-  PointCloud all = joinBatches(held);
-  PointWriteOptions write = options.write;
-  if (format == PointFormat::Las || format == PointFormat::Laz) {
-    if (format == PointFormat::Laz) {
-      writeLaz(all, options.output, {.las = las});
-    } else {
-      writeLas(all, options.output, las);
-    }
+  if (kind == ProcessOutput::kPointFile) return report;
+  report.losses.clear();  // those of the temporary LAS; an octree keeps every attribute
+  PotreeConvertOptions build;
+  build.build.memory_bytes = options.memory_mb << 20;
+  build.progress = options.progress;
+  const std::vector<ConvertInput> processed = {ConvertInput{.path = pass.output}};
+  if (kind == ProcessOutput::kPotree) {
+    convertToPotree(processed, options.output, build);
   } else {
-    writePointFile(all, options.output, write);
+    convertToCopc(processed, options.output, {.potree = build});
   }
   return report;
 }

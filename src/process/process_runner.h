@@ -21,9 +21,15 @@
 
 namespace parallax {
 
+// What `ProcessOptions::output` names: a point file by its extension (.ply .las .laz .xyz .txt
+// .csv .pts), a COPC file (.copc.laz), or a Potree 2.0 directory (a name ending in '/', an
+// existing directory, a name without extension), as `parallax convert` tells them apart.
+enum class ProcessOutput { kPointFile, kPotree, kCopc };
+ProcessOutput outputKind(const std::filesystem::path& output);
+
 struct ProcessOptions {
   std::vector<ConvertInput> inputs;  // read in order, as one cloud
-  std::filesystem::path output;      // PLY, LAS, LAZ or text, by its extension
+  std::filesystem::path output;      // a point file, COPC file or Potree directory (outputKind)
   std::vector<ProcessStep> steps;
   std::uint64_t memory_mb = 2048;  // what the tiles may take
   PointWriteOptions write;         // its progress is set by the run
@@ -42,7 +48,10 @@ struct ProcessReport {
 constexpr std::uint64_t kProcessBytesPerPoint = 256;
 
 // Checks the steps and output before any work (std::invalid_argument naming the step), runs them
-// and writes the output (temporary file, renamed when complete). The work folder is a hidden
+// and writes the output (temporary file, renamed when complete). A point file is written as the
+// last pass reads the inputs (PLY, LAS, LAZ; text is held whole); an octree is built by lod's
+// converters (potree_converter.h, copc_converter.h, within memory_mb) from a LAS file of the
+// result written that way in the work folder. The work folder is a hidden
 // ".NAME.process-PID" beside the output, removed at the end. Input errors are InputError.
 ProcessReport runProcess(const ProcessOptions& options);
 

@@ -1,6 +1,9 @@
 // --normals K / --normals-radius R: a normal for every kept point from the plane of its
 // neighbourhood (local_plane.h), oriented as asked; written as the tiles' "normals" records
 // (and "curvature" with --curvature).
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -42,21 +45,46 @@ void orient(const NormalsStep& step, const GridPoint& p, double n[3]) {
 std::vector<std::uint32_t> propagateOrientation(const std::vector<GridPoint>& live,
                                                 std::vector<Normal*>& normal_of, std::uint32_t k,
                                                 std::vector<std::uint32_t>& part) {
-  const NeighbourIndex index(live);
-  std::vector<std::vector<Neighbour>> graph(live.size());
-  tbb::parallel_for(std::size_t(0), live.size(), [&](std::size_t i) {
-    index.nearest(live[i].x, live[i].y, live[i].z, std::size_t(k) + 1, graph[i]);
-  });
-  // Undirected: j's list gets i where i found j.
-  std::vector<std::vector<std::uint32_t>> adjacent(live.size());
+  // The K-nearest graph, undirected, in compressed rows: j's row gets i where i found j. The
+  // rows hold what one list a point with push_back held before, in the same order (each row in
+  // the order of the i that added to it, i's own neighbours at i's turn), so Prim's queue sees
+  // the same edges in the same order. A point's own list holds k + 1 ids at most (itself not
+  // among them when k + 1 duplicates of smaller id came first): 4 (k + 1) bytes a point, the
+  // rows twice that, instead of lists of 24-byte Neighbour records.
+  const std::size_t stride = std::size_t(k) + 1;
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> found(live.size() * stride, kNone);
+  {
+    const NeighbourIndex index(live);
+    tbb::enumerable_thread_specific<std::vector<Neighbour>> scratch;
+    tbb::parallel_for(std::size_t(0), live.size(), [&](std::size_t i) {
+      std::vector<Neighbour>& neighbours = scratch.local();
+      index.nearest(live[i].x, live[i].y, live[i].z, stride, neighbours);
+      std::uint32_t* row = found.data() + i * stride;
+      for (const Neighbour& n : neighbours) {
+        if (n.at != i) *row++ = n.at;
+      }
+    });
+  }
+  std::vector<std::uint64_t> first(live.size() + 1, 0);
   for (std::size_t i = 0; i < live.size(); ++i) {
-    for (const Neighbour& n : graph[i]) {
-      if (n.at == i) continue;
-      adjacent[i].push_back(n.at);
-      adjacent[n.at].push_back(std::uint32_t(i));
+    for (std::size_t e = i * stride; e < (i + 1) * stride && found[e] != kNone; ++e) {
+      ++first[i + 1];
+      ++first[found[e] + 1];
     }
   }
-  graph.clear();
+  for (std::size_t i = 0; i < live.size(); ++i) first[i + 1] += first[i];
+  std::vector<std::uint32_t> adjacent(first.back());
+  {
+    std::vector<std::uint64_t> end(first.begin(), first.end() - 1);
+    for (std::size_t i = 0; i < live.size(); ++i) {
+      for (std::size_t e = i * stride; e < (i + 1) * stride && found[e] != kNone; ++e) {
+        adjacent[end[i]++] = found[e];
+        adjacent[end[found[e]]++] = std::uint32_t(i);
+      }
+    }
+  }
+  found = {};
   auto normal = [&](std::uint32_t i) -> Normal& { return *normal_of[i]; };
   auto weight = [&](std::uint32_t a, std::uint32_t b) {
     const Normal& na = normal(a);
@@ -88,7 +116,8 @@ std::vector<std::uint32_t> propagateOrientation(const std::vector<GridPoint>& li
     Normal& n = normal(root);
     if (n.z < 0.0f) n = {-n.x, -n.y, -n.z};
     auto grow = [&](std::uint32_t from) {
-      for (std::uint32_t to : adjacent[from]) {
+      for (std::uint64_t e = first[from]; e < first[from + 1]; ++e) {
+        const std::uint32_t to = adjacent[e];
         if (part[to] == kUnreached) queue.push({weight(from, to), live[to].id, from, to});
       }
     };

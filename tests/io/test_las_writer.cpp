@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "core/byte_order.h"
+#include "core/point_gather.h"
 #include "io/las_header.h"
 #include "io/las_reader.h"
 #include "io/ply_reader.h"
@@ -15,6 +16,7 @@
 #include "io/point_file.h"
 #include "io/test_las_builder.h"
 #include "io/text_reader.h"
+#include "support/allocation_counter.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
@@ -176,6 +178,112 @@ std::string recordsOf(const std::string& las) {
 std::string fileBytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The stream writer, fed in uneven batches (one point, across LAZ chunk borders, the rest), writes
+// the bytes writeLas writes for the whole cloud: LAS and LAZ, a 1.2 and a 1.4 source.
+TEST(LasStreamWriter, BatchesGiveTheBytesOfTheWholeCloud) {
+  test::TempDir dir;
+  for (auto [minor, format] : {std::pair{2, 3}, {4, 7}}) {
+    const auto in = dir.write("in.las", test::makeLas(manyPoints(minor, format)));
+    auto source = std::make_shared<LasHeader>(readLasHeaderWithRecords(in));
+    const PointCloud cloud = readLas(in);
+    ASSERT_EQ(cloud.count, 5000u);
+    for (std::uint32_t chunk : {0u, 1000u}) {
+      SCOPED_TRACE("format " + std::to_string(format) + " chunk " + std::to_string(chunk));
+      const LasWriteOptions options{.source = source, .laz_chunk_points = chunk};
+      writeLas(cloud, dir / "whole.las", options);
+      std::filesystem::remove(dir / "streamed.las");
+      LasStreamWriter writer(dir / "streamed.las", cloud, cloud.count, options);
+      EXPECT_EQ(writer.plan().point_format, format);
+      std::uint64_t first = 0;
+      for (std::uint64_t n : {1, 999, 1, 2500, 1499}) {
+        writer.write(slicePoints(cloud, first, n));
+        first += n;
+      }
+      ASSERT_EQ(first, cloud.count);
+      EXPECT_FALSE(std::filesystem::exists(dir / "streamed.las")) << "renamed only at the end";
+      writer.finish();
+      const std::string whole = fileBytes(dir / "whole.las");
+      EXPECT_GT(whole.size(), chunk ? 5000u * 4 : 5000u * 34);  // every point is in
+      EXPECT_TRUE(whole == fileBytes(dir / "streamed.las"));
+    }
+  }
+}
+
+// Memory is a batch and the blocks in flight, not the file: 2 M points (48 MB of LAS records)
+// streamed in batches of 65 536, LAS and LAZ (chunks of 1 000 points, so the chunks in flight are
+// small whatever the core count), with no single allocation of 4 MB (allocation_counter.h).
+TEST(LasStreamWriter, HoldsABatchNotTheFile) {
+  test::TempDir dir;
+  constexpr std::size_t kPoints = 2000000, kBatch = 65536;
+  PointCloud cloud;
+  cloud.count = kPoints;
+  cloud.positions = Column<Int3>(kPoints);
+  ScalarColumn distance{"distance", ScalarType::Float32, ByteBuffer(kPoints * 4)};
+  for (std::size_t i = 0; i < kPoints; ++i) {
+    cloud.positions[i] = {int(i % 1000), int(i / 1000), int(i % 7)};
+    distance.as<float>()[i] = float(i) * 0.25f;
+  }
+  cloud.scalars.push_back(std::move(distance));
+  for (std::uint32_t chunk : {0u, 1000u}) {
+    SCOPED_TRACE(chunk);
+    const auto path = dir / (chunk ? "out.laz" : "out.las");
+    std::uint64_t largest = 0;
+    {
+      test::AllocationScope allocations;
+      LasStreamWriter writer(path, slicePoints(cloud, 0, 1), kPoints, {.laz_chunk_points = chunk});
+      for (std::size_t first = 0; first < kPoints; first += kBatch) {
+        writer.write(slicePoints(cloud, first, std::min(kBatch, kPoints - first)));
+      }
+      writer.finish();
+      largest = allocations.largest();
+    }
+    EXPECT_LT(largest, std::uint64_t(4) << 20);
+    const PointCloud back = readPointFile(path);
+    ASSERT_EQ(back.count, kPoints);
+    EXPECT_EQ(back.positions[kPoints - 1], cloud.positions[kPoints - 1]);
+    EXPECT_EQ(back.findScalar("distance")->valueAsDouble(kPoints - 1), (kPoints - 1) * 0.25);
+    if (!chunk) {
+      EXPECT_EQ(std::filesystem::file_size(path), 227 + 54 + 192 + kPoints * 24);
+    }
+  }
+}
+
+// The format is decided before the first record, from the layout cloud's maxima: a one-point
+// layout holding a class of 40 gives LAS 1.4 format 6 to batches whose first ones have classes
+// below 32, as writeLas does for the whole; a writer dropped unfinished leaves no file.
+TEST(LasStreamWriter, TheLayoutsMaximaDecideTheFormatOfEveryBatch) {
+  test::TempDir dir;
+  PointCloud cloud;
+  cloud.count = 3000;
+  cloud.positions = Column<Int3>(cloud.count);
+  cloud.classification = Column<std::uint8_t>(cloud.count);
+  for (std::size_t i = 0; i < cloud.count; ++i) {
+    cloud.positions[i] = {int(i), -int(i) * 3, int(i % 17)};
+    cloud.classification[i] = std::uint8_t(i == 2500 ? 40 : i % 32);
+  }
+  writeLas(cloud, dir / "whole.las");
+  EXPECT_EQ(readLasHeader(dir / "whole.las").point_format, 6);
+  {
+    LasStreamWriter unfinished(dir / "unfinished.las", slicePoints(cloud, 0, 1), cloud.count);
+    EXPECT_EQ(unfinished.plan().point_format, 0);
+    unfinished.write(slicePoints(cloud, 0, 2000));
+  }
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+    EXPECT_EQ(entry.path().filename(), "whole.las");  // neither the file nor its partial copy
+  }
+  LasStreamWriter writer(dir / "streamed.las", slicePoints(cloud, 2500, 1), cloud.count);
+  EXPECT_EQ(writer.plan().minor_version, 4);
+  EXPECT_EQ(writer.plan().point_format, 6);
+  writer.write(slicePoints(cloud, 0, 2000));
+  writer.write(slicePoints(cloud, 2000, 1000));
+  writer.finish();
+  EXPECT_TRUE(fileBytes(dir / "whole.las") == fileBytes(dir / "streamed.las"));
+  const PointCloud back = readLas(dir / "streamed.las");
+  ASSERT_EQ(back.count, cloud.count);
+  EXPECT_EQ(back.classification[2500], 40);
+  EXPECT_EQ(back.classification[2499], 2499 % 32);
 }
 
 // 8-bit values in the 16-bit colour fields (most LAS writers) and true 16-bit ones: both come

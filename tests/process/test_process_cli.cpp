@@ -40,6 +40,34 @@ TEST(ProcessCli, StepsRunInTheOrderGivenAndAttributesAreKept) {
   EXPECT_EQ(pa.scalars.size(), input.scalars.size());
 }
 
+// A real LAS file processed into a Potree directory: every point, its scale, offset and CRS
+// (the LAS file of the result the octree is built from keeps them), the normals as nx ny nz;
+// `info` lists them and `render` draws the octree.
+TEST(ProcessCli, ALasFileIntoAnOctreeKeepsItsCrsAndScale) {
+  TempDir dir;
+  const std::filesystem::path las = test::testDataFile("laz/1815.las");
+  const auto octree = dir / "octree";
+  auto run = runParallax(dir, "process " + las.string() + " -o " + octree.string() +
+                                  "/ --normals 8 --outliers statistical:8,3 -q");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  auto points = runParallax(dir, "process " + las.string() + " -o " + (dir / "p.las").string() +
+                                     " --normals 8 --outliers statistical:8,3 -q");
+  ASSERT_EQ(points.exit_code, 0) << points.err;
+  const PointCloud expected = readPointFile(dir / "p.las");
+  auto info = runParallax(dir, "info " + octree.string());
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_NE(info.out.find("points        " + std::to_string(expected.count)), std::string::npos)
+      << info.out;
+  EXPECT_NE(info.out.find("scale (1e-05, 1e-05, 1e-05)"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("projection    EPSG:6580"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find(" nx ny nz"), std::string::npos) << info.out;
+  auto render =
+      runParallax(dir, "render " + octree.string() + " -o " + (dir / "octree.png").string() +
+                           " --width 64 --height 64 --color elevation");
+  EXPECT_EQ(render.exit_code, 0) << render.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "octree.png"));
+}
+
 TEST(ProcessCli, BadParametersExitWithTheStepNamed) {
   TempDir dir;
   const std::filesystem::path las = test::testDataFile("laz/1815.las");

@@ -13,9 +13,13 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/point_gather.h"
 #include "io/e57/e57_writer.h"
+#include "io/las_writer.h"
+#include "io/laz_writer.h"
 #include "io/ply_writer.h"
 #include "io/point_file.h"
+#include "lod/octree_open.h"
 #include "process/process_runner.h"
 #include "support/temp_dir.h"
 
@@ -726,6 +730,131 @@ TEST(ProcessTiling, SameBytesAtAnyMemoryBudget) {
   run(in, dir / "large.las", {normals, plane}, 16000);
   EXPECT_TRUE(bytes(dir / "small.las") == bytes(dir / "large.las"));
   // Nothing is left beside the output.
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+    EXPECT_NE(entry.path().filename().string().front(), '.') << entry.path();
+  }
+}
+
+// LAS and LAZ outputs are written as the last pass produces them (LasStreamWriter), in batches of
+// the input's reading: over a million points, so several batches, with classes above 31 only in
+// the last one (they need LAS 1.4 format 6, which the first batch does not foresee: the pass is
+// run again with every kept point's maxima). The bytes equal writeLas and writeLaz of the kept
+// points gathered here from the whole input, the kept set read from the PLY output's ids.
+TEST(ProcessOutput, LasAndLazAreStreamedWithTheBytesOfTheWholeOutput) {
+  TempDir dir;
+  constexpr std::size_t kPoints = 1100000;
+  PointCloud input;
+  input.count = kPoints;
+  input.quantization.scale = {1e-3, 1e-3, 1e-3};
+  input.positions = Column<Int3>(kPoints);
+  input.classification = Column<std::uint8_t>(kPoints);
+  ScalarColumn id{"id", ScalarType::UInt32, ByteBuffer(kPoints * 4)};
+  for (std::size_t i = 0; i < kPoints; ++i) {
+    input.positions[i] = {int((i * 7919) % 400000), int((i * 104729) % 300000), int(i % 977)};
+    input.classification[i] = std::uint8_t(i >= 1050000 && i % 1000 == 0 ? 40 : i % 32);
+    id.as<std::uint32_t>()[i] = std::uint32_t(i);
+  }
+  input.scalars.push_back(std::move(id));
+  input.source.position = ScalarType::Int32;
+  input.computeBounds();
+  writePly(input, dir / "in.ply");
+  SubsampleStep random;
+  random.method = SubsampleStep::Method::kRandom;
+  random.count = 1000000;
+  run(dir / "in.ply", dir / "out.ply", {random});
+  run(dir / "in.ply", dir / "out.las", {random}, 8);  // tiles of 32 768 points
+  run(dir / "in.ply", dir / "out.laz", {random});
+
+  const PointCloud whole = readPointFile(dir / "in.ply");
+  ASSERT_EQ(whole.count, kPoints);
+  std::vector<std::uint64_t> kept;
+  for (std::uint32_t i : ids(readPointFile(dir / "out.ply"))) kept.push_back(i);
+  ASSERT_EQ(kept.size(), 1000000u);
+  const PointCloud expected = gatherPoints(whole, kept);
+  std::size_t high_classes = 0;
+  for (std::size_t i = 0; i < expected.count; ++i) high_classes += expected.classification[i] > 31;
+  EXPECT_GT(high_classes, 10u);
+  writeLas(expected, dir / "expected.las");
+  writeLaz(expected, dir / "expected.laz");
+  auto bytes = [](const std::filesystem::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  const std::string las = bytes(dir / "out.las");
+  ASSERT_GT(las.size(), 1000000u * 20);
+  EXPECT_EQ(int(las[25]), 4);                 // LAS 1.4
+  EXPECT_EQ(int(std::uint8_t(las[104])), 6);  // point format 6
+  EXPECT_TRUE(las == bytes(dir / "expected.las"));
+  EXPECT_TRUE(bytes(dir / "out.laz") == bytes(dir / "expected.laz"));
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+    EXPECT_NE(entry.path().filename().string().front(), '.') << entry.path();
+  }
+}
+
+// Each point of a file or octree by its id: x y z, the normal (the normals column, or nx ny nz
+// scalars where a LAS record held them) and the distance.
+std::map<std::uint32_t, std::array<double, 7>> pointsById(const std::filesystem::path& path) {
+  std::map<std::uint32_t, std::array<double, 7>> out;
+  PointStream stream(path, {});
+  PointCloud batch;
+  while (stream.next(batch, 1 << 20)) {
+    const ScalarColumn* id = batch.findScalar("id");
+    const ScalarColumn* distance = batch.findScalar("distance");
+    const ScalarColumn* n[3] = {batch.findScalar("nx"), batch.findScalar("ny"),
+                                batch.findScalar("nz")};
+    EXPECT_TRUE(id && distance && (batch.hasNormals() || (n[0] && n[1] && n[2]))) << path;
+    if (!id || !distance) return out;
+    for (std::size_t i = 0; i < batch.count; ++i) {
+      std::array<double, 7> v = {batch.worldX(i), batch.worldY(i), batch.worldZ(i)};
+      for (int a = 0; a < 3; ++a) {
+        v[3 + a] = batch.hasNormals() ? (&batch.normals[i].x)[a] : n[a]->valueAsDouble(i);
+      }
+      v[6] = distance->valueAsDouble(i);
+      EXPECT_TRUE(out.emplace(std::uint32_t(id->valueAsDouble(i)), v).second) << path;
+    }
+  }
+  return out;
+}
+
+// `-o DIR/` and `-o NAME.copc.laz`: octrees built from the processed points (lod's converters),
+// holding every kept point once with the normals and distances of the point file output.
+TEST(ProcessOutput, PotreeAndCopcOctreesHoldEveryProcessedPoint) {
+  TempDir dir;
+  const auto in = writeCloud(dir, "in.ply", terrainWithNoise(30000, 4));
+  const auto ref = writeCloud(dir, "ref.ply", terrainWithNoise(5000, 5));
+  NormalsStep normals;
+  normals.k = 8;
+  OutliersStep outliers;
+  outliers.k = 6;
+  outliers.std_ratio = 2.0;
+  DistanceStep distance;
+  distance.reference = ref;
+  const std::vector<ProcessStep> steps = {outliers, normals, distance};
+  const ProcessReport file = run(in, dir / "out.ply", steps);
+  EXPECT_LT(file.output_points, 30000u);  // the outliers are gone
+  EXPECT_EQ(outputKind(dir / "octree/"), ProcessOutput::kPotree);
+  EXPECT_EQ(outputKind(dir / "octree"), ProcessOutput::kPotree);
+  EXPECT_EQ(outputKind(dir / "out.COPC.LAZ"), ProcessOutput::kCopc);
+  EXPECT_EQ(outputKind(dir / "out.laz"), ProcessOutput::kPointFile);
+  run(in, dir / "octree/", steps, 1);
+  run(in, dir / "out.copc.laz", steps);
+  const auto expected = pointsById(dir / "out.ply");
+  ASSERT_EQ(expected.size(), file.output_points);
+  for (const char* name : {"octree", "out.copc.laz"}) {
+    SCOPED_TRACE(name);
+    EXPECT_NE(detectOctreeFormat(dir / name), OctreeFormat::None);
+    const auto got = pointsById(dir / name);
+    ASSERT_EQ(got.size(), expected.size());
+    std::size_t checked = 0;
+    for (const auto& [id, v] : expected) {
+      const auto it = got.find(id);
+      ASSERT_NE(it, got.end()) << id;
+      for (int a = 0; a < 3; ++a) ASSERT_NEAR(it->second[a], v[a], 1e-5) << id;  // requantized
+      for (int a = 3; a < 7; ++a) ASSERT_EQ(float(it->second[a]), float(v[a])) << id;
+      ++checked;
+    }
+    EXPECT_EQ(checked, file.output_points);
+  }
   for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
     EXPECT_NE(entry.path().filename().string().front(), '.') << entry.path();
   }
