@@ -32,6 +32,10 @@ struct ProcessArgs {
   bool mark_outliers = false;
   std::string local_model;
   std::uint32_t local_k = 6;
+  std::vector<std::string> m3c2;
+  std::string core_points;
+  double normal_scale = 0.0, cylinder_radius = 0.0, half_length = 0.0, registration_error = 0.0;
+  bool m3c2_median = false;
   CLI::App* sub = nullptr;
 };
 
@@ -63,6 +67,24 @@ std::vector<ProcessStep> stepsInOrder(const ProcessArgs& args) {
       step.k = args.local_k;
       if (!args.local_model.empty()) parseLocalModel(args.local_model, step);
       steps.push_back(step);
+    } else if (name == "--m3c2") {
+      M3c2Step step;
+      step.epoch2 = next(args.m3c2);
+      // --core-points: the processed cloud is the core points, epoch 1 the inputs.
+      if (!args.core_points.empty()) {
+        for (const std::string& input : args.inputs) step.epoch1.emplace_back(input);
+      }
+      step.normal_scale = args.normal_scale;
+      step.cylinder_radius = args.cylinder_radius;
+      step.half_length = args.half_length;
+      step.registration_error = args.registration_error;
+      step.median = args.m3c2_median;
+      NormalsStep orientation;
+      parseOrientation(args.orient, orientation);
+      step.orientation = orientation.orientation;
+      for (int a = 0; a < 3; ++a) step.toward[a] = orientation.toward[a];
+      checkM3c2(step);
+      steps.push_back(step);
     }
   }
   return steps;
@@ -71,14 +93,19 @@ std::vector<ProcessStep> stepsInOrder(const ProcessArgs& args) {
 int runProcessCommand(const ProcessArgs& args) {
   ProcessOptions options;
   const PointFilter filter = pointFilterFrom(args.filter_options, FilterTarget::Cpu);
-  for (const std::string& input : args.inputs)
-    options.inputs.push_back({input, args.columns, filter});
+  if (!args.core_points.empty()) {
+    if (args.m3c2.empty()) throw std::invalid_argument("--core-points: only with --m3c2");
+    options.inputs.push_back({args.core_points, args.columns, filter});
+  } else {
+    for (const std::string& input : args.inputs)
+      options.inputs.push_back({input, args.columns, filter});
+  }
   options.output = args.output;
   options.steps = stepsInOrder(args);
   if (options.steps.empty()) {
     throw std::invalid_argument(
         "process: no step given (--normals K, --normals-radius R, --outliers, --subsample, "
-        "--distance-to)");
+        "--distance-to, --m3c2)");
   }
   options.memory_mb = args.memory_mb;
   options.write.ply_ascii = args.ascii;
@@ -102,8 +129,8 @@ Command addProcessCommand(CLI::App& app) {
   auto args = std::make_shared<ProcessArgs>();
   CLI::App* sub = app.add_subcommand(
       "process",
-      "Normals, outlier removal, subsampling and distances to another cloud, the steps run in the "
-      "order given, out of core within --memory; every other attribute is kept");
+      "Normals, outlier removal, subsampling, distances to another cloud and M3C2, the steps run "
+      "in the order given, out of core within --memory; every other attribute is kept");
   args->sub = sub;
   sub->add_option(
          "input", args->inputs,
@@ -149,6 +176,26 @@ Command addProcessCommand(CLI::App& app) {
   sub->add_option("--local-k", args->local_k,
                   "Distance steps: points of the local model (default 6)")
       ->check(CLI::Range(std::uint32_t(3), std::uint32_t(1000)));
+  sub->add_option("--m3c2", args->m3c2,
+                  "Step: M3C2 (Lague et al. 2013) from the input (epoch 1) to this cloud (epoch "
+                  "2) at every core point: m3c2_distance, m3c2_uncertainty (LoD95), "
+                  "m3c2_significant, m3c2_count1/2, m3c2_std1/2; needs --normal-radius, "
+                  "--cylinder-radius, --cylinder-half-length; normals oriented by --orient (up "
+                  "or X,Y,Z)");
+  sub->add_option("--core-points", args->core_points,
+                  "M3C2: the core points (a point file); the output is these points with the "
+                  "m3c2 columns (default: every input point)");
+  sub->add_option("--normal-radius", args->normal_scale,
+                  "M3C2: the normal scale D, a diameter as in the paper (PCA of epoch 1 within "
+                  "D/2)");
+  sub->add_option("--cylinder-radius", args->cylinder_radius,
+                  "M3C2: the projection cylinder's radius R (the paper's d = 2R)");
+  sub->add_option("--cylinder-half-length", args->half_length,
+                  "M3C2: the cylinder reaches H either side of the core point along the normal");
+  sub->add_option("--registration-error", args->registration_error,
+                  "M3C2: the registration error reg of the level of detection (default 0)");
+  sub->add_flag("--m3c2-median", args->m3c2_median,
+                "M3C2: medians of the epochs' projections instead of means");
   sub->add_option("--memory", args->memory_mb,
                   "Memory budget in MB for the tiles (default 2048); the output does not depend "
                   "on it")

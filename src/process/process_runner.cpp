@@ -95,6 +95,7 @@ struct Added {
   // The last normals step asked for --orient sensor: the normals are turned towards each
   // point's sensor as they are written.
   bool towards_sensor = false;
+  std::vector<StepScalar> scalars;  // columns of the steps' own (m3c2Scalars)
 };
 
 // Each input's sensor positions, found before any work so that a file without them fails
@@ -141,7 +142,8 @@ ScalarColumn& scalarFor(PointCloud& cloud, const std::string& name) {
 // The steps' columns on `out` (gathered from `batch`): one value a point in each vector.
 void addColumns(PointCloud& out, const PointCloud& batch, const Added& added,
                 const std::vector<float>& n3, const std::vector<float>& c1,
-                const std::vector<float>& d1, const std::vector<std::uint8_t>& m1) {
+                const std::vector<float>& d1, const std::vector<std::uint8_t>& m1,
+                const std::vector<ByteBuffer>& scalars) {
   out.quantization = batch.quantization;
   out.source = batch.source;
   if (added.normals) {
@@ -154,6 +156,12 @@ void addColumns(PointCloud& out, const PointCloud& batch, const Added& added,
   }
   if (added.distance) {
     std::memcpy(scalarFor(out, "distance").data.data(), d1.data(), d1.size() * sizeof(float));
+  }
+  for (std::size_t s = 0; s < added.scalars.size(); ++s) {
+    ScalarColumn& column = scalarFor(out, added.scalars[s].name);
+    column.type = added.scalars[s].type;
+    column.data = ByteBuffer(out.count * scalarSize(column.type));
+    std::memcpy(column.data.data(), scalars[s].data(), column.data.size());
   }
   if (added.mark) {
     if (!out.hasClassification()) {
@@ -171,7 +179,9 @@ void addColumns(PointCloud& out, const PointCloud& batch, const Added& added,
 PointCloud outputLayout(const PointCloud& batch, const Added& added) {
   const std::uint64_t first = 0;
   PointCloud out = gatherPoints(batch, std::span<const std::uint64_t>(&first, 1));
-  addColumns(out, batch, added, std::vector<float>(3, 0.0f), {0.0f}, {0.0f}, {0});
+  std::vector<ByteBuffer> scalars;
+  for (const StepScalar& s : added.scalars) scalars.emplace_back(scalarSize(s.type));
+  addColumns(out, batch, added, std::vector<float>(3, 0.0f), {0.0f}, {0.0f}, {0}, scalars);
   return out;
 }
 
@@ -182,10 +192,12 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
                        std::vector<std::unique_ptr<RecordReader>>& curvature,
                        std::vector<std::unique_ptr<RecordReader>>& distance,
                        std::vector<std::unique_ptr<RecordReader>>& mark,
+                       std::vector<std::vector<std::unique_ptr<RecordReader>>>& scalar_readers,
                        const SensorPositions* sensor) {
   std::vector<std::uint64_t> take;
   std::vector<float> n3, c1, d1;
   std::vector<std::uint8_t> m1;
+  std::vector<std::vector<std::byte>> scalar_bytes(added.scalars.size());
   for (std::size_t i = 0; i < batch.count; ++i) {
     const std::size_t t = tiles.tileOf(batch.worldX(i));
     const bool keep = *kept[t]->next() != std::byte{0};
@@ -193,6 +205,12 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
     const std::byte* c = added.curvature ? curvature[t]->next() : nullptr;
     const std::byte* d = added.distance ? distance[t]->next() : nullptr;
     const std::byte* m = added.mark ? mark[t]->next() : nullptr;
+    for (std::size_t s = 0; s < added.scalars.size(); ++s) {
+      const std::byte* v = scalar_readers[s][t]->next();
+      if (keep) {
+        scalar_bytes[s].insert(scalar_bytes[s].end(), v, v + scalarSize(added.scalars[s].type));
+      }
+    }
     if (!keep) continue;
     take.push_back(i);
     if (n) {
@@ -206,7 +224,13 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
     if (m) m1.push_back(std::uint8_t(*m));
   }
   PointCloud out = gatherPoints(batch, std::span<const std::uint64_t>(take));
-  addColumns(out, batch, added, n3, c1, d1, m1);
+  std::vector<ByteBuffer> scalars;
+  for (const std::vector<std::byte>& bytes : scalar_bytes) {
+    ByteBuffer buffer(bytes.size());
+    std::memcpy(buffer.data(), bytes.data(), bytes.size());
+    scalars.push_back(std::move(buffer));
+  }
+  addColumns(out, batch, added, n3, c1, d1, m1, scalars);
   out.computeBounds();
   return out;
 }
@@ -285,6 +309,12 @@ ProcessReport runProcess(const ProcessOptions& options) {
       added.mark = added.mark || o->mark;
     } else if (const auto* s = std::get_if<SubsampleStep>(&step)) {
       runSubsampleStep(*s, context);
+    } else if (const auto* m = std::get_if<M3c2Step>(&step)) {
+      runM3c2Step(*m, context);
+      for (const StepScalar& column : m3c2Scalars()) {
+        std::erase_if(added.scalars, [&](const StepScalar& a) { return a.name == column.name; });
+        added.scalars.push_back(column);
+      }
     } else {
       runDistanceStep(std::get<DistanceStep>(step), context);
       added.distance = true;
@@ -312,6 +342,10 @@ ProcessReport runProcess(const ProcessOptions& options) {
   auto curvature = open(added.curvature, "curvature", 4);
   auto distance = open(added.distance, "distance", 4);
   auto mark = open(added.mark, "mark", 1);
+  std::vector<std::vector<std::unique_ptr<RecordReader>>> scalar_readers;
+  for (const StepScalar& s : added.scalars) {
+    scalar_readers.push_back(open(true, s.name, scalarSize(s.type)));
+  }
 
   auto bar = options.progress ? options.progress("writing", report.input_points) : nullptr;
   const PointFormat format = formatForExtension(options.output);
@@ -329,8 +363,8 @@ ProcessReport runProcess(const ProcessOptions& options) {
     if (first && !stream.crs().empty()) las.vlrs = stream.crs().records;
     PointCloud batch;
     while (stream.next(batch, kBatchPoints)) {
-      PointCloud out =
-          outputBatch(batch, tiles, added, kept, normals, curvature, distance, mark, sensor);
+      PointCloud out = outputBatch(batch, tiles, added, kept, normals, curvature, distance, mark,
+                                   scalar_readers, sensor);
       if (bar) bar->advance(batch.count);
       if (first) {
         signature = attributeSignature(outputLayout(batch, added));

@@ -139,6 +139,27 @@ void parseLocalModel(const std::string& value, DistanceStep& step) {
   step.plane = true;
 }
 
+void checkM3c2(const M3c2Step& step) {
+  const std::string name = "--m3c2 " + step.epoch2.string();
+  auto positive = [&](double v, const std::string& what) {
+    if (!std::isfinite(v) || v <= 0.0) {
+      fail(name, what + " must be a positive number, got " + number(v));
+    }
+  };
+  positive(step.normal_scale, "--normal-radius D (the normal scale, a diameter)");
+  positive(step.cylinder_radius, "--cylinder-radius R");
+  positive(step.half_length, "--cylinder-half-length H");
+  if (!std::isfinite(step.registration_error) || step.registration_error < 0.0) {
+    fail(name, "--registration-error must be a number of at least 0, got " +
+                   number(step.registration_error));
+  }
+  if (step.orientation != NormalOrientation::kUp && step.orientation != NormalOrientation::kPoint) {
+    fail(name,
+         "the normals' orientation must be up or X,Y,Z (sensor and propagate are for "
+         "--normals)");
+  }
+}
+
 std::string describeStep(const ProcessStep& step) {
   if (const auto* n = std::get_if<NormalsStep>(&step)) {
     return n->k ? "--normals " + std::to_string(n->k) : "--normals-radius " + number(n->radius);
@@ -159,6 +180,7 @@ std::string describeStep(const ProcessStep& step) {
         return "--subsample random:" + std::to_string(s->count);
     }
   }
+  if (const auto* m = std::get_if<M3c2Step>(&step)) return "--m3c2 " + m->epoch2.string();
   const auto& d = std::get<DistanceStep>(step);
   return "--distance-to " + d.reference.string() + (d.plane ? " --local-model plane" : "");
 }

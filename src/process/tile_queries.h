@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/progress.h"
+#include "core/scalar_type.h"
 #include "lod/convert_stages.h"
 #include "process/neighbour_index.h"
 #include "process/tile_set.h"
@@ -87,9 +88,21 @@ struct NormalsStep;
 struct OutliersStep;
 struct SubsampleStep;
 struct DistanceStep;
+struct M3c2Step;
 void runNormalsStep(const NormalsStep& step, const StepContext& context);
 void runOutliersStep(const OutliersStep& step, const StepContext& context);
 void runSubsampleStep(const SubsampleStep& step, const StepContext& context);
 void runDistanceStep(const DistanceStep& step, const StepContext& context);
+void runM3c2Step(const M3c2Step& step, const StepContext& context);
+
+// A column a step adds to the output: its records are the tiles' "<name>" files, one value of
+// `type` a point (every tile written, in the tile's order), copied into a scalar column of that
+// name and type.
+struct StepScalar {
+  std::string name;
+  ScalarType type;
+};
+// The columns of --m3c2 (step_m3c2.cpp).
+std::vector<StepScalar> m3c2Scalars();
 
 }  // namespace parallax
