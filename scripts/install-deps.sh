@@ -38,6 +38,9 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest
   # processing (src/process): neighbour search, a k-d tree (header only)
   libnanoflann-dev
+  # registration's oracle in tests (tests/registration/compare_open3d.py): Open3D's
+  # registration_icp, never used by the product
+  python3-open3d
 )
 
 # npm packages of the tests, from their package-lock.json (`npm ci`), only when missing or older
