@@ -153,7 +153,9 @@ std::vector<Point3> voxelCentroids(std::span<const Point3> points, double size) 
 std::vector<Point3> estimateNormals(std::span<const Point3> points, std::uint32_t k) {
   const NeighbourIndex index(gridPoints(points));
   std::vector<Point3> normals(points.size(), Point3{0, 0, 0});
-  tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
+  const std::vector<std::uint32_t> order = spatialOrder(index.points());
+  tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t j) {
+    const std::size_t i = order[j];
     thread_local std::vector<Neighbour> found;
     index.nearest(points[i][0], points[i][1], points[i][2], k, found);
     const LocalPlane plane = fitLocalPlane(index.points(), found);
@@ -196,7 +198,17 @@ IcpResult alignPointToPlane(std::span<const Point3> source, std::span<const Poin
     }
     return out;
   };
-  const std::vector<Point3> src = local(source), dst = local(target);
+  const std::vector<Point3> dst = local(target);
+  // The source in Morton order: consecutive queries then walk the same part of the k-d tree,
+  // which stays in cache (process/NOTES.md measured 1.7x on normals). Sums change order, not
+  // what they sum.
+  std::vector<Point3> src = local(source);
+  {
+    const std::vector<std::uint32_t> order = spatialOrder(gridPoints(src));
+    std::vector<Point3> sorted(src.size());
+    for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = src[order[i]];
+    src = std::move(sorted);
+  }
   const std::vector<Point3> normals =
       target_normals.empty() ? estimateNormals(dst, options.normal_k)
                              : std::vector<Point3>(target_normals.begin(), target_normals.end());
