@@ -149,12 +149,13 @@ Command addProcessCommand(CLI::App& app) {
   sub->add_flag("--curvature", args->curvature,
                 "Normals steps: also write curvature (float: lambda0 / (lambda0 + lambda1 + "
                 "lambda2))");
-  sub->add_option("--orient", args->orient,
-                  "Normals steps: up (towards +z, default), X,Y,Z (towards a point), propagate "
-                  "(consistent along the surface: a minimum spanning tree over the K-nearest "
-                  "graph, Hoppe 1992; the cloud must fit --memory), sensor (towards the scanner: "
-                  "sensor_x/y/z, scanner_x/y/z or vp_x/y/z columns, E57 and PTX scans, a PCD "
-                  "VIEWPOINT)");
+  sub->add_option(
+      "--orient", args->orient,
+      "Normals and M3C2 steps: up (towards +z, default), X,Y,Z (towards a point), propagate "
+      "(consistent along the surface: a minimum spanning tree over the K-nearest "
+      "graph, Hoppe 1992; the cloud must fit --memory), sensor (towards the scanner: "
+      "sensor_x/y/z, scanner_x/y/z or vp_x/y/z columns, E57 and PTX scans, a PCD "
+      "VIEWPOINT)");
   sub->add_option("--outliers", args->outliers,
                   "Step: statistical:K,S (mean distance to the K nearest more than S standard "
                   "deviations above the cloud's mean, as PCL's StatisticalOutlierRemoval) or "
