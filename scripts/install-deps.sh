@@ -40,6 +40,9 @@ packages=(
   libnanoflann-dev
   # the ground's 2D Delaunay triangulation (src/terrain, --height-above-ground; header only)
   libcgal-dev
+  # registration's oracle in tests (tests/registration/compare_open3d.py): Open3D's
+  # registration_icp, never used by the product
+  python3-open3d
 )
 
 # npm packages of the tests, from their package-lock.json (`npm ci`), only when missing or older

@@ -34,6 +34,10 @@ struct ProcessArgs {
   std::uint32_t local_k = 6;
   bool keep_classes = false;
   bool height_above_ground = false;
+  std::vector<std::string> m3c2;
+  std::string core_points;
+  double normal_scale = 0.0, cylinder_radius = 0.0, half_length = 0.0, registration_error = 0.0;
+  bool m3c2_median = false;
   CLI::App* sub = nullptr;
 };
 
@@ -71,6 +75,24 @@ std::vector<ProcessStep> stepsInOrder(const ProcessArgs& args) {
       GroundStep step = parseGround(next(args.ground));
       step.keep_classes = args.keep_classes;
       steps.push_back(step);
+    } else if (name == "--m3c2") {
+      M3c2Step step;
+      step.epoch2 = next(args.m3c2);
+      // --core-points: the processed cloud is the core points, epoch 1 the inputs.
+      if (!args.core_points.empty()) {
+        for (const std::string& input : args.inputs) step.epoch1.emplace_back(input);
+      }
+      step.normal_scale = args.normal_scale;
+      step.cylinder_radius = args.cylinder_radius;
+      step.half_length = args.half_length;
+      step.registration_error = args.registration_error;
+      step.median = args.m3c2_median;
+      NormalsStep orientation;
+      parseOrientation(args.orient, orientation);
+      step.orientation = orientation.orientation;
+      for (int a = 0; a < 3; ++a) step.toward[a] = orientation.toward[a];
+      checkM3c2(step);
+      steps.push_back(step);
     }
   }
   return steps;
@@ -79,14 +101,19 @@ std::vector<ProcessStep> stepsInOrder(const ProcessArgs& args) {
 int runProcessCommand(const ProcessArgs& args) {
   ProcessOptions options;
   const PointFilter filter = pointFilterFrom(args.filter_options, FilterTarget::Cpu);
-  for (const std::string& input : args.inputs)
-    options.inputs.push_back({input, args.columns, filter});
+  if (!args.core_points.empty()) {
+    if (args.m3c2.empty()) throw std::invalid_argument("--core-points: only with --m3c2");
+    options.inputs.push_back({args.core_points, args.columns, filter});
+  } else {
+    for (const std::string& input : args.inputs)
+      options.inputs.push_back({input, args.columns, filter});
+  }
   options.output = args.output;
   options.steps = stepsInOrder(args);
   if (options.steps.empty()) {
     throw std::invalid_argument(
         "process: no step given (--normals K, --normals-radius R, --outliers, --subsample, "
-        "--distance-to, --ground, --height-above-ground)");
+        "--distance-to, --ground, --height-above-ground, --m3c2)");
   }
   options.memory_mb = args.memory_mb;
   options.write.ply_ascii = args.ascii;
@@ -110,9 +137,9 @@ Command addProcessCommand(CLI::App& app) {
   auto args = std::make_shared<ProcessArgs>();
   CLI::App* sub = app.add_subcommand(
       "process",
-      "Normals, outlier removal, subsampling, distances to another cloud and ground "
-      "classification, the steps run in the "
-      "order given, out of core within --memory; every other attribute is kept");
+      "Normals, outlier removal, subsampling, distances to another cloud, ground "
+      "classification, heights above ground and M3C2, the steps run in the order given, out of "
+      "core within --memory; every other attribute is kept");
   args->sub = sub;
   sub->add_option(
          "input", args->inputs,
@@ -131,12 +158,13 @@ Command addProcessCommand(CLI::App& app) {
   sub->add_flag("--curvature", args->curvature,
                 "Normals steps: also write curvature (float: lambda0 / (lambda0 + lambda1 + "
                 "lambda2))");
-  sub->add_option("--orient", args->orient,
-                  "Normals steps: up (towards +z, default), X,Y,Z (towards a point), propagate "
-                  "(consistent along the surface: a minimum spanning tree over the K-nearest "
-                  "graph, Hoppe 1992; the cloud must fit --memory), sensor (towards the scanner: "
-                  "sensor_x/y/z, scanner_x/y/z or vp_x/y/z columns, E57 and PTX scans, a PCD "
-                  "VIEWPOINT)");
+  sub->add_option(
+      "--orient", args->orient,
+      "Normals and M3C2 steps: up (towards +z, default), X,Y,Z (towards a point), propagate "
+      "(consistent along the surface: a minimum spanning tree over the K-nearest "
+      "graph, Hoppe 1992; the cloud must fit --memory), sensor (towards the scanner: "
+      "sensor_x/y/z, scanner_x/y/z or vp_x/y/z columns, E57 and PTX scans, a PCD "
+      "VIEWPOINT)");
   sub->add_option("--outliers", args->outliers,
                   "Step: statistical:K,S (mean distance to the K nearest more than S standard "
                   "deviations above the cloud's mean, as PCL's StatisticalOutlierRemoval) or "
@@ -158,22 +186,11 @@ Command addProcessCommand(CLI::App& app) {
   sub->add_option("--local-k", args->local_k,
                   "Distance steps: points of the local model (default 6)")
       ->check(CLI::Range(std::uint32_t(3), std::uint32_t(1000)));
-  sub->add_option("--ground", args->ground,
-                  "Step: ground classification, class 2 (ground) and 1 (the rest): "
-                  "smrf[:cell=1,slope=0.15,window=18,scalar=1.25,threshold=0.5] (Pingel et al. "
-                  "2013, PDAL's parameters and defaults), "
-                  "pmf[:max_window_size=33,slope=0.7,initial_distance=0.15,max_distance=10,"
-                  "cell_size=1,base=2,exponential=true] (Zhang et al. 2003, PCL's), "
-                  "csf[:resolution=0.5,rigidness=3,iterations=500,time_step=0.65,"
-                  "class_threshold=0.5,slope_smoothing=true] (Zhang et al. 2016, the CSF "
-                  "library's); a grid of the cloud's extent must fit --memory");
-  sub->add_flag("--keep-classes", args->keep_classes,
-                "Ground steps: classify only points of class 0 or 1; the others (noise 7, "
-                "buildings 6, ...) keep their class and stay out of the ground surface");
-  sub->add_flag("--height-above-ground", args->height_above_ground,
-                "Step: height_above_ground (float), z less the ground's under the point: a 2D "
-                "Delaunay triangulation of the class 2 points (the input's or an earlier "
-                "--ground's); outside their convex hull the nearest one's z");
+      "Normals, outlier removal, subsampling, distances to another cloud and ground "
+      "classification, the steps run in the "
+      "order given, out of core within --memory; every other attribute is kept");
+      "Normals, outlier removal, subsampling, distances to another cloud and M3C2, the steps run "
+      "in the order given, out of core within --memory; every other attribute is kept");
   sub->add_option("--memory", args->memory_mb,
                   "Memory budget in MB for the tiles (default 2048); the output does not depend "
                   "on it")

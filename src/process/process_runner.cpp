@@ -120,10 +120,18 @@ class RecordReader {
 struct Added {
   bool normals = false, curvature = false, distance = false, mark = false;
   bool classes = false;  // a ground step's "class" records: nonzero replaces the input's class
-  bool height = false;   // --height-above-ground's "hag" records
   // The last normals step asked for --orient sensor: the normals are turned towards each
   // point's sensor as they are written.
   bool towards_sensor = false;
+  // Columns of the steps' own (m3c2Scalars, heightAboveGroundScalar), each once: a step run
+  // again rewrites its records and moves its column last.
+  std::vector<StepScalar> scalars;
+  void addScalars(const std::vector<StepScalar>& columns) {
+    for (const StepScalar& column : columns) {
+      std::erase_if(scalars, [&](const StepScalar& a) { return a.name == column.name; });
+      scalars.push_back(column);
+    }
+  }
 };
 
 // Each input's sensor positions, found before any work so that a file without them fails
@@ -171,7 +179,7 @@ ScalarColumn& scalarFor(PointCloud& cloud, const std::string& name) {
 void addColumns(PointCloud& out, const PointCloud& batch, const Added& added,
                 const std::vector<float>& n3, const std::vector<float>& c1,
                 const std::vector<float>& d1, const std::vector<std::uint8_t>& m1,
-                const std::vector<std::uint8_t>& k1, const std::vector<float>& h1) {
+                const std::vector<std::uint8_t>& k1, const std::vector<ByteBuffer>& scalars) {
   out.quantization = batch.quantization;
   out.source = batch.source;
   if (added.normals) {
@@ -185,9 +193,11 @@ void addColumns(PointCloud& out, const PointCloud& batch, const Added& added,
   if (added.distance) {
     std::memcpy(scalarFor(out, "distance").data.data(), d1.data(), d1.size() * sizeof(float));
   }
-  if (added.height) {
-    std::memcpy(scalarFor(out, "height_above_ground").data.data(), h1.data(),
-                h1.size() * sizeof(float));
+  for (std::size_t s = 0; s < added.scalars.size(); ++s) {
+    ScalarColumn& column = scalarFor(out, added.scalars[s].name);
+    column.type = added.scalars[s].type;
+    column.data = ByteBuffer(out.count * scalarSize(column.type));
+    std::memcpy(column.data.data(), scalars[s].data(), column.data.size());
   }
   if ((added.mark || added.classes) && !out.hasClassification()) {
     out.classification = Column<std::uint8_t>(out.count);
@@ -210,7 +220,9 @@ void addColumns(PointCloud& out, const PointCloud& batch, const Added& added,
 PointCloud outputLayout(const PointCloud& batch, const Added& added) {
   const std::uint64_t first = 0;
   PointCloud out = gatherPoints(batch, std::span<const std::uint64_t>(&first, 1));
-  addColumns(out, batch, added, std::vector<float>(3, 0.0f), {0.0f}, {0.0f}, {0}, {0}, {0.0f});
+  std::vector<ByteBuffer> scalars;
+  for (const StepScalar& s : added.scalars) scalars.emplace_back(scalarSize(s.type));
+  addColumns(out, batch, added, std::vector<float>(3, 0.0f), {0.0f}, {0.0f}, {0}, {0}, scalars);
   return out;
 }
 
@@ -222,11 +234,12 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
                        std::vector<std::unique_ptr<RecordReader>>& distance,
                        std::vector<std::unique_ptr<RecordReader>>& mark,
                        std::vector<std::unique_ptr<RecordReader>>& classes,
-                       std::vector<std::unique_ptr<RecordReader>>& heights,
+                       std::vector<std::vector<std::unique_ptr<RecordReader>>>& scalar_readers,
                        const SensorPositions* sensor) {
   std::vector<std::uint64_t> take;
-  std::vector<float> n3, c1, d1, h1;
+  std::vector<float> n3, c1, d1;
   std::vector<std::uint8_t> m1, k1;
+  std::vector<std::vector<std::byte>> scalar_bytes(added.scalars.size());
   for (std::size_t i = 0; i < batch.count; ++i) {
     const std::size_t t = tiles.tileOf(batch.worldX(i));
     const bool keep = *kept[t]->next() != std::byte{0};
@@ -235,7 +248,12 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
     const std::byte* d = added.distance ? distance[t]->next() : nullptr;
     const std::byte* m = added.mark ? mark[t]->next() : nullptr;
     const std::byte* k = added.classes ? classes[t]->next() : nullptr;
-    const std::byte* h = added.height ? heights[t]->next() : nullptr;
+    for (std::size_t s = 0; s < added.scalars.size(); ++s) {
+      const std::byte* v = scalar_readers[s][t]->next();
+      if (keep) {
+        scalar_bytes[s].insert(scalar_bytes[s].end(), v, v + scalarSize(added.scalars[s].type));
+      }
+    }
     if (!keep) continue;
     take.push_back(i);
     if (n) {
@@ -248,10 +266,15 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
     if (d) d1.push_back(*reinterpret_cast<const float*>(d));
     if (m) m1.push_back(std::uint8_t(*m));
     if (k) k1.push_back(std::uint8_t(*k));
-    if (h) h1.push_back(*reinterpret_cast<const float*>(h));
   }
   PointCloud out = gatherPoints(batch, std::span<const std::uint64_t>(take));
-  addColumns(out, batch, added, n3, c1, d1, m1, k1, h1);
+  std::vector<ByteBuffer> scalars;
+  for (const std::vector<std::byte>& bytes : scalar_bytes) {
+    ByteBuffer buffer(bytes.size());
+    std::memcpy(buffer.data(), bytes.data(), bytes.size());
+    scalars.push_back(std::move(buffer));
+  }
+  addColumns(out, batch, added, n3, c1, d1, m1, k1, scalars);
   out.computeBounds();
   return out;
 }
@@ -377,7 +400,10 @@ std::optional<PointCloud> writeOutput(const WritePass& pass, ProcessReport& repo
   auto distance = open(added.distance, "distance", 4);
   auto mark = open(added.mark, "mark", 1);
   auto classes = open(added.classes, "class", 1);
-  auto heights = open(added.height, "hag", 4);
+  std::vector<std::vector<std::unique_ptr<RecordReader>>> scalar_readers;
+  for (const StepScalar& s : added.scalars) {
+    scalar_readers.push_back(open(true, s.name, scalarSize(s.type)));
+  }
 
   auto bar = options.progress ? options.progress("writing", report.input_points) : nullptr;
   const PointFormat format = formatForExtension(output);
@@ -400,7 +426,7 @@ std::optional<PointCloud> writeOutput(const WritePass& pass, ProcessReport& repo
     PointCloud batch;
     while (stream.next(batch, kBatchPoints)) {
       PointCloud out = outputBatch(batch, tiles, added, kept, normals, curvature, distance, mark,
-                                   classes, heights, sensor);
+                                   classes, scalar_readers, sensor);
       if (bar) bar->advance(batch.count);
       const PointCloud layout = outputLayout(batch, added);
       if (first) {
@@ -494,10 +520,13 @@ ProcessReport runProcess(const ProcessOptions& options) {
       runSubsampleStep(*s, context);
     } else if (const auto* h = std::get_if<HeightAboveGroundStep>(&step)) {
       runHeightAboveGroundStep(*h, context);
-      added.height = true;
+      added.addScalars({heightAboveGroundScalar()});
     } else if (const auto* g = std::get_if<GroundStep>(&step)) {
       runGroundStep(*g, context);
       added.classes = true;
+    } else if (const auto* m = std::get_if<M3c2Step>(&step)) {
+      runM3c2Step(*m, context);
+      added.addScalars(m3c2Scalars());
     } else {
       runDistanceStep(std::get<DistanceStep>(step), context);
       added.distance = true;

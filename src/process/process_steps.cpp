@@ -229,6 +229,27 @@ void parseLocalModel(const std::string& value, DistanceStep& step) {
   step.plane = true;
 }
 
+void checkM3c2(const M3c2Step& step) {
+  const std::string name = "--m3c2 " + step.epoch2.string();
+  auto positive = [&](double v, const std::string& what) {
+    if (!std::isfinite(v) || v <= 0.0) {
+      fail(name, what + " must be a positive number, got " + number(v));
+    }
+  };
+  positive(step.normal_scale, "--normal-radius D (the normal scale, a diameter)");
+  positive(step.cylinder_radius, "--cylinder-radius R");
+  positive(step.half_length, "--cylinder-half-length H");
+  if (!std::isfinite(step.registration_error) || step.registration_error < 0.0) {
+    fail(name, "--registration-error must be a number of at least 0, got " +
+                   number(step.registration_error));
+  }
+  if (step.orientation != NormalOrientation::kUp && step.orientation != NormalOrientation::kPoint) {
+    fail(name,
+         "the normals' orientation must be up or X,Y,Z (sensor and propagate are for "
+         "--normals)");
+  }
+}
+
 ProcessStep parseProcessStep(const std::string& text) {
   std::vector<std::string> words;
   std::istringstream in(text);
@@ -333,6 +354,7 @@ std::string describeStep(const ProcessStep& step) {
            ",window=" + number(p.window) + ",scalar=" + number(p.scalar) +
            ",threshold=" + number(p.threshold) + keep;
   }
+  if (const auto* m = std::get_if<M3c2Step>(&step)) return "--m3c2 " + m->epoch2.string();
   const auto& d = std::get<DistanceStep>(step);
   return "--distance-to " + d.reference.string() + (d.plane ? " --local-model plane" : "");
 }

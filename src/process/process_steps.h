@@ -68,8 +68,27 @@ struct GroundStep {
 // the point's x y; outside the ground's convex hull, less the nearest ground point's z.
 struct HeightAboveGroundStep {};
 
+// --m3c2 EPOCH2 (Lague, Brodu & Leroux 2013, "Accurate 3D comparison of complex topography with
+// terrestrial laser scanner"): for each core point (the processed cloud's kept points) the change
+// from epoch 1 to epoch 2 along the local normal, measured inside a cylinder, and its level of
+// detection. Distances in the points' world units. step_m3c2.cpp; NOTES.md "M3C2".
+struct M3c2Step {
+  std::filesystem::path epoch2;
+  // Epoch 1 when the processed cloud is only the core points (--core-points): read as another
+  // cloud. Empty: epoch 1 is the processed cloud's kept points themselves.
+  std::vector<std::filesystem::path> epoch1;
+  double normal_scale = 0.0;        // D, the paper's normal scale: a diameter (PCA within D / 2)
+  double cylinder_radius = 0.0;     // R (the paper's d is the diameter 2R)
+  double half_length = 0.0;         // H: the cylinder reaches H either side of the core point
+  double registration_error = 0.0;  // reg, added to the level of detection
+  bool median = false;              // medians of the projections instead of means
+  // kUp or kPoint (`toward`): the normal's sign, hence the distance's.
+  NormalOrientation orientation = NormalOrientation::kUp;
+  double toward[3] = {0, 0, 0};
+};
+
 using ProcessStep = std::variant<NormalsStep, OutliersStep, SubsampleStep, DistanceStep, GroundStep,
-                                 HeightAboveGroundStep>;
+                                 HeightAboveGroundStep, M3c2Step>;
 
 // "--normals 16", "--outliers statistical:8,2", ...: how the step was asked for (messages).
 std::string describeStep(const ProcessStep& step);
@@ -95,6 +114,9 @@ SubsampleStep parseSubsample(const std::string& value);
 GroundStep parseGround(const std::string& value);
 // "up", "sensor", "propagate" or "X,Y,Z"; applied to `step`.
 void parseOrientation(const std::string& value, NormalsStep& step);
+// Checks an M3C2 step's parameters (each positive and finite, reg not negative, orientation up or
+// towards a point): std::invalid_argument naming the step.
+void checkM3c2(const M3c2Step& step);
 // "plane"; applied to `step`.
 void parseLocalModel(const std::string& value, DistanceStep& step);
 

@@ -104,9 +104,11 @@ void runHeightAboveGroundStep(const HeightAboveGroundStep&, const StepContext& c
       pending = std::move(again);
       halo = next;
     }
-    tiles.writeRecords<float>(t, "hag", hag);
+    tiles.writeRecords<float>(t, heightAboveGroundScalar().name, hag);
     if (bar) bar->advance(points.size());
   }
 }
+
+StepScalar heightAboveGroundScalar() { return {"height_above_ground", ScalarType::Float32}; }
 
 }  // namespace parallax

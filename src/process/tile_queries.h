@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/progress.h"
+#include "core/scalar_type.h"
 #include "lod/convert_stages.h"
 #include "process/neighbour_index.h"
 #include "process/tile_set.h"
@@ -86,19 +87,21 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
 
 // The steps (step_*.cpp). Each reads and writes the tiles' records (tile_set.h): "kept",
 // "normals" (3 floats), "curvature" (float), "distance" (float), "mark" (1: class 7), "class"
-// (the class to write, 0: the input's), "hag" (float: height above ground).
+// (the class to write, 0: the input's), and those of the columns below (StepScalar).
 struct NormalsStep;
 struct OutliersStep;
 struct SubsampleStep;
 struct DistanceStep;
 struct GroundStep;
 struct HeightAboveGroundStep;
+struct M3c2Step;
 void runNormalsStep(const NormalsStep& step, const StepContext& context);
 void runOutliersStep(const OutliersStep& step, const StepContext& context);
 void runSubsampleStep(const SubsampleStep& step, const StepContext& context);
 void runDistanceStep(const DistanceStep& step, const StepContext& context);
 void runGroundStep(const GroundStep& step, const StepContext& context);
 void runHeightAboveGroundStep(const HeightAboveGroundStep& step, const StepContext& context);
+void runM3c2Step(const M3c2Step& step, const StepContext& context);
 
 // Classes, for the steps that read them (step_ground.cpp): the inputs read once more, each point
 // routed to its tile by its x as the spill did, into "class_in" records (0 where an input has no
@@ -106,5 +109,16 @@ void runHeightAboveGroundStep(const HeightAboveGroundStep& step, const StepConte
 // record where nonzero, else the input's).
 void writeInputClasses(const StepContext& context);
 std::vector<std::uint8_t> currentClasses(const TileSet& tiles, std::size_t tile);
+
+// A column a step adds to the output: its records are the tiles' "<name>" files, one value of
+// `type` a point (every tile written, in the tile's order), copied into a scalar column of that
+// name and type.
+struct StepScalar {
+  std::string name;
+  ScalarType type;
+};
+// The columns of --m3c2 (step_m3c2.cpp) and of --height-above-ground (step_height.cpp).
+std::vector<StepScalar> m3c2Scalars();
+StepScalar heightAboveGroundScalar();
 
 }  // namespace parallax

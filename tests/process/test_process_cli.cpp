@@ -117,5 +117,44 @@ TEST(ProcessCli, GroundThenHeightAboveGroundFromTheCommandLine) {
       << r.err;
 }
 
+TEST(ProcessCli, M3c2OfACloudAgainstItselfAtCorePoints) {
+  // A real aerial LAS file (1 247 points about 28 m apart) against itself: both epochs hold the
+  // same points in every cylinder, so the distance is 0, the counts equal, nothing significant.
+  TempDir dir;
+  const std::string las = test::testDataFile("laz/1815.las").string();
+  auto r = runParallax(
+      dir, "process " + las + " -o " + (dir / "cores.ply").string() + " --subsample random:50 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = runParallax(dir,
+                  "process " + las + " -o " + (dir / "m3c2.ply").string() + " --m3c2 " + las +
+                      " --core-points " + (dir / "cores.ply").string() +
+                      " --normal-radius 200 --cylinder-radius 40 --cylinder-half-length 50 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const PointCloud out = readPointFile(dir / "m3c2.ply");
+  ASSERT_EQ(out.count, 50u);
+  const ScalarColumn* distance = out.findScalar("m3c2_distance");
+  const ScalarColumn* n1 = out.findScalar("m3c2_count1");
+  const ScalarColumn* n2 = out.findScalar("m3c2_count2");
+  const ScalarColumn* significant = out.findScalar("m3c2_significant");
+  ASSERT_TRUE(distance && n1 && n2 && significant);
+  std::size_t measured = 0;
+  for (std::size_t i = 0; i < out.count; ++i) {
+    EXPECT_EQ(n1->valueAsDouble(i), n2->valueAsDouble(i)) << i;
+    EXPECT_EQ(significant->valueAsDouble(i), 0.0) << i;
+    if (n1->valueAsDouble(i) > 0) {
+      EXPECT_EQ(distance->valueAsDouble(i), 0.0) << i;
+      ++measured;
+    }
+  }
+  EXPECT_GT(measured, 25u);
+  r = runParallax(dir, "process " + las + " -o " + (dir / "o.ply").string() + " --m3c2 " + las +
+                           " --normal-radius 2 --cylinder-radius 1");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--m3c2 " + las + ": --cylinder-half-length H must be a positive number"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "o.ply"));
+}
+
 }  // namespace
 }  // namespace parallax
