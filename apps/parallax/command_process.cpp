@@ -186,11 +186,42 @@ Command addProcessCommand(CLI::App& app) {
   sub->add_option("--local-k", args->local_k,
                   "Distance steps: points of the local model (default 6)")
       ->check(CLI::Range(std::uint32_t(3), std::uint32_t(1000)));
-      "Normals, outlier removal, subsampling, distances to another cloud and ground "
-      "classification, the steps run in the "
-      "order given, out of core within --memory; every other attribute is kept");
-      "Normals, outlier removal, subsampling, distances to another cloud and M3C2, the steps run "
-      "in the order given, out of core within --memory; every other attribute is kept");
+  sub->add_option("--ground", args->ground,
+                  "Step: ground classification, class 2 (ground) and 1 (the rest): "
+                  "smrf[:cell=1,slope=0.15,window=18,scalar=1.25,threshold=0.5] (Pingel et al. "
+                  "2013, PDAL's parameters and defaults), "
+                  "pmf[:max_window_size=33,slope=0.7,initial_distance=0.15,max_distance=10,"
+                  "cell_size=1,base=2,exponential=true] (Zhang et al. 2003, PCL's), "
+                  "csf[:resolution=0.5,rigidness=3,iterations=500,time_step=0.65,"
+                  "class_threshold=0.5,slope_smoothing=true] (Zhang et al. 2016, the CSF "
+                  "library's); a grid of the cloud's extent must fit --memory");
+  sub->add_flag("--keep-classes", args->keep_classes,
+                "Ground steps: classify only points of class 0 or 1; the others (noise 7, "
+                "buildings 6, ...) keep their class and stay out of the ground surface");
+  sub->add_flag("--height-above-ground", args->height_above_ground,
+                "Step: height_above_ground (float), z less the ground's under the point: a 2D "
+                "Delaunay triangulation of the class 2 points (the input's or an earlier "
+                "--ground's); outside their convex hull the nearest one's z");
+  sub->add_option("--m3c2", args->m3c2,
+                  "Step: M3C2 (Lague et al. 2013) from the input (epoch 1) to this cloud (epoch "
+                  "2) at every core point: m3c2_distance, m3c2_uncertainty (LoD95), "
+                  "m3c2_significant, m3c2_count1/2, m3c2_std1/2; needs --normal-radius, "
+                  "--cylinder-radius, --cylinder-half-length; normals oriented by --orient (up "
+                  "or X,Y,Z)");
+  sub->add_option("--core-points", args->core_points,
+                  "M3C2: the core points (a point file); the output is these points with the "
+                  "m3c2 columns (default: every input point)");
+  sub->add_option("--normal-radius", args->normal_scale,
+                  "M3C2: the normal scale D, a diameter as in the paper (PCA of epoch 1 within "
+                  "D/2)");
+  sub->add_option("--cylinder-radius", args->cylinder_radius,
+                  "M3C2: the projection cylinder's radius R (the paper's d = 2R)");
+  sub->add_option("--cylinder-half-length", args->half_length,
+                  "M3C2: the cylinder reaches H either side of the core point along the normal");
+  sub->add_option("--registration-error", args->registration_error,
+                  "M3C2: the registration error reg of the level of detection (default 0)");
+  sub->add_flag("--m3c2-median", args->m3c2_median,
+                "M3C2: medians of the epochs' projections instead of means");
   sub->add_option("--memory", args->memory_mb,
                   "Memory budget in MB for the tiles (default 2048); the output does not depend "
                   "on it")

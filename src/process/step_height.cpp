@@ -109,6 +109,8 @@ void runHeightAboveGroundStep(const HeightAboveGroundStep&, const StepContext& c
   }
 }
 
-StepScalar heightAboveGroundScalar() { return {"height_above_ground", ScalarType::Float32}; }
+StepScalar heightAboveGroundScalar() {
+  return {"height_above_ground", ScalarType::Float32};
+}
 
 }  // namespace parallax
