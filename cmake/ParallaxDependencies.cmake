@@ -28,6 +28,10 @@ parallax_require_package(nlohmann_json_FOUND nlohmann-json3-dev "nlohmann JSON")
 find_package(nanoflann CONFIG QUIET)
 parallax_require_package(nanoflann_FOUND libnanoflann-dev "nanoflann")
 
+# Rasters of src/raster (GeoTIFF and PNG writing, reading rasters back): GDAL 3.6.
+find_package(GDAL CONFIG QUIET)
+parallax_require_package(GDAL_FOUND libgdal-dev "GDAL")
+
 # HTTP(S) byte ranges (src/net): libcurl, OpenSSL flavour (HTTP/2 through nghttp2).
 pkg_check_modules(libcurl QUIET IMPORTED_TARGET libcurl)
 parallax_require_package(libcurl_FOUND libcurl4-openssl-dev "libcurl")

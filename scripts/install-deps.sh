@@ -38,6 +38,8 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest
   # processing (src/process): neighbour search, a k-d tree (header only)
   libnanoflann-dev
+  # rasters (src/raster): GeoTIFF through GDAL; gdal_grid, gdalinfo, gdaldem as test oracles
+  libgdal-dev gdal-bin
 )
 
 # npm packages of the tests, from their package-lock.json (`npm ci`), only when missing or older

@@ -28,6 +28,8 @@ Command addViewCommand(CLI::App& app);
 Command addPickCommand(CLI::App& app);
 // `process` (command_process.cpp).
 Command addProcessCommand(CLI::App& app);
+// `raster` (command_raster.cpp).
+Command addRasterCommand(CLI::App& app);
 // `convert-task` (command_convert_task.cpp, convert_task.h).
 Command addConvertTaskCommand(CLI::App& app);
 // `bench render` (bench_render.cpp), registered by addBenchCommand.
