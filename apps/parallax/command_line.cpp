@@ -23,7 +23,7 @@ int runCommandLine(int argc, char** argv) {
       addInfoCommand(app),    addGenerateCommand(app),    addBenchCommand(app),
       addConvertCommand(app), addRenderCommand(app),      addViewCommand(app),
       addPickCommand(app),    addConvertTaskCommand(app), addProcessCommand(app),
-      addRasterCommand(app),
+      addRasterCommand(app),  addVolumeCommand(app),
   };
 
   try {
