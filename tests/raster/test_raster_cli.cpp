@@ -324,5 +324,47 @@ TEST(RasterCli, BadOptionsNameTheOptionAndWriteNothing) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
 }
 
+TEST(VolumeCli, JsonResultAndPolygonErrorsNamingTheFile) {
+  TempDir dir;
+  // A box 2 x 3 x 1.5 on flat ground at z 10, one point a cell of 0.25 at its centre.
+  std::vector<Xyz> points;
+  for (int row = 0; row < 40; ++row) {
+    for (int column = 0; column < 40; ++column) {
+      const double x = 0.125 + 0.25 * column, y = 0.125 + 0.25 * row;
+      const bool in_box = x > 3 && x < 5 && y > 3 && y < 6;
+      points.push_back({x, y, in_box ? 11.5 : 10.0});
+    }
+  }
+  const auto input = writePoints(dir, points);
+  const auto polygon = dir.write(
+      "p.geojson",
+      R"({"type": "Polygon", "coordinates": [[[1, 1], [9, 1], [9, 9], [1, 9], [1, 1]]]})");
+  auto r = runParallax(
+      dir, "volume " + quoted(input.string()) + " --polygon " + quoted(polygon.string()) +
+               " --resolution 0.25 --json --raster-out " + quoted((dir / "d.tif").string()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto json = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(json["cut"].get<double>(), 9.0, 1e-6);
+  EXPECT_NEAR(json["fill"].get<double>(), 0.0, 1e-6);
+  EXPECT_NEAR(json["net"].get<double>(), 9.0, 1e-6);
+  EXPECT_NEAR(json["area"].get<double>(), 64.0, 1e-9);
+  EXPECT_EQ(json["base"], "plane");
+  EXPECT_NEAR(json["plane"][2].get<double>(), 10.0, 1e-9);
+  EXPECT_TRUE(std::filesystem::exists(dir / "d.tif"));
+
+  const auto bad = dir.write("bad.geojson", R"({"type": "Polygon", "coordinates": [[[1, 1]]]})");
+  r = runParallax(dir, "volume " + quoted(input.string()) + " --polygon " + quoted(bad.string()));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find(bad.string()), std::string::npos) << r.err;
+  r = runParallax(dir, "volume " + quoted(input.string()) + " --polygon " +
+                           quoted((dir / "none.geojson").string()));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("none.geojson"), std::string::npos) << r.err;
+  r = runParallax(dir, "volume " + quoted(input.string()) + " --polygon " +
+                           quoted(polygon.string()) + " --base nowhere.tif");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--base"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace parallax
