@@ -209,6 +209,46 @@ TEST(RasterCli, GdalinfoReadsTheCrsNodataTilesCompressionAndValues) {
   EXPECT_GE(band["minimum"].get<double>(), min_z - 0.01);
 }
 
+TEST(RasterCli, TheWktOfACopcFileAndACanopyHeightModelByMinus) {
+  TempDir dir;
+  const auto copc = test::testDataFile("laz/simple.copc.laz");
+  auto r = runParallax(dir, "raster " + quoted(copc.string()) + " -o " +
+                                quoted((dir / "i.tif").string()) +
+                                " --resolution 5 --value intensity -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(readRaster(dir / "i.tif").wkt.find("NAD83 / Oregon LCC (m)"), std::string::npos);
+
+  // CHM = DSM (first returns, max) - DTM (class 2, min), cell by cell, nodata where either is.
+  const auto las = test::testDataFile("laz/1815.las");
+  const std::string base = "raster " + quoted(las.string()) + " --resolution 4 -q -o ";
+  r = runParallax(dir, base + quoted((dir / "dtm.tif").string()) + " --classes 2 --value min");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = runParallax(dir, base + quoted((dir / "dsm.tif").string()) + " --returns first --value max");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = runParallax(dir, base + quoted((dir / "chm.tif").string()) +
+                           " --returns first --value max --minus " +
+                           quoted((dir / "dtm.tif").string()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const RasterImage dtm = readRaster(dir / "dtm.tif"), dsm = readRaster(dir / "dsm.tif");
+  const RasterImage chm = readRaster(dir / "chm.tif");
+  std::size_t both = 0;
+  for (std::size_t i = 0; i < chm.values.size(); ++i) {
+    if (dtm.values[i] == dtm.nodata || dsm.values[i] == dsm.nodata) {
+      ASSERT_EQ(chm.values[i], chm.nodata) << i;
+    } else {
+      ASSERT_EQ(chm.values[i], dsm.values[i] - dtm.values[i]) << i;
+      ++both;
+    }
+  }
+  EXPECT_GT(both, 10u);
+  // Another grid cannot be subtracted.
+  r = runParallax(dir, "raster " + quoted(las.string()) + " --resolution 2 -o " +
+                           quoted((dir / "x.tif").string()) + " --minus " +
+                           quoted((dir / "dtm.tif").string()));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--minus"), std::string::npos) << r.err;
+}
+
 TEST(RasterCli, BandsOfRowsWithinMemoryGiveTheSameRaster) {
   TempDir dir;
   std::mt19937 random(7);
