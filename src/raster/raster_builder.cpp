@@ -79,6 +79,7 @@ CloudExtent cloudExtent(const RasterInput& input) {
     return extent;
   }
   PointStream stream(input.path, input.text_columns);
+  extent.quantization = stream.quantization();
   PointCloud chunk;
   Bounds3 bounds;
   while (stream.next(chunk, kChunkPoints)) {
@@ -98,7 +99,8 @@ std::vector<float> rasterizeRows(const RasterInput& input, const RasterGrid& gri
                                  RasterValue value, double idw_radius, std::int64_t first_row,
                                  std::int64_t last_row, float nodata, RasterReport& report) {
   CellAccumulator cells(grid, value, first_row, last_row, idw_radius);
-  PointStream stream(input.path, input.text_columns, nullptr, &input.filter);
+  PointStream stream(input.path, input.text_columns,
+                     input.quantization ? &*input.quantization : nullptr, &input.filter);
   PointCloud chunk;
   while (stream.next(chunk, kChunkPoints)) {
     cells.addChunk(chunk);
@@ -113,6 +115,8 @@ RasterReport buildRaster(const RasterOptions& options) {
   RasterReport report;
   const CloudExtent extent = cloudExtent(options.input);
   report.crs = extent.crs.summary();
+  RasterInput input = options.input;
+  if (!input.quantization) input.quantization = extent.quantization;
   if (options.bounds) {
     const auto& b = *options.bounds;
     report.grid = boundedGrid(b[0], b[1], b[2], b[3], options.resolution);
@@ -161,8 +165,8 @@ RasterReport buildRaster(const RasterOptions& options) {
     GeoTiffWriter writer(options.output, grid, wkt, nodata);
     for (std::int64_t first = 0; first < grid.rows; first += band_rows) {
       const std::int64_t last = std::min(grid.rows, first + band_rows);
-      const std::vector<float> values = rasterizeRows(options.input, grid, options.value,
-                                                      idw_radius, first, last, nodata, report);
+      const std::vector<float> values =
+          rasterizeRows(input, grid, options.value, idw_radius, first, last, nodata, report);
       for (float v : values) report.cells_with_value += v != nodata;
       writer.writeRows(first, values);
       ++report.bands;
@@ -176,7 +180,7 @@ RasterReport buildRaster(const RasterOptions& options) {
   image.wkt = wkt;
   image.nodata = nodata;
   image.values =
-      rasterizeRows(options.input, grid, options.value, idw_radius, 0, grid.rows, nodata, report);
+      rasterizeRows(input, grid, options.value, idw_radius, 0, grid.rows, nodata, report);
   report.bands = 1;
   if (options.fill) {
     const double radius =

@@ -32,6 +32,9 @@ struct RasterInput {
   std::filesystem::path path;
   std::vector<std::string> text_columns;  // text files (see io/point_file.h)
   PointFilter filter;                     // --classes, --returns, ...
+  // The grid positions are put on, when a first pass found it (text files: then read once less
+  // per pass); absent: the reader's own choice.
+  std::optional<Quantization> quantization;
 };
 
 struct RasterOptions {
@@ -74,6 +77,7 @@ struct CloudExtent {
   double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
   bool empty = true;
   CoordinateSystem crs;
+  std::optional<Quantization> quantization;  // found by the pass over the points, if one ran
 };
 CloudExtent cloudExtent(const RasterInput& input);
 
