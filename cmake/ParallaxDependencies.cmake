@@ -32,6 +32,9 @@ parallax_require_package(nanoflann_FOUND libnanoflann-dev "nanoflann")
 # triangulation, header only.
 find_package(CGAL CONFIG QUIET)
 parallax_require_package(CGAL_FOUND libcgal-dev "CGAL")
+# Rasters of src/raster (GeoTIFF and PNG writing, reading rasters back): GDAL 3.6.
+find_package(GDAL CONFIG QUIET)
+parallax_require_package(GDAL_FOUND libgdal-dev "GDAL")
 
 # HTTP(S) byte ranges (src/net): libcurl, OpenSSL flavour (HTTP/2 through nghttp2).
 pkg_check_modules(libcurl QUIET IMPORTED_TARGET libcurl)

@@ -43,6 +43,8 @@ packages=(
   # registration's oracle in tests (tests/registration/compare_open3d.py): Open3D's
   # registration_icp, never used by the product
   python3-open3d
+  # rasters (src/raster): GeoTIFF through GDAL; gdal_grid, gdalinfo, gdaldem as test oracles
+  libgdal-dev gdal-bin
 )
 
 # npm packages of the tests, from their package-lock.json (`npm ci`), only when missing or older

@@ -20,10 +20,10 @@ int runCommandLine(int argc, char** argv) {
                                         "build: " + build_info::kBuild);
   app.require_subcommand(1);
   const std::vector<Command> commands = {
-      addInfoCommand(app),     addGenerateCommand(app),    addBenchCommand(app),
-      addConvertCommand(app),  addRenderCommand(app),      addViewCommand(app),
-      addPickCommand(app),     addConvertTaskCommand(app), addProcessCommand(app),
-      addRegisterCommand(app),
+      addInfoCommand(app),    addGenerateCommand(app),    addBenchCommand(app),
+      addConvertCommand(app), addRenderCommand(app),      addViewCommand(app),
+      addPickCommand(app),    addConvertTaskCommand(app), addProcessCommand(app),
+      addRasterCommand(app),  addVolumeCommand(app),      addRegisterCommand(app),
   };
 
   try {

@@ -30,6 +30,10 @@ Command addPickCommand(CLI::App& app);
 Command addProcessCommand(CLI::App& app);
 // `register` (command_register.cpp).
 Command addRegisterCommand(CLI::App& app);
+// `raster` (command_raster.cpp).
+Command addRasterCommand(CLI::App& app);
+// `volume` (command_volume.cpp).
+Command addVolumeCommand(CLI::App& app);
 // `convert-task` (command_convert_task.cpp, convert_task.h).
 Command addConvertTaskCommand(CLI::App& app);
 // `bench render` (bench_render.cpp), registered by addBenchCommand.
