@@ -42,6 +42,7 @@
 #include "io/format_description.h"
 #include "io/point_file.h"
 #include "lod/copc_reader.h"
+#include "lod/octree_export.h"
 #include "lod/octree_open.h"
 #include "lod/octree_url.h"
 #include "lod/potree_reader.h"
