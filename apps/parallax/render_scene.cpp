@@ -6,12 +6,12 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/url.h"
 #include "io/ply_preview.h"
 #include "io/point_file.h"
 #include "lod/drawing_input.h"
 #include "lod/octree_open.h"
 #include "lod/potree_reader.h"
-#include "net/url.h"
 #include "progress_options.h"
 
 namespace parallax::cli {

@@ -10,13 +10,13 @@
 #include <vector>
 
 #include "core/byte_source.h"
+#include "core/byte_source_opener.h"
 #include "core/error.h"
 #include "core/point_gather.h"
 #include "io/point_file.h"
 #include "lod/copc_reader.h"
 #include "lod/octree_open.h"
 #include "lod/potree_reader.h"
-#include "net/network.h"
 
 namespace parallax {
 namespace {
