@@ -11,6 +11,7 @@
 
 #include "core/byte_source.h"
 #include "core/byte_source_opener.h"
+#include "core/column_names.h"
 #include "core/scalar_type.h"
 #include "io/e57/e57_format.h"
 #include "io/format_description.h"
@@ -529,8 +530,10 @@ PointFormatEntry ptxFormat() {
                         const PointWriteOptions&) {
     std::vector<std::string> losses;
     for (const std::string& name : cloud.attributeNames()) {
-      if (name == "x" || name == "y" || name == "z" || name == "red" || name == "green" ||
-          name == "blue" || name == "intensity" || name == kScanIndexColumn) {
+      if (name == column_names::kX || name == column_names::kY || name == column_names::kZ ||
+          name == column_names::kRed || name == column_names::kGreen ||
+          name == column_names::kBlue || name == column_names::kIntensity ||
+          name == kScanIndexColumn) {
         continue;
       }
       losses.push_back(name + " (PTX holds x y z intensity r g b)");
