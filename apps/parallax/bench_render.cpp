@@ -94,9 +94,10 @@ struct RenderBenchOptions {
   std::vector<std::string> stereo;  // random points, octree: modes to compare with mono
   std::string order;                // morton|random|both; empty: both, or morton with --json
   bool json = false;
-  int orbit_frames = 0;        // an orbit of this many frames (0: none)
-  double frame_budget_ms = 0;  // with an octree's --orbit: progressive refinement's budget
-  bool filter_toggle = false;  // frames with and without the filter (bench_render_filter.h)
+  int orbit_frames = 0;         // an orbit of this many frames (0: none)
+  double frame_budget_ms = 0;   // with an octree's --orbit: progressive refinement's budget
+  bool filter_toggle = false;   // frames with and without the filter (bench_render_filter.h)
+  bool selective_load = false;  // an octree: its load with what the look draws, and with all
   std::string look = "render";
   bool no_atomic64 = false;
   RenderOptions render;  // the look: every option of `view` and `render`
@@ -360,7 +361,8 @@ int runBenchRenderInput(const RenderBenchOptions& o, const CLI::App& command,
                               .camera = cameraFrom(render, viewExtentOf(octree), aspect),
                               .look = o.look,
                               .compute = compute,
-                              .json = o.json},
+                              .json = o.json,
+                              .selective_load = o.selective_load},
                              *source.octree);
   }
   auto context = GlContext::createHeadless();
@@ -568,6 +570,10 @@ Command addBenchRenderCommand(CLI::App& bench) {
   sub->add_flag("--no-atomic64", options->no_atomic64,
                 "Compute rasterizer: the 32-bit path even where GL_NV_shader_atomic_int64 is "
                 "offered (the JSON's atomic64 says which path drew)");
+  sub->add_flag("--selective-load", options->selective_load,
+                "An octree (COPC): the time to the first picture and to the whole load with its "
+                "nodes read with what the look draws (as `view` reads them) and with every "
+                "attribute, alternating in the same run");
   sub->add_flag("--filter-toggle", options->filter_toggle,
                 "Random points: frames with and without the filter options (default --returns "
                 "first), toggled every other frame: frame times and the bytes uploaded");

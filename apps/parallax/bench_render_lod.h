@@ -32,6 +32,10 @@ struct LodRenderBenchOptions {
   std::string look = "render";       // where `settings` came from, for the report
   ComputeRasterizerOptions compute;  // allow_64bit_atomics false: --no-atomic64
   bool json = false;  // the orbit as one JSON object on stdout (median_ms, p90_ms, worst_ms, ...)
+  // Instead: the load timed with the nodes read with what `settings` draws (attributesDrawn, as
+  // the viewer reads them; COPC decodes only those layers) and with every attribute, `repeat`
+  // rounds of each, alternating (the first of each a warm-up: hierarchy pages, disk cache).
+  bool selective_load = false;
 };
 
 int runBenchRenderLod(const LodRenderBenchOptions& options, Octree& octree);

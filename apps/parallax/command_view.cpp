@@ -9,11 +9,13 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "commands.h"
 #include "io/point_format.h"
 #include "measure/measurement_document.h"
 #include "network_options.h"
+#include "process/process_steps.h"
 #include "render_options.h"
 #include "viewer/viewer.h"
 #include "xr_view.h"
@@ -29,6 +31,8 @@ struct ViewCommandOptions {
   double frame_budget_ms = 1000.0 / 15.0;
   std::string measurements_file;
   std::string tool = "none";
+  std::vector<std::string> process_steps;
+  std::string process_output;
   double profile_width = 1.0;
   RenderOptions render;
   LodOptions lod;
@@ -69,6 +73,11 @@ int runView(const ViewCommandOptions& o, const CLI::App& command,
   }
   viewer.measure_tool = *tool;
   viewer.profile_width = o.profile_width;
+  for (const std::string& step : o.process_steps) {
+    (void)parseProcessStep(step);  // a typo is an error here, before the window opens
+    viewer.process_steps.push_back(step);
+  }
+  viewer.process_output = o.process_output;
   if (!o.measurements_file.empty()) {
     // Read before the window opens: a malformed file is reported like a bad point file.
     viewer.measurements = loadMeasurementDocument(o.measurements_file);
@@ -124,6 +133,13 @@ Command addViewCommand(CLI::App& app) {
                   "Corridor width of new height profiles, in the cloud's units (also in the panel)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  sub->add_option("--process-step", options->process_steps,
+                  "A step of the Processing panel, as `process` takes it: \"normals 16\", "
+                  "\"outliers statistical:8,2\", \"subsample voxel:0.1\", \"distance-to "
+                  "REF\" (repeatable, run in order; K or the panel's Run runs them)");
+  sub->add_option("--process-output", options->process_output,
+                  "Where the Processing panel writes its result (default: NAME-processed.ply in "
+                  "--screenshot-dir)");
   addRenderOptions(*sub, options->render);
   addLodOptions(*sub, options->lod);
   sub->add_flag("--xr", options->xr,

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "core/column_names.h"
-
 namespace parallax::cli {
 
 namespace {
@@ -260,35 +258,7 @@ Camera cameraFrom(const RenderOptions& o, const ViewExtent& extent, double aspec
 }
 
 AttributeSelection attributesDrawn(const RenderOptions& o) {
-  const RenderSettings settings = renderSettingsFrom(o, 0.0);
-  std::vector<std::string> names;
-  if (!settings.scalar.field.empty()) names.push_back(settings.scalar.field);
-  switch (settings.color) {
-    case ColorMode::Rgb:
-      names.emplace_back(column_names::kRed);
-      break;
-    case ColorMode::Intensity:
-      names.emplace_back(column_names::kIntensity);
-      break;
-    case ColorMode::Classification:
-      names.emplace_back(column_names::kClassification);
-      break;
-    case ColorMode::Normal:
-      names.emplace_back(column_names::kNx);
-      break;
-    case ColorMode::Elevation:
-    case ColorMode::Uniform:
-      break;
-  }
-  const PointFilter& filter = settings.filter;
-  if (!filter.keepsEveryClass()) names.emplace_back(column_names::kClassification);
-  if (!filter.keepsEveryReturn()) {
-    names.emplace_back(filter_names::kReturnNumber);
-    names.emplace_back(filter_names::kNumberOfReturns);
-  }
-  if (filter.intensity) names.emplace_back(column_names::kIntensity);
-  if (filter.gps_time) names.emplace_back(filter_names::kGpsTime);
-  return AttributeSelection::only(std::move(names));
+  return attributesDrawn(renderSettingsFrom(o, 0.0));
 }
 
 }  // namespace parallax::cli

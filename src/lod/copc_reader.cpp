@@ -313,13 +313,26 @@ class CopcOctree final : public Octree {
       bytes = std::uint64_t(entry.byte_size);
       count = std::uint32_t(entry.point_count);
     }
-    return decodeChunk(node.name, offset, bytes, count, cancel);
+    return decodeChunk(node.name, offset, bytes, count, plan_, cancel);
+  }
+
+  PointCloud loadNodeWhole(const OctreeNode& node) const override {
+    std::uint64_t offset = node.byte_offset, bytes = node.byte_size;
+    std::uint32_t count = node.point_count;
+    if (node.hierarchy_pending) {
+      const CopcEntry entry = hierarchy_->ownEntry(pageOf(node, {}), node);
+      offset = entry.offset;
+      bytes = std::uint64_t(entry.byte_size);
+      count = std::uint32_t(entry.point_count);
+    }
+    return decodeChunk(node.name, offset, bytes, count, whole_plan_, {});
   }
 
   void selectAttributes(const AttributeSelection& attributes) override {
     const bool colors_8bit = plan_.colors_8bit;
     plan_ = makeLasDecodePlan(header_, attributes);
     plan_.colors_8bit = colors_8bit;  // the file's rule, decided at opening
+    // (whole_plan_ never changes after opening: loader threads and loadNodeWhole() read it.)
     describeColumns();
   }
 
@@ -348,13 +361,15 @@ class CopcOctree final : public Octree {
   }
 
   // The raw LAS records of a node's chunk.
+  // Only the LAZ layers of `fields` (laz::fields::k*) are decoded.
   ByteBuffer decodeRecords(const std::string& name, std::uint64_t offset, std::uint64_t bytes,
-                           std::uint32_t count, std::stop_token cancel) const {
+                           std::uint32_t count, std::uint32_t fields,
+                           std::stop_token cancel) const {
     const std::string element = "node " + name + " (its LAZ chunk)";
     std::vector<std::byte> compressed(bytes);
     readBytes(*in_, offset, compressed, element, std::move(cancel));
     ByteBuffer records(std::size_t(count) * header_.record_length);
-    std::unique_ptr<laz::ChunkDecoder> decoder = takeDecoder();
+    std::unique_ptr<laz::ChunkDecoder> decoder = takeDecoder(fields);
     try {
       decoder->decode(compressed, count, records.data());
     } catch (const laz::ChunkCorrupt& e) {
@@ -370,15 +385,17 @@ class CopcOctree final : public Octree {
     return records;
   }
 
-  // A node's points, with `plan_`'s columns.
+  // A node's points, with `plan`'s columns (plan_ or whole_plan_).
   PointCloud decodeChunk(const std::string& name, std::uint64_t offset, std::uint64_t bytes,
-                         std::uint32_t count, std::stop_token cancel) const {
-    PointCloud cloud = allocateLasCloud(header_, plan_, count);
-    cloud.source.color = plan_.colors_8bit ? ScalarType::UInt8 : ScalarType::UInt16;
+                         std::uint32_t count, const LasDecodePlan& plan,
+                         std::stop_token cancel) const {
+    PointCloud cloud = allocateLasCloud(header_, plan, count);
+    cloud.source.color = plan.colors_8bit ? ScalarType::UInt8 : ScalarType::UInt16;
     if (count == 0) return cloud;
-    const ByteBuffer records = decodeRecords(name, offset, bytes, count, std::move(cancel));
+    const ByteBuffer records =
+        decodeRecords(name, offset, bytes, count, plan.laz_fields, std::move(cancel));
     LasDecodeStats stats;
-    decodeLasRecords(records.data(), count, plan_, cloud, 0, stats);
+    decodeLasRecords(records.data(), count, plan, cloud, 0, stats);
     cloud.bounds = stats.world(cloud.quantization);
     return cloud;
   }
@@ -394,10 +411,10 @@ class CopcOctree final : public Octree {
     }
     return laz::makeLayeredDecoder(items_);
   }
-  // A decoder reading only the layers plan_'s columns come from.
-  std::unique_ptr<laz::ChunkDecoder> takeDecoder() const {
+  // A decoder reading only the layers of `fields`.
+  std::unique_ptr<laz::ChunkDecoder> takeDecoder(std::uint32_t fields) const {
     std::unique_ptr<laz::ChunkDecoder> decoder = pooledDecoder();
-    decoder->selectFields(plan_.laz_fields);
+    decoder->selectFields(fields);
     return decoder;
   }
   void releaseDecoder(std::unique_ptr<laz::ChunkDecoder> decoder) const {
@@ -409,11 +426,12 @@ class CopcOctree final : public Octree {
     // The colour rule, from the root's points (see copc_reader.h).
     if (plan_.color_offset) {
       const OctreeNode& root = nodes_[0];
-      plan_.colors_8bit = root.point_count > 0 &&
-                          !lasColorsAbove255(decodeRecords(root.name, root.byte_offset,
-                                                           root.byte_size, root.point_count, {})
-                                                 .data(),
-                                             root.point_count, plan_);
+      plan_.colors_8bit =
+          root.point_count > 0 &&
+          !lasColorsAbove255(decodeRecords(root.name, root.byte_offset, root.byte_size,
+                                           root.point_count, plan_.laz_fields, {})
+                                 .data(),
+                             root.point_count, plan_);
     }
     info_.point_count = header_.point_count;
     info_.cube = info_vlr_.cube();
@@ -425,6 +443,7 @@ class CopcOctree final : public Octree {
     if (!bounds_ok) info_.bounds = info_.cube;  // a header without bounds: the cube will do
     info_.quantization = header_.quantization;
     info_.spacing = info_vlr_.spacing;
+    whole_plan_ = plan_;  // (every column: selectAttributes() has not been called yet)
     describeColumns();
   }
 
@@ -450,7 +469,8 @@ class CopcOctree final : public Octree {
   CopcInfo info_vlr_;
   std::unique_ptr<CopcHierarchy> hierarchy_;
   std::vector<laz::LazItem> items_;
-  LasDecodePlan plan_;
+  LasDecodePlan plan_;        // the columns loadNode() gives (selectAttributes)
+  LasDecodePlan whole_plan_;  // every column, for loadNodeWhole()
   OctreeInfo info_;
   std::vector<OctreeNode> nodes_;
   mutable std::mutex decoders_mutex_;

@@ -89,6 +89,11 @@ class Octree {
     return loadNode(node);
   }
 
+  // loadNode with every attribute the octree holds, whatever selectAttributes() asked: for
+  // readers that report a point whole (picking, profiles) while the drawn nodes carry only what
+  // the picture needs. Safe beside loader threads as loadNode is. Default: loadNode(node).
+  virtual PointCloud loadNodeWhole(const OctreeNode& node) const { return loadNode(node); }
+
   // True when expandHierarchy(node) would not wait on a slow link (its hierarchy is local or
   // already fetched). Default: true.
   virtual bool hierarchyReady(std::int32_t node) const {

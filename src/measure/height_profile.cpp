@@ -191,7 +191,7 @@ HeightProfile extractProfile(Octree& octree, const std::vector<glm::dvec3>& line
         if (child >= 0) stack.push_back(child);
       }
       if (node.point_count == 0) continue;
-      PointCloud points = octree.loadNode(node);
+      PointCloud points = octree.loadNodeWhole(node);
       Found found = search(points, corridor);
       if (found.samples.empty()) continue;
       if (all.samples.size() + found.samples.size() > max_points) {

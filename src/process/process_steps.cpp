@@ -139,6 +139,66 @@ void parseLocalModel(const std::string& value, DistanceStep& step) {
   step.plane = true;
 }
 
+ProcessStep parseProcessStep(const std::string& text) {
+  std::vector<std::string> words;
+  std::istringstream in(text);
+  for (std::string word; in >> word;) {
+    words.push_back(word.rfind("--", 0) == 0 ? word.substr(2) : word);
+  }
+  const auto expected = [&](const std::string& what) {
+    fail("processing step '" + text + "'", what);
+  };
+  if (words.size() < 2) {
+    expected(
+        "expected a step and its argument: normals K, normals-radius R, outliers "
+        "statistical:K,S or radius:R,N, subsample voxel:SIZE, spacing:D or random:N, "
+        "distance-to FILE");
+  }
+  ProcessStep step;
+  const std::string& name = words[0];
+  if (name == "normals") {
+    step = parseNormalsK(words[1]);
+  } else if (name == "normals-radius") {
+    step = parseNormalsRadius(words[1]);
+  } else if (name == "outliers") {
+    step = parseOutliers(words[1]);
+  } else if (name == "subsample") {
+    step = parseSubsample(words[1]);
+  } else if (name == "distance-to") {
+    DistanceStep distance;
+    distance.reference = words[1];
+    step = distance;
+  } else {
+    expected("unknown step '" + name +
+             "' (normals, normals-radius, outliers, subsample, distance-to)");
+  }
+  for (std::size_t i = 2; i < words.size(); ++i) {
+    const std::string& option = words[i];
+    const bool has_value = i + 1 < words.size();
+    auto* normals = std::get_if<NormalsStep>(&step);
+    auto* outliers = std::get_if<OutliersStep>(&step);
+    auto* distance = std::get_if<DistanceStep>(&step);
+    if (normals && option == "curvature") {
+      normals->curvature = true;
+    } else if (normals && option == "orient" && has_value) {
+      parseOrientation(words[++i], *normals);
+    } else if (outliers && option == "mark-outliers") {
+      outliers->mark = true;
+    } else if (distance && option == "local-model" && has_value) {
+      parseLocalModel(words[++i], *distance);
+    } else if (distance && option == "local-k" && has_value) {
+      distance->k =
+          std::uint32_t(wholeNumber("--local-k " + words[i + 1], "K", words[i + 1], 3, 1000));
+      ++i;
+    } else {
+      expected("'" + option + "' does not modify a " + name +
+               " step (normals: --curvature, --orient X; outliers: --mark-outliers; "
+               "distance-to: --local-model plane, --local-k K)");
+    }
+  }
+  return step;
+}
+
 std::string describeStep(const ProcessStep& step) {
   if (const auto* n = std::get_if<NormalsStep>(&step)) {
     return n->k ? "--normals " + std::to_string(n->k) : "--normals-radius " + number(n->radius);

@@ -54,6 +54,14 @@ using ProcessStep = std::variant<NormalsStep, OutliersStep, SubsampleStep, Dista
 // "--normals 16", "--outliers statistical:8,2", ...: how the step was asked for (messages).
 std::string describeStep(const ProcessStep& step);
 
+// One step as its command-line options read, in describeStep()'s words: the step's option and
+// its argument ("--normals 16", "--outliers statistical:8,2", "--subsample voxel:0.1",
+// "--distance-to ref.las", "--normals-radius 0.5"; the leading dashes may be left out), then
+// the options that modify it ("--curvature", "--orient X", "--mark-outliers", "--local-model
+// plane", "--local-k K"), separated by spaces. For the viewer's Processing panel, where a step
+// is typed on one line. Throws std::invalid_argument naming the step and what was expected.
+ProcessStep parseProcessStep(const std::string& text);
+
 // `value` is the option's argument as typed.
 NormalsStep parseNormalsK(const std::string& value);
 NormalsStep parseNormalsRadius(const std::string& value);

@@ -26,6 +26,11 @@ const DrawSet& LodScene::update(std::span<const View> views, const LodFrameSetti
   return update(std::span<const SelectionView>(selection_views), settings);
 }
 
+void LodScene::stopLoading() {
+  loader_.stop();
+  staged_.clear();
+}
+
 NodeSelection LodScene::select(std::span<const SelectionView> views,
                                const NodeSelectionSettings& settings) {
   const std::size_t node_count = octree_.nodes().size();

@@ -92,6 +92,12 @@ class LodScene {
   const DrawSet& finishLoading(std::span<const View> views, const LodFrameSettings& settings,
                                std::chrono::milliseconds timeout = std::chrono::minutes(10));
 
+  // Ends the background loading for good (NodeLoader::stop): the octree is no longer read for
+  // this scene, and drawSet() stays valid, as it was, for as long as the scene lives. For the
+  // viewer, which keeps drawing a scene's last picture while a scene with other attributes
+  // (Octree::selectAttributes) loads; update() must not be called afterwards.
+  void stopLoading();
+
   const LodStats& stats() const { return stats_; }
   // The first load or hierarchy error, empty if none (the rest go to stats().failed_nodes).
   const std::string& firstError() const { return first_error_; }

@@ -30,6 +30,10 @@ NodeLoader::NodeLoader(const Octree& octree, int threads) : octree_(octree) {
 }
 
 NodeLoader::~NodeLoader() {
+  stop();
+}
+
+void NodeLoader::stop() {
   {
     std::lock_guard lock(mutex_);
     queue_.clear();
@@ -37,6 +41,8 @@ NodeLoader::~NodeLoader() {
   for (std::jthread& thread : threads_) thread.request_stop();
   // condition_variable_any wakes on request_stop by itself; the joins wait for loads in flight.
   threads_.clear();
+  std::lock_guard lock(mutex_);
+  done_.clear();
 }
 
 void NodeLoader::request(std::span<const OctreeNode> nodes, std::span<const std::int32_t> wanted,

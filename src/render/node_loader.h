@@ -54,6 +54,12 @@ class NodeLoader {
   explicit NodeLoader(const Octree& octree, int threads = 2);
   // Drops the queue and waits for the loads in flight.
   ~NodeLoader();
+  // Drops the queue, waits for the loads in flight and ends the threads: nothing reads the
+  // octree for this loader afterwards (what was delivered and not taken is dropped; request()
+  // then queues what no thread serves). Lets the owner change the octree's attribute selection
+  // (Octree::selectAttributes, which does not synchronise with readers) while keeping what it
+  // uploaded.
+  void stop();
   NodeLoader(const NodeLoader&) = delete;
   NodeLoader& operator=(const NodeLoader&) = delete;
 

@@ -52,7 +52,7 @@ const PointCloud& PickSource::nodePoints(std::int32_t node) {
   // Two nodes: clicks near each other often land in the same node, and a measurement's two
   // ends in at most two.
   if (nodes_.size() == 2) nodes_.pop_back();
-  nodes_.emplace_front(node, octree_->loadNode(octree_->nodes()[std::size_t(node)]));
+  nodes_.emplace_front(node, octree_->loadNodeWhole(octree_->nodes()[std::size_t(node)]));
   return nodes_.front().second;
 }
 

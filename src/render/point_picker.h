@@ -5,7 +5,7 @@
 // for a measurement (a float is 6 cm at a UTM easting). So the pick goes pixel -> draw-set item and
 // index in its chunk (the compute rasterizer's visibility buffer names the front-most point of
 // every pixel) -> the source's index (PointChunk::source_indices) -> the source: the PointCloud
-// that was uploaded whole, or the octree node (DrawItem::node) that Octree::loadNode() reads
+// that was uploaded whole, or the octree node (DrawItem::node) that Octree::loadNodeWhole() reads
 // again (the last two nodes read are kept). Positions are the source's quantized integers times
 // its scale plus its offset, in double: exactly the file's values.
 #pragma once

@@ -83,6 +83,44 @@ RenderSettings viewerLook(RenderSettings settings, const RenderSettings& asked,
   return settings;
 }
 
+AttributeSelection attributesDrawn(const RenderSettings& settings) {
+  std::vector<std::string> names;
+  if (!settings.scalar.field.empty()) names.push_back(settings.scalar.field);
+  // Normals are three extra-bytes columns in LAS: each is asked by its name.
+  const auto add_normals = [&] {
+    for (const char* axis : {"nx", "ny", "nz"}) names.emplace_back(axis);
+  };
+  switch (settings.color) {
+    case ColorMode::Rgb:
+      names.emplace_back("red");
+      break;
+    case ColorMode::Intensity:
+      names.emplace_back("intensity");
+      break;
+    case ColorMode::Classification:
+      names.emplace_back("classification");
+      break;
+    case ColorMode::Normal:
+      add_normals();
+      break;
+    case ColorMode::Elevation:
+    case ColorMode::Uniform:
+      break;
+  }
+  if (settings.lighting && settings.color != ColorMode::Normal) add_normals();
+  const PointFilter& filter = settings.filter;
+  if (!filter.keepsEveryClass()) names.emplace_back("classification");
+  if (!filter.keepsEveryReturn()) {
+    names.emplace_back(filter_names::kReturnNumber);
+    names.emplace_back(filter_names::kNumberOfReturns);
+  }
+  if (filter.intensity) names.emplace_back("intensity");
+  if (filter.gps_time) names.emplace_back(filter_names::kGpsTime);
+  AttributeSelection selection = AttributeSelection::only({});
+  for (std::string& name : names) selection.add(std::move(name));  // (no name twice)
+  return selection;
+}
+
 std::string colorModeNames() {
   // Appended piece by piece: `"|" + std::string(text)` builds a temporary by inserting at its
   // front, which GCC 12 at -O2 misreads as an overlapping memcpy (-Wrestrict, GCC bug 105329).

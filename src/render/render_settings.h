@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/attribute_selection.h"
 #include "core/point_filter.h"
 #include "render/scalar_colors.h"
 
@@ -82,6 +83,13 @@ struct LookTraits {
 // and `parallax bench render --look viewer` both call this: the figures watch what people see.
 RenderSettings viewerLook(RenderSettings settings, const RenderSettings& asked,
                           ViewerLookChoice choice, LookTraits traits);
+
+// The attributes a picture with these settings needs, by the model's names: what the colour
+// mode shows (colour, intensity, classification, the normals), a scalar colouring's field, the
+// normals the lighting uses, and what the filter tests (classes, returns, intensity, GPS time).
+// Positions are always read. `render` asks a LAZ or COPC reader for these only, and `view` an
+// octree's nodes (core/attribute_selection.h).
+AttributeSelection attributesDrawn(const RenderSettings& settings);
 
 // "rgb", "elevation", ... ; std::nullopt for an unknown name.
 std::optional<ColorMode> parseColorMode(std::string_view name);

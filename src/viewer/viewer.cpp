@@ -136,6 +136,7 @@ void showCloud(Session& s, PointCloud cloud_points, bool whole, bool place_camer
   s.cloud_points = std::make_unique<const PointCloud>(std::move(cloud_points));
   const PointCloud& cloud = *s.cloud_points;
   s.picked.reset();
+  s.previous_lod.reset();
   s.lod.reset();
   s.octree.reset();
   s.lod_location.reset();
@@ -157,10 +158,10 @@ void refreshScalarColors(Session& s) {
 // draws something.
 void showOpenedOctree(Session& s, std::unique_ptr<Octree> octree,
                       std::unique_ptr<OctreeLocation> location, bool keep_camera, bool first) {
+  s.previous_lod.reset();
   s.lod.reset();
   s.octree = std::move(octree);
   s.lod_location = std::move(location);
-  s.lod = std::make_unique<LodScene>(*s.octree);
   s.drawn.reset();
   s.picked.reset();
   s.pick_source.reset();
@@ -174,6 +175,7 @@ void showOpenedOctree(Session& s, std::unique_ptr<Octree> octree,
   }
   // The attenuated size needs a spacing before any node is drawn: about a level-3 node's.
   if (s.settings.world_size <= 0) s.settings.world_size = float(s.octree->info().spacing / 4.0);
+  startLodScene(s);  // once the look is chosen: the nodes are read with what it draws
   if (!s.settings.scalar.field.empty()) {
     s.status = "colour by " + s.settings.scalar.field +
                ": scalar attributes are coloured on whole clouds; the octree is drawn without";
@@ -239,6 +241,7 @@ void openLargeFile(Session& s, const std::filesystem::path& path, std::uint64_t 
     // No sample reader for text: nothing is shown until the octree is ready.
     s.cloud.reset();
     s.cloud_points.reset();
+    s.previous_lod.reset();
     s.lod.reset();
     s.octree.reset();
     s.lod_location.reset();
@@ -309,6 +312,7 @@ void openFile(Session& s, const std::filesystem::path& path, bool first) {
           "opened " + path.string() + " (" + std::to_string(s.cloud->pointCount()) + " points)";
       setTitle(s, path);
     }
+    s.shown_path = path;
     s.error.clear();
   } catch (const std::exception& e) {
     // Keep whatever was shown before; say why the new file is not.
@@ -466,6 +470,8 @@ int runViewer(const ViewerOptions& options) {
                        : options.measurements_file.string();
   s.measure.profile_width = options.profile_width;
   setMeasureTool(s, options.measure_tool);
+  s.process.steps = options.process_steps;
+  s.process.output = options.process_output.string();
   s.status.clear();
   glfwSwapInterval(s.vsync ? 1 : 0);
   glfwSetWindowUserPointer(window, &s);
@@ -549,6 +555,8 @@ int runViewer(const ViewerOptions& options) {
     if (updateMeasureFlight(s)) busy = true;
     updateOverlay(s);
     refreshScalarColors(s);
+    updateLodAttributes(s);
+    updateProcessing(s);
     if (s.cloud || s.lod) {
       const StereoFrame frame = stereoFrame(s.camera, s.stereo, width, height);
       const void* scene = s.lod ? static_cast<const void*>(s.lod.get()) : s.cloud.get();
@@ -574,14 +582,18 @@ int runViewer(const ViewerOptions& options) {
       if (draw) {
         const auto start = std::chrono::steady_clock::now();
         const DrawSet* draw_set = &s.draw_set;
+        const RenderSettings* look = &s.settings;
         DrawSet prioritized;
         // A whole cloud (or a preview) is refined too: its chunks, largest-looking first.
         bool refine = s.frame_budget_ms > 0;
         if (s.lod) {
           const DrawSet& streamed = s.lod->update(frame.views, s.lod_settings);
           s.lod_stats = s.lod->stats();
-          // A preview stays until the octree draws something in its place.
-          if (!streamed.items.empty() || !s.cloud) {
+          if (const DrawSet* previous = previousLodPicture(s, look, changed)) {
+            draw_set = previous;  // (whole, in its own look: no refinement on top of it)
+            refine = false;
+          } else if (!streamed.items.empty() || !s.cloud) {
+            // A preview stays until the octree draws something in its place.
             draw_set = &streamed;
             s.cloud.reset();
             s.cloud_points.reset();
@@ -597,8 +609,8 @@ int runViewer(const ViewerOptions& options) {
           s.progressive.setSettings(progressive);
         }
         const FrameStepResult step =
-            drawFrameStep(*s.renderer, refine ? &s.progressive : nullptr, *draw_set, frame,
-                          s.settings, 0, width, height, changed);
+            drawFrameStep(*s.renderer, refine ? &s.progressive : nullptr, *draw_set, frame, *look,
+                          0, width, height, changed);
         if (step.drew) {
           stats = step.stats;
           if (!step.part.accumulate) {

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "lod/octree_cache.h"
 #include "measure/measurement_document.h"
@@ -55,6 +56,11 @@ struct ViewerOptions {
   double profile_width = 1.0;  // the corridor width of new profiles (world units, > 0)
   MeasurementDocument measurements;
   std::filesystem::path measurements_file;
+  // The Processing panel's steps at first, one a line as process/process_steps.h
+  // parseProcessStep reads them ("normals 16"), and the file its result is written to (empty:
+  // NAME-processed.ply in screenshot_dir).
+  std::vector<std::string> process_steps;
+  std::filesystem::path process_output;
   // When the command started: the time to the first picture is printed from here.
   std::chrono::steady_clock::time_point start_time = std::chrono::steady_clock::now();
 };

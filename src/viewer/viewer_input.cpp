@@ -3,6 +3,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -94,6 +95,21 @@ void onKey(GLFWwindow* window, int key, int, int action, int mods) {
       setRasterizer(s, next);
       break;
     }
+    case GLFW_KEY_C: {
+      // The panel's colour list, in its order; a mode chosen shows the cloud's own colours again.
+      constexpr std::array kModes{
+          ColorMode::Rgb,    ColorMode::Elevation,      ColorMode::Intensity,
+          ColorMode::Normal, ColorMode::Classification, ColorMode::Uniform};
+      const auto at = std::find(kModes.begin(), kModes.end(), s.settings.color);
+      s.settings.color = at == kModes.end() || at + 1 == kModes.end() ? kModes.front() : *(at + 1);
+      s.settings.scalar.field.clear();
+      s.status = "colour " + std::string(colorModeName(s.settings.color));
+      std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
+      break;
+    }
+    case GLFW_KEY_K:
+      s.process.run_requested = true;
+      break;
     case GLFW_KEY_X:
       s.stereo.swap_eyes = !s.stereo.swap_eyes;
       s.status = s.stereo.swap_eyes ? "stereo eyes swapped" : "stereo eyes not swapped";

@@ -46,6 +46,8 @@ const char* const kHelp =
     "  X      swap the eyes\n"
     "  , .    point budget halved / doubled (level of detail)\n"
     "  R      rasterizer: auto, compute, points (cycles)\n"
+    "  C      colour: rgb, elevation, intensity, normal, classification, uniform (cycles)\n"
+    "  K      run the Processing panel's steps on the cloud shown\n"
     "  Esc    close this help or an open list; cancel a measurement being drawn;\n"
     "         otherwise quit\n"
     "Drop a point file or a Potree directory on the window to open it; `parallax view URL`\n"
@@ -74,6 +76,33 @@ bool comboOf(const char* label, Enum& value, const std::array<Enum, N>& values,
 
 // A scalar attribute's colours, as CloudCompare's scalar-field display: the attribute (any the
 // whole cloud shown has), the ramp, and the range (the attribute's own until one is typed).
+// The legend of a scalar colouring: the ramp from the range's minimum (left) to its maximum
+// (right), the two values under its ends.
+void drawRampLegend(ColorRamp ramp, const ScalarRange& range) {
+  const float width = ImGui::CalcItemWidth();
+  const float height = ImGui::GetFrameHeight() * 0.6f;
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  constexpr int kSteps = 64;  // linear pieces: the ramps are piecewise linear in fewer
+  const auto color = [&](int i) {
+    const Rgba8 c = rampColor(ramp, double(i) / kSteps);
+    return IM_COL32(c.r, c.g, c.b, 255);
+  };
+  for (int i = 0; i < kSteps; ++i) {
+    const float x0 = origin.x + width * float(i) / kSteps;
+    const float x1 = origin.x + width * float(i + 1) / kSteps;
+    draw->AddRectFilledMultiColor(ImVec2(x0, origin.y), ImVec2(x1, origin.y + height), color(i),
+                                  color(i + 1), color(i + 1), color(i));
+  }
+  ImGui::Dummy(ImVec2(width, height));
+  char low[32], high[32];
+  std::snprintf(low, sizeof low, "%.6g", range.min);
+  std::snprintf(high, sizeof high, "%.6g", range.max);
+  ImGui::TextUnformatted(low);
+  ImGui::SameLine(std::max(ImGui::GetCursorPosX(), width - ImGui::CalcTextSize(high).x));
+  ImGui::TextUnformatted(high);
+}
+
 void drawScalarFieldPanel(Session& s) {
   if (!s.cloud || !s.cloud_points) return;  // octrees carry no scalar attributes to the renderer
   const std::vector<std::string> fields = scalarFieldNames(*s.cloud_points);
@@ -105,6 +134,7 @@ void drawScalarFieldPanel(Session& s) {
   }
   ImGui::SameLine();
   if (ImGui::Button("auto")) scalar.range.reset();
+  drawRampLegend(scalar.ramp, shown);
 }
 
 // The level-of-detail part of the panel: budget, what the last update selected and drew, and the
@@ -345,6 +375,7 @@ void drawPanel(Session& s, const FrameStats& stats) {
   }
   drawFilterPanel(s);
   drawMeasurePanel(s);
+  drawProcessPanel(s);
   drawPickedPanel(s);
   ImGui::Separator();
   ImGui::TextDisabled("Camera");

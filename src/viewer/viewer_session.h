@@ -28,6 +28,7 @@
 #include "render/renderer.h"
 #include "viewer/camera_controller.h"
 #include "viewer/measure_session.h"
+#include "viewer/process_session.h"
 #include "viewer/viewer.h"
 
 namespace parallax::viewer_internal {
@@ -52,6 +53,18 @@ struct Session {
   std::unique_ptr<OctreeLocation> lod_location;
   std::unique_ptr<Octree> octree;
   std::unique_ptr<LodScene> lod;
+  // While the octree's nodes are read again for a new look (octree_attributes.cpp): the scene
+  // before, no longer loading, whose last picture is drawn with the look it was loaded for until
+  // `lod` draws as many points (or all it selected), so that no frame is blank or miscoloured.
+  struct PreviousLod {
+    std::unique_ptr<LodScene> scene;
+    RenderSettings settings;  // the look its last picture was drawn with
+    std::uint64_t points = 0;
+  };
+  std::optional<PreviousLod> previous_lod;
+  // The attributes the octree holds (every one, as it opened) and those its nodes are read with
+  // now (Octree::selectAttributes; info().attributes): what the look drawn needs of them.
+  std::vector<std::string> octree_attributes, octree_read;
   LodFrameSettings lod_settings;
   LodStats lod_stats;
   // The octree of a large file being built; `cloud` shows its preview meanwhile.
@@ -91,6 +104,8 @@ struct Session {
   ViewExtent extent;  // what is shown, for fitting the camera (F)
   CameraController controller;
   std::string loaded_name;
+  std::filesystem::path
+      shown_path;      // the file (or octree, URL) shown, as opened: what is processed
   std::string status;  // last message for the user: errors, screenshot paths
   // The last open that failed (empty once a cloud opens): shown at the top of the panel and,
   // while nothing is shown, in the middle of the window.
@@ -153,6 +168,9 @@ struct Session {
   FilterEditor filter_editor;
   // Measurements and annotations (measure_tool.cpp, measure_panel.cpp).
   MeasureSession measure;
+  // The Processing panel (process_panel.cpp); last, so that a run under way ends (is waited for)
+  // first when the session ends.
+  ProcessSession process;
 };
 
 // The session of a window (its user pointer).
@@ -234,6 +252,33 @@ bool updateMeasureFlight(Session& s);
 // Uploads `cloud_points` as `cloud`, coloured by settings.scalar where it names an attribute the
 // cloud has (otherwise scalar_error says why, and the cloud's own colours are uploaded).
 void uploadShownCloud(Session& s);
+
+// The octree's nodes read with what the look needs (octree_attributes.cpp). startLodScene makes
+// s.lod for s.octree just opened (every attribute selected, the look chosen): its nodes are read
+// with the attributes the look draws (render_settings.h attributesDrawn). Once a frame,
+// updateLodAttributes reads them again when the look (colour mode, lighting, filters) needs an
+// attribute the octree holds and they were read without: the scene shown stops loading and is
+// kept as s.previous_lod, and a new scene loads with what the look needs now.
+void startLodScene(Session& s);
+void updateLodAttributes(Session& s);
+// While a previous scene is kept: its picture and, in `look`, the look to draw it with; nullptr
+// once the new scene draws as many points or all it selected (the previous one is then dropped
+// and `changed` set: the picture starts again).
+const DrawSet* previousLodPicture(Session& s, const RenderSettings*& look, bool& changed);
+
+// Opens a file, an octree or a URL as what is shown (viewer.cpp): `first` for the command line's
+// (its camera options). Failures are reported in the panel and on stderr.
+void openFile(Session& s, const std::filesystem::path& path, bool first);
+// Shows a whole cloud (or a large file's preview: `whole` false) in place of what was shown.
+void showCloud(Session& s, PointCloud cloud_points, bool whole, bool place_camera, bool first);
+
+// Processing (process_panel.cpp). startProcessing runs the panel's steps on the file shown (or
+// its clip box) on a thread of its own; updateProcessing, once a frame, starts a run the K key
+// asked for and shows a finished run's result in place of the input, the camera kept.
+void startProcessing(Session& s);
+void updateProcessing(Session& s);
+// The panel's Processing section: the steps, the output file, Run and the progress bar.
+void drawProcessPanel(Session& s);
 
 // Gives the renderer the overlay: the document, the measurement being drawn and, while the panel
 // shows its editor, the clip box's outline.

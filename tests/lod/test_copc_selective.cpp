@@ -2,6 +2,7 @@
 // the full node's columns for those and no others, and info() describes what the nodes carry.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -36,6 +37,30 @@ TEST(CopcSelective, NodesGiveTheAskedColumns) {
                        selection, std::string(name) + " node " + full->nodes()[i].name);
       }
     }
+  }
+}
+
+// Picking and profiles read nodes whole (loadNodeWhole) while the drawn nodes carry only what
+// the picture needs: the same points, every column, whatever was selected.
+TEST(CopcSelective, WholeNodesKeepEveryColumnUnderASelection) {
+  const std::filesystem::path path = test::testDataFile("laz/simple.copc.laz");
+  const std::unique_ptr<Octree> full = openCopc(path);
+  const std::unique_ptr<Octree> part = openCopc(path);
+  part->selectAttributes(AttributeSelection::only({"red"}));
+  EXPECT_EQ(std::count(part->info().attributes.begin(), part->info().attributes.end(),
+                       std::string("intensity")),
+            0);
+  for (std::size_t i = 0; i < full->nodes().size(); ++i) {
+    full->expandHierarchy(std::int32_t(i));
+    part->expandHierarchy(std::int32_t(i));
+  }
+  ASSERT_EQ(part->nodes().size(), full->nodes().size());
+  for (std::size_t i = 0; i < full->nodes().size(); ++i) {
+    const PointCloud expected = full->loadNode(full->nodes()[i]);
+    const PointCloud whole = part->loadNodeWhole(part->nodes()[i]);
+    expectSelected(expected, whole, AttributeSelection(), "node " + full->nodes()[i].name);
+    EXPECT_EQ(whole.attributeNames(), expected.attributeNames());
+    EXPECT_FALSE(part->loadNode(part->nodes()[i]).hasIntensity());
   }
 }
 

@@ -773,6 +773,39 @@ TEST(ProcessSteps, BadParametersAreErrorsNamingTheStep) {
   EXPECT_EQ(normals.toward[2], 300.0);
 }
 
+// One typed line a step (the viewer's Processing panel): describeStep's words read back, with
+// the options that modify the step; anything else is an error naming the line.
+TEST(ProcessSteps, ParsedFromOneLineAsDescribed) {
+  for (const char* text : {"--normals 16", "--normals-radius 0.5", "--outliers statistical:8,2",
+                           "--outliers radius:0.25,3", "--subsample voxel:0.1",
+                           "--subsample spacing:2", "--subsample random:100",
+                           "--distance-to ref.las", "--distance-to ref.las --local-model plane"}) {
+    EXPECT_EQ(describeStep(parseProcessStep(text)), text);
+  }
+  const ProcessStep normals = parseProcessStep("normals 12 --curvature --orient 1,2,3");
+  const auto& n = std::get<NormalsStep>(normals);
+  EXPECT_EQ(n.k, 12u);
+  EXPECT_TRUE(n.curvature);
+  EXPECT_EQ(n.orientation, NormalOrientation::kPoint);
+  EXPECT_EQ(n.toward[1], 2.0);
+  EXPECT_TRUE(
+      std::get<OutliersStep>(parseProcessStep("outliers statistical:8,2 --mark-outliers")).mark);
+  EXPECT_EQ(std::get<DistanceStep>(parseProcessStep("distance-to b.ply --local-k 9")).k, 9u);
+  EXPECT_EQ(messageOf([] { parseProcessStep("normals 2"); }),
+            "--normals 2: K must be a whole number from 3 to 1000, got '2'");
+  EXPECT_EQ(messageOf([] { parseProcessStep("smooth 3"); }),
+            "processing step 'smooth 3': unknown step 'smooth' (normals, normals-radius, outliers, "
+            "subsample, distance-to)");
+  EXPECT_EQ(messageOf([] {
+              parseProcessStep("normals");
+            }).rfind("processing step 'normals': expected a step and its argument", 0),
+            0u);
+  EXPECT_EQ(messageOf([] { parseProcessStep("subsample voxel:1 --curvature"); }),
+            "processing step 'subsample voxel:1 --curvature': 'curvature' does not modify a "
+            "subsample step (normals: --curvature, --orient X; outliers: --mark-outliers; "
+            "distance-to: --local-model plane, --local-k K)");
+}
+
 TEST(ProcessSteps, UnavailableStepsAndOutputsFailBeforeAnyWork) {
   TempDir dir;
   const auto in = writeCloud(dir, "in.ply", terrainWithNoise(100, 11));

@@ -10,6 +10,8 @@
 #include <memory>
 #include <set>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "fake_octree.h"
 #include "lod/in_memory_octree.h"
@@ -181,6 +183,34 @@ TEST(LodScene, UploadsWithinTheFrameBudget) {
   EXPECT_TRUE(scene.complete());
   EXPECT_GE(updates, 73u);
   EXPECT_EQ(scene.stats().drawn_nodes, 73u);
+}
+
+// The viewer's switch to other attributes: a scene that stops loading keeps its last picture
+// (the same items and GPU chunks, a partial picture here) and reads nothing more once
+// stopLoading() has returned (the fake's loads are quick: most are read before the stop).
+TEST(LodScene, StopLoadingKeepsTheLastPictureAndEndsTheReads) {
+  ensureContext();
+  auto octree_owner = twoLevels();
+  FakeOctree& octree = *octree_owner;
+  LodScene scene(octree);
+  const View view = overview();
+  LodFrameSettings settings = everything();
+  settings.upload_points_per_frame = 30;  // one node a frame: the picture is partial for a while
+  for (int updates = 0; scene.stats().drawn_nodes < 3 && updates < 100'000; ++updates) {
+    scene.update(std::span(&view, 1), settings);
+    if (scene.stats().uploaded_nodes == 0) std::this_thread::sleep_for(1ms);
+  }
+  ASSERT_GE(scene.stats().drawn_nodes, 3u);
+  std::vector<std::pair<std::int32_t, const PointChunk*>> before;
+  for (const DrawItem& item : scene.drawSet().items) before.emplace_back(item.node, item.chunk);
+  scene.stopLoading();
+  const std::size_t reads = octree.loadLog().size();
+  std::vector<std::pair<std::int32_t, const PointChunk*>> after;
+  for (const DrawItem& item : scene.drawSet().items) after.emplace_back(item.node, item.chunk);
+  EXPECT_EQ(after, before);
+  EXPECT_LT(after.size(), 73u) << "a partial picture is what must stay";
+  std::this_thread::sleep_for(20ms);  // (a thread still running would read on meanwhile)
+  EXPECT_EQ(octree.loadLog().size(), reads);
 }
 
 TEST(LodScene, TheFirstFrameDoesNotWaitForTheDisk) {

@@ -42,5 +42,45 @@ TEST(ViewerLook, LeavesWhatTheOptionsGave) {
   EXPECT_EQ(look, options);
 }
 
+// What a picture needs read (LAZ and COPC decode only those layers): positions always, then
+// what the colour mode, the lighting and the filter use; each name once.
+TEST(AttributesDrawn, ColourModesAskForWhatTheyShow) {
+  RenderSettings settings;
+  settings.color = ColorMode::Rgb;
+  EXPECT_EQ(attributesDrawn(settings).names(), std::vector<std::string>{"red"});
+  settings.color = ColorMode::Intensity;
+  EXPECT_EQ(attributesDrawn(settings).names(), std::vector<std::string>{"intensity"});
+  settings.color = ColorMode::Classification;
+  EXPECT_EQ(attributesDrawn(settings).names(), std::vector<std::string>{"classification"});
+  settings.color = ColorMode::Normal;
+  EXPECT_EQ(attributesDrawn(settings).names(), (std::vector<std::string>{"nx", "ny", "nz"}));
+  for (const ColorMode mode : {ColorMode::Elevation, ColorMode::Uniform}) {
+    settings.color = mode;
+    const AttributeSelection selection = attributesDrawn(settings);
+    EXPECT_FALSE(selection.all());
+    EXPECT_TRUE(selection.names().empty()) << colorModeName(mode);
+    EXPECT_TRUE(selection.wants("z"));
+    EXPECT_FALSE(selection.wants("red"));
+  }
+}
+
+TEST(AttributesDrawn, LightingScalarsAndFiltersAddTheirsOnce) {
+  RenderSettings settings;
+  settings.color = ColorMode::Intensity;
+  settings.lighting = true;
+  settings.scalar.field = "distance";
+  settings.filter.keepOnlyClasses({2});
+  settings.filter.intensity = ValueRange{0, 100};
+  settings.filter.gps_time = ValueRange{1, 2};
+  settings.filter.keepOnlyReturns({ReturnKind::First}, {});
+  EXPECT_EQ(attributesDrawn(settings).names(),
+            (std::vector<std::string>{"distance", "intensity", "nx", "ny", "nz", "classification",
+                                      "return_number", "number_of_returns", "gps_time"}));
+  settings.color = ColorMode::Normal;  // its normals are the lighting's
+  settings.filter = {};
+  settings.scalar = {};
+  EXPECT_EQ(attributesDrawn(settings).names(), (std::vector<std::string>{"nx", "ny", "nz"}));
+}
+
 }  // namespace
 }  // namespace parallax
