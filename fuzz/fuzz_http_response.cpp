@@ -9,10 +9,10 @@
 #include <cstdlib>
 #include <string_view>
 
+#include "core/url.h"
 #include "lod/octree_url.h"
 #include "net/http_client.h"
 #include "net/retry_policy.h"
-#include "net/url.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bench_timing.h"
+#include "core/column_names.h"
 #include "render/gl_context.h"
 #include "render/point_buffers.h"
 #include "render/renderer.h"
@@ -26,9 +27,12 @@ PointCloud attributedCloud(std::uint64_t count) {
   cloud.colors = Column<Rgba8>(count);
   cloud.intensity = Column<float>(count);
   cloud.classification = Column<std::uint8_t>(count);
-  ScalarColumn r{.name = "return_number", .type = ScalarType::UInt8, .data = ByteBuffer(count)};
-  ScalarColumn n{.name = "number_of_returns", .type = ScalarType::UInt8, .data = ByteBuffer(count)};
-  ScalarColumn gps{.name = "gps_time", .type = ScalarType::Float64, .data = ByteBuffer(count * 8)};
+  ScalarColumn r{
+      .name = column_names::kReturnNumber, .type = ScalarType::UInt8, .data = ByteBuffer(count)};
+  ScalarColumn n{
+      .name = column_names::kNumberOfReturns, .type = ScalarType::UInt8, .data = ByteBuffer(count)};
+  ScalarColumn gps{
+      .name = column_names::kGpsTime, .type = ScalarType::Float64, .data = ByteBuffer(count * 8)};
   std::mt19937 random(1234);
   std::uniform_int_distribution<std::int32_t> coordinate(-50'000, 50'000);
   for (std::uint64_t i = 0; i < count; ++i) {

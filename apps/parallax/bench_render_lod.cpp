@@ -30,6 +30,7 @@
 #include "bench_render_orbit.h"
 #include "bench_timing.h"
 #include "network_options.h"
+#include "render/frame_step.h"
 #include "render/gl_context.h"
 #include "render/lod_scene.h"
 #include "render/point_buffers.h"
@@ -139,15 +140,12 @@ void benchOrbit(const LodRenderBenchOptions& o, Octree& octree, Camera camera) {
     const auto start = Clock::now();
     const StereoFrame views = stereoFrame(camera, o.orbit_stereo, o.width, o.height);
     const DrawSet& draw_set = scene.update(views.views, lod_settings);
-    const FramePart part = refine ? progressive.plan(draw_set, moving) : FramePart{};
-    FrameStats stats;
-    const auto draw_start = Clock::now();
-    if (part.first_item < std::min(part.last_item, draw_set.items.size()) || !part.accumulate) {
-      stats = renderer.render(draw_set, views, o.settings, target.framebuffer(), o.width, o.height,
-                              part);
-    }
+    // The viewer's own frame step (render/frame_step.h).
+    const FrameStats stats =
+        drawFrameStep(renderer, refine ? &progressive : nullptr, draw_set, views, o.settings,
+                      target.framebuffer(), o.width, o.height, moving)
+            .stats;
     glFinish();
-    if (refine) progressive.record(stats.points_drawn, secondsSince(draw_start));
     rasterizer = stats.rasterizer == RasterizerKind::Compute ? "compute" : "points";
     // Asked only where compute drew (computeRasterizer() would make one).
     atomic64 = stats.rasterizer == RasterizerKind::Compute &&

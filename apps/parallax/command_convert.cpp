@@ -258,7 +258,6 @@ int runConvert(ConvertArgs args) {
     cleanPartialOutputs(args.output, args.quiet);
     return 0;
   }
-  for (const std::string& input : args.inputs) checkOctreeUrl(input);
   args.filter =
       pointFilterFrom(args.filter_options, FilterTarget::Cpu);  // before any output is touched
   const bool filtered = !args.filter.keepsAll();

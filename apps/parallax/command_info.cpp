@@ -36,12 +36,14 @@
 
 #include "command_info_copc.h"
 #include "commands.h"
+#include "core/column_names.h"
 #include "core/error.h"
 #include "core/point_cloud.h"
 #include "core/progress.h"
 #include "io/format_description.h"
 #include "io/point_file.h"
 #include "lod/copc_reader.h"
+#include "lod/octree_export.h"
 #include "lod/octree_open.h"
 #include "lod/octree_url.h"
 #include "lod/potree_reader.h"
@@ -149,23 +151,24 @@ std::vector<NamedRange> attributeRanges(const PointCloud& cloud) {
     auto r = columnRanges<4>(n, [rgba](std::size_t i, int c) {
       return double(c == 0 ? rgba[i].r : c == 1 ? rgba[i].g : c == 2 ? rgba[i].b : rgba[i].a);
     });
-    out.push_back({"red", r[0]});
-    out.push_back({"green", r[1]});
-    out.push_back({"blue", r[2]});
-    if (cloud.source.has_alpha) out.push_back({"alpha", r[3]});
+    out.push_back({column_names::kRed, r[0]});
+    out.push_back({column_names::kGreen, r[1]});
+    out.push_back({column_names::kBlue, r[2]});
+    if (cloud.source.has_alpha) out.push_back({column_names::kAlpha, r[3]});
   }
   if (cloud.hasNormals()) {
     const Float3* nrm = cloud.normals.data();
     auto r = columnRanges<3>(n, [nrm](std::size_t i, int c) {
       return double(c == 0 ? nrm[i].x : c == 1 ? nrm[i].y : nrm[i].z);
     });
-    out.push_back({"nx", r[0]});
-    out.push_back({"ny", r[1]});
-    out.push_back({"nz", r[2]});
+    out.push_back({column_names::kNx, r[0]});
+    out.push_back({column_names::kNy, r[1]});
+    out.push_back({column_names::kNz, r[2]});
   }
-  if (cloud.hasIntensity()) out.push_back({"intensity", scalarRange(cloud.intensity.data(), n)});
+  if (cloud.hasIntensity())
+    out.push_back({column_names::kIntensity, scalarRange(cloud.intensity.data(), n)});
   if (cloud.hasClassification()) {
-    out.push_back({"classification", scalarRange(cloud.classification.data(), n)});
+    out.push_back({column_names::kClassification, scalarRange(cloud.classification.data(), n)});
   }
   for (const auto& column : cloud.scalars) {
     out.push_back({column.name, scalarColumnRange(column, n)});

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "core/column_names.h"
 #include "io/point_format.h"
 #include "lod/octree_url.h"
 #include "network_options.h"
@@ -68,7 +69,8 @@ std::pair<int, int> parsePixel(const PickCommandOptions& o) {
 
 // Whole numbers print as such (a classification of 2, not 2.0); positions stay doubles.
 nlohmann::ordered_json attributeValue(const PointAttribute& attribute) {
-  const bool position = attribute.name == "x" || attribute.name == "y" || attribute.name == "z";
+  const bool position = attribute.name == column_names::kX || attribute.name == column_names::kY ||
+                        attribute.name == column_names::kZ;
   const double v = attribute.value;
   if (!position && std::isfinite(v) && std::floor(v) == v && std::fabs(v) < 9.0e15) {
     return std::int64_t(v);

@@ -7,12 +7,13 @@
 //   `convert FILE -o FILE` writes (the whole cloud in memory, as there), only the points the
 //   filter keeps; nodes whose cube the filter's region misses are not read (PointFilter::
 //   mayKeepIn), so a region of a remote octree costs its nodes, not the file.
+// The copy and the reading are the library's (lod/octree_export.h); here, the messages, the
+// progress bars and the written file.
 #pragma once
 
 #include <string>
 
 #include "core/point_filter.h"
-#include "lod/octree.h"
 
 namespace parallax::cli {
 
@@ -27,9 +28,5 @@ struct OctreeExportOptions {
 };
 
 int runOctreeExport(const OctreeExportOptions& options);
-
-// Reads every hierarchy chunk (a level of proxies at a time, each level's chunks hinted to the
-// octree together, so that over HTTP they come in few requests).
-void expandWholeHierarchy(Octree& octree);
 
 }  // namespace parallax::cli

@@ -6,12 +6,12 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/url.h"
 #include "io/ply_preview.h"
 #include "io/point_file.h"
-#include "lod/large_file.h"
+#include "lod/drawing_input.h"
 #include "lod/octree_open.h"
 #include "lod/potree_reader.h"
-#include "net/url.h"
 #include "progress_options.h"
 
 namespace parallax::cli {
@@ -19,28 +19,28 @@ namespace parallax::cli {
 RenderSource openRenderSource(const RenderSourceOptions& o, const LodOptions& lod) {
   const std::string command(o.command);
   RenderSource source;
-  if (isOctreePath(o.input)) {  // a Potree directory or a COPC file
+  const DrawingInput drawing = planDrawing(o.input, lod.budget);
+  if (drawing.kind == DrawingKind::Octree) {  // a Potree directory or a COPC file
     source.octree_dir = o.input;
     source.octree = openOctree(o.input);
     source.octree->selectAttributes(o.attributes);
     return source;
   }
-  const std::optional<std::uint64_t> points = pointsOverBudget(o.input, lod.budget);
-  if (!points) {
+  if (drawing.kind == DrawingKind::WholeFile) {
     const auto progress = readingBar(o.quiet, "loading", o.input);
     source.cloud = readPointFile(
         o.input, {.progress = progress.get(), .attributes = o.attributes});  // every point drawn
     return source;
   }
   if (o.preview) {
-    const PointFormat format = detectPointFormat(o.input);
-    if (!hasPointFilePreview(format)) {
-      throw std::invalid_argument("--preview: " + o.input + " is a " + pointFormatName(format) +
-                                  " file (samples are read from " + previewFormatNamesText() +
-                                  " files)");
+    std::optional<PointCloud> preview = readDrawingPreview(o.input, lod.budget);
+    if (!preview) {
+      throw std::invalid_argument(
+          "--preview: " + o.input + " is a " + pointFormatName(detectPointFormat(o.input)) +
+          " file (samples are read from " + previewFormatNamesText() + " files)");
     }
-    source.cloud = readPointFilePreview(o.input, std::min(lod.budget, kPreviewPoints));
-    source.file_points = *points;
+    source.cloud = std::move(*preview);
+    source.file_points = drawing.points;
     return source;
   }
   const OctreeCacheSettings cache = octreeCacheSettingsFrom(lod);
@@ -50,14 +50,14 @@ RenderSource openRenderSource(const RenderSourceOptions& o, const LodOptions& lo
     if (!o.quiet)
       std::fprintf(stderr,
                    "parallax %s: %llu points, over the budget of %llu: using the octree in %s\n",
-                   command.c_str(), static_cast<unsigned long long>(*points),
+                   command.c_str(), static_cast<unsigned long long>(drawing.points),
                    static_cast<unsigned long long>(lod.budget), directory.c_str());
   } else {
     if (!o.quiet)
       std::fprintf(stderr,
                    "parallax %s: %llu points, over the budget of %llu: converting to an octree "
                    "in %s\n",
-                   command.c_str(), static_cast<unsigned long long>(*points),
+                   command.c_str(), static_cast<unsigned long long>(drawing.points),
                    static_cast<unsigned long long>(lod.budget), directory.c_str());
     ensureOctree(*source.location, cache.build, stageBars(o.quiet));
   }

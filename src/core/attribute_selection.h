@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/column_names.h"
+
 namespace parallax {
 
 class AttributeSelection {
@@ -28,13 +30,17 @@ class AttributeSelection {
   const std::vector<std::string>& names() const { return names_; }
 
   bool wants(std::string_view name) const {
-    if (all_ || name == "x" || name == "y" || name == "z") return true;
-    const bool colour = name == "red" || name == "green" || name == "blue";
+    if (all_ || name == column_names::kX || name == column_names::kY || name == column_names::kZ) {
+      return true;
+    }
+    const bool colour =
+        name == column_names::kRed || name == column_names::kGreen || name == column_names::kBlue;
     return std::any_of(names_.begin(), names_.end(), [&](const std::string& n) {
-      return n == name || (colour && (n == "red" || n == "green" || n == "blue"));
+      return n == name || (colour && (n == column_names::kRed || n == column_names::kGreen ||
+                                      n == column_names::kBlue));
     });
   }
-  bool wantsColor() const { return wants("red"); }
+  bool wantsColor() const { return wants(column_names::kRed); }
 
   // Adds `name` (no effect when every attribute is selected).
   void add(std::string name) {

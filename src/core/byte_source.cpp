@@ -49,6 +49,25 @@ class MemorySource final : public ByteSource {
   std::string name_, version_;
 };
 
+// Borrowed bytes: the caller keeps them alive (a mapped file read whole by a reader).
+class MemoryViewSource final : public ByteSource {
+ public:
+  MemoryViewSource(std::span<const std::byte> bytes, std::string name)
+      : bytes_(bytes), name_(std::move(name)) {}
+  const std::string& name() const override { return name_; }
+  std::uint64_t size() const override { return bytes_.size(); }
+  const std::string& version() const override { return version_; }
+  void read(std::uint64_t offset, std::span<std::byte> out,
+            const ReadContext& context) const override {
+    checkRange(offset, out.size(), context);
+    if (!out.empty()) std::memcpy(out.data(), bytes_.data() + offset, out.size());
+  }
+
+ private:
+  std::span<const std::byte> bytes_;
+  std::string name_, version_;
+};
+
 class FileSource final : public ByteSource {
  public:
   explicit FileSource(const std::filesystem::path& path) : name_(path.string()) {
@@ -74,6 +93,13 @@ class FileSource final : public ByteSource {
   const std::string& name() const override { return name_; }
   std::uint64_t size() const override { return size_; }
   const std::string& version() const override { return version_; }
+
+  // Read-ahead on a cold page cache: the kernel starts reading the ranges now.
+  void prefetch(std::span<const ByteRange> ranges) const override {
+    for (const ByteRange& range : ranges) {
+      ::posix_fadvise(fd_, off_t(range.offset), off_t(range.size), POSIX_FADV_WILLNEED);
+    }
+  }
 
   void read(std::uint64_t offset, std::span<std::byte> out,
             const ReadContext& context) const override {
@@ -129,6 +155,10 @@ std::unique_ptr<ByteSource> openFileSource(const std::filesystem::path& path) {
 std::unique_ptr<ByteSource> makeMemorySource(std::vector<std::byte> bytes, std::string name,
                                              std::string version) {
   return std::make_unique<MemorySource>(std::move(bytes), std::move(name), std::move(version));
+}
+
+std::unique_ptr<ByteSource> viewMemorySource(std::span<const std::byte> bytes, std::string name) {
+  return std::make_unique<MemoryViewSource>(bytes, std::move(name));
 }
 
 }  // namespace parallax

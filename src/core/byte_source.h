@@ -11,8 +11,8 @@
 // - read() is thread-safe: any number of threads may read at once (no shared file offset).
 // - Errors are InputErrors naming the file or URL, the byte offset, the element being read (the
 //   caller's ReadContext::element, e.g. "node r0142"), what was expected and what was found.
-// - prefetch() is a hint and never waits: sources with latency start fetching the ranges, local
-//   ones ignore it.
+// - prefetch() is a hint and never waits: sources with latency start fetching the ranges, a
+//   local file asks the kernel to read them ahead, memory ignores it.
 #pragma once
 
 #include <compare>
@@ -90,5 +90,8 @@ std::unique_ptr<ByteSource> openFileSource(const std::filesystem::path& path);
 // Bytes in memory (tests, fuzzers, files fetched whole). `name` stands for them in messages.
 std::unique_ptr<ByteSource> makeMemorySource(std::vector<std::byte> bytes, std::string name,
                                              std::string version = {});
+// Bytes in memory that the caller owns and keeps alive as long as the source (a file read or
+// mapped whole by a reader). `name` stands for them in messages; the version is empty.
+std::unique_ptr<ByteSource> viewMemorySource(std::span<const std::byte> bytes, std::string name);
 
 }  // namespace parallax

@@ -8,6 +8,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/column_names.h"
+
 namespace parallax {
 
 double ScalarColumn::valueAsDouble(std::size_t i) const {
@@ -62,14 +64,15 @@ void ScalarColumn::setFromDouble(std::size_t i, double value) {
 }
 
 std::vector<std::string> PointCloud::attributeNames() const {
-  std::vector<std::string> names = {"x", "y", "z"};
+  std::vector<std::string> names = {column_names::kX, column_names::kY, column_names::kZ};
   if (hasColors()) {
-    names.insert(names.end(), {"red", "green", "blue"});
-    if (source.has_alpha) names.push_back("alpha");
+    names.insert(names.end(), {column_names::kRed, column_names::kGreen, column_names::kBlue});
+    if (source.has_alpha) names.push_back(column_names::kAlpha);
   }
-  if (hasNormals()) names.insert(names.end(), {"nx", "ny", "nz"});
-  if (hasIntensity()) names.push_back("intensity");
-  if (hasClassification()) names.push_back("classification");
+  if (hasNormals())
+    names.insert(names.end(), {column_names::kNx, column_names::kNy, column_names::kNz});
+  if (hasIntensity()) names.push_back(column_names::kIntensity);
+  if (hasClassification()) names.push_back(column_names::kClassification);
   for (const auto& column : scalars) names.push_back(column.name);
   return names;
 }
@@ -79,9 +82,12 @@ namespace {
 // The attributes that travel together: a colour channel the source did not name goes beside the
 // ones it did.
 int groupOf(const std::string& name) {
-  if (name == "x" || name == "y" || name == "z") return 1;
-  if (name == "red" || name == "green" || name == "blue" || name == "alpha") return 2;
-  if (name == "nx" || name == "ny" || name == "nz") return 3;
+  if (name == column_names::kX || name == column_names::kY || name == column_names::kZ) return 1;
+  if (name == column_names::kRed || name == column_names::kGreen || name == column_names::kBlue ||
+      name == column_names::kAlpha) {
+    return 2;
+  }
+  if (name == column_names::kNx || name == column_names::kNy || name == column_names::kNz) return 3;
   return 0;
 }
 

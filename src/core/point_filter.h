@@ -19,17 +19,14 @@
 #include <vector>
 
 #include "core/bounds.h"
+#include "core/column_names.h"
 #include "core/point_cloud.h"
 
 namespace parallax {
 
 // The scalar columns the return and GPS time tests read (the names io/las_reader.h gives LAS
 // fields, and the Potree and COPC readers give theirs).
-namespace filter_names {
-inline constexpr const char* kReturnNumber = "return_number";
-inline constexpr const char* kNumberOfReturns = "number_of_returns";
-inline constexpr const char* kGpsTime = "gps_time";
-}  // namespace filter_names
+namespace filter_names = column_names;
 
 // The kinds of return a user names (`--returns first,last`): a point is kept when it is any of
 // the kinds listed. For return r of n: first r = 1, last r = n, intermediate 1 < r < n,

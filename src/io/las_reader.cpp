@@ -11,11 +11,12 @@
 #include <mutex>
 #include <vector>
 
+#include "core/byte_source.h"
+#include "core/byte_source_opener.h"
 #include "core/error.h"
 #include "io/las_record_decoder.h"
 #include "io/laz_reader.h"
 #include "io/mapped_file.h"
-#include "io/range_reader.h"
 
 namespace parallax {
 namespace {
@@ -27,13 +28,14 @@ constexpr std::uint64_t kColorSamples = 4096;
 
 // The 8-bit rule (las_reader.h) from a strided sample: a value of 256 or more settles it (16-bit).
 // Otherwise the decode guesses 8-bit and checks every colour on the way.
-bool sampleHas16BitColors(const RangeReader& in, const LasHeader& header,
+bool sampleHas16BitColors(const ByteSource& in, const LasHeader& header,
                           const LasDecodePlan& plan) {
   if (!plan.color_offset || header.point_count == 0) return false;
   const std::uint64_t stride = std::max<std::uint64_t>(1, header.point_count / kColorSamples);
   std::byte rgb[6];
   for (std::uint64_t i = 0; i < header.point_count; i += stride) {
-    in.read(header.point_data_offset + i * plan.record_length + *plan.color_offset, 6, rgb);
+    in.read(header.point_data_offset + i * plan.record_length + *plan.color_offset, rgb,
+            {.element = "colour sample"});
     std::uint16_t c[3];
     std::memcpy(c, rgb, 6);
     if ((c[0] | c[1] | c[2]) > 255) return true;
@@ -44,7 +46,7 @@ bool sampleHas16BitColors(const RangeReader& in, const LasHeader& header,
 // Calls fn(records, n, index) for the records [first, first + count) of the file, a block at a
 // time through per-thread buffers (`index` counts from `first`).
 template <class F>
-void forEachBlock(const RangeReader& in, const LasHeader& header, std::uint64_t first,
+void forEachBlock(const ByteSource& in, const LasHeader& header, std::uint64_t first,
                   std::uint64_t count, bool parallel, F fn) {
   const std::size_t length = header.record_length;
   tbb::enumerable_thread_specific<std::vector<std::byte>> buffers;
@@ -53,7 +55,8 @@ void forEachBlock(const RangeReader& in, const LasHeader& header, std::uint64_t 
     for (std::uint64_t b = range.begin(); b < range.end(); b += kBlockRecords) {
       const std::size_t n = std::size_t(std::min(kBlockRecords, range.end() - b));
       buffer.resize(std::max(buffer.size(), n * length));
-      in.read(header.point_data_offset + b * length, n * length, buffer.data());
+      in.read(header.point_data_offset + b * length, std::span(buffer.data(), n * length),
+              {.element = "point records"});
       fn(buffer.data(), n, std::size_t(b - first));
     }
   };
@@ -67,7 +70,7 @@ void forEachBlock(const RangeReader& in, const LasHeader& header, std::uint64_t 
 
 // Decodes records [first, first + count) into `cloud` (allocated for `count` points) and
 // returns the bounds; a second pass over the colours when the 8-bit guess was wrong.
-Bounds3 decodeRecords(const RangeReader& in, const LasHeader& header, LasDecodePlan& plan,
+Bounds3 decodeRecords(const ByteSource& in, const LasHeader& header, LasDecodePlan& plan,
                       PointCloud& cloud, std::uint64_t first, std::uint64_t count, bool parallel,
                       Progress* progress) {
   LasDecodeStats stats;
@@ -91,12 +94,13 @@ Bounds3 decodeRecords(const RangeReader& in, const LasHeader& header, LasDecodeP
   return stats.world(cloud.quantization);
 }
 
-PointCloud readAll(const RangeReader& in, const LasHeader& header, const LasReadOptions& options) {
+PointCloud readAll(const ByteSource& in, const LasHeader& header, const LasReadOptions& options) {
   LasDecodePlan plan = makeLasDecodePlan(header);
   plan.colors_8bit = !sampleHas16BitColors(in, header, plan);
   const std::size_t count = header.point_count;
   PointCloud cloud = allocateLasCloud(header, plan, count);
-  in.willNeed(header.point_data_offset, std::uint64_t(count) * plan.record_length);
+  const ByteRange records{header.point_data_offset, std::uint64_t(count) * plan.record_length};
+  in.prefetch(std::span(&records, 1));
   cloud.bounds =
       decodeRecords(in, header, plan, cloud, 0, count, options.parallel, options.progress);
   return cloud;
@@ -114,7 +118,7 @@ PointCloud readLas(const std::filesystem::path& path, const LasReadOptions& opti
   if (header.laszip) {
     return readLaz(path, {.progress = options.progress, .parallel = options.parallel});
   }
-  return readAll(RangeReader(path), header, options);
+  return readAll(*openByteSource(path.string()), header, options);
 }
 
 PointCloud readLasFromMemory(std::span<const std::byte> bytes, const std::string& name,
@@ -124,7 +128,7 @@ PointCloud readLasFromMemory(std::span<const std::byte> bytes, const std::string
     return readLazFromMemory(bytes, name,
                              {.progress = options.progress, .parallel = options.parallel});
   }
-  return readAll(RangeReader(bytes, name), header, options);
+  return readAll(*viewMemorySource(bytes, name), header, options);
 }
 
 PointCloud readLasPreview(const std::filesystem::path& path, std::uint64_t max_points) {
@@ -134,7 +138,8 @@ PointCloud readLasPreview(const std::filesystem::path& path, std::uint64_t max_p
   // Runs of consecutive records: one read each, and neighbours of a scan give the adaptive
   // point size a local spacing.
   constexpr std::uint64_t kRun = 64;
-  const RangeReader in(path);
+  const std::unique_ptr<ByteSource> source = openByteSource(path.string());
+  const ByteSource& in = *source;
   const std::uint64_t runs = std::max<std::uint64_t>(1, max_points / kRun);
   const std::uint64_t step = header.point_count / runs;
   LasDecodePlan plan = makeLasDecodePlan(header);
@@ -147,7 +152,7 @@ PointCloud readLasPreview(const std::filesystem::path& path, std::uint64_t max_p
     tbb::parallel_for(std::uint64_t(0), runs, [&](std::uint64_t r) {
       std::vector<std::byte>& buffer = buffers.local();
       buffer.resize(kRun * length);
-      in.read(header.point_data_offset + r * step * length, kRun * length, buffer.data());
+      in.read(header.point_data_offset + r * step * length, buffer, {.element = "point records"});
       if (colors_only) {
         decodeLasColors(buffer.data(), kRun, plan, cloud, std::size_t(r * kRun));
         return;
@@ -169,7 +174,7 @@ PointCloud readLasPreview(const std::filesystem::path& path, std::uint64_t max_p
 }
 
 struct LasChunkReader::State {
-  RangeReader in;
+  std::unique_ptr<ByteSource> in;
   LasHeader header;
   LasDecodePlan plan;
   std::uint64_t next = 0;
@@ -187,15 +192,15 @@ LasChunkReader::LasChunkReader(const std::filesystem::path& path) {
                       .found = "a LAZ file",
                       .hint = "read it with LazChunkReader"});
   }
-  RangeReader in(path);
+  std::unique_ptr<ByteSource> in = openByteSource(path.string());
   LasDecodePlan plan = makeLasDecodePlan(header);
   // A stream cannot go back to rewrite colours: every colour is checked before the first chunk
   // (one pass through per-thread buffers) unless the sample settles it.
-  bool big = sampleHas16BitColors(in, header, plan);
+  bool big = sampleHas16BitColors(*in, header, plan);
   if (!big && plan.color_offset) {
     std::atomic<bool> found{false};
     forEachBlock(
-        in, header, 0, header.point_count, true,
+        *in, header, 0, header.point_count, true,
         [&](const std::byte* records, std::size_t n, std::size_t) {
           if (!found.load(std::memory_order_relaxed) && lasColorsAbove255(records, n, plan)) {
             found = true;
@@ -230,7 +235,7 @@ bool LasChunkReader::next(PointCloud& chunk, std::size_t max_points) {
   std::size_t n = std::size_t(std::min<std::uint64_t>(max_points, s.header.point_count - s.next));
   chunk = allocateLasCloud(s.header, s.plan, n);
   if (n == 0) return false;
-  chunk.bounds = decodeRecords(s.in, s.header, s.plan, chunk, s.next, n, true, nullptr);
+  chunk.bounds = decodeRecords(*s.in, s.header, s.plan, chunk, s.next, n, true, nullptr);
   s.next += n;
   return true;
 }

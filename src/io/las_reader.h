@@ -40,6 +40,7 @@
 #include <span>
 #include <string>
 
+#include "core/column_names.h"
 #include "core/point_cloud.h"
 #include "core/progress.h"
 #include "io/las_header.h"
@@ -48,20 +49,7 @@
 namespace parallax {
 
 // Names of the LAS fields as scalar columns (shared with the writer).
-namespace las_names {
-inline constexpr const char* kReturnNumber = "return_number";
-inline constexpr const char* kNumberOfReturns = "number_of_returns";
-inline constexpr const char* kScanDirectionFlag = "scan_direction_flag";
-inline constexpr const char* kEdgeOfFlightLine = "edge_of_flight_line";
-inline constexpr const char* kClassificationFlags = "classification_flags";
-inline constexpr const char* kScannerChannel = "scanner_channel";
-inline constexpr const char* kScanAngleRank = "scan_angle_rank";
-inline constexpr const char* kScanAngle = "scan_angle";
-inline constexpr const char* kUserData = "user_data";
-inline constexpr const char* kPointSourceId = "point_source_id";
-inline constexpr const char* kGpsTime = "gps_time";
-inline constexpr const char* kNir = "nir";
-}  // namespace las_names
+namespace las_names = column_names;
 
 struct LasReadOptions {
   Progress* progress = nullptr;  // advanced by points read

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "core/byte_order.h"
+#include "core/column_names.h"
 #include "io/las_reader.h"
 #include "io/laz/chunk_codec.h"
 
@@ -53,11 +54,12 @@ LasDecodePlan makePlanImpl(const LasHeader& header, const AttributeSelection& se
   const int format = header.point_format;
   plan.record_length = header.record_length;
   plan.extended = lasFormatIsExtended(format);
-  plan.intensity = add.wants("intensity", f::kIntensity);
-  plan.classification = add.wants("classification", f::kClassification);
+  plan.intensity = add.wants(column_names::kIntensity, f::kIntensity);
+  plan.classification = add.wants(column_names::kClassification, f::kClassification);
   std::size_t gps = plan.extended ? 22 : 20;
   std::size_t after_gps = lasFormatHasGpsTime(format) ? gps + 8 : gps;
-  if (lasFormatHasColor(format) && add.wants("red", f::kRgb)) plan.color_offset = after_gps;
+  if (lasFormatHasColor(format) && add.wants(column_names::kRed, f::kRgb))
+    plan.color_offset = after_gps;
   if (plan.extended) {
     // Returns and the scanner channel share POINT14's first layer with the positions: always
     // decoded (group 0).

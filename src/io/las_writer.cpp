@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "core/byte_order.h"
+#include "core/column_names.h"
 #include "io/las_reader.h"
 #include "io/laz/laz_layout.h"
 #include "io/laz_writer.h"
@@ -292,10 +293,10 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options,
     const int grown = lasFormatHolding(ext, gps, color, nir, wave);
     if (grown != format) {
       const std::string why = extended_field && !lasFormatIsExtended(format) ? extended_field
-                              : nir && !lasFormatHasNir(format)              ? "nir"
+                              : nir && !lasFormatHasNir(format)              ? column_names::kNir
                               : color && !lasFormatHasColor(format)          ? "red, green, blue"
-                              : gps && !lasFormatHasGpsTime(format)          ? "gps_time"
-                                                                             : "wave packets";
+                              : gps && !lasFormatHasGpsTime(format) ? column_names::kGpsTime
+                                                                    : "wave packets";
       plan.changes.push_back("point format " + std::to_string(format) + " -> " +
                              std::to_string(grown) + ": the points' " + why +
                              " has no field in format " + std::to_string(format));

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <memory>
 
+#include "core/byte_source_opener.h"
 #include "core/error.h"
 #include "io/las_header.h"
 #include "io/laz_source.h"
@@ -24,7 +25,8 @@ LazDecodeResult decodeLazRecords(const std::filesystem::path& file,
                       .expected = "a LAZ file (LASzip's compression bit in the point format)",
                       .found = "an uncompressed LAS file"});
   }
-  std::unique_ptr<LazSource> source = openLazSource(RangeReader(file), std::move(header));
+  std::unique_ptr<LazSource> source =
+      openLazSource(openByteSource(file.string()), std::move(header));
   const std::size_t length = source->records.record_length;
   tbb::enumerable_thread_specific<std::unique_ptr<LazChunkDecoder>> decoders;
   std::atomic<std::uint64_t> checksum{0};

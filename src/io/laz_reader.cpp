@@ -13,6 +13,7 @@
 #include <map>
 #include <mutex>
 
+#include "core/byte_source_opener.h"
 #include "core/error.h"
 #include "io/las_record_decoder.h"
 #include "io/laz_source.h"
@@ -120,7 +121,7 @@ std::unique_ptr<LazSource> openFile(const std::filesystem::path& path) {
                       .found = "an uncompressed LAS file",
                       .hint = "read it as LAS"});
   }
-  return openLazSource(RangeReader(path), std::move(header));
+  return openLazSource(openByteSource(path.string()), std::move(header));
 }
 
 // Which colour rule later streams of a file use, once a stream found 16-bit values that its
@@ -157,7 +158,8 @@ PointCloud readLazFromMemory(std::span<const std::byte> bytes, const std::string
                       .expected = "a LAZ file",
                       .found = "an uncompressed LAS file"});
   }
-  std::unique_ptr<LazSource> source = openLazSource(RangeReader(bytes, name), std::move(header));
+  std::unique_ptr<LazSource> source =
+      openLazSource(viewMemorySource(bytes, name), std::move(header));
   return readSource(*source, options);
 }
 
@@ -383,7 +385,7 @@ bool LazChunkReader::next(PointCloud& chunk, std::size_t max_points) {
       ++st.next_chunk;
     }
     if (filled != n) {
-      throw InputError({.file = s.in.name(),
+      throw InputError({.file = s.in->name(),
                         .element = "LAZ chunks",
                         .expected = std::to_string(s.records.point_count) + " points",
                         .found = "chunks holding fewer"});

@@ -20,7 +20,7 @@ constexpr std::uint64_t kMaxPointsPerByte = 4096;
 [[noreturn]] void fail(const LazSource& s, std::uint64_t offset, const std::string& element,
                        const std::string& expected, const std::string& found,
                        const std::string& hint = "") {
-  throw InputError({.file = s.in.name(),
+  throw InputError({.file = s.in->name(),
                     .byte_offset = offset,
                     .element = element,
                     .expected = expected,
@@ -38,14 +38,14 @@ std::string itemList(const laz::LaszipVlr& vlr) {
   return text;
 }
 
-std::uint64_t load64(const RangeReader& in, std::uint64_t offset) {
+std::uint64_t load64(const ByteSource& in, std::uint64_t offset) {
   std::uint64_t value;
-  in.read(offset, 8, reinterpret_cast<std::byte*>(&value));
+  in.read(offset, std::as_writable_bytes(std::span(&value, 1)));
   return value;
 }
-std::uint32_t load32(const RangeReader& in, std::uint64_t offset) {
+std::uint32_t load32(const ByteSource& in, std::uint64_t offset) {
   std::uint32_t value;
-  in.read(offset, 4, reinterpret_cast<std::byte*>(&value));
+  in.read(offset, std::as_writable_bytes(std::span(&value, 1)));
   return value;
 }
 
@@ -67,7 +67,7 @@ std::vector<laz::LazChunk> fixedChunks(std::uint64_t points, std::uint64_t chunk
 // Reads the chunk table; returns false (with `note`) when there is none to use. Throws for a
 // table that is there but contradicts the header.
 bool readChunkTable(LazSource& s, std::uint64_t chunks_start, std::string& note) {
-  const RangeReader& in = s.in;
+  const ByteSource& in = *s.in;
   const std::uint64_t data_start = s.header.point_data_offset;
   std::uint64_t table = load64(in, data_start);
   if (table == data_start) {
@@ -107,7 +107,7 @@ bool readChunkTable(LazSource& s, std::uint64_t chunks_start, std::string& note)
   const bool variable = s.vlr.chunk_size == laz::kVariableChunkSize;
   const std::uint64_t stream_size = std::min<std::uint64_t>(end - table - 8, 16ull * count + 64);
   std::vector<std::byte> stream(stream_size);
-  in.read(table + 8, stream.size(), stream.data());
+  in.read(table + 8, stream, {.element = "LAZ chunk table"});
   std::vector<std::uint32_t> points, bytes;
   if (!laz::decodeChunkTable(stream, count, variable, points, bytes)) {
     note = "the chunk table at byte " + std::to_string(table) + " is truncated or corrupt";
@@ -162,7 +162,7 @@ bool readChunkTable(LazSource& s, std::uint64_t chunks_start, std::string& note)
 
 }  // namespace
 
-std::unique_ptr<LazSource> openLazSource(RangeReader in, LasHeader header) {
+std::unique_ptr<LazSource> openLazSource(std::unique_ptr<ByteSource> in, LasHeader header) {
   auto s = std::make_unique<LazSource>(std::move(in), std::move(header));
   s->vlr = *s->header.laszip;
   const laz::LaszipVlr& vlr = s->vlr;
@@ -187,10 +187,10 @@ std::unique_ptr<LazSource> openLazSource(RangeReader in, LasHeader header) {
     fail(*s, vlr_at + 12, "laszip VLR", "a chunk size of at least 1 point", "0");
   }
   s->records = s->header;
-  s->compatibility = detectLazCompatibility(s->header, s->in.name(), s->records);
+  s->compatibility = detectLazCompatibility(s->header, s->in->name(), s->records);
 
   // Where the compressed points end: EVLRs after them, or the end of the file.
-  s->data_end = s->in.size();
+  s->data_end = s->in->size();
   if (s->header.evlr_count != 0 && s->header.evlr_offset > s->header.point_data_offset &&
       s->header.evlr_offset < s->data_end) {
     s->data_end = s->header.evlr_offset;
@@ -274,7 +274,7 @@ LazChunkDecoder::LazChunkDecoder(const LazSource& source, std::uint32_t fields,
                                         : laz::makePointwiseDecoder(source.vlr.items, path);
     codec_->selectFields(fields);
   } catch (const laz::UnsupportedItems& e) {
-    throw InputError({.file = source.in.name(),
+    throw InputError({.file = source.in->name(),
                       .byte_offset = source.header.laszip_vlr_offset,
                       .element = "laszip VLR",
                       .expected = "LAZ items Parallax decodes (compressor " +
@@ -304,7 +304,7 @@ const std::byte* LazChunkDecoder::decode(LazSource& s, std::size_t index) {
                                      2 * raw_bytes + 4096);
   }
   compressed_.resize(std::size_t(window));
-  s.in.read(chunk.offset, compressed_.size(), compressed_.data());
+  s.in->read(chunk.offset, compressed_, {.element = "LAZ chunk"});
   try {
     if (s.sequential) {
       const std::size_t used = codec_->decodeUnsized(compressed_, chunk.points, raw_.data());
@@ -323,7 +323,7 @@ const std::byte* LazChunkDecoder::decode(LazSource& s, std::size_t index) {
     // from its first on may be wrong.
     const std::uint64_t point = chunk.first_point + e.point();
     throw InputError(
-        {.file = s.in.name(),
+        {.file = s.in->name(),
          .byte_offset = chunk.offset,
          .element = describeLazChunk(s, index),
          .expected = "a valid compressed chunk of " + std::to_string(chunk.points) + " points in " +

@@ -13,11 +13,11 @@
 #include <utility>
 #include <vector>
 
+#include "core/byte_source.h"
 #include "core/column.h"
 #include "io/las_header.h"
 #include "io/laz/chunk_codec.h"
 #include "io/laz/laz_layout.h"
-#include "io/range_reader.h"
 
 namespace parallax {
 
@@ -33,10 +33,10 @@ struct LazCompatibility {
 };
 
 struct LazSource {
-  LazSource(RangeReader reader, LasHeader file_header)
-      : in(std::move(reader)), header(std::move(file_header)) {}
+  LazSource(std::unique_ptr<ByteSource> bytes, LasHeader file_header)
+      : in(std::move(bytes)), header(std::move(file_header)) {}
 
-  RangeReader in;
+  std::unique_ptr<ByteSource> in;  // the file (local, in memory or a URL); never null
   LasHeader header;   // what the file's header says (point format without LASzip's bits)
   LasHeader records;  // the records the decoder hands out: `header`, or 1.4's in compatibility
   laz::LaszipVlr vlr;
@@ -57,7 +57,7 @@ struct LazSource {
 // the chunk table. Throws InputError for an unknown compressor, coder or item, a record length
 // that does not match the items, a missing or lying chunk table that cannot be recovered, and
 // point counts the file cannot hold.
-std::unique_ptr<LazSource> openLazSource(RangeReader in, LasHeader header);
+std::unique_ptr<LazSource> openLazSource(std::unique_ptr<ByteSource> in, LasHeader header);
 
 // One thread's decoding state: the codec and its buffers (reused from chunk to chunk).
 class LazChunkDecoder {

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/byte_source.h"
+#include "core/byte_source_opener.h"
 #include "core/error.h"
 
 namespace parallax {
@@ -42,6 +44,16 @@ ByteBuffer readWhole(int fd, const std::string& path, std::size_t& size) {
 }  // namespace
 
 MappedFile::MappedFile(const std::filesystem::path& path) : path_(path.string()) {
+  if (isUrl(path_)) {
+    // A URL (core/byte_source_opener.h): fetched whole through its byte source.
+    const std::unique_ptr<ByteSource> source = openByteSource(path_);
+    size_ = std::size_t(source->size());
+    if (size_ == 0) return;
+    fallback_ = ByteBuffer(size_);
+    source->read(0, std::span(fallback_.data(), size_), {.element = "the whole file"});
+    data_ = fallback_.data();
+    return;
+  }
   int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throwSystemError(path_, "a readable file");
   struct stat info {};

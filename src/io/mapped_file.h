@@ -1,5 +1,6 @@
 // A whole file, read-only, as bytes: memory-mapped where possible, read into memory otherwise
-// (pipes, special files). The bytes live as long as the MappedFile.
+// (pipes, special files, and URLs, fetched whole through core's openByteSource). The bytes live
+// as long as the MappedFile.
 #pragma once
 
 #include <cstddef>

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "core/byte_order.h"
+#include "core/column_names.h"
 #include "core/error.h"
 #include "io/ply_decoder.h"  // quantizeClamped
 
@@ -125,30 +126,32 @@ Layout mapFields(const PcdHeader& header, const std::string& file) {
       // The source's order, under the model's names (writers give it back).
       switch (c.target) {
         case Target::X:
-          layout.source.order.push_back("x");
+          layout.source.order.push_back(column_names::kX);
           break;
         case Target::Y:
-          layout.source.order.push_back("y");
+          layout.source.order.push_back(column_names::kY);
           break;
         case Target::Z:
-          layout.source.order.push_back("z");
+          layout.source.order.push_back(column_names::kZ);
           break;
         case Target::Rgb:
         case Target::Rgba:
-          layout.source.order.insert(layout.source.order.end(), {"red", "green", "blue"});
-          if (c.target == Target::Rgba) layout.source.order.push_back("alpha");
+          layout.source.order.insert(
+              layout.source.order.end(),
+              {column_names::kRed, column_names::kGreen, column_names::kBlue});
+          if (c.target == Target::Rgba) layout.source.order.push_back(column_names::kAlpha);
           break;
         case Target::Nx:
-          layout.source.order.push_back("nx");
+          layout.source.order.push_back(column_names::kNx);
           break;
         case Target::Ny:
-          layout.source.order.push_back("ny");
+          layout.source.order.push_back(column_names::kNy);
           break;
         case Target::Nz:
-          layout.source.order.push_back("nz");
+          layout.source.order.push_back(column_names::kNz);
           break;
         case Target::Intensity:
-          layout.source.order.push_back("intensity");
+          layout.source.order.push_back(column_names::kIntensity);
           break;
         case Target::Scalar:
           layout.source.order.push_back(c.name);

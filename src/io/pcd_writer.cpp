@@ -6,6 +6,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "core/column_names.h"
 #include "io/point_file.h"
 
 namespace parallax {
@@ -47,12 +48,13 @@ std::vector<OutField> planFields(const PointCloud& cloud, const std::vector<std:
   bool color_done = false;
   for (const std::string& name : cloud.attributeOrder(chosen)) {
     using S = OutField::Source;
-    if (name == "x" || name == "y" || name == "z") {
+    if (name == column_names::kX || name == column_names::kY || name == column_names::kZ) {
       fields.push_back({{name, 'F', float_positions ? 4u : 8u},
-                        name == "x"   ? S::X
-                        : name == "y" ? S::Y
-                                      : S::Z});
-    } else if (name == "red" || name == "green" || name == "blue" || name == "alpha") {
+                        name == column_names::kX   ? S::X
+                        : name == column_names::kY ? S::Y
+                                                   : S::Z});
+    } else if (name == column_names::kRed || name == column_names::kGreen ||
+               name == column_names::kBlue || name == column_names::kAlpha) {
       if (color_done) continue;  // one packed field for the four channels
       color_done = true;
       // rgb as PCL's PointXYZRGB declares it, a float holding the bits (pcl_pcd2ply mis-writes
@@ -61,14 +63,15 @@ std::vector<OutField> planFields(const PointCloud& cloud, const std::vector<std:
       const bool as_float = !cloud.source.has_alpha && data != PcdData::Ascii;
       fields.push_back(
           {{cloud.source.has_alpha ? "rgba" : "rgb", as_float ? 'F' : 'U', 4}, S::Color});
-    } else if (name == "nx" || name == "ny" || name == "nz") {
+    } else if (name == column_names::kNx || name == column_names::kNy ||
+               name == column_names::kNz) {
       fields.push_back({{"normal_" + name.substr(1), 'F', 4},
-                        name == "nx"   ? S::Nx
-                        : name == "ny" ? S::Ny
-                                       : S::Nz});
-    } else if (name == "intensity") {
+                        name == column_names::kNx   ? S::Nx
+                        : name == column_names::kNy ? S::Ny
+                                                    : S::Nz});
+    } else if (name == column_names::kIntensity) {
       fields.push_back({{name, 'F', 4}, S::Intensity});
-    } else if (name == "classification") {
+    } else if (name == column_names::kClassification) {
       fields.push_back({{name, 'U', 1}, S::Classification});
     } else {
       const ScalarColumn* column = cloud.findScalar(name);

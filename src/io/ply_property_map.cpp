@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/column_names.h"
 #include "core/error.h"
 
 namespace parallax::ply {
@@ -136,9 +137,11 @@ PointLayout planPointLayout(const PlyElement& element, const std::string& file) 
   layout.has_classification = seen[int(Target::Classification)];
   if (layout.has_classification) layout.source.classification = typeOf(Target::Classification);
   // The file's order, under the model's names (what a writer gives back).
-  static const char* const kModelNames[] = {"x",     "y",    "z",         "red",
-                                            "green", "blue", "alpha",     "nx",
-                                            "ny",    "nz",   "intensity", "classification"};
+  static const char* const kModelNames[] = {
+      column_names::kX,     column_names::kY,         column_names::kZ,
+      column_names::kRed,   column_names::kGreen,     column_names::kBlue,
+      column_names::kAlpha, column_names::kNx,        column_names::kNy,
+      column_names::kNz,    column_names::kIntensity, column_names::kClassification};
   for (const auto& plan : layout.properties) {
     if (plan.target == Target::Skip) continue;
     layout.source.order.push_back(plan.target == Target::Scalar ? plan.name

@@ -8,6 +8,7 @@
 // same bits (the contract in ply_writer.h).
 #include "io/ply_writer.h"
 
+#include "core/column_names.h"
 #include "io/partial_output.h"
 
 #include <atomic>
@@ -76,29 +77,31 @@ std::vector<Field> buildFields(const PointCloud& layout,
                                const std::vector<std::string>& properties) {
   std::vector<Field> fields;
   ScalarType position = positionType(layout.source);
-  fields.push_back({FieldSource::PositionX, position, 0, "x"});
-  fields.push_back({FieldSource::PositionY, position, 0, "y"});
-  fields.push_back({FieldSource::PositionZ, position, 0, "z"});
+  fields.push_back({FieldSource::PositionX, position, 0, column_names::kX});
+  fields.push_back({FieldSource::PositionY, position, 0, column_names::kY});
+  fields.push_back({FieldSource::PositionZ, position, 0, column_names::kZ});
   if (layout.hasColors()) {
     ScalarType color = colorType(layout.source);
-    fields.push_back({FieldSource::Red, color, 0, "red"});
-    fields.push_back({FieldSource::Green, color, 0, "green"});
-    fields.push_back({FieldSource::Blue, color, 0, "blue"});
-    if (layout.source.has_alpha) fields.push_back({FieldSource::Alpha, color, 0, "alpha"});
+    fields.push_back({FieldSource::Red, color, 0, column_names::kRed});
+    fields.push_back({FieldSource::Green, color, 0, column_names::kGreen});
+    fields.push_back({FieldSource::Blue, color, 0, column_names::kBlue});
+    if (layout.source.has_alpha)
+      fields.push_back({FieldSource::Alpha, color, 0, column_names::kAlpha});
   }
   if (layout.hasNormals()) {
     ScalarType normal =
         layout.source.normal == ScalarType::Float64 ? ScalarType::Float64 : ScalarType::Float32;
-    fields.push_back({FieldSource::NormalX, normal, 0, "nx"});
-    fields.push_back({FieldSource::NormalY, normal, 0, "ny"});
-    fields.push_back({FieldSource::NormalZ, normal, 0, "nz"});
+    fields.push_back({FieldSource::NormalX, normal, 0, column_names::kNx});
+    fields.push_back({FieldSource::NormalY, normal, 0, column_names::kNy});
+    fields.push_back({FieldSource::NormalZ, normal, 0, column_names::kNz});
   }
   if (layout.hasIntensity()) {
-    fields.push_back({FieldSource::Intensity, layout.source.intensity, 0, "intensity"});
+    fields.push_back(
+        {FieldSource::Intensity, layout.source.intensity, 0, column_names::kIntensity});
   }
   if (layout.hasClassification()) {
-    fields.push_back(
-        {FieldSource::Classification, layout.source.classification, 0, "classification"});
+    fields.push_back({FieldSource::Classification, layout.source.classification, 0,
+                      column_names::kClassification});
   }
   for (std::size_t i = 0; i < layout.scalars.size(); ++i) {
     fields.push_back({FieldSource::Scalar, layout.scalars[i].type, i, layout.scalars[i].name});

@@ -5,9 +5,12 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <memory>
 #include <stdexcept>
 #include <utility>
 
+#include "core/byte_source.h"
+#include "core/byte_source_opener.h"
 #include "core/error.h"
 #include "io/partial_output.h"
 
@@ -70,16 +73,34 @@ PointFormat detectPointFormatFromMemory(std::span<const std::byte> bytes) {
   return detectFormatOf(bytes);
 }
 
-PointFormat detectPointFormat(const std::filesystem::path& path) {
+namespace {
+
+// The first kSniffBytes of a file (fewer where it is shorter): local files with stdio, so that
+// pipes and special files are detected too; URLs through their byte source (one range).
+std::vector<std::byte> fileHead(const std::filesystem::path& path) {
+  std::vector<std::byte> head;
+  if (isUrl(path.string())) {
+    const std::unique_ptr<ByteSource> source = openByteSource(path.string(), kSniffBytes);
+    head.resize(std::size_t(std::min<std::uint64_t>(source->size(), kSniffBytes)));
+    source->read(0, head, {.element = "the first bytes (format detection)"});
+    return head;
+  }
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (file == nullptr) {
     throw InputError(
         {.file = path.string(), .expected = "a readable file", .found = std::strerror(errno)});
   }
-  std::vector<std::byte> head(kSniffBytes);
-  std::size_t got = std::fread(head.data(), 1, head.size(), file);
+  head.resize(kSniffBytes);
+  const std::size_t got = std::fread(head.data(), 1, head.size(), file);
   std::fclose(file);
   head.resize(got);
+  return head;
+}
+
+}  // namespace
+
+PointFormat detectPointFormat(const std::filesystem::path& path) {
+  const std::vector<std::byte> head = fileHead(path);
   const PointFormat format = detectFormatOf(head);
   // A file whose content matched no signature (the fallback, text, or nothing) but whose name
   // asks for a format with one: that format's reader says what is wrong with it (a PCD without

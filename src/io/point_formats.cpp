@@ -3,11 +3,15 @@
 // description and writer to the table; the work is in their own files.
 #include <algorithm>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "core/byte_source.h"
+#include "core/byte_source_opener.h"
+#include "core/column_names.h"
 #include "core/scalar_type.h"
 #include "io/e57/e57_format.h"
 #include "io/format_description.h"
@@ -48,6 +52,12 @@ Json triple(const std::array<double, 3>& v) {
 }
 
 std::vector<std::byte> readPrefix(const std::filesystem::path& path, std::size_t max_bytes) {
+  if (isUrl(path.string())) {
+    const std::unique_ptr<ByteSource> source = openByteSource(path.string(), max_bytes);
+    std::vector<std::byte> bytes(std::size_t(std::min<std::uint64_t>(source->size(), max_bytes)));
+    source->read(0, bytes, {.element = "header"});
+    return bytes;
+  }
   std::ifstream in(path, std::ios::binary);
   std::vector<std::byte> bytes(max_bytes);
   in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(max_bytes));
@@ -520,8 +530,10 @@ PointFormatEntry ptxFormat() {
                         const PointWriteOptions&) {
     std::vector<std::string> losses;
     for (const std::string& name : cloud.attributeNames()) {
-      if (name == "x" || name == "y" || name == "z" || name == "red" || name == "green" ||
-          name == "blue" || name == "intensity" || name == kScanIndexColumn) {
+      if (name == column_names::kX || name == column_names::kY || name == column_names::kZ ||
+          name == column_names::kRed || name == column_names::kGreen ||
+          name == column_names::kBlue || name == column_names::kIntensity ||
+          name == kScanIndexColumn) {
         continue;
       }
       losses.push_back(name + " (PTX holds x y z intensity r g b)");

@@ -11,6 +11,7 @@
 #include <limits>
 #include <optional>
 
+#include "core/column_names.h"
 #include "core/error.h"
 #include "core/quantization.h"
 #include "io/mapped_file.h"
@@ -45,7 +46,9 @@ class PtxCursor {
              "the end of the file", "the file is truncated");
       }
       --left_in_scan_;
-      static const char* const kNames[] = {"x", "y", "z", "intensity", "red", "green", "blue"};
+      static const char* const kNames[] = {
+          column_names::kX,   column_names::kY,     column_names::kZ,   column_names::kIntensity,
+          column_names::kRed, column_names::kGreen, column_names::kBlue};
       if (values_per_point_ == 0) {
         values_per_point_ = words_.size();
         if (values_per_point_ != 4 && values_per_point_ != 7) {
@@ -265,8 +268,11 @@ PointCloud allocate(const PtxSurvey& s, std::uint64_t count, const Quantization&
                            .type = ScalarType::UInt16,
                            .data = ByteBuffer(count * sizeof(std::uint16_t))});
   cloud.source.position = ScalarType::Float64;
-  cloud.source.order = {"x", "y", "z", "intensity"};
-  if (s.color) cloud.source.order.insert(cloud.source.order.end(), {"red", "green", "blue"});
+  cloud.source.order = {column_names::kX, column_names::kY, column_names::kZ,
+                        column_names::kIntensity};
+  if (s.color)
+    cloud.source.order.insert(cloud.source.order.end(),
+                              {column_names::kRed, column_names::kGreen, column_names::kBlue});
   cloud.source.order.push_back(kScanIndexColumn);
   return cloud;
 }

@@ -14,6 +14,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "core/column_names.h"
 #include "core/error.h"
 #include "io/decimal_parse.h"
 
@@ -511,9 +512,19 @@ PointCloud allocateTextCloud(const Layout& layout, std::uint64_t count) {
   }
   cloud.source.position = ScalarType::Float64;
   cloud.source.intensity = ScalarType::Float32;
-  static const char* const kModelNames[] = {
-      "",      "x",  "y",  "z",  "red",       "green",         "blue",
-      "alpha", "nx", "ny", "nz", "intensity", "classification"};
+  static const char* const kModelNames[] = {"",
+                                            column_names::kX,
+                                            column_names::kY,
+                                            column_names::kZ,
+                                            column_names::kRed,
+                                            column_names::kGreen,
+                                            column_names::kBlue,
+                                            column_names::kAlpha,
+                                            column_names::kNx,
+                                            column_names::kNy,
+                                            column_names::kNz,
+                                            column_names::kIntensity,
+                                            column_names::kClassification};
   for (const ColumnSpec& spec : layout.columns) {
     if (spec.target == Target::Skip) continue;
     cloud.source.order.push_back(spec.target == Target::Scalar ? spec.name

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/column_names.h"
 #include "io/point_file.h"
 
 namespace parallax {
@@ -98,18 +99,19 @@ struct Plan {
 };
 
 WrittenColumn columnFor(const PointCloud& cloud, const std::string& name) {
-  static const std::pair<const char*, Field> kNames[] = {{"x", Field::X},
-                                                         {"y", Field::Y},
-                                                         {"z", Field::Z},
-                                                         {"red", Field::Red},
-                                                         {"green", Field::Green},
-                                                         {"blue", Field::Blue},
-                                                         {"alpha", Field::Alpha},
-                                                         {"nx", Field::Nx},
-                                                         {"ny", Field::Ny},
-                                                         {"nz", Field::Nz},
-                                                         {"intensity", Field::Intensity},
-                                                         {"classification", Field::Classification}};
+  static const std::pair<const char*, Field> kNames[] = {
+      {column_names::kX, Field::X},
+      {column_names::kY, Field::Y},
+      {column_names::kZ, Field::Z},
+      {column_names::kRed, Field::Red},
+      {column_names::kGreen, Field::Green},
+      {column_names::kBlue, Field::Blue},
+      {column_names::kAlpha, Field::Alpha},
+      {column_names::kNx, Field::Nx},
+      {column_names::kNy, Field::Ny},
+      {column_names::kNz, Field::Nz},
+      {column_names::kIntensity, Field::Intensity},
+      {column_names::kClassification, Field::Classification}};
   for (std::size_t i = 0; i < cloud.scalars.size(); ++i) {
     if (cloud.scalars[i].name == name) return {Field::Scalar, i};
   }
@@ -217,9 +219,11 @@ void writeText(const PointCloud& cloud, const std::filesystem::path& path,
           "PTS has a fixed layout (x y z intensity r g b): no order to "
           "choose");
     }
-    plan.names = {"x", "y", "z"};
-    if (cloud.hasIntensity()) plan.names.push_back("intensity");
-    if (cloud.hasColors()) plan.names.insert(plan.names.end(), {"red", "green", "blue"});
+    plan.names = {column_names::kX, column_names::kY, column_names::kZ};
+    if (cloud.hasIntensity()) plan.names.push_back(column_names::kIntensity);
+    if (cloud.hasColors())
+      plan.names.insert(plan.names.end(),
+                        {column_names::kRed, column_names::kGreen, column_names::kBlue});
   } else {
     plan.names = cloud.attributeOrder(options.properties);
   }

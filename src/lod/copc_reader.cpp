@@ -9,6 +9,7 @@
 #include <mutex>
 
 #include "core/byte_order.h"
+#include "core/column_names.h"
 #include "core/error.h"
 #include "io/las_record_decoder.h"
 #include "io/laz/layered_codec.h"
@@ -456,7 +457,7 @@ class CopcOctree final : public Octree {
     info_.has_intensity = prototype.hasIntensity();
     // The info VLR's GPS time range (COPC 1.0), where the file has points with GPS time.
     info_.gps_time_range.reset();
-    if (prototype.findScalar("gps_time") && header_.point_count > 0 &&
+    if (prototype.findScalar(column_names::kGpsTime) && header_.point_count > 0 &&
         info_vlr_.gps_time_min <= info_vlr_.gps_time_max) {
       info_.gps_time_range = {{info_vlr_.gps_time_min, info_vlr_.gps_time_max}};
     }

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cctype>
 
+#include "core/byte_source_opener.h"
 #include "core/error.h"
+#include "core/url.h"
 #include "lod/copc_reader.h"
 #include "lod/potree_reader.h"
-#include "net/network.h"
-#include "net/url.h"
 
 namespace parallax {
 
@@ -31,9 +31,9 @@ void checkOctreeUrl(std::string_view input) {
                         .expected = "the URL of a Potree 2.0 directory (.../cloud/ or "
                                     ".../cloud/metadata.json) or of a .copc.laz file",
                         .found = "a file '" + urlFileName(input) + "'",
-                        .hint = "only octrees stream over HTTP; download other point files "
-                                "first (a directory whose name has a dot needs its trailing "
-                                "slash)"});
+                        .hint = "only octrees stream over HTTP; `parallax convert URL -o "
+                                "FILE` reads any point file from a URL (a directory whose name "
+                                "has a dot needs its trailing slash)"});
   }
 }
 

@@ -1,9 +1,10 @@
 // The octrees `parallax` opens from an http(s) URL, by what the URL names: a Potree 2.0
 // directory (potree_reader.h: ".../cloud", ".../cloud/", ".../cloud/metadata.json") or a COPC
 // file (".copc.laz"). Other files do not stream: a PLY, LAS or LAZ file has no index to read
-// ranges by, so it would be downloaded whole.
+// ranges by, so drawing one would download it whole; `convert` reads them from a URL (the
+// format table opens URLs through core's openByteSource).
 //
-// Both read through the network's byte sources (net/network.h: one connection pool, merged
+// Both read through core's openByteSource, which net serves (one connection pool, merged
 // ranges, the on-disk cache); a COPC file's hierarchy pages and chunks are ranges like a Potree
 // directory's hierarchy.bin and octree.bin.
 #pragma once

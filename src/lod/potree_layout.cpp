@@ -6,23 +6,24 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include "core/byte_order.h"
+#include "core/column_names.h"
 
 namespace parallax {
 namespace {
 
 // LAS fields as las_reader.h names them, and as Potree's viewer names them.
 constexpr std::pair<const char*, const char*> kPotreeNames[] = {
-    {"return_number", "return number"},
-    {"number_of_returns", "number of returns"},
-    {"classification_flags", "classification flags"},
-    {"scanner_channel", "scanner channel"},
-    {"scan_direction_flag", "scan direction flag"},
-    {"edge_of_flight_line", "edge of flight line"},
-    {"scan_angle_rank", "scan angle rank"},
-    {"scan_angle", "scan angle"},
-    {"user_data", "user data"},
-    {"point_source_id", "point source id"},
-    {"gps_time", "gps-time"},
+    {column_names::kReturnNumber, "return number"},
+    {column_names::kNumberOfReturns, "number of returns"},
+    {column_names::kClassificationFlags, "classification flags"},
+    {column_names::kScannerChannel, "scanner channel"},
+    {column_names::kScanDirectionFlag, "scan direction flag"},
+    {column_names::kEdgeOfFlightLine, "edge of flight line"},
+    {column_names::kScanAngleRank, "scan angle rank"},
+    {column_names::kScanAngle, "scan angle"},
+    {column_names::kUserData, "user data"},
+    {column_names::kPointSourceId, "point source id"},
+    {column_names::kGpsTime, "gps-time"},
 };
 
 void widen(AttributeStats& stats, std::size_t attribute, int element, double value) {

@@ -2,11 +2,11 @@
 #include <algorithm>
 #include <string>
 
+#include "core/byte_source_opener.h"
 #include "core/error.h"
+#include "core/url.h"
 #include "lod/potree_reader.h"
 #include "lod/potree_sources.h"
-#include "net/network.h"
-#include "net/url.h"
 
 namespace parallax {
 namespace {
@@ -36,18 +36,14 @@ std::filesystem::path directoryOf(const std::filesystem::path& path) {
   return path;
 }
 
-std::string metadataText(const ByteSource& source, std::span<const std::byte> head) {
+std::string metadataText(const ByteSource& source) {
   if (source.size() > kMaxMetadataBytes) {
     throw InputError({.file = source.name(),
                       .expected = "a metadata.json of at most 64 MiB",
                       .found = std::to_string(source.size()) + " bytes"});
   }
   std::string text(source.size(), '\0');
-  if (head.size() >= text.size()) {
-    std::copy_n(head.begin(), text.size(), reinterpret_cast<std::byte*>(text.data()));
-  } else {
-    source.read(0, std::as_writable_bytes(std::span(text)), {.element = "metadata"});
-  }
+  source.read(0, std::as_writable_bytes(std::span(text)), {.element = "metadata"});
   return text;
 }
 
@@ -66,7 +62,7 @@ std::unique_ptr<Octree> openLocal(const std::filesystem::path& path) {
   std::string text;
   try {
     const std::unique_ptr<ByteSource> metadata = openFileSource(metadata_file);
-    text = metadataText(*metadata, {});
+    text = metadataText(*metadata);
     sources.metadata_bytes = metadata->size();
   } catch (const InputError& e) {
     rethrowWithHint(e, false);
@@ -95,21 +91,24 @@ UrlParts directoryUrl(const std::string& url) {
 std::unique_ptr<Octree> openUrl(const std::string& url) {
   const UrlParts parts = directoryUrl(url);
   auto file = [&](const char* name) { return parts.base + name + parts.query; };
-  const HttpOpenSpec specs[] = {
-      {file("metadata.json"), networkSourceOptions(kMaxMetadataBytes)},
-      {file("hierarchy.bin"), networkSourceOptions(kHierarchyHeadBytes)},
-      {file("octree.bin"), networkSourceOptions(0)},
+  // Opened together: over HTTP the three probes go out in parallel (the first bytes of
+  // metadata.json and hierarchy.bin with them).
+  const ByteSourceRequest requests[] = {
+      {file("metadata.json"), kMaxMetadataBytes},
+      {file("hierarchy.bin"), kHierarchyHeadBytes},
+      {file("octree.bin"), 0},
   };
-  std::vector<std::unique_ptr<HttpByteSource>> opened;
+  std::vector<std::unique_ptr<ByteSource>> opened;
   try {
-    opened = openHttpSources(specs);
+    opened = openByteSources(requests);
   } catch (const InputError& e) {
     rethrowWithHint(e, true);
   }
   PotreeSources sources;
   sources.location = urlForMessages(parts.base + parts.query);
   sources.metadata_bytes = opened[0]->size();
-  const std::string text = metadataText(*opened[0], opened[0]->head());
+  // The read is served by the bytes that came with the opening request.
+  const std::string text = metadataText(*opened[0]);
   PotreeMetadata parsed = parsePotreeMetadata(text, opened[0]->name());
   sources.hierarchy = std::move(opened[1]);
   sources.octree = std::move(opened[2]);

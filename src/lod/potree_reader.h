@@ -3,7 +3,8 @@
 // disk or on any HTTP(S) server (static files read with Range requests, net/).
 //
 // Every byte is read through a ByteSource (core/byte_source.h): local files with pread, URLs
-// through the process's HTTP client and range cache (net/network.h). Opening reads metadata.json
+// through the opener net installs behind core (core/byte_source_opener.h: the process's HTTP
+// client and range cache). Opening reads metadata.json
 // (potree_metadata_reader.h) and the first hierarchy chunk; deeper chunks are read when
 // expandHierarchy() reaches a proxy (potree_hierarchy_reader.h). loadNode() reads one node's
 // records (no shared file offset, so any number of threads may load at once) and decodes them

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "core/byte_order.h"
+#include "core/column_names.h"
 #include "io/las_reader.h"
 
 namespace parallax {
@@ -169,18 +170,21 @@ PotreeRecordReader::PotreeRecordReader(const PotreeMetadata& metadata)
 }
 
 void PotreeRecordReader::describe(OctreeInfo& info) const {
-  info.attributes = {"x", "y", "z"};
+  info.attributes = {column_names::kX, column_names::kY, column_names::kZ};
   info.has_colors = color_.present;
   info.has_normals = normal_.present;
   info.has_intensity = intensity_.present;
   info.has_classification = classification_.present;
   if (color_.present) {
-    info.attributes.insert(info.attributes.end(), {"red", "green", "blue"});
-    if (color_.alpha) info.attributes.push_back("alpha");
+    info.attributes.insert(info.attributes.end(),
+                           {column_names::kRed, column_names::kGreen, column_names::kBlue});
+    if (color_.alpha) info.attributes.push_back(column_names::kAlpha);
   }
-  if (normal_.present) info.attributes.insert(info.attributes.end(), {"nx", "ny", "nz"});
-  if (intensity_.present) info.attributes.push_back("intensity");
-  if (classification_.present) info.attributes.push_back("classification");
+  if (normal_.present)
+    info.attributes.insert(info.attributes.end(),
+                           {column_names::kNx, column_names::kNy, column_names::kNz});
+  if (intensity_.present) info.attributes.push_back(column_names::kIntensity);
+  if (classification_.present) info.attributes.push_back(column_names::kClassification);
   for (const auto& field : scalars_) info.attributes.push_back(field.name);
 }
 

@@ -2,9 +2,9 @@
 #include <future>
 #include <thread>
 
+#include "core/url.h"
 #include "net/http_byte_source.h"
 #include "net/http_source_state.h"
-#include "net/url.h"
 
 namespace parallax {
 

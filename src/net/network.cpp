@@ -2,11 +2,13 @@
 
 #include <charconv>
 #include <cstdlib>
+#include <iterator>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
 
-#include "net/url.h"
+#include "core/byte_source_opener.h"
+#include "core/url.h"
 
 namespace parallax {
 namespace {
@@ -125,11 +127,18 @@ std::vector<std::unique_ptr<HttpByteSource>> openHttpSources(std::span<const Htt
   return HttpByteSource::openAll(specs, networkClient(), networkCache());
 }
 
-std::unique_ptr<ByteSource> openByteSource(const std::string& path_or_url,
-                                           std::uint64_t head_bytes) {
-  if (!isHttpUrl(path_or_url)) return openFileSource(path_or_url);
-  return HttpByteSource::open(path_or_url, networkClient(), networkCache(),
-                              networkSourceOptions(head_bytes));
+void installHttpOpener() {
+  const ByteSourceOpener opener = [](std::span<const ByteSourceRequest> requests) {
+    std::vector<HttpOpenSpec> specs;
+    for (const ByteSourceRequest& request : requests) {
+      specs.push_back({request.location, networkSourceOptions(request.head_bytes)});
+    }
+    std::vector<std::unique_ptr<HttpByteSource>> opened = openHttpSources(specs);
+    return std::vector<std::unique_ptr<ByteSource>>(std::make_move_iterator(opened.begin()),
+                                                    std::make_move_iterator(opened.end()));
+  };
+  registerByteSourceOpener("http", opener);
+  registerByteSourceOpener("https", opener);
 }
 
 }  // namespace parallax

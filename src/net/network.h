@@ -1,6 +1,6 @@
 // The process's network: one HttpClient (one connection pool for every URL the process opens)
 // and one on-disk range cache, configured once by the application, and the function that turns
-// a path or a URL into a ByteSource.
+// an http(s) URL into a ByteSource (installed behind core's openByteSource).
 //
 // Settings from the environment (networkSettingsFromEnvironment), for the command line and
 // tests alike:
@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "core/byte_source.h"
+#include "core/byte_source_opener.h"
 #include "net/http_byte_source.h"
 #include "net/http_client.h"
 #include "net/range_cache.h"
@@ -55,8 +56,10 @@ HttpSourceOptions networkSourceOptions(std::uint64_t head_bytes = 0);
 // http(s) URLs through the shared client and cache (several at once: parallel probes).
 std::vector<std::unique_ptr<HttpByteSource>> openHttpSources(std::span<const HttpOpenSpec> specs);
 
-// A path (openFileSource) or an http(s) URL (HttpByteSource with the current settings).
-std::unique_ptr<ByteSource> openByteSource(const std::string& path_or_url,
-                                           std::uint64_t head_bytes = 0);
+// Registers http and https with core's opener (core/byte_source_opener.h): from then on
+// openByteSource of an http(s) URL is an HttpByteSource with the current settings. Called by
+// every program that links parallax::net before main (net/http_opener.cpp); calling it again
+// changes nothing.
+void installHttpOpener();
 
 }  // namespace parallax

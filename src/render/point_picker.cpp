@@ -6,6 +6,8 @@
 #include <cmath>
 #include <tuple>
 
+#include "core/column_names.h"
+
 namespace parallax {
 
 std::string formatAttributeValue(double value) {
@@ -16,20 +18,26 @@ std::string formatAttributeValue(double value) {
 
 std::vector<PointAttribute> pointAttributes(const PointCloud& cloud, std::size_t index) {
   assert(index < cloud.count && "pointAttributes: index past the cloud's points");
-  std::vector<PointAttribute> out = {
-      {"x", cloud.worldX(index)}, {"y", cloud.worldY(index)}, {"z", cloud.worldZ(index)}};
+  std::vector<PointAttribute> out = {{column_names::kX, cloud.worldX(index)},
+                                     {column_names::kY, cloud.worldY(index)},
+                                     {column_names::kZ, cloud.worldZ(index)}};
   if (cloud.hasColors()) {
     const Rgba8 c = cloud.colors[index];
-    out.insert(out.end(), {{"red", double(c.r)}, {"green", double(c.g)}, {"blue", double(c.b)}});
-    if (cloud.source.has_alpha) out.push_back({"alpha", double(c.a)});
+    out.insert(out.end(), {{column_names::kRed, double(c.r)},
+                           {column_names::kGreen, double(c.g)},
+                           {column_names::kBlue, double(c.b)}});
+    if (cloud.source.has_alpha) out.push_back({column_names::kAlpha, double(c.a)});
   }
   if (cloud.hasNormals()) {
     const Float3 n = cloud.normals[index];
-    out.insert(out.end(), {{"nx", double(n.x)}, {"ny", double(n.y)}, {"nz", double(n.z)}});
+    out.insert(out.end(), {{column_names::kNx, double(n.x)},
+                           {column_names::kNy, double(n.y)},
+                           {column_names::kNz, double(n.z)}});
   }
-  if (cloud.hasIntensity()) out.push_back({"intensity", double(cloud.intensity[index])});
+  if (cloud.hasIntensity())
+    out.push_back({column_names::kIntensity, double(cloud.intensity[index])});
   if (cloud.hasClassification()) {
-    out.push_back({"classification", double(cloud.classification[index])});
+    out.push_back({column_names::kClassification, double(cloud.classification[index])});
   }
   for (const ScalarColumn& column : cloud.scalars) {
     out.push_back({column.name, column.valueAsDouble(index)});

@@ -9,6 +9,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include "core/column_names.h"
+
 namespace parallax {
 
 namespace {
@@ -49,7 +51,7 @@ double valueAt(const PointCloud& cloud, const ScalarColumn* column, std::size_t 
 // The column of `field`, nullptr for intensity; throws for a field the cloud lacks.
 const ScalarColumn* fieldColumn(const PointCloud& cloud, const std::string& field) {
   if (const ScalarColumn* column = cloud.findScalar(field)) return column;
-  if (field == "intensity" && cloud.hasIntensity()) return nullptr;
+  if (field == column_names::kIntensity && cloud.hasIntensity()) return nullptr;
   throw std::invalid_argument("--color " + field + ": the cloud has no attribute '" + field +
                               "' (scalar fields: " + fieldList(cloud) +
                               "; colour modes: rgb|elevation|intensity|normal|classification|"
@@ -111,7 +113,7 @@ Rgba8 rampColor(ColorRamp ramp, double t) {
 
 std::vector<std::string> scalarFieldNames(const PointCloud& cloud) {
   std::vector<std::string> names;
-  if (cloud.hasIntensity()) names.emplace_back("intensity");
+  if (cloud.hasIntensity()) names.emplace_back(column_names::kIntensity);
   for (const auto& column : cloud.scalars) names.push_back(column.name);
   return names;
 }

@@ -26,9 +26,11 @@
 #include "core/point_cloud.h"
 #include "io/ply_preview.h"
 #include "io/point_file.h"
+#include "lod/drawing_input.h"
 #include "lod/octree_open.h"
 #include "lod/octree_url.h"
 #include "lod/potree_reader.h"
+#include "render/frame_step.h"
 #include "render/gl_context.h"
 #include "render/image_file.h"
 #include "render/lod_scene.h"
@@ -232,10 +234,9 @@ void openLargeFile(Session& s, const std::filesystem::path& path, std::uint64_t 
   }
   const std::uint64_t budget = s.lod_settings.selection.point_budget;
   std::uint64_t shown = 0;
-  if (hasPointFilePreview(detectPointFormat(path))) {
-    PointCloud preview = readPointFilePreview(path, std::min(budget, kPreviewPoints));
-    shown = preview.count;
-    showCloud(s, std::move(preview), false, true, first);
+  if (std::optional<PointCloud> preview = readDrawingPreview(path, budget)) {
+    shown = preview->count;
+    showCloud(s, std::move(*preview), false, true, first);
   } else {
     // No sample reader for text: nothing is shown until the octree is ready.
     s.cloud.reset();
@@ -294,13 +295,15 @@ void openFile(Session& s, const std::filesystem::path& path, bool first) {
   try {
     if (octreeUrlKind(path.string()) != OctreeUrlKind::NotUrl) {
       startOpeningUrl(s, path.string(), first);
-    } else if (isOctreePath(path)) {
+    } else if (const DrawingInput drawing =
+                   planDrawing(path, s.lod_settings.selection.point_budget);
+               drawing.kind == DrawingKind::Octree) {
       showOctree(s, path, nullptr, false, first);
       s.status = "opened the octree " + path.string() + " (" +
                  std::to_string(s.octree->info().point_count) + " points)";
       setTitle(s, path);
-    } else if (const auto points = pointsOverBudget(path, s.lod_settings.selection.point_budget)) {
-      openLargeFile(s, path, *points, first);
+    } else if (drawing.kind == DrawingKind::OverBudget) {
+      openLargeFile(s, path, drawing.points, first);
       setTitle(s, path);
     } else {
       PointCloud cloud = readPointFile(path);
@@ -581,7 +584,6 @@ int runViewer(const ViewerOptions& options) {
         const DrawSet* draw_set = &s.draw_set;
         const RenderSettings* look = &s.settings;
         DrawSet prioritized;
-        FramePart part;
         // A whole cloud (or a preview) is refined too: its chunks, largest-looking first.
         bool refine = s.frame_budget_ms > 0;
         if (s.lod) {
@@ -605,25 +607,19 @@ int runViewer(const ViewerOptions& options) {
           ProgressiveSettings progressive = s.progressive.settings();
           progressive.frame_budget_s = s.frame_budget_ms / 1e3;
           s.progressive.setSettings(progressive);
-          part = s.progressive.plan(*draw_set, changed);
         }
-        const bool nothing_new =
-            part.accumulate && part.first_item >= std::min(part.last_item, draw_set->items.size());
-        if (nothing_new) {
-          // Complete already (a streaming scene whose selection has not changed): show it again.
-          s.renderer->composite(frame.views, s.settings, 0, width, height, frame.composition);
-        } else {
-          stats = s.renderer->render(*draw_set, frame, *look, 0, width, height, part);
-          if (!part.accumulate) s.picture_start = start, s.picture_points = 0, s.picture_parts = 0;
+        const FrameStepResult step =
+            drawFrameStep(*s.renderer, refine ? &s.progressive : nullptr, *draw_set, frame, *look,
+                          0, width, height, changed);
+        if (step.drew) {
+          stats = step.stats;
+          if (!step.part.accumulate) {
+            s.picture_start = start, s.picture_points = 0, s.picture_parts = 0;
+          }
           ++s.picture_parts;
           s.picture_points += stats.points_drawn;
         }
         if (refine) {
-          // The rate is measured on finished drawing (a GPU queues the work otherwise).
-          glFinish();
-          s.progressive.record(
-              stats.points_drawn,
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
           if (s.progressive.complete() && s.picture_parts > 1 && !s.refined_picture_reported) {
             s.refined_picture_reported = true;
             std::fprintf(

@@ -12,7 +12,6 @@
 
 #include "io/las_header.h"
 #include "io/laz_source.h"
-#include "io/range_reader.h"
 #include "support/test_data.h"
 
 namespace parallax::test {
@@ -32,7 +31,7 @@ inline std::string fileBytes(const std::filesystem::path& path) {
 
 // Every record of a LAZ file, decoded chunk by chunk in file order.
 inline std::string lazRecords(const std::filesystem::path& path) {
-  std::unique_ptr<LazSource> source = openLazSource(RangeReader(path), readLasHeader(path));
+  std::unique_ptr<LazSource> source = openLazSource(openFileSource(path), readLasHeader(path));
   LazChunkDecoder decoder(*source);
   std::string out;
   const std::size_t length = source->records.record_length;

@@ -2,10 +2,10 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "core/url.h"
 #include "lod/octree_url.h"
 #include "lod/potree_reader.h"
 #include "net/http_client.h"
-#include "net/url.h"
 
 namespace parallax {
 namespace {

@@ -1,4 +1,4 @@
-#include "net/url.h"
+#include "core/url.h"
 
 #include <cctype>
 

@@ -1,0 +1,45 @@
+// The names of the point model's columns, defined once: what PointCloud::attributeNames() lists,
+// what readers map a file's fields to, what writers, filters, processing steps and the renderer
+// look up, and what users type (`--properties`, `--color-by`). A change here renames the
+// attribute everywhere at once; a literal elsewhere would silently stop matching.
+//
+// Fixed columns of PointCloud: positions (x y z), colour (red green blue, alpha), normals
+// (nx ny nz), intensity and classification. Every other attribute is a ScalarColumn under its
+// own name; the LAS fields' names are here because several formats and modules share them.
+#pragma once
+
+namespace parallax::column_names {
+
+// Positions.
+inline constexpr const char* kX = "x";
+inline constexpr const char* kY = "y";
+inline constexpr const char* kZ = "z";
+// Colour (PointCloud::colors); alpha only where the source had it.
+inline constexpr const char* kRed = "red";
+inline constexpr const char* kGreen = "green";
+inline constexpr const char* kBlue = "blue";
+inline constexpr const char* kAlpha = "alpha";
+// Normals (PointCloud::normals).
+inline constexpr const char* kNx = "nx";
+inline constexpr const char* kNy = "ny";
+inline constexpr const char* kNz = "nz";
+// PointCloud::intensity and PointCloud::classification.
+inline constexpr const char* kIntensity = "intensity";
+inline constexpr const char* kClassification = "classification";
+
+// The LAS point record's other fields, as scalar columns (any format may carry them: PLY and
+// text by these names, E57 and PCD mapped to them).
+inline constexpr const char* kReturnNumber = "return_number";
+inline constexpr const char* kNumberOfReturns = "number_of_returns";
+inline constexpr const char* kScanDirectionFlag = "scan_direction_flag";
+inline constexpr const char* kEdgeOfFlightLine = "edge_of_flight_line";
+inline constexpr const char* kClassificationFlags = "classification_flags";
+inline constexpr const char* kScannerChannel = "scanner_channel";
+inline constexpr const char* kScanAngleRank = "scan_angle_rank";
+inline constexpr const char* kScanAngle = "scan_angle";
+inline constexpr const char* kUserData = "user_data";
+inline constexpr const char* kPointSourceId = "point_source_id";
+inline constexpr const char* kGpsTime = "gps_time";
+inline constexpr const char* kNir = "nir";
+
+}  // namespace parallax::column_names
