@@ -31,29 +31,11 @@ void ByteSource::checkRange(std::uint64_t offset, std::uint64_t size,
 
 namespace {
 
-class MemorySource final : public ByteSource {
- public:
-  MemorySource(std::vector<std::byte> bytes, std::string name, std::string version)
-      : bytes_(std::move(bytes)), name_(std::move(name)), version_(std::move(version)) {}
-  const std::string& name() const override { return name_; }
-  std::uint64_t size() const override { return bytes_.size(); }
-  const std::string& version() const override { return version_; }
-  void read(std::uint64_t offset, std::span<std::byte> out,
-            const ReadContext& context) const override {
-    checkRange(offset, out.size(), context);
-    if (!out.empty()) std::memcpy(out.data(), bytes_.data() + offset, out.size());
-  }
-
- private:
-  std::vector<std::byte> bytes_;
-  std::string name_, version_;
-};
-
 // Borrowed bytes: the caller keeps them alive (a mapped file read whole by a reader).
-class MemoryViewSource final : public ByteSource {
+class MemoryViewSource : public ByteSource {
  public:
-  MemoryViewSource(std::span<const std::byte> bytes, std::string name)
-      : bytes_(bytes), name_(std::move(name)) {}
+  MemoryViewSource(std::span<const std::byte> bytes, std::string name, std::string version = {})
+      : bytes_(bytes), name_(std::move(name)), version_(std::move(version)) {}
   const std::string& name() const override { return name_; }
   std::uint64_t size() const override { return bytes_.size(); }
   const std::string& version() const override { return version_; }
@@ -66,6 +48,17 @@ class MemoryViewSource final : public ByteSource {
  private:
   std::span<const std::byte> bytes_;
   std::string name_, version_;
+};
+
+// Owned bytes. The vector is a base class so that it is built before the view of it.
+struct OwnedBytes {
+  std::vector<std::byte> owned;
+};
+class MemorySource final : private OwnedBytes, public MemoryViewSource {
+ public:
+  MemorySource(std::vector<std::byte> bytes, std::string name, std::string version)
+      : OwnedBytes{std::move(bytes)},
+        MemoryViewSource(owned, std::move(name), std::move(version)) {}
 };
 
 class FileSource final : public ByteSource {

@@ -32,15 +32,7 @@ void runDistanceStep(const DistanceStep& step, const StepContext& context) {
     const TileNeighbourhood own = loadNeighbourhood(tiles, t, 0.0, points, kept);
     const std::vector<GridPoint> queries(own.points.begin(), own.points.begin() + own.core);
     // The reference points in the tile and its halo: the reference's own tile t is no "core".
-    auto load = [&](double halo) {
-      TileNeighbourhood hood;
-      hood.lo[0] = reference.lo(t) - halo;
-      hood.hi[0] = reference.hi(t) + halo;
-      if (hood.lo[0] < reference.min()[0]) hood.lo[0] = -TileSet::kInfinity;
-      if (hood.hi[0] > reference.max()[0]) hood.hi[0] = TileSet::kInfinity;
-      reference.appendKeptInRange(hood.lo[0], hood.hi[0], SIZE_MAX, hood.points);
-      return hood;
-    };
+    auto load = [&](double halo) { return loadAround(reference, t, halo); };
     const double halo =
         2.0 * NeighbourIndex::radiusForCount(queries, std::max<double>(4.0, double(k)));
     answerTileQueries(

@@ -127,18 +127,6 @@ M3c2Result m3c2At(const NeighbourIndex& epoch1, const NeighbourIndex& epoch2, co
   return result;
 }
 
-// The kept points of `set` within `halo` of tile t's x interval (set tiled with the processed
-// cloud's edges).
-TileNeighbourhood loadAround(const TileSet& set, std::size_t t, double halo) {
-  TileNeighbourhood hood;
-  hood.lo[0] = set.lo(t) - halo;
-  hood.hi[0] = set.hi(t) + halo;
-  if (hood.lo[0] < set.min()[0]) hood.lo[0] = -TileSet::kInfinity;
-  if (hood.hi[0] > set.max()[0]) hood.hi[0] = TileSet::kInfinity;
-  set.appendKeptInRange(hood.lo[0], hood.hi[0], SIZE_MAX, hood.points);
-  return hood;
-}
-
 TileSet spillEpoch(const std::vector<std::filesystem::path>& paths, const StepContext& context,
                    const std::string& name) {
   std::vector<ConvertInput> inputs;

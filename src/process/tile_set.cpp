@@ -265,6 +265,16 @@ TileNeighbourhood loadNeighbourhood(const TileSet& tiles, std::size_t tile, doub
   return hood;
 }
 
+TileNeighbourhood loadAround(const TileSet& set, std::size_t t, double halo) {
+  TileNeighbourhood hood;
+  hood.lo[0] = set.lo(t) - halo;
+  hood.hi[0] = set.hi(t) + halo;
+  if (hood.lo[0] < set.min()[0]) hood.lo[0] = -TileSet::kInfinity;
+  if (hood.hi[0] > set.max()[0]) hood.hi[0] = TileSet::kInfinity;
+  set.appendKeptInRange(hood.lo[0], hood.hi[0], SIZE_MAX, hood.points);
+  return hood;
+}
+
 TileNeighbourhood loadBox(const TileSet& set, const double lo[3], const double hi[3]) {
   TileNeighbourhood hood;
   for (int a = 0; a < 3; ++a) {

@@ -130,4 +130,9 @@ TileNeighbourhood loadNeighbourhood(const TileSet& tiles, std::size_t tile, doub
 // (an isolated point far from the rest would otherwise pull in a wide slice of the cloud).
 TileNeighbourhood loadBox(const TileSet& set, const double lo[3], const double hi[3]);
 
+// Every kept point of `set` within `halo` of tile t's x interval (an infinite halo past the
+// cloud's ends), none of them "core": another cloud's points around a tile of the processed one
+// (`set` tiled with its edges: the reference of --distance-to, an epoch of --m3c2).
+TileNeighbourhood loadAround(const TileSet& set, std::size_t t, double halo);
+
 }  // namespace parallax

@@ -43,23 +43,6 @@ RgbaImage renderWith(const TempDir& dir, const std::filesystem::path& input,
 }
 
 // The fraction of the cloud's pixels of the same colour in both pictures (of one size).
-double sameFraction(const RgbaImage& a, const RgbaImage& b) {
-  // Over the pixels the cloud covers in either picture: the background would make any two
-  // pictures look alike.
-  if (a.width != b.width || a.height != b.height || a.pixels.empty()) return 0.0;
-  const auto background = [](const RgbaImage& image, std::size_t i) {
-    return image.pixels[i] == 255 && image.pixels[i + 1] == 0 && image.pixels[i + 2] == 255;
-  };
-  std::size_t same = 0, covered = 0;
-  for (std::size_t i = 0; i < a.pixels.size(); i += 4) {
-    if (background(a, i) && background(b, i)) continue;
-    ++covered;
-    same += a.pixels[i] == b.pixels[i] && a.pixels[i + 1] == b.pixels[i + 1] &&
-            a.pixels[i + 2] == b.pixels[i + 2];
-  }
-  return covered == 0 ? 0.0 : double(same) / double(covered);
-}
-
 std::size_t cloudPixels(const RgbaImage& image) {
   std::size_t count = 0;
   for (std::size_t i = 0; i < image.pixels.size(); i += 4) {

@@ -34,23 +34,6 @@ std::set<std::array<int, 3>> cloudColours(const RgbaImage& image) {
   return colours;
 }
 
-double sameFraction(const RgbaImage& a, const RgbaImage& b) {
-  // Over the pixels the cloud covers in either picture: the background would make any two
-  // pictures look alike.
-  if (a.width != b.width || a.height != b.height || a.pixels.empty()) return 0.0;
-  const auto background = [](const RgbaImage& image, std::size_t i) {
-    return image.pixels[i] == 255 && image.pixels[i + 1] == 0 && image.pixels[i + 2] == 255;
-  };
-  std::size_t same = 0, covered = 0;
-  for (std::size_t i = 0; i < a.pixels.size(); i += 4) {
-    if (background(a, i) && background(b, i)) continue;
-    ++covered;
-    same += a.pixels[i] == b.pixels[i] && a.pixels[i + 1] == b.pixels[i + 1] &&
-            a.pixels[i + 2] == b.pixels[i + 2];
-  }
-  return covered == 0 ? 0.0 : double(same) / double(covered);
-}
-
 // A given camera (the same for `view` and `render`), fixed 3-pixel points, no panel in the way.
 std::vector<std::string> sharedOptions() {
   return {"--width",      "480", "--height", "360",          "--background", "255,0,255",
