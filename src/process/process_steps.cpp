@@ -259,15 +259,21 @@ ProcessStep parseProcessStep(const std::string& text) {
   const auto expected = [&](const std::string& what) {
     fail("processing step '" + text + "'", what);
   };
-  if (words.size() < 2) {
+  // The one step without an argument: its options start at the second word.
+  const bool argument = words.empty() || words[0] != "height-above-ground";
+  if (words.size() < (argument ? 2u : 1u)) {
     expected(
         "expected a step and its argument: normals K, normals-radius R, outliers "
         "statistical:K,S or radius:R,N, subsample voxel:SIZE, spacing:D or random:N, "
-        "distance-to FILE");
+        "distance-to FILE, ground smrf|pmf|csf[:KEY=VALUE,...], height-above-ground");
   }
   ProcessStep step;
   const std::string& name = words[0];
-  if (name == "normals") {
+  if (name == "height-above-ground") {
+    step = HeightAboveGroundStep{};
+  } else if (name == "ground") {
+    step = parseGround(words[1]);
+  } else if (name == "normals") {
     step = parseNormalsK(words[1]);
   } else if (name == "normals-radius") {
     step = parseNormalsRadius(words[1]);
@@ -281,18 +287,22 @@ ProcessStep parseProcessStep(const std::string& text) {
     step = distance;
   } else {
     expected("unknown step '" + name +
-             "' (normals, normals-radius, outliers, subsample, distance-to)");
+             "' (normals, normals-radius, outliers, subsample, distance-to, ground, "
+             "height-above-ground)");
   }
-  for (std::size_t i = 2; i < words.size(); ++i) {
+  for (std::size_t i = argument ? 2 : 1; i < words.size(); ++i) {
     const std::string& option = words[i];
     const bool has_value = i + 1 < words.size();
     auto* normals = std::get_if<NormalsStep>(&step);
     auto* outliers = std::get_if<OutliersStep>(&step);
     auto* distance = std::get_if<DistanceStep>(&step);
+    auto* ground = std::get_if<GroundStep>(&step);
     if (normals && option == "curvature") {
       normals->curvature = true;
     } else if (normals && option == "orient" && has_value) {
       parseOrientation(words[++i], *normals);
+    } else if (ground && option == "keep-classes") {
+      ground->keep_classes = true;
     } else if (outliers && option == "mark-outliers") {
       outliers->mark = true;
     } else if (distance && option == "local-model" && has_value) {
@@ -304,7 +314,7 @@ ProcessStep parseProcessStep(const std::string& text) {
     } else {
       expected("'" + option + "' does not modify a " + name +
                " step (normals: --curvature, --orient X; outliers: --mark-outliers; "
-               "distance-to: --local-model plane, --local-k K)");
+               "distance-to: --local-model plane, --local-k K; ground: --keep-classes)");
     }
   }
   return step;

@@ -183,7 +183,8 @@ void drawProcessPanel(Session& s) {
   ImGui::SameLine();
   if (ImGui::Button("add")) p.steps.push_back(p.new_step);
   ImGui::TextDisabled(
-      "normals K, outliers statistical:K,S, subsample voxel:SIZE, distance-to FILE");
+      "normals K, outliers statistical:K,S, subsample voxel:SIZE, distance-to FILE, "
+      "ground smrf|pmf|csf, height-above-ground");
   if (s.filter_editor.box_enabled) ImGui::Checkbox("clip box only", &p.clip_box_only);
   ImGui::InputTextWithHint("output", defaultOutput(s).string().c_str(), &p.output);
   if (p.run.valid() && p.progress) {

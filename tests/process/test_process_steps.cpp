@@ -920,11 +920,24 @@ TEST(ProcessSteps, ParsedFromOneLineAsDescribed) {
   EXPECT_TRUE(
       std::get<OutliersStep>(parseProcessStep("outliers statistical:8,2 --mark-outliers")).mark);
   EXPECT_EQ(std::get<DistanceStep>(parseProcessStep("distance-to b.ply --local-k 9")).k, 9u);
+  for (const char* ground : {"smrf:cell=2", "pmf", "csf:rigidness=2"}) {
+    const std::string described = describeStep(parseGround(ground)) + " --keep-classes";
+    EXPECT_EQ(describeStep(parseProcessStep(described)), described);
+    EXPECT_EQ(describeStep(parseProcessStep(std::string("ground ") + ground)),
+              describeStep(parseGround(ground)));
+  }
+  EXPECT_EQ(std::get<GroundStep>(parseProcessStep("ground smrf:window=9")).smrf.window, 9.0);
+  EXPECT_TRUE(
+      std::holds_alternative<HeightAboveGroundStep>(parseProcessStep("--height-above-ground")));
+  EXPECT_EQ(messageOf([] { parseProcessStep("height-above-ground 2"); }),
+            "processing step 'height-above-ground 2': '2' does not modify a height-above-ground "
+            "step (normals: --curvature, --orient X; outliers: --mark-outliers; distance-to: "
+            "--local-model plane, --local-k K; ground: --keep-classes)");
   EXPECT_EQ(messageOf([] { parseProcessStep("normals 2"); }),
             "--normals 2: K must be a whole number from 3 to 1000, got '2'");
   EXPECT_EQ(messageOf([] { parseProcessStep("smooth 3"); }),
             "processing step 'smooth 3': unknown step 'smooth' (normals, normals-radius, outliers, "
-            "subsample, distance-to)");
+            "subsample, distance-to, ground, height-above-ground)");
   EXPECT_EQ(messageOf([] {
               parseProcessStep("normals");
             }).rfind("processing step 'normals': expected a step and its argument", 0),
@@ -932,7 +945,7 @@ TEST(ProcessSteps, ParsedFromOneLineAsDescribed) {
   EXPECT_EQ(messageOf([] { parseProcessStep("subsample voxel:1 --curvature"); }),
             "processing step 'subsample voxel:1 --curvature': 'curvature' does not modify a "
             "subsample step (normals: --curvature, --orient X; outliers: --mark-outliers; "
-            "distance-to: --local-model plane, --local-k K)");
+            "distance-to: --local-model plane, --local-k K; ground: --keep-classes)");
 }
 
 TEST(ProcessSteps, UnavailableStepsAndOutputsFailBeforeAnyWork) {
