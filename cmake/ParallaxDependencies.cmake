@@ -24,10 +24,6 @@ parallax_require_package(LibXml2_FOUND libxml2-dev "libxml2")
 find_package(nlohmann_json CONFIG QUIET)
 parallax_require_package(nlohmann_json_FOUND nlohmann-json3-dev "nlohmann JSON")
 
-# Neighbour search of src/process (k-d tree, header only).
-find_package(nanoflann CONFIG QUIET)
-parallax_require_package(nanoflann_FOUND libnanoflann-dev "nanoflann")
-
 # The ground's triangulation of src/terrain (--height-above-ground): CGAL's 2D Delaunay
 # triangulation, header only.
 find_package(CGAL CONFIG QUIET)

@@ -36,8 +36,6 @@ packages=(
   python3-distributed
   # the Python module (python/parallax: pybind11, numpy) and its tests (pytest)
   pybind11-dev python3-dev python3-numpy python3-pytest
-  # processing (src/process): neighbour search, a k-d tree (header only)
-  libnanoflann-dev
   # the ground's 2D Delaunay triangulation (src/terrain, --height-above-ground; header only)
   libcgal-dev
   # registration's oracle in tests (tests/registration/compare_open3d.py): Open3D's

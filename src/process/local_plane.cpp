@@ -60,15 +60,19 @@ void symmetricEigen3(const double matrix[3][3], double values[3], double vectors
   }
 }
 
-LocalPlane fitLocalPlane(std::span<const GridPoint> points, std::span<const Neighbour> neighbours) {
+namespace {
+
+// `position(n)`: the neighbour's point.
+template <class Position>
+LocalPlane fitPlane(std::span<const Neighbour> neighbours, Position&& position) {
   LocalPlane plane;
   if (neighbours.size() < 3) return plane;
   // Centred on the first neighbour before summing: world coordinates of 500 000 m would lose the
   // millimetres in the squares.
-  const GridPoint& base = points[neighbours[0].at];
+  const GridPoint& base = position(neighbours[0]);
   double mean[3] = {0, 0, 0};
   for (const Neighbour& n : neighbours) {
-    const GridPoint& p = points[n.at];
+    const GridPoint& p = position(n);
     mean[0] += p.x - base.x;
     mean[1] += p.y - base.y;
     mean[2] += p.z - base.z;
@@ -77,7 +81,7 @@ LocalPlane fitLocalPlane(std::span<const GridPoint> points, std::span<const Neig
   for (double& m : mean) m /= count;
   double cov[3][3] = {};
   for (const Neighbour& n : neighbours) {
-    const GridPoint& p = points[n.at];
+    const GridPoint& p = position(n);
     const double d[3] = {p.x - base.x - mean[0], p.y - base.y - mean[1], p.z - base.z - mean[2]};
     for (int i = 0; i < 3; ++i) {
       for (int j = i; j < 3; ++j) cov[i][j] += d[i] * d[j];
@@ -102,6 +106,18 @@ LocalPlane fitLocalPlane(std::span<const GridPoint> points, std::span<const Neig
   // On a line (or a point) the plane is undetermined: the two smallest eigenvalues are equal.
   plane.valid = values[1] > sum * 1e-12;
   return plane;
+}
+
+}  // namespace
+
+LocalPlane fitLocalPlane(std::span<const GridPoint> points, std::span<const Neighbour> neighbours) {
+  return fitPlane(neighbours, [&](const Neighbour& n) -> const GridPoint& { return points[n.at]; });
+}
+
+LocalPlane fitLocalPlane(const NeighbourIndex& index, std::span<const Neighbour> neighbours) {
+  const std::span<const GridPoint> points = index.treePoints();
+  return fitPlane(neighbours,
+                  [&](const Neighbour& n) -> const GridPoint& { return points[n.in_tree]; });
 }
 
 }  // namespace parallax

@@ -20,6 +20,9 @@ struct LocalPlane {
 // The plane of the neighbours of `points` (a grid's points(), `Neighbour::at` into it), summed
 // in the neighbours' order: the same neighbours in the same order give the same bits.
 LocalPlane fitLocalPlane(std::span<const GridPoint> points, std::span<const Neighbour> neighbours);
+// The same plane, the same bits, reading the neighbours from the index's tree order
+// (`Neighbour::in_tree`): the neighbours' positions lie together there.
+LocalPlane fitLocalPlane(const NeighbourIndex& index, std::span<const Neighbour> neighbours);
 
 // Eigen decomposition of a symmetric 3x3 matrix (cyclic Jacobi rotations): eigenvalues in
 // ascending order, eigenvector i in column i of `vectors`.

@@ -52,6 +52,7 @@ TEST(NeighbourIndex, NearestEqualsBruteForceWithTiesBrokenBySmallerId) {
           EXPECT_EQ(found[i].id, expected[i].id) << "query " << q << " k " << k;
           EXPECT_EQ(found[i].d2, expected[i].d2);
           EXPECT_EQ(grid.points()[found[i].at].id, found[i].id);
+          EXPECT_EQ(grid.treePoints()[found[i].in_tree].id, found[i].id);
         }
       }
     }
@@ -63,6 +64,41 @@ TEST(NeighbourIndex, NearestEqualsBruteForceWithTiesBrokenBySmallerId) {
     grid.nearest(500.0, 500.0, 500.0, 3, found);
     const std::vector<Neighbour> lonely = bruteNearest(points, 500.0, 500.0, 500.0, 3);
     for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(found[i].id, lonely[i].id);
+  }
+}
+
+TEST(NeighbourIndex, ClustersOfEveryDensityEqualBruteForce) {
+  // Dense clusters a few millimetres wide beside sparse points a hundred metres apart, as a scan
+  // is near and far from its station: the tree's boxes, split at Morton midpoints, are of every
+  // size. Every answer equals the brute force one, and the plane read in tree order has the
+  // same bits as the one read in the given order.
+  std::mt19937 rng(11);
+  std::normal_distribution<double> tight(0.0, 0.002);
+  std::uniform_real_distribution<double> wide(-100.0, 100.0);
+  std::vector<GridPoint> points;
+  for (int cluster = 0; cluster < 6; ++cluster) {
+    const double c[3] = {wide(rng), wide(rng), wide(rng) * 0.1};
+    for (int i = 0; i < 1500; ++i) {
+      points.push_back({c[0] + tight(rng), c[1] + tight(rng), c[2] + tight(rng), points.size()});
+    }
+  }
+  for (int i = 0; i < 800; ++i) points.push_back({wide(rng), wide(rng), wide(rng), points.size()});
+  std::shuffle(points.begin(), points.end(), rng);
+  const NeighbourIndex grid(points);
+  std::vector<Neighbour> found;
+  for (std::size_t q = 0; q < points.size(); q += 29) {
+    grid.nearest(points[q].x, points[q].y, points[q].z, 16, found);
+    const std::vector<Neighbour> expected =
+        bruteNearest(points, points[q].x, points[q].y, points[q].z, 16);
+    ASSERT_EQ(found.size(), expected.size());
+    for (std::size_t i = 0; i < found.size(); ++i) {
+      ASSERT_EQ(found[i].id, expected[i].id) << "query " << q;
+      ASSERT_EQ(found[i].d2, expected[i].d2);
+    }
+    const LocalPlane given = fitLocalPlane(grid.points(), found);
+    const LocalPlane in_tree = fitLocalPlane(grid, found);
+    for (int a = 0; a < 3; ++a) ASSERT_EQ(given.normal[a], in_tree.normal[a]);
+    ASSERT_EQ(given.curvature, in_tree.curvature);
   }
 }
 
