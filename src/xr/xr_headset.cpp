@@ -10,6 +10,8 @@
 #include <cstring>
 #include <vector>
 
+#include "xr/xr_actions.h"
+
 namespace parallax {
 namespace {
 
@@ -21,14 +23,14 @@ std::string resultName(XrInstance instance, XrResult result) {
   return "XrResult " + std::to_string(int(result));
 }
 
-void check(XrInstance instance, XrResult result, const char* call) {
+}  // namespace
+
+void xrCheck(XrInstance instance, XrResult result, const char* call) {
   if (XR_FAILED(result)) {
     throw XrError(std::string("OpenXR: ") + call + " failed: " + resultName(instance, result) +
                   " (runtime: " + xrRuntimeLookedFor() + ")");
   }
 }
-
-}  // namespace
 
 std::string xrRuntimeLookedFor() {
   if (const char* json = std::getenv("XR_RUNTIME_JSON"); json && *json) {
@@ -60,8 +62,10 @@ struct XrHeadset::State {
   XrSessionState session_state = XR_SESSION_STATE_UNKNOWN;
   bool running = false;
   XrSessionStats stats;
+  std::unique_ptr<XrActions> actions;
+  XrInput input;
 
-  void check(XrResult result, const char* call) const { parallax::check(instance, result, call); }
+  void check(XrResult result, const char* call) const { xrCheck(instance, result, call); }
   // OpenXR's two-call idiom: the count first, then that many elements filled, each starting as
   // `blank` (typed structs need their type set before the runtime fills them).
   template <typename T, typename Call>
@@ -185,6 +189,7 @@ XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_uni
   }
   space_info.poseInReferenceSpace.orientation.w = 1.0f;
   s.check(xrCreateReferenceSpace(s.session, &space_info, &s.space), "xrCreateReferenceSpace");
+  s.actions = std::make_unique<XrActions>(s.instance, s.session);
 
   const std::vector<int64_t> formats =
       s.enumerate("xrEnumerateSwapchainFormats", int64_t{},
@@ -221,6 +226,7 @@ XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_uni
 XrHeadset::~XrHeadset() {
   State& s = *state_;
   if (s.framebuffer) glDeleteFramebuffers(1, &s.framebuffer);
+  s.actions.reset();
   if (s.swapchain) xrDestroySwapchain(s.swapchain);
   if (s.space) xrDestroySpace(s.space);
   if (s.session) xrDestroySession(s.session);
@@ -306,6 +312,10 @@ XrSessionStats XrHeadset::run(const std::function<void(const XrFrameInfo&)>& dra
           layer_views[v].subImage.imageRect.extent = {s.eye_width, s.eye_height};
           layer_views[v].subImage.imageArrayIndex = 0;
         }
+        s.input.head = (eyes[0].pose.position + eyes[1].pose.position) / 2.0;
+        s.input.period_s = double(frame_state.predictedDisplayPeriod) * 1e-9;
+        s.actions->read(s.space, frame_state.predictedDisplayTime,
+                        s.session_state == XR_SESSION_STATE_FOCUSED, s.input);
         uint32_t index = 0;
         XrSwapchainImageAcquireInfo acquire{XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO};
         s.check(xrAcquireSwapchainImage(s.swapchain, &acquire, &index), "xrAcquireSwapchainImage");
@@ -314,7 +324,7 @@ XrSessionStats XrHeadset::run(const std::function<void(const XrFrameInfo&)>& dra
         s.check(xrWaitSwapchainImage(s.swapchain, &wait), "xrWaitSwapchainImage");
         glNamedFramebufferTexture(s.framebuffer, GL_COLOR_ATTACHMENT0, s.images[index].image, 0);
         draw({std::span<const XrEye>(eyes, 2), s.framebuffer, 2 * s.eye_width, s.eye_height,
-              s.stats.frames_drawn});
+              s.stats.frames_drawn, &s.input});
         // The runtime reads the image once it is released: the drawing must be finished.
         glFinish();
         XrSwapchainImageReleaseInfo release{XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO};

@@ -18,6 +18,7 @@
 
 #include "render/view.h"
 #include "xr/stage_mapping.h"
+#include "xr/xr_input.h"
 
 namespace parallax {
 
@@ -41,6 +42,9 @@ struct XrFrameInfo {
   GLuint framebuffer = 0;       // both eyes' picture: width x height, eyes side by side
   int width = 0, height = 0;
   long long index = 0;  // frames drawn before this one
+  // The controllers at the frame's predicted display time, the head between the eyes, the
+  // display period (xr_actions.h); hands are untracked while the session is not focused.
+  const XrInput* input = nullptr;
 };
 
 struct XrSessionStats {

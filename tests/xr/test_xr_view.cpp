@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
@@ -70,7 +72,8 @@ void writePly(const std::filesystem::path& path, const std::vector<TestPoint>& p
 }
 
 void writeConfig(const std::filesystem::path& path, const Eye (&eyes)[2], int width, int height,
-                 int frames, const std::filesystem::path& output) {
+                 int frames, const std::filesystem::path& output,
+                 const nlohmann::json& controllers = nullptr) {
   nlohmann::json views = nlohmann::json::array();
   for (const Eye& e : eyes) {
     views.push_back(
@@ -80,23 +83,25 @@ void writeConfig(const std::filesystem::path& path, const Eye (&eyes)[2], int wi
            {"orientation",
             {e.orientation.x, e.orientation.y, e.orientation.z, e.orientation.w}}}}});
   }
-  std::ofstream(path) << nlohmann::json{
-      {"views", views},
-      {"width", width},
-      {"height", height},
-      {"frames", frames},
-      {"output",
-       output.string()}}.dump();
+  nlohmann::json config{{"views", views},
+                        {"width", width},
+                        {"height", height},
+                        {"frames", frames},
+                        {"output", output.string()}};
+  if (!controllers.is_null()) config["controllers"] = controllers;
+  std::ofstream(path) << config.dump();
 }
 
 // Where the point lands in the eye's picture, x right and y down from the top-left corner
 // (pixels, continuous), written from the definitions alone: stage = ((X-Ox)S, (Z-Oz)S,
 // -(Y-Oy)S), eye space = the inverse of the eye's pose, the picture spans tan(left)..tan(right)
 // and tan(down)..tan(up) at unit depth. False when the point is behind the eye.
+// `moved` is what the controllers did to the world: stage position before -> after.
+using StageMove = std::function<glm::dvec3(const glm::dvec3&)>;
 bool project(const TestPoint& p, const Eye& eye, double scale, int width, int height,
-             glm::dvec2& pixel) {
+             glm::dvec2& pixel, const StageMove& moved) {
   const glm::dvec3 d = p.file - kOrigin;
-  const glm::dvec3 stage(d.x * scale, d.z * scale, -d.y * scale);
+  const glm::dvec3 stage = moved(glm::dvec3(d.x * scale, d.z * scale, -d.y * scale));
   const glm::dvec3 local = glm::conjugate(eye.orientation) * (stage - eye.position);
   if (local.z >= 0) return false;
   const double tx = local.x / -local.z, ty = local.y / -local.z;
@@ -138,8 +143,8 @@ class XrViewTest : public ::testing::Test {
 
   // Runs view --xr.
   test::RunResult run(const Eye (&eyes)[2], int width, int height, int frames,
-                      const std::string& extra = "") {
-    writeConfig(dir_ / "headset.json", eyes, width, height, frames, dir_ / "out");
+                      const std::string& extra = "", const nlohmann::json& controllers = nullptr) {
+    writeConfig(dir_ / "headset.json", eyes, width, height, frames, dir_ / "out", controllers);
     const auto result =
         runParallax(dir_, "view " + quoted((dir_ / "grid.ply").string()) + " --xr --xr-origin " +
                               std::to_string(kOrigin.x) + "," + std::to_string(kOrigin.y) + "," +
@@ -149,7 +154,9 @@ class XrViewTest : public ::testing::Test {
 
   // Every point in the picture is drawn in its colour within a pixel of where the CPU puts it,
   // and every lit pixel is such a point.
-  void expectProjection(const Eye& eye, const RgbaImage& image, double scale, int* inside_count) {
+  void expectProjection(
+      const Eye& eye, const RgbaImage& image, double scale, int* inside_count,
+      const StageMove& moved = [](const glm::dvec3& s) { return s; }) {
     const auto lit = litPixels(image);
     struct Projected {
       const TestPoint* point;
@@ -159,7 +166,7 @@ class XrViewTest : public ::testing::Test {
     std::vector<Projected> projected;
     for (const auto& p : points_) {
       glm::dvec2 px;
-      if (project(p, eye, scale, image.width, image.height, px)) {
+      if (project(p, eye, scale, image.width, image.height, px, moved)) {
         projected.push_back({&p, px, glm::length(p.file - kOrigin)});
       }
     }
@@ -286,6 +293,194 @@ TEST_F(XrViewTest, TheSessionRunsTheConfiguredFramesThenEnds) {
     }
   }
   EXPECT_FALSE(std::filesystem::exists(dir_ / "out" / "frame_3.json"));
+}
+
+// --- controllers (the test runtime's scripted "controllers", xr/locomotion.h's rules) ----------
+
+nlohmann::json poseJson(const glm::dvec3& p, const glm::dquat& q) {
+  return {{"position", {p.x, p.y, p.z}}, {"orientation", {q.x, q.y, q.z, q.w}}};
+}
+
+// Hands held behind the head and pointing backwards: their lasers stay out of the eyes' view, so
+// every lit pixel is still a point.
+const glm::dquat kBackwards = glm::angleAxis(glm::radians(180.0), glm::dvec3(0, 1, 0));
+nlohmann::json handJson(const glm::dvec3& grip, const nlohmann::json& inputs,
+                        const glm::dquat& aim = kBackwards) {
+  return {{"grip", poseJson(grip, aim)}, {"inputs", inputs}};
+}
+
+// Ry(a) v: a turn about the stage's vertical, counter-clockwise seen from above.
+glm::dvec3 turnY(const glm::dvec3& v, double a) {
+  return {std::cos(a) * v.x + std::sin(a) * v.z, v.y, -std::sin(a) * v.x + std::cos(a) * v.z};
+}
+
+struct Placement {
+  glm::dvec3 origin{0.0};
+  double scale = 0, yaw = 0;
+};
+// The placement `view --xr` reports at the end ("origin X,Y,Z, scale S, yaw A").
+Placement reportedPlacement(const std::string& err) {
+  Placement p;
+  const auto at = err.find("origin ");
+  EXPECT_NE(at, std::string::npos) << err;
+  if (at == std::string::npos) return p;
+  EXPECT_EQ(std::sscanf(err.c_str() + at, "origin %lf,%lf,%lf, scale %lf, yaw %lf", &p.origin.x,
+                        &p.origin.y, &p.origin.z, &p.scale, &p.yaw),
+            5)
+      << err;
+  return p;
+}
+// A file point's stage position under a reported placement: the mapping, then the yaw.
+glm::dvec3 stageOf(const Placement& p, const glm::dvec3& file) {
+  const glm::dvec3 d = file - p.origin;
+  return turnY({d.x * p.scale, d.z * p.scale, -d.y * p.scale}, p.yaw);
+}
+
+constexpr double kFramePeriod = 0.011111111;  // the test runtime's 90 Hz, in seconds
+
+TEST_F(XrViewTest, GrabbingWithOneHandMovesTheWorldWithTheHand) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const glm::dvec3 g0(0.2, 1.1, 0.3), d(0.5, -0.25, -1.0);
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames",
+       {{{"frame", 0}, {"right", handJson(g0, {{"squeeze/value", 1.0}})}},
+        {{"frame", 1}, {"right", handJson(g0 + d, {{"squeeze/value", 0.9}})}},
+        {{"frame", 2}, {"right", handJson(g0 + d, {{"squeeze/value", 0.0}})}}}}};
+  const auto result = run(eyes, 128, 96, 3, "", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto moved = [&](const glm::dvec3& s) { return s + d; };
+  for (int v = 0; v < 2; ++v) {
+    int inside = 0;
+    expectProjection(eyes[v],
+                     readPng(dir_ / "out" / ("frame_2_view_" + std::to_string(v) + ".png")), 1.0,
+                     &inside, moved);
+    EXPECT_GT(inside, 20);
+  }
+  const Placement p = reportedPlacement(result.err);
+  EXPECT_NEAR(p.scale, 1.0, 1e-12);
+  EXPECT_EQ(p.yaw, 0.0);
+  for (const auto& point : points_) {
+    const glm::dvec3 expected = stageOf({kOrigin, 1.0, 0.0}, point.file) + d;
+    EXPECT_NEAR(glm::length(stageOf(p, point.file) - expected), 0.0, 1e-6);
+  }
+}
+
+TEST_F(XrViewTest, TwoHandsScaleAndTurnTheWorldAboutTheirMidpoint) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const glm::dvec3 m0(0.0, 1.2, 0.4), m(0.1, 1.25, 0.2);
+  const double angle = glm::radians(15.0);
+  const glm::dvec3 half = turnY({0.3, 0.0, 0.0}, angle);  // 1.5 times the first span
+  const nlohmann::json squeeze{{"squeeze/value", 1.0}};
+  const nlohmann::json controllers{{"profile", "/interaction_profiles/valve/index_controller"},
+                                   {"frames",
+                                    {{{"frame", 0},
+                                      {"left", handJson(m0 - glm::dvec3(0.2, 0, 0), squeeze)},
+                                      {"right", handJson(m0 + glm::dvec3(0.2, 0, 0), squeeze)}},
+                                     {{"frame", 1},
+                                      {"left", handJson(m - half, squeeze)},
+                                      {"right", handJson(m + half, squeeze)}}}}};
+  const auto result = run(eyes, 128, 96, 2, "", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto moved = [&](const glm::dvec3& s) { return turnY(s - m0, angle) * 1.5 + m; };
+  for (int v = 0; v < 2; ++v) {
+    int inside = 0;
+    expectProjection(eyes[v],
+                     readPng(dir_ / "out" / ("frame_1_view_" + std::to_string(v) + ".png")), 1.0,
+                     &inside, moved);
+    EXPECT_GT(inside, 15);
+  }
+  const Placement p = reportedPlacement(result.err);
+  EXPECT_NEAR(p.scale, 1.5, 1e-6);
+  EXPECT_NEAR(p.yaw, angle, 1e-6);
+  for (const auto& point : points_) {
+    const glm::dvec3 expected = moved(stageOf({kOrigin, 1.0, 0.0}, point.file));
+    EXPECT_NEAR(glm::length(stageOf(p, point.file) - expected), 0.0, 1e-5);
+  }
+}
+
+TEST_F(XrViewTest, SnapTurnAboutTheHeadThenFlyForward) {
+  // Wide eyes, so that the grid stays in view after the turn.
+  Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  for (Eye& e : eyes) e.left = -1.2, e.right = 1.2;
+  const glm::dvec3 head(0.0, 1.6, 0.0);
+  const glm::dvec3 right_hand(0.2, 1.0, 0.3), left_hand(-0.2, 1.0, 0.3);
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames",
+       {{{"frame", 0}, {"right", handJson(right_hand, nlohmann::json::object())}},
+        {{"frame", 1}, {"right", handJson(right_hand, {{"thumbstick", {1.0, 0.0}}})}},
+        // Held past the first frame: one snap per push.
+        {{"frame", 2},
+         {"right", handJson(right_hand, {{"thumbstick", {0.95, 0.0}}})},
+         // The left hand aims backwards: pulling its stick back flies towards -z.
+         {"left", handJson(left_hand, {{"thumbstick", {0.0, -1.0}}})}}}}};
+  const auto result = run(eyes, 160, 96, 4, "", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const double snap = glm::radians(30.0);
+  // Frames 2 and 3 fly at 2 m/s for one display period each.
+  const glm::dvec3 flown(0.0, 0.0, 2.0 * 2.0 * kFramePeriod);
+  const auto moved = [&](const glm::dvec3& s) { return turnY(s - head, snap) + head + flown; };
+  for (int v = 0; v < 2; ++v) {
+    int inside = 0;
+    expectProjection(eyes[v],
+                     readPng(dir_ / "out" / ("frame_3_view_" + std::to_string(v) + ".png")), 1.0,
+                     &inside, moved);
+    EXPECT_GT(inside, 15);
+  }
+  const Placement p = reportedPlacement(result.err);
+  EXPECT_NEAR(p.yaw, snap, 1e-12);
+  for (const auto& point : points_) {
+    const glm::dvec3 expected = moved(stageOf({kOrigin, 1.0, 0.0}, point.file));
+    EXPECT_NEAR(glm::length(stageOf(p, point.file) - expected), 0.0, 1e-5);
+  }
+}
+
+// The orientation that turns -z (an aim's pointing direction) towards `direction`.
+glm::dquat aimingAt(const glm::dvec3& direction) {
+  const glm::dvec3 from(0, 0, -1), to = glm::normalize(direction);
+  const glm::dvec3 axis = glm::cross(from, to);
+  return glm::angleAxis(std::acos(glm::dot(from, to)), glm::normalize(axis));
+}
+
+TEST_F(XrViewTest, TheLaserPicksThePointItAimsAtAndMeasuresADistance) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const TestPoint& a = points_[7];
+  const TestPoint& b = points_[52];
+  const glm::dvec3 hand(0.15, 1.3, -0.2);
+  const auto stage = [](const glm::dvec3& file) {
+    const glm::dvec3 d = file - kOrigin;
+    return glm::dvec3(d.x, d.z, -d.y);
+  };
+  const auto aim = [&](const TestPoint& p, bool click) {
+    return nlohmann::json{{"grip", poseJson(hand, glm::dquat(1, 0, 0, 0))},
+                          {"aim", poseJson(hand, aimingAt(stage(p.file) - hand))},
+                          {"inputs", {{"select/click", click}}}};
+  };
+  const nlohmann::json controllers{{"profile", "/interaction_profiles/khr/simple_controller"},
+                                   {"frames",
+                                    {{{"frame", 0}, {"right", aim(a, false)}},
+                                     {{"frame", 1}, {"right", aim(a, true)}},
+                                     {{"frame", 2}, {"right", aim(b, false)}},
+                                     {{"frame", 3}, {"right", aim(b, true)}}}}};
+  const auto result = run(eyes, 128, 96, 4, "", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::vector<glm::dvec3> picks;
+  for (std::size_t at = result.err.find("laser pick "); at != std::string::npos;
+       at = result.err.find("laser pick ", at + 1)) {
+    glm::dvec3 p;
+    ASSERT_EQ(std::sscanf(result.err.c_str() + at, "laser pick %lf,%lf,%lf", &p.x, &p.y, &p.z), 3);
+    picks.push_back(p);
+  }
+  ASSERT_EQ(picks.size(), 2u) << result.err;
+  // The file's values as the cloud stores them (quantized to its scale: well under a millimetre).
+  EXPECT_LT(glm::length(picks[0] - a.file), 1e-3) << result.err;
+  EXPECT_LT(glm::length(picks[1] - b.file), 1e-3) << result.err;
+  const auto at = result.err.find("distance ");
+  ASSERT_NE(at, std::string::npos) << result.err;
+  double distance = 0;
+  ASSERT_EQ(std::sscanf(result.err.c_str() + at, "distance %lf", &distance), 1);
+  EXPECT_NEAR(distance, glm::length(a.file - b.file), 2e-3);
 }
 
 TEST_F(XrViewTest, WithoutARuntimeTheMessageNamesTheRuntimeLookedFor) {
