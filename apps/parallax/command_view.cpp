@@ -157,6 +157,8 @@ Command addViewCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   sub->add_flag("--xr-tabletop", options->xr_options.tabletop,
                 "Fit the cloud in 1 m (a tabletop model) instead of true scale");
+  sub->add_flag("--xr-vignette", options->xr_options.vignette,
+                "Fade the edges of the view to black while flying (a comfort option)");
   sub->add_option("--xr-frames", options->xr_options.frames,
                   "End the session after N frames (0: when the runtime ends it)")
       ->check(CLI::NonNegativeNumber);

@@ -13,6 +13,7 @@
 #include "render/point_picker.h"
 #include "render/renderer.h"
 #include "render_scene.h"
+#include "xr/comfort_vignette.h"
 #include "xr/locomotion.h"
 #include "xr/stage_mapping.h"
 #include "xr/xr_headset.h"
@@ -93,6 +94,8 @@ int runXrView(const XrViewOptions& o) {
   MeasurementDocument measurements;
   Measurement distance;  // the distance the trigger is measuring: its first point, or none
   Renderer renderer;
+  std::unique_ptr<ComfortVignette> vignette;
+  if (o.vignette) vignette = std::make_unique<ComfortVignette>();
   std::optional<RenderSettings> settings;
   std::unique_ptr<RenderTarget> canvas;  // both eyes, each in a viewport taller than its picture
   FrameStats last;
@@ -157,6 +160,10 @@ int runXrView(const XrViewOptions& o) {
           glBlitNamedFramebuffer(canvas->framebuffer(), frame.framebuffer, to.x, from_y,
                                  to.x + to.width, from_y + to.height, to.x, to.y, to.x + to.width,
                                  to.y + to.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        }
+        if (vignette && locomotion.flying()) {
+          for (const XrEye& eye : frame.eyes)
+            vignette->draw(frame.framebuffer, eye.viewport, eye.fov);
         }
       },
       o.frames);

@@ -436,6 +436,37 @@ TEST_F(XrViewTest, SnapTurnAboutTheHeadThenFlyForward) {
   }
 }
 
+TEST_F(XrViewTest, TheVignetteHidesTheEdgesOnlyWhileFlying) {
+  Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  for (Eye& e : eyes) e.left = -1.0, e.right = 1.0, e.up = 0.9, e.down = -0.9;
+  const glm::dvec3 left_hand(-0.2, 1.0, 0.3);
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames",
+       {{{"frame", 0}, {"left", handJson(left_hand, nlohmann::json::object())}},
+        {{"frame", 1}, {"left", handJson(left_hand, {{"thumbstick", {0.0, -1.0}}})}}}}};
+  const int width = 160, height = 120;
+  const auto result = run(eyes, width, height, 2, "--xr-vignette", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  // Lit pixels by their tangent's distance from the eye's forward direction.
+  const auto count = [&](int frame, double from, double to) {
+    int n = 0;
+    const Eye& e = eyes[0];
+    for (const Lit& l :
+         litPixels(readPng(dir_ / "out" / ("frame_" + std::to_string(frame) + "_view_0.png")))) {
+      const double tx =
+          std::tan(e.left) + (l.x + 0.5) / width * (std::tan(e.right) - std::tan(e.left));
+      const double ty = std::tan(e.up) - (l.y + 0.5) / height * (std::tan(e.up) - std::tan(e.down));
+      const double r = std::hypot(tx, ty);
+      n += r >= from && r < to;
+    }
+    return n;
+  };
+  EXPECT_GT(count(0, 0.85, 100.0), 5) << "standing still: the edges are shown";
+  EXPECT_EQ(count(1, 0.85, 100.0), 0) << "flying: the edges are black";
+  EXPECT_GT(count(1, 0.0, 0.45), 5) << "flying: the centre is still shown";
+}
+
 // The orientation that turns -z (an aim's pointing direction) towards `direction`.
 glm::dquat aimingAt(const glm::dvec3& direction) {
   const glm::dvec3 from(0, 0, -1), to = glm::normalize(direction);
