@@ -18,7 +18,7 @@ struct XrViewOptions {
   std::vector<double> origin;  // --xr-origin X,Y,Z; empty: the centre of the cloud's base
   double scale = 0.0;          // --xr-scale S; 0: 1 (true scale), or the tabletop preset's
   bool tabletop = false;       // --xr-tabletop: the cloud fits in 1 m
-  bool vignette = false;  // --xr-vignette: narrow the view while flying
+  bool vignette = false;       // --xr-vignette: narrow the view while flying
   long long frames = 0;  // --xr-frames N: end the session after N frames; 0: the runtime ends it
 };
 
