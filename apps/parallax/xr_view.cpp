@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "render/point_picker.h"
 #include "render/renderer.h"
 #include "render_scene.h"
+#include "viewer/xr_mirror_window.h"
 #include "xr/comfort_vignette.h"
 #include "xr/locomotion.h"
 #include "xr/stage_mapping.h"
@@ -76,7 +78,18 @@ int runXrView(const XrViewOptions& o) {
   pointFilterFrom(o.render.filter, FilterTarget::Gpu);
   RenderSource source = openRenderSource({.input = o.input, .command = "view"}, o.lod);
   paintScalarColors(source, o.render, false, "view");
-  auto context = GlContext::createHeadless();
+  // With a display, the mirror window's GLX context draws (XR_KHR_opengl_enable's Xlib
+  // binding); without one, a headless EGL context (XR_MNDX_egl_enable).
+  std::unique_ptr<XrMirrorWindow> mirror;
+  std::unique_ptr<GlContext> context;
+  const char* display = std::getenv("DISPLAY");
+  if (!o.no_mirror && display && *display) {
+    mirror = std::make_unique<XrMirrorWindow>(o.mirror_width, o.mirror_height,
+                                              "Parallax - " + o.input + " (XR mirror)");
+    context = GlContext::adoptCurrent();
+  } else {
+    context = GlContext::createHeadless();
+  }
   // The cloud is kept for the laser's picks (exact source values, as `pick` reports them).
   RenderScene scene = uploadRenderSource(source, true);
   std::unique_ptr<PickSource> pick_source = source.lod()
@@ -165,17 +178,21 @@ int runXrView(const XrViewOptions& o) {
           for (const XrEye& eye : frame.eyes)
             vignette->draw(frame.framebuffer, eye.viewport, eye.fov);
         }
+        if (mirror && !mirror->show(frame.framebuffer, frame.eyes[0].viewport)) {
+          headset.requestExit();
+        }
       },
       o.frames);
   // The placement as the controllers left it, to the last digit (tests compare it).
   const StagePlacement& end = locomotion.placement();
-  std::fprintf(stderr,
-               "parallax view --xr: %s on %s, %lld frames of 2 x %dx%d drawn (%llu points, "
-               "rasterizer %s), origin %.17g,%.17g,%.17g, scale %.17g, yaw %.17g\n",
-               stats.system.c_str(), stats.runtime.c_str(), stats.frames_drawn, stats.eye_width,
-               stats.eye_height, static_cast<unsigned long long>(last.points_drawn),
-               last.rasterizer == RasterizerKind::Compute ? "compute" : "points", end.origin.x,
-               end.origin.y, end.origin.z, end.scale, end.yaw);
+  std::fprintf(
+      stderr,
+      "parallax view --xr: %s on %s through %s, %lld frames of 2 x %dx%d drawn (%llu points, "
+      "rasterizer %s), origin %.17g,%.17g,%.17g, scale %.17g, yaw %.17g\n",
+      stats.system.c_str(), stats.runtime.c_str(), stats.binding.c_str(), stats.frames_drawn,
+      stats.eye_width, stats.eye_height, static_cast<unsigned long long>(last.points_drawn),
+      last.rasterizer == RasterizerKind::Compute ? "compute" : "points", end.origin.x, end.origin.y,
+      end.origin.z, end.scale, end.yaw);
   return 0;
 }
 

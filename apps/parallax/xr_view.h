@@ -18,7 +18,9 @@ struct XrViewOptions {
   std::vector<double> origin;  // --xr-origin X,Y,Z; empty: the centre of the cloud's base
   double scale = 0.0;          // --xr-scale S; 0: 1 (true scale), or the tabletop preset's
   bool tabletop = false;       // --xr-tabletop: the cloud fits in 1 m
-  bool vignette = false;       // --xr-vignette: narrow the view while flying
+  bool no_mirror = false;      // --xr-no-mirror: draw headless even where a display is
+  int mirror_width = 1280, mirror_height = 720;  // view's --width, --height
+  bool vignette = false;                         // --xr-vignette: narrow the view while flying
   long long frames = 0;  // --xr-frames N: end the session after N frames; 0: the runtime ends it
 };
 

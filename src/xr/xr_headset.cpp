@@ -1,8 +1,10 @@
 #include "xr/xr_headset.h"
 
 #include <epoxy/egl.h>
+#include <epoxy/glx.h>
 #define XR_USE_GRAPHICS_API_OPENGL
 #define XR_USE_PLATFORM_EGL
+#define XR_USE_PLATFORM_XLIB
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
 
@@ -81,8 +83,14 @@ struct XrHeadset::State {
 
 XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_unique<State>()) {
   State& s = *state_;
-  // The EGL binding needs the runtime's XR_MNDX_egl_enable (and XR_KHR_opengl_enable, which it
-  // builds on); a runtime without them cannot draw into this headless context.
+  // The binding follows the context that is current: a headless EGL context needs the runtime's
+  // XR_MNDX_egl_enable (and XR_KHR_opengl_enable, which it builds on); a window's GLX context
+  // (the mirror) the Xlib binding of XR_KHR_opengl_enable alone, which every OpenGL runtime and
+  // Debian's core validation layer know.
+  const bool egl = eglGetCurrentContext() != EGL_NO_CONTEXT;
+  if (!egl && glXGetCurrentContext() == nullptr) {
+    throw XrError("OpenXR: no current EGL or GLX context to draw the headset's frames with");
+  }
   uint32_t count = 0;
   XrResult result = xrEnumerateInstanceExtensionProperties(nullptr, 0, &count, nullptr);
   if (XR_FAILED(result)) {
@@ -97,18 +105,22 @@ XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_uni
     has_gl |= std::strcmp(e.extensionName, XR_KHR_OPENGL_ENABLE_EXTENSION_NAME) == 0;
     has_egl |= std::strcmp(e.extensionName, XR_MNDX_EGL_ENABLE_EXTENSION_NAME) == 0;
   }
-  if (!has_gl || !has_egl) {
+  if (!has_gl || (egl && !has_egl)) {
     throw XrError("OpenXR runtime (" + xrRuntimeLookedFor() + ") lacks " +
-                  (has_gl ? "" : "XR_KHR_opengl_enable ") + (has_egl ? "" : "XR_MNDX_egl_enable ") +
-                  "which headless OpenGL drawing needs");
+                  (has_gl ? "" : "XR_KHR_opengl_enable ") +
+                  (egl && !has_egl ? "XR_MNDX_egl_enable " : "") +
+                  (egl ? "which headless OpenGL drawing needs (a window, on a display, would "
+                         "need only XR_KHR_opengl_enable)"
+                       : "which OpenGL drawing needs"));
   }
+  // XR_KHR_opengl_enable first: the GLX binding enables it alone.
   const char* enabled[] = {XR_KHR_OPENGL_ENABLE_EXTENSION_NAME, XR_MNDX_EGL_ENABLE_EXTENSION_NAME};
   XrInstanceCreateInfo create{XR_TYPE_INSTANCE_CREATE_INFO};
   std::snprintf(create.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "%s",
                 application_name.c_str());
   std::snprintf(create.applicationInfo.engineName, XR_MAX_ENGINE_NAME_SIZE, "Parallax");
   create.applicationInfo.apiVersion = XR_CURRENT_API_VERSION;
-  create.enabledExtensionCount = 2;
+  create.enabledExtensionCount = egl ? 2 : 1;
   create.enabledExtensionNames = enabled;
   result = xrCreateInstance(&create, &s.instance);
   if (XR_FAILED(result)) {
@@ -159,21 +171,44 @@ XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_uni
   s.check(requirements_fn(s.instance, s.system, &requirements),
           "xrGetOpenGLGraphicsRequirementsKHR");
 
-  XrGraphicsBindingEGLMNDX binding{XR_TYPE_GRAPHICS_BINDING_EGL_MNDX};
-  binding.getProcAddress = eglGetProcAddress;
-  binding.display = eglGetCurrentDisplay();
-  binding.context = eglGetCurrentContext();
-  if (binding.display == EGL_NO_DISPLAY || binding.context == EGL_NO_CONTEXT) {
-    throw XrError("OpenXR: no current EGL context to draw the headset's frames with");
-  }
-  EGLint config_id = 0;
-  eglQueryContext(binding.display, binding.context, EGL_CONFIG_ID, &config_id);
-  const EGLint attributes[] = {EGL_CONFIG_ID, config_id, EGL_NONE};
-  EGLint configs = 0;
-  binding.config = nullptr;
-  if (config_id > 0) eglChooseConfig(binding.display, attributes, &binding.config, 1, &configs);
+  XrGraphicsBindingEGLMNDX egl_binding{XR_TYPE_GRAPHICS_BINDING_EGL_MNDX};
+  XrGraphicsBindingOpenGLXlibKHR glx_binding{XR_TYPE_GRAPHICS_BINDING_OPENGL_XLIB_KHR};
   XrSessionCreateInfo session_info{XR_TYPE_SESSION_CREATE_INFO};
-  session_info.next = &binding;
+  if (egl) {
+    egl_binding.getProcAddress = eglGetProcAddress;
+    egl_binding.display = eglGetCurrentDisplay();
+    egl_binding.context = eglGetCurrentContext();
+    EGLint config_id = 0;
+    eglQueryContext(egl_binding.display, egl_binding.context, EGL_CONFIG_ID, &config_id);
+    const EGLint attributes[] = {EGL_CONFIG_ID, config_id, EGL_NONE};
+    EGLint configs = 0;
+    egl_binding.config = nullptr;
+    if (config_id > 0) {
+      eglChooseConfig(egl_binding.display, attributes, &egl_binding.config, 1, &configs);
+    }
+    session_info.next = &egl_binding;
+    s.stats.binding = "EGL (XR_MNDX_egl_enable)";
+  } else {
+    glx_binding.xDisplay = glXGetCurrentDisplay();
+    glx_binding.glxContext = glXGetCurrentContext();
+    glx_binding.glxDrawable = glXGetCurrentDrawable();
+    // The context's framebuffer configuration and its visual, as the binding asks for them.
+    int config_id = 0, screen = 0;
+    glXQueryContext(glx_binding.xDisplay, glx_binding.glxContext, GLX_FBCONFIG_ID, &config_id);
+    glXQueryContext(glx_binding.xDisplay, glx_binding.glxContext, GLX_SCREEN, &screen);
+    const int attributes[] = {GLX_FBCONFIG_ID, config_id, 0};
+    int configs = 0;
+    GLXFBConfig* found = glXChooseFBConfig(glx_binding.xDisplay, screen, attributes, &configs);
+    if (found && configs > 0) {
+      glx_binding.glxFBConfig = found[0];
+      int visual = 0;
+      glXGetFBConfigAttrib(glx_binding.xDisplay, found[0], GLX_VISUAL_ID, &visual);
+      glx_binding.visualid = uint32_t(visual);
+    }
+    if (found) XFree(found);
+    session_info.next = &glx_binding;
+    s.stats.binding = "GLX (XR_KHR_opengl_enable)";
+  }
   session_info.systemId = s.system;
   s.check(xrCreateSession(s.instance, &session_info, &s.session), "xrCreateSession");
 
@@ -343,8 +378,9 @@ XrSessionStats XrHeadset::run(const std::function<void(const XrFrameInfo&)>& dra
     s.check(xrEndFrame(s.session, &end), "xrEndFrame");
     ++s.stats.frames_ended;
     if (submit) ++s.stats.frames_drawn;
-    if (stop_after > 0 && s.stats.frames_drawn >= stop_after &&
+    if (((stop_after > 0 && s.stats.frames_drawn >= stop_after) || exit_wanted_) &&
         s.session_state != XR_SESSION_STATE_STOPPING) {
+      exit_wanted_ = false;
       s.check(xrRequestExitSession(s.session), "xrRequestExitSession");
       stop_after = 0;
     }

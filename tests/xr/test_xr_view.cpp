@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "../render/viewer_window_support.h"
 #include "render/image_file.h"
 #include "support/run_parallax.h"
 #include "support/temp_dir.h"
@@ -131,11 +132,14 @@ class XrViewTest : public ::testing::Test {
  protected:
   void SetUp() override {
     setenv("XR_RUNTIME_JSON", PARALLAX_XR_TEST_RUNTIME, 1);
-    // Not under the core validation layer yet: Debian's build of it (1.0.20) rejects
-    // XrGraphicsBindingEGLMNDX in XrSessionCreateInfo's next chain ("Invalid structure(s) in
-    // next chain", VUID-XrSessionCreateInfo-next-next) although XR_MNDX_egl_enable is enabled:
-    // it was built without XR_USE_PLATFORM_EGL. The GLX binding (XR_KHR_opengl_enable, under
-    // Xvfb) would pass it; see src/xr/NOTES.md.
+    // Headless (EGL) unless a test opens a display: with DISPLAY, view --xr opens the mirror.
+    unsetenv("DISPLAY");
+    unsetenv("XR_ENABLE_API_LAYERS");
+    // The headless tests are not under the core validation layer: Debian's build of it (1.0.20)
+    // rejects XrGraphicsBindingEGLMNDX in XrSessionCreateInfo's next chain ("Invalid
+    // structure(s) in next chain", VUID-XrSessionCreateInfo-next-next) although
+    // XR_MNDX_egl_enable is enabled: it was built without XR_USE_PLATFORM_EGL. The tests under
+    // Xvfb below use the GLX binding (the mirror window's context) and run under the layer.
     setenv("PARALLAX_XR_TEST", (dir_ / "headset.json").c_str(), 1);
     points_ = gridPoints();
     writePly(dir_ / "grid.ply", points_);
@@ -512,6 +516,78 @@ TEST_F(XrViewTest, TheLaserPicksThePointItAimsAtAndMeasuresADistance) {
   double distance = 0;
   ASSERT_EQ(std::sscanf(result.err.c_str() + at, "distance %lf", &distance), 1);
   EXPECT_NEAR(distance, glm::length(a.file - b.file), 2e-3);
+}
+
+// --- under Xvfb: the mirror window's GLX context, the Khronos core validation layer ----------
+
+class XrViewValidatedTest : public XrViewTest {
+ protected:
+  void SetUp() override {
+    XrViewTest::SetUp();
+    display_ = std::make_unique<test::Display>(dir_);
+    ASSERT_FALSE(display_->name().empty())
+        << "Xvfb did not start: " << test::readFile(dir_ / "xvfb.log");
+    setenv("DISPLAY", display_->name().c_str(), 1);
+    setenv("XR_ENABLE_API_LAYERS", "XR_APILAYER_LUNARG_core_validation", 1);
+  }
+  void TearDown() override { unsetenv("DISPLAY"); }
+
+  // The layer ran (it announces its output type on stderr) and reported nothing: every message
+  // of it starts "[VALID_" (errors, warnings, performance warnings alike), on stdout.
+  static void expectValidated(const test::RunResult& result) {
+    EXPECT_NE(result.err.find("Core Validation output type"), std::string::npos)
+        << "the core validation layer did not run: " << result.err;
+    EXPECT_EQ(result.out.find("[VALID_"), std::string::npos) << result.out;
+    EXPECT_EQ(result.err.find("[VALID_"), std::string::npos) << result.err;
+    EXPECT_NE(result.err.find("through GLX (XR_KHR_opengl_enable)"), std::string::npos)
+        << result.err;
+  }
+
+  std::unique_ptr<test::Display> display_;
+};
+
+TEST_F(XrViewValidatedTest, TheLifecycleRunsCleanUnderTheValidationLayer) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const auto result = run(eyes, 32, 24, 3, "--width 320 --height 200");
+  ASSERT_EQ(result.exit_code, 0) << result.err << result.out;
+  expectValidated(result);
+  EXPECT_NE(result.err.find("3 frames of 2 x 32x24 drawn"), std::string::npos) << result.err;
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "out" / "frame_2.json"));
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "out" / "frame_3.json"));
+}
+
+TEST_F(XrViewValidatedTest, EyesEqualACpuProjectionUnderTheValidationLayer) {
+  const glm::dquat head = glm::angleAxis(glm::radians(-8.0), glm::dvec3(0, 1, 0));
+  const glm::dvec3 centre(-0.1, 1.5, 0.2);
+  const Eye eyes[2] = {{-0.8, 0.6, 0.5, -0.7, centre + head * glm::dvec3(-0.032, 0, 0), head},
+                       {-0.6, 0.8, 0.5, -0.7, centre + head * glm::dvec3(0.032, 0, 0), head}};
+  const auto result = run(eyes, 140, 110, 1);
+  ASSERT_EQ(result.exit_code, 0) << result.err << result.out;
+  expectValidated(result);
+  for (int v = 0; v < 2; ++v) {
+    int inside = 0;
+    expectProjection(eyes[v],
+                     readPng(dir_ / "out" / ("frame_0_view_" + std::to_string(v) + ".png")), 1.0,
+                     &inside);
+    EXPECT_GT(inside, 30);
+  }
+}
+
+TEST_F(XrViewValidatedTest, ControllersRunCleanUnderTheValidationLayer) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const glm::dvec3 g0(0.2, 1.1, 0.3), d(-0.3, 0.1, -0.5);
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames",
+       {{{"frame", 0}, {"right", handJson(g0, {{"squeeze/value", 1.0}})}},
+        {{"frame", 1}, {"right", handJson(g0 + d, {{"squeeze/value", 1.0}})}}}}};
+  const auto result = run(eyes, 128, 96, 2, "", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err << result.out;
+  expectValidated(result);
+  int inside = 0;
+  expectProjection(eyes[0], readPng(dir_ / "out" / "frame_1_view_0.png"), 1.0, &inside,
+                   [&](const glm::dvec3& s) { return s + d; });
+  EXPECT_GT(inside, 20);
 }
 
 TEST_F(XrViewTest, WithoutARuntimeTheMessageNamesTheRuntimeLookedFor) {
