@@ -48,6 +48,7 @@ int runView(const ViewCommandOptions& o, const CLI::App& command,
     xr.input = o.input;
     xr.render = o.render;
     xr.lod = o.lod;
+    xr.look = viewerLookChoiceFrom(command);
     xr.mirror_width = o.width;
     xr.mirror_height = o.height;
     if (xr.input.empty()) throw std::invalid_argument("--xr needs an INPUT");

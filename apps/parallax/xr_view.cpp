@@ -1,6 +1,7 @@
 #include "xr_view.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -16,6 +17,7 @@
 #include "render_scene.h"
 #include "viewer/xr_mirror_window.h"
 #include "xr/comfort_vignette.h"
+#include "xr/frame_budget.h"
 #include "xr/locomotion.h"
 #include "xr/stage_mapping.h"
 #include "xr/xr_headset.h"
@@ -110,10 +112,16 @@ int runXrView(const XrViewOptions& o) {
   std::unique_ptr<ComfortVignette> vignette;
   if (o.vignette) vignette = std::make_unique<ComfortVignette>();
   std::optional<RenderSettings> settings;
+  // An octree's point budget follows the frame time (a whole cloud is drawn whole).
+  FrameBudget frame_budget(
+      {.most = o.lod.budget, .least = std::min<std::uint64_t>(100'000, o.lod.budget)});
+  LodOptions lod = o.lod;
   std::unique_ptr<RenderTarget> canvas;  // both eyes, each in a viewport taller than its picture
   FrameStats last;
   const XrSessionStats stats = headset.run(
       [&](const XrFrameInfo& frame) {
+        const auto frame_start = std::chrono::steady_clock::now();
+        lod.budget = frame_budget.budget();
         const LocomotionEvents events =
             frame.input ? locomotion.update(*frame.input) : LocomotionEvents{};
         StereoFrame views;
@@ -132,8 +140,17 @@ int runXrView(const XrViewOptions& o) {
         };
         placeEyes();
         // One draw set (one LOD selection, one node cache) for both eyes, drawn in one pass.
-        const DrawSet* draw_set = &frameDrawSet(scene, source, views, o.lod);
-        if (!settings) settings = renderSettingsFrom(o.render, draw_set->typical_spacing);
+        const DrawSet* draw_set = &frameDrawSet(scene, source, views, lod);
+        if (!settings) {
+          // view's look: what the options leave open, chosen for the cloud as the window does.
+          const RenderSettings asked = renderSettingsFrom(o.render, draw_set->typical_spacing);
+          const LookTraits traits =
+              source.lod() ? LookTraits{.spacing_known = source.octree->info().spacing > 0,
+                                        .has_normals = source.octree->info().has_normals}
+                           : LookTraits{.spacing_known = scene.gpu->typicalSpacing() > 0,
+                                        .has_normals = scene.gpu->hasNormals()};
+          settings = viewerLook(asked, asked, o.look, traits);
+        }
         for (int h = 0; h < 2 && frame.input; ++h) {
           if (!events.pick[h] && !events.teleport[h]) continue;
           const View laser = laserView(locomotion.placement(), frame.input->hands[h].aim);
@@ -148,7 +165,7 @@ int runXrView(const XrViewOptions& o) {
           if (events.teleport[h]) {
             locomotion.teleportTo(hit->position, frame.input->head);
             placeEyes();
-            draw_set = &frameDrawSet(scene, source, views, o.lod);
+            draw_set = &frameDrawSet(scene, source, views, lod);
             continue;
           }
           // The distance tool: two picks make a measurement.
@@ -181,6 +198,11 @@ int runXrView(const XrViewOptions& o) {
         if (mirror && !mirror->show(frame.framebuffer, frame.eyes[0].viewport)) {
           headset.requestExit();
         }
+        if (scene.lod && frame.input) {
+          glFinish();  // the frame's whole cost, as the runtime will wait for it
+          const std::chrono::duration<double> took = std::chrono::steady_clock::now() - frame_start;
+          frame_budget.update(took.count(), frame.input->period_s, last.points_drawn);
+        }
       },
       o.frames);
   // The placement as the controllers left it, to the last digit (tests compare it).
@@ -188,11 +210,12 @@ int runXrView(const XrViewOptions& o) {
   std::fprintf(
       stderr,
       "parallax view --xr: %s on %s through %s, %lld frames of 2 x %dx%d drawn (%llu points, "
-      "rasterizer %s), origin %.17g,%.17g,%.17g, scale %.17g, yaw %.17g\n",
+      "rasterizer %s, budget %llu), origin %.17g,%.17g,%.17g, scale %.17g, yaw %.17g\n",
       stats.system.c_str(), stats.runtime.c_str(), stats.binding.c_str(), stats.frames_drawn,
       stats.eye_width, stats.eye_height, static_cast<unsigned long long>(last.points_drawn),
-      last.rasterizer == RasterizerKind::Compute ? "compute" : "points", end.origin.x, end.origin.y,
-      end.origin.z, end.scale, end.yaw);
+      last.rasterizer == RasterizerKind::Compute ? "compute" : "points",
+      static_cast<unsigned long long>(scene.lod ? frame_budget.budget() : scene.points),
+      end.origin.x, end.origin.y, end.origin.z, end.scale, end.yaw);
   return 0;
 }
 

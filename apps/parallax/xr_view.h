@@ -20,8 +20,9 @@ struct XrViewOptions {
   bool tabletop = false;       // --xr-tabletop: the cloud fits in 1 m
   bool no_mirror = false;      // --xr-no-mirror: draw headless even where a display is
   int mirror_width = 1280, mirror_height = 720;  // view's --width, --height
-  bool vignette = false;                         // --xr-vignette: narrow the view while flying
-  long long frames = 0;  // --xr-frames N: end the session after N frames; 0: the runtime ends it
+  ViewerLookChoice look;  // what view's options leave to the viewer (its look defaults)
+  bool vignette = false;  // --xr-vignette: narrow the view while flying
+  long long frames = 0;   // --xr-frames N: end the session after N frames; 0: the runtime ends it
 };
 
 // Runs the session; 0 when the runtime ended it. Throws XrError (no runtime, no headset: the

@@ -149,10 +149,10 @@ class XrViewTest : public ::testing::Test {
   test::RunResult run(const Eye (&eyes)[2], int width, int height, int frames,
                       const std::string& extra = "", const nlohmann::json& controllers = nullptr) {
     writeConfig(dir_ / "headset.json", eyes, width, height, frames, dir_ / "out", controllers);
-    const auto result =
-        runParallax(dir_, "view " + quoted((dir_ / "grid.ply").string()) + " --xr --xr-origin " +
-                              std::to_string(kOrigin.x) + "," + std::to_string(kOrigin.y) + "," +
-                              std::to_string(kOrigin.z) + " " + extra);
+    const auto result = runParallax(
+        dir_, "view " + quoted((dir_ / "grid.ply").string()) + " --xr --point-size 1 --xr-origin " +
+                  std::to_string(kOrigin.x) + "," + std::to_string(kOrigin.y) + "," +
+                  std::to_string(kOrigin.z) + " " + extra);
     return result;
   }
 
@@ -297,6 +297,25 @@ TEST_F(XrViewTest, TheSessionRunsTheConfiguredFramesThenEnds) {
     }
   }
   EXPECT_FALSE(std::filesystem::exists(dir_ / "out" / "frame_3.json"));
+}
+
+TEST_F(XrViewTest, TakesViewsLookDefaultsAdaptiveRoundPoints) {
+  // Without --point-size, --size-mode or --shape, view (the window and --xr alike) sizes round
+  // points to the local spacing: the grid's points (1 m apart, 3 to 8 m away) cover many pixels
+  // each, where --point-size 1 (render's look) lights about one.
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  writeConfig(dir_ / "headset.json", eyes, 160, 120, 1, dir_ / "out");
+  const std::string origin = " --xr-origin " + std::to_string(kOrigin.x) + "," +
+                             std::to_string(kOrigin.y) + "," + std::to_string(kOrigin.z);
+  const std::string input = "view " + quoted((dir_ / "grid.ply").string()) + " --xr" + origin;
+  auto result = runParallax(dir_, input + " --point-size 1");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto one_pixel = litPixels(readPng(dir_ / "out" / "frame_0_view_0.png")).size();
+  result = runParallax(dir_, input);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto adaptive = litPixels(readPng(dir_ / "out" / "frame_0_view_0.png")).size();
+  EXPECT_GT(one_pixel, 40u);
+  EXPECT_GT(adaptive, 4 * one_pixel) << one_pixel << " pixels at 1 px, " << adaptive << " adaptive";
 }
 
 // --- controllers (the test runtime's scripted "controllers", xr/locomotion.h's rules) ----------
