@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "commands.h"
 #include "render_options.h"
 
 namespace parallax::cli {
@@ -31,5 +32,9 @@ int runXrView(const XrViewOptions& options);
 
 // False in a build without OpenXR.
 bool xrViewAvailable();
+
+// `bench xr` (command_bench_xr.cpp; without OpenXR, xr_view_none.cpp's says so), registered by
+// addBenchCommand.
+Command addBenchXrCommand(CLI::App& bench);
 
 }  // namespace parallax::cli
