@@ -537,6 +537,26 @@ TEST_F(XrViewTest, TheLaserPicksThePointItAimsAtAndMeasuresADistance) {
   EXPECT_NEAR(distance, glm::length(a.file - b.file), 2e-3);
 }
 
+TEST_F(XrViewTest, TheAButtonTeleportsToTheLaserPointOnTheFloorUnderTheHead) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const TestPoint& target = points_[33];
+  const glm::dvec3 hand(0.15, 1.3, -0.2);
+  const glm::dvec3 d = target.file - kOrigin;
+  const nlohmann::json aim{{"grip", poseJson(hand, glm::dquat(1, 0, 0, 0))},
+                           {"aim", poseJson(hand, aimingAt(glm::dvec3(d.x, d.z, -d.y) - hand))}};
+  nlohmann::json pressed = aim;
+  pressed["inputs"] = {{"a/click", true}};
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames", {{{"frame", 0}, {"right", aim}}, {{"frame", 1}, {"right", pressed}}}}};
+  const auto result = run(eyes, 96, 72, 2, "", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  // The head is at (0, 1.6, 0): the point comes to the stage's origin, on the floor.
+  const Placement p = reportedPlacement(result.err);
+  EXPECT_LT(glm::length(stageOf(p, target.file)), 1e-3) << result.err;
+  EXPECT_EQ(p.yaw, 0.0);
+}
+
 // --- under Xvfb: the mirror window's GLX context, the Khronos core validation layer ----------
 
 class XrViewValidatedTest : public XrViewTest {
