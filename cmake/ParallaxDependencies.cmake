@@ -81,4 +81,8 @@ find_package(OpenXR CONFIG QUIET)
 option(PARALLAX_XR "Build VR through OpenXR (parallax view --xr)" ${OpenXR_FOUND})
 if(PARALLAX_XR)
   parallax_require_package(OpenXR_FOUND "libopenxr-dev libopenxr-loader1" "OpenXR loader")
+  # The Xlib/GLX binding of XR_KHR_opengl_enable (a window's context) hands the runtime X11
+  # objects; libX11 frees what GLX returns.
+  find_package(X11 QUIET)
+  parallax_require_package(X11_FOUND libx11-dev "Xlib")
 endif()

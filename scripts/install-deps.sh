@@ -23,7 +23,7 @@ packages=(
   xvfb xdotool
   # VR (src/xr): the Khronos OpenXR loader; in tests, its core validation layer and hello_xr
   # against the project's own test runtime (tests/xr/runtime)
-  libopenxr-dev libopenxr-loader1 openxr-layer-corevalidation libopenxr-utils
+  libopenxr-dev libopenxr-loader1 openxr-layer-corevalidation libopenxr-utils libx11-dev
   # the real Potree client test (tests/lod/js) and the LAZ oracles (tests/io/js): Node.js (with
   # npm; see install_npm_packages)
   nodejs
