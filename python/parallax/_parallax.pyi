@@ -181,3 +181,24 @@ def pick(
     radius: int = 3,
     **options: Any,
 ) -> dict[str, Any]: ...
+
+# convert and process run the commands in this process; keyword arguments are their options with
+# _ for - (True for a switch), e.g. format="potree", sampling="random", point_format=7,
+# clip_box=(...), memory=2048; process's steps run in the order given.
+PathArg = Union[str, PathLike[str]]
+
+def convert(
+    src: Union[PathArg, Sequence[PathArg]],
+    dst: PathArg,
+    *,
+    progress: Optional[Callable[..., object]] = None,
+    **options: Any,
+) -> None: ...
+def process(
+    src: Union[PathArg, Sequence[PathArg]],
+    dst: PathArg,
+    *,
+    steps: Union[Sequence[Tuple[str, Any]], Mapping[str, Any]] = (),
+    progress: Optional[Callable[..., object]] = None,
+    **options: Any,
+) -> None: ...
