@@ -1,10 +1,64 @@
 #include "progress_options.h"
 
+#include <algorithm>
+#include <atomic>
+#include <memory>
+#include <mutex>
 #include <system_error>
 
 #include "io/point_file.h"
+#include "progress_observer.h"
 
 namespace parallax::cli {
+
+namespace {
+
+std::mutex observer_mutex;
+std::shared_ptr<const ProgressObserver> current_observer;
+
+std::shared_ptr<const ProgressObserver> observer() {
+  const std::lock_guard lock(observer_mutex);
+  return current_observer;
+}
+
+// A stage's progress reported to the observer (progress_observer.h says how often).
+class ObservedStage final : public Progress {
+ public:
+  ObservedStage(std::shared_ptr<const ProgressObserver> observer, std::string label,
+                std::uint64_t total)
+      : observer_(std::move(observer)),
+        label_(std::move(label)),
+        total_(total),
+        step_(total ? std::max<std::uint64_t>(1, total / 200) : (1u << 20)),
+        next_(step_) {}
+  ~ObservedStage() override {
+    const std::lock_guard lock(mutex_);
+    (*observer_)(label_, done_.load(), total_);
+  }
+  void advance(std::uint64_t amount) override {
+    const std::uint64_t done = done_.fetch_add(amount) + amount;
+    if (done < next_.load()) return;
+    const std::lock_guard lock(mutex_);
+    if (done < next_.load()) return;
+    next_ = done + step_;
+    (*observer_)(label_, done, total_);
+  }
+
+ private:
+  std::shared_ptr<const ProgressObserver> observer_;
+  std::string label_;
+  std::uint64_t total_, step_;
+  std::atomic<std::uint64_t> done_{0}, next_;
+  std::mutex mutex_;
+};
+
+}  // namespace
+
+void setProgressObserver(ProgressObserver observer) {
+  const std::lock_guard lock(observer_mutex);
+  current_observer =
+      observer ? std::make_shared<const ProgressObserver>(std::move(observer)) : nullptr;
+}
 
 void addQuietFlag(CLI::App& command, bool& quiet) {
   command.add_flag("-q,--quiet", quiet, "No progress bar and no report on stderr (errors only)");
@@ -28,6 +82,11 @@ std::unique_ptr<TerminalProgress> readingBar(bool quiet, const std::string& labe
 }
 
 ProgressFactory stageBars(bool quiet) {
+  if (auto observing = observer()) {
+    return [observing](const std::string& stage, std::uint64_t total) -> std::unique_ptr<Progress> {
+      return std::make_unique<ObservedStage>(observing, stage, total);
+    };
+  }
   if (quiet) return {};
   return [](const std::string& stage, std::uint64_t total) -> std::unique_ptr<Progress> {
     return std::make_unique<TerminalProgress>(stage, total);

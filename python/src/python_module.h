@@ -89,5 +89,8 @@ PointFilter pointFilterFrom(const FilterArguments& arguments);
 
 void bindPointCloud(pybind11::module_& m);
 void bindReadWrite(pybind11::module_& m);
+void bindOctree(pybind11::module_& m);
+void bindRender(pybind11::module_& m);
+void bindCommands(pybind11::module_& m);
 
 }  // namespace parallax::python

@@ -29,8 +29,8 @@ bool isUrl(const std::string& path) {
 void refuseUrl(const std::string& path) {
   if (isUrl(path)) {
     throw py::value_error(path +
-                          ": point files are read from local paths; octrees (COPC, Potree 2.0) "
-                          "stream over http(s) through the command line's `convert`");
+                          ": read_chunks reads local files; parallax.read reads a URL whole, and "
+                          "parallax.open_octree streams a COPC file or Potree directory by range");
   }
 }
 
@@ -42,7 +42,9 @@ CloudMetadata metadataOf(const std::filesystem::path& path, const CoordinateSyst
   const CoordinateSystem stated = crs ? *crs : readPointFileHeader(path).crs;
   metadata.crs_wkt = stated.description.wkt;
   metadata.crs_summary = stated.summary();
-  if (format == PointFormat::Las || format == PointFormat::Laz) {
+  // A URL's LAS header is not read a second time (the reader has it, the format table keeps it
+  // to itself): its point format, version and VLRs are left unset.
+  if ((format == PointFormat::Las || format == PointFormat::Laz) && !isUrl(metadata.path)) {
     const LasHeader header = readLasHeaderWithRecords(path);
     metadata.las_point_format = header.point_format;
     metadata.las_version = header.versionString();
@@ -125,14 +127,15 @@ class PythonProgress final : public Progress {
 
 // What a read's progress counts to: points where the header states them, else bytes (text).
 std::uint64_t progressTotal(const std::string& path) {
-  if (detectPointFormat(path) == PointFormat::Text) return std::filesystem::file_size(path);
+  if (detectPointFormat(path) == PointFormat::Text) {
+    return isUrl(path) ? 0 : std::filesystem::file_size(path);
+  }
   return headerPointCount(path).value_or(0);
 }
 
 CloudPtr read(const std::string& path, const std::optional<std::vector<std::string>>& columns,
               const std::vector<std::string>& text_columns, bool parallel,
               const FilterArguments& filter_arguments, const py::object& progress_callback) {
-  refuseUrl(path);
   const PointFilter filter = pointFilterFrom(filter_arguments);  // before any I/O
   auto handle = std::make_shared<CloudHandle>();
   std::unique_ptr<PythonProgress> progress;
@@ -144,8 +147,14 @@ CloudPtr read(const std::string& path, const std::optional<std::vector<std::stri
   }
   {
     py::gil_scoped_release release;
-    handle->cloud = readPointFile(
-        path, {.progress = progress.get(), .parallel = parallel, .text_columns = text_columns});
+    // Readers that can skip what was not asked for (LAZ of formats 6-10, COPC: layers never
+    // decompressed) do; the others decode whole records, and keepOnlyColumns frees the rest.
+    const AttributeSelection attributes =
+        columns ? AttributeSelection::only(*columns) : AttributeSelection();
+    handle->cloud = readPointFile(path, {.progress = progress.get(),
+                                         .parallel = parallel,
+                                         .text_columns = text_columns,
+                                         .attributes = attributes});
     if (!filter.keepsAll()) handle->cloud = filterPoints(handle->cloud, filter);
     handle->metadata = metadataOf(path, nullptr);
   }
@@ -156,7 +165,6 @@ CloudPtr read(const std::string& path, const std::optional<std::vector<std::stri
 
 // parallax.read_header: what the header says, without the points.
 py::dict readHeader(const std::string& path) {
-  refuseUrl(path);
   PointFileHeader header;
   CloudMetadata metadata;
   {

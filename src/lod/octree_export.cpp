@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <optional>
@@ -133,22 +134,26 @@ void copyPotreeOctree(const std::string& input, const std::filesystem::path& out
   temp.release();
 }
 
-OctreePoints readOctreePoints(const std::string& input, const PointFilter& filter,
-                              const ProgressFor& progress_for) {
+OctreePoints queryOctree(Octree& octree, const OctreeQuery& query, const std::string& input,
+                         const ProgressFor& progress_for) {
   OctreePoints result;
-  const std::unique_ptr<Octree> octree = openOctree(input);  // Potree or COPC, local or URL
-  const bool copc = copcDetails(*octree).has_value();
-  expandWholeHierarchy(*octree);
+  const PointFilter& filter = query.filter;
+  const bool copc = copcDetails(octree).has_value();
+  expandWholeHierarchy(octree);
   // In file order: over HTTP, neighbours in the file come in one request. Nodes whose cube the
   // filter's region or elevation range cannot meet are never read: an extract of a region of a
   // remote octree fetches the hierarchy and the nodes that meet it, not the whole file.
-  std::vector<OctreeNode> nodes(octree->nodes().begin(), octree->nodes().end());
+  std::vector<OctreeNode> nodes(octree.nodes().begin(), octree.nodes().end());
   std::sort(nodes.begin(), nodes.end(),
             [](const OctreeNode& a, const OctreeNode& b) { return a.byte_offset < b.byte_offset; });
   const std::size_t all_nodes = nodes.size();
-  std::erase_if(
-      nodes, [&](const OctreeNode& n) { return n.point_count == 0 || !filter.mayKeepIn(n.box); });
-  const std::uint64_t total = octree->info().point_count;
+  std::erase_if(nodes, [&](const OctreeNode& n) {
+    return n.point_count == 0 || (query.max_level >= 0 && n.level > query.max_level) ||
+           !filter.mayKeepIn(n.box);
+  });
+  // Sized for the nodes read, not the octree: a small region of a large octree holds little.
+  std::uint64_t total = 0;
+  for (const OctreeNode& node : nodes) total += node.point_count;
   Progress* progress = progress_for ? progress_for(total) : nullptr;
 
   PointCloud all;
@@ -157,17 +162,18 @@ OctreePoints readOctreePoints(const std::string& input, const PointFilter& filte
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     if (i % (kAhead / 2) == 0) {
       const std::size_t end = std::min(nodes.size(), i + kAhead);
-      octree->prefetch(std::span(nodes).subspan(i, end - i), {});
+      octree.prefetch(std::span(nodes).subspan(i, end - i), {});
     }
-    PointCloud part = octree->loadNode(nodes[i]);
+    PointCloud part = octree.loadNode(nodes[i]);
     if (i == 0) all = emptyLike(part, total);
     const std::uint64_t node_points = part.count;
     if (!filter.keepsAll()) part = filterPoints(part, filter);
     if (at + part.count > total) {
-      throw InputError({.file = input,
-                        .element = "node " + nodes[i].name,
-                        .expected = std::to_string(total) + " points in all (metadata.json)",
-                        .found = "more in the nodes"});
+      throw InputError(
+          {.file = input,
+           .element = "node " + nodes[i].name,
+           .expected = std::to_string(total) + " points in the nodes read (the hierarchy's counts)",
+           .found = "more in the nodes"});
     }
     appendColumns(part, all, at);
     at += part.count;
@@ -182,6 +188,23 @@ OctreePoints readOctreePoints(const std::string& input, const PointFilter& filte
   result.nodes_total = all_nodes;
   for (const OctreeNode& node : nodes) result.node_bytes += node.byte_size;
   return result;
+}
+
+int levelOfSpacing(Octree& octree, double spacing) {
+  expandWholeHierarchy(octree);
+  int deepest = 0;
+  for (const OctreeNode& node : octree.nodes()) deepest = std::max(deepest, node.level);
+  const double root = octree.info().spacing;
+  for (int level = 0; level < deepest; ++level) {
+    if (std::ldexp(root, -level) <= spacing) return level;
+  }
+  return deepest;
+}
+
+OctreePoints readOctreePoints(const std::string& input, const PointFilter& filter,
+                              const ProgressFor& progress_for) {
+  const std::unique_ptr<Octree> octree = openOctree(input);  // Potree or COPC, local or URL
+  return queryOctree(*octree, {.filter = filter}, input, progress_for);
 }
 
 void expandWholeHierarchy(Octree& octree) {

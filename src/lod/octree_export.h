@@ -35,6 +35,26 @@ struct OctreePoints {
   std::uint64_t node_bytes = 0;  // bytes of the nodes read
 };
 
+// What queryOctree reads: the points `filter` keeps, of the nodes down to `max_level`.
+struct OctreeQuery {
+  PointFilter filter;
+  // The deepest level read (0: the root alone); -1 every level. Additive LOD: levels 0..L hold
+  // the whole cloud at level L's spacing (lod/octree.h), so this is the query's resolution.
+  int max_level = -1;
+};
+
+// The first level whose spacing (root spacing / 2^level) is at most `spacing` (world units),
+// or the deepest level `octree` has where none is: the level a query of that resolution reads
+// (as PDAL's COPC reader's `resolution`). Reads the whole hierarchy.
+int levelOfSpacing(Octree& octree, double spacing);
+
+// The points of an open octree that `query` keeps, in one cloud. Reads the whole hierarchy
+// first; then as readOctreePoints below (nodes in file order, only those the filter's region can
+// meet and within max_level; columns sized for those nodes' points). `input` names the octree
+// in messages. Progress counts the points of the nodes read.
+OctreePoints queryOctree(Octree& octree, const OctreeQuery& query, const std::string& input,
+                         const ProgressFor& progress_for = {});
+
 // Every point of the octree at `input` (Potree or COPC, local or a URL) that `filter` keeps, in
 // one cloud. Nodes are read in file order (over HTTP, neighbours come in one request); nodes whose
 // cube the filter's region or elevation range cannot meet (PointFilter::mayKeepIn) are never

@@ -132,6 +132,21 @@ def test_columns_argument_keeps_only_those(data_dir):
         parallax.read(str(data_dir / "laz/point-color-time.las"), ["nope"])
 
 
+@pytest.mark.parametrize("name", ["laz/point-time-1.4.las.laz", "laz/simple.copc.laz", "laz/extrabytes.laz"])
+def test_columns_argument_of_laz_equals_the_whole_read(name, data_dir):
+    """LAZ readers skip the layers not asked for (formats 6-10); the columns read are the same."""
+    path = str(data_dir / name)
+    whole = parallax.read(path)
+    wanted = [c for c in whole.columns if c not in ("x", "y", "z")][-1:]
+    some = parallax.read(path, wanted)
+    assert some.columns == ["x", "y", "z"] + wanted
+    for column in ["x", "y", "z"] + wanted:
+        np.testing.assert_array_equal(some[column], whole[column], err_msg=column)
+    positions = parallax.read(path, [])
+    assert positions.columns == ["x", "y", "z"]
+    np.testing.assert_array_equal(positions.raw("z"), whole.raw("z"))
+
+
 def test_filters_equal_a_numpy_filter_of_the_whole(data_dir):
     path = str(data_dir / "laz/point-color-time.las")
     whole = parallax.read(path)
