@@ -221,18 +221,6 @@ bool PointFilter::keepsPosition(double x, double y, double z) const {
   return inRegion(x, y, z) != clip_outside;
 }
 
-std::vector<std::string> attributesTested(const PointFilter& filter) {
-  std::vector<std::string> names;
-  if (!filter.keepsEveryClass()) names.emplace_back(column_names::kClassification);
-  if (!filter.keepsEveryReturn()) {
-    names.emplace_back(column_names::kReturnNumber);
-    names.emplace_back(column_names::kNumberOfReturns);
-  }
-  if (filter.intensity) names.emplace_back(column_names::kIntensity);
-  if (filter.gps_time) names.emplace_back(column_names::kGpsTime);
-  return names;
-}
-
 PointCloud filterPoints(const PointCloud& cloud, const PointFilter& filter) {
   // Indices first, then each column gathered once: the test reads only what the filter needs.
   std::vector<std::uint64_t> kept;

@@ -16,7 +16,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
-#include <string>
 #include <vector>
 
 #include "core/bounds.h"
@@ -117,12 +116,6 @@ struct PointFilter {
 
   friend bool operator==(const PointFilter&, const PointFilter&) = default;
 };
-
-// The attributes the filter's tests read, by the model's names (column_names.h): "classification"
-// when it keeps only some classes, "return_number" and "number_of_returns" for returns,
-// "intensity", "gps_time" for their ranges; positions are not listed (every reader gives them).
-// A reader asked for fewer attributes (core/attribute_selection.h) must still give these.
-std::vector<std::string> attributesTested(const PointFilter& filter);
 
 // The points of `cloud` the filter keeps, every column carried, in their order; `bounds`
 // recomputed. Missing attributes count as the header says (class 0, return 1 of 1, ...).

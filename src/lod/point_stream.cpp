@@ -7,6 +7,7 @@
 
 #include "core/column_names.h"
 #include "core/error.h"
+#include "core/filter_attributes.h"
 #include "core/point_gather.h"
 #include "io/point_chunk_source.h"
 #include "io/point_file.h"

@@ -1,5 +1,7 @@
 #include "render/render_settings.h"
 
+#include "core/filter_attributes.h"
+
 namespace parallax {
 
 namespace {
