@@ -25,6 +25,7 @@
 
 #include "commands.h"
 #include "convert_task.h"
+#include "core/column_names.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "filter_options.h"
@@ -148,7 +149,7 @@ int runCopcConvert(const ConvertArgs& args) {
   if (!args.properties.empty()) {
     throw std::invalid_argument(
         "--properties: a COPC file holds every attribute its point format has; the option is for "
-        "PLY and text outputs");
+        "PLY, text and Potree outputs");
   }
   cleanPartialOutputs(args.output, args.quiet);
   const std::vector<ConvertInput> inputs = convertInputs(args);
@@ -201,9 +202,18 @@ AttributeSelection octreeAttributes(const ConvertArgs& args) {
   for (const std::string& input : args.inputs) {
     if (!isPotreeDirectory(input)) stated.push_back(readPointFileHeader(input).attributes);
   }
+  // A header lists the scalar fields it has; the model's own columns (colour, normals,
+  // intensity, classification) are named by their kind, and an input without one gives none.
+  const std::vector<std::string> model_columns = {
+      column_names::kX,     column_names::kY,         column_names::kZ,
+      column_names::kRed,   column_names::kGreen,     column_names::kBlue,
+      column_names::kAlpha, column_names::kNx,        column_names::kNy,
+      column_names::kNz,    column_names::kIntensity, column_names::kClassification};
   for (const std::string& name : args.properties) {
     const bool known =
-        stated.empty() || std::any_of(stated.begin(), stated.end(), [&](const auto& names) {
+        stated.empty() ||
+        std::find(model_columns.begin(), model_columns.end(), name) != model_columns.end() ||
+        std::any_of(stated.begin(), stated.end(), [&](const auto& names) {
           return std::find(names.begin(), names.end(), name) != names.end();
         });
     if (!known) {
@@ -351,7 +361,7 @@ int runConvert(ConvertArgs args) {
     throw std::invalid_argument("--properties: " + args.output + " has a fixed record layout (" +
                                 out_row->name +
                                 "); the option is for outputs that choose their "
-                                "attributes' order (PLY, text)");
+                                "attributes (PLY, text, a Potree directory)");
   }
   cleanPartialOutputs(args.output, args.quiet);
   PointCloud cloud;
