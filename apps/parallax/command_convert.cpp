@@ -25,6 +25,7 @@
 
 #include "commands.h"
 #include "convert_task.h"
+#include "core/column_names.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "filter_options.h"
@@ -143,7 +144,7 @@ int runCopcConvert(const ConvertArgs& args) {
   if (!args.properties.empty()) {
     throw std::invalid_argument(
         "--properties: a COPC file holds every attribute its point format has; the option is for "
-        "PLY and text outputs");
+        "PLY, text and Potree outputs");
   }
   cleanPartialOutputs(args.output, args.quiet);
   const std::vector<ConvertInput> inputs = convertInputs(args);
@@ -187,18 +188,50 @@ int runCopcConvert(const ConvertArgs& args) {
   return 0;
 }
 
-int runPotreeConvert(const ConvertArgs& args) {
-  if (!args.properties.empty()) {
-    throw std::invalid_argument(
-        "--properties: a Potree octree holds every attribute in Potree's order; the option is for "
-        "PLY and text outputs");
+// --properties for an octree: the attributes it keeps (in Potree's order, positions always).
+// Every name must be an attribute of some input, as the header states it (an octree input
+// states none: its names are not checked here).
+AttributeSelection octreeAttributes(const ConvertArgs& args) {
+  if (args.properties.empty()) return {};
+  std::vector<std::vector<std::string>> stated;
+  for (const std::string& input : args.inputs) {
+    if (!isPotreeDirectory(input)) stated.push_back(readPointFileHeader(input).attributes);
   }
+  // A header lists the scalar fields it has; the model's own columns (colour, normals,
+  // intensity, classification) are named by their kind, and an input without one gives none.
+  const std::vector<std::string> model_columns = {
+      column_names::kX,     column_names::kY,         column_names::kZ,
+      column_names::kRed,   column_names::kGreen,     column_names::kBlue,
+      column_names::kAlpha, column_names::kNx,        column_names::kNy,
+      column_names::kNz,    column_names::kIntensity, column_names::kClassification};
+  for (const std::string& name : args.properties) {
+    const bool known =
+        stated.empty() ||
+        std::find(model_columns.begin(), model_columns.end(), name) != model_columns.end() ||
+        std::any_of(stated.begin(), stated.end(), [&](const auto& names) {
+          return std::find(names.begin(), names.end(), name) != names.end();
+        });
+    if (!known) {
+      std::string there;
+      for (const std::string& n : stated.front()) there += (there.empty() ? "" : ",") + n;
+      throw std::invalid_argument("--properties: no attribute '" + name + "' in " +
+                                  (args.inputs.size() == 1 ? args.inputs.front() : "any input") +
+                                  " (" + args.inputs.front() + " has " + there + ")");
+    }
+  }
+  return AttributeSelection::only(args.properties);
+}
+
+int runPotreeConvert(const ConvertArgs& args) {
   if (args.inputs.size() == 1 && isCopcFile(args.inputs[0]) && args.spacing == 0.0 &&
-      args.filter.keepsAll()) {
+      args.filter.keepsAll() && args.properties.empty()) {
     return runCopcToPotree(args);
   }
   const PotreeConvertOptions options = buildOptions(args);
-  const std::vector<ConvertInput> inputs = convertInputs(args);
+  std::vector<ConvertInput> inputs = convertInputs(args);
+  // Fewer attributes kept: fewer decoded (a LAZ of formats 6-10 skips the others' layers).
+  const AttributeSelection kept = octreeAttributes(args);
+  for (ConvertInput& input : inputs) input.attributes = kept;
   cleanPartialOutputs(args.output, args.quiet);
   const PotreeConvertResult result = convertToPotree(inputs, args.output, options);
   if (!args.quiet && !result.crs.empty()) {
@@ -245,6 +278,11 @@ int runConvert(ConvertArgs args) {
   args.filter =
       pointFilterFrom(args.filter_options, FilterTarget::Cpu);  // before any output is touched
   const bool filtered = !args.filter.keepsAll();
+  if (args.plan && !args.properties.empty()) {
+    throw std::invalid_argument(
+        "--properties: a distributed conversion (--plan) keeps every attribute; convert on one "
+        "machine to keep fewer");
+  }
   if (args.plan) {
     return runConvertPlan({.inputs = args.inputs,
                            .columns = args.columns,
@@ -263,7 +301,7 @@ int runConvert(ConvertArgs args) {
   const bool one_input = args.inputs.size() == 1;
   if (one_input && to_potree && isCopcFile(args.inputs.front())) return runPotreeConvert(args);
   if (one_input && isPotreeDirectory(args.inputs.front()) &&
-      !(to_potree && (args.spacing != 0.0 || filtered))) {
+      !(to_potree && (args.spacing != 0.0 || filtered || !args.properties.empty()))) {
     // An octree (a Potree directory or its URL) in: copied, or its points written to a file.
     return runOctreeExport({.input = args.inputs.front(),
                             .output = args.output,
@@ -307,7 +345,7 @@ int runConvert(ConvertArgs args) {
     throw std::invalid_argument("--properties: " + args.output + " has a fixed record layout (" +
                                 out_row->name +
                                 "); the option is for outputs that choose their "
-                                "attributes' order (PLY, text)");
+                                "attributes (PLY, text, a Potree directory)");
   }
   cleanPartialOutputs(args.output, args.quiet);
   PointCloud cloud;
@@ -423,7 +461,9 @@ Command addConvertCommand(CLI::App& app) {
       ->delimiter(',');
   sub->add_option("--properties", args->properties,
                   "PLY and text output: the attributes to write, in this order, e.g. "
-                  "x,y,z,red,green,blue,nx,ny,nz (default: all, in the input's order)")
+                  "x,y,z,red,green,blue,nx,ny,nz (default: all, in the input's order); Potree "
+                  "output: the attributes the octree keeps, in Potree's order (the others are "
+                  "not decoded where the format allows: LAZ of point formats 6-10)")
       ->delimiter(',');
   sub->add_option("--las-version", args->las_version,
                   "LAS output: 1.2, 1.3 or 1.4 (default: a LAS input's; else 1.2 unless the "

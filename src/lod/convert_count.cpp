@@ -57,8 +57,8 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
   std::vector<std::unique_ptr<PointStream>> streams;
   std::filesystem::path crs_source;
   for (const ConvertInput& input : inputs) {
-    streams.push_back(
-        std::make_unique<PointStream>(input.path, input.text_columns, nullptr, &input.filter));
+    streams.push_back(std::make_unique<PointStream>(input.path, input.text_columns, nullptr,
+                                                    &input.filter, input.attributes));
     total += streams.back()->pointCount();
     plan.input_quantizations.push_back(streams.back()->quantization());
     // The CRS travels into the octree; merged inputs must not disagree on it (a file that

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "core/attribute_selection.h"
 #include "core/bounds.h"
 #include "core/point_cloud.h"
 #include "core/point_filter.h"
@@ -53,8 +54,13 @@ namespace parallax {
 // fewer.
 class PointStream {
  public:
+  //
+  // With `attributes` (not every one), batches hold the positions and those attributes only
+  // (core/attribute_selection.h): the format's reader is asked for them and for what the filter
+  // tests, and the columns the filter alone needed are dropped after it.
   PointStream(const std::filesystem::path& path, const std::vector<std::string>& text_columns,
-              const Quantization* quantization = nullptr, const PointFilter* filter = nullptr);
+              const Quantization* quantization = nullptr, const PointFilter* filter = nullptr,
+              const AttributeSelection& attributes = {});
   // The points of `source` as they are (a PointSpill's: already filtered).
   explicit PointStream(std::unique_ptr<PointChunkSource> source);
   ~PointStream();
@@ -86,6 +92,10 @@ struct ConvertInput {
   std::filesystem::path path;
   std::vector<std::string> text_columns;  // text files only (see point_file.h)
   PointFilter filter;                     // the points of this input that are converted
+  // The attributes the octree keeps of this input (`convert --properties`); every one by
+  // default. Formats that can skip the others (LAZ of formats 6-10: their layers) never decode
+  // them; the attributes the filter tests are read for it and dropped after it.
+  AttributeSelection attributes;
 };
 
 // Creates a progress sink for one stage ("counting", ...) over `total` points; may return null.

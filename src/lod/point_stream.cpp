@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <optional>
 
+#include "core/column_names.h"
 #include "core/error.h"
+#include "core/filter_attributes.h"
 #include "core/point_gather.h"
 #include "io/point_chunk_source.h"
 #include "io/point_file.h"
@@ -57,25 +59,48 @@ class OctreeNodeSource final : public PointChunkSource {
   std::uint64_t next_point_ = 0;
 };
 
+// Removes the columns of `batch` that `kept` does not select (positions stay). Readers that
+// cannot skip an attribute (LAS, PLY, an octree's nodes) still fill it, and the filter may have
+// needed one the output does not keep.
+void keepOnly(PointCloud& batch, const AttributeSelection& kept) {
+  if (kept.all()) return;
+  if (!kept.wantsColor()) {
+    batch.colors = {};
+    batch.stored_colors = {};
+  }
+  if (!kept.wants(column_names::kNx)) batch.normals = {};
+  if (!kept.wants(column_names::kIntensity)) batch.intensity = {};
+  if (!kept.wants(column_names::kClassification)) batch.classification = {};
+  std::erase_if(batch.scalars, [&](const ScalarColumn& c) { return !kept.wants(c.name); });
+  std::erase_if(batch.source.order, [&](const std::string& name) { return !kept.wants(name); });
+}
+
 }  // namespace
 
 struct PointStream::State {
   std::unique_ptr<PointChunkSource> source;  // the format's (io/point_format.h) or an octree's
   std::optional<PointFilter> filter;         // absent: every point
   std::uint64_t remaining = UINT64_MAX;      // points left before the end of restrictTo's range
+  AttributeSelection kept;                   // the columns batches hold
 };
 
 PointStream::PointStream(const std::filesystem::path& path,
                          const std::vector<std::string>& text_columns,
-                         const Quantization* quantization, const PointFilter* filter)
+                         const Quantization* quantization, const PointFilter* filter,
+                         const AttributeSelection& attributes)
     : state_(std::make_unique<State>()) {
+  if (filter && !filter->keepsAll()) state_->filter = *filter;
+  state_->kept = attributes;
+  AttributeSelection read = attributes;
+  if (state_->filter) {
+    for (std::string& name : attributesTested(*state_->filter)) read.add(std::move(name));
+  }
   if (isPotreeDirectory(path)) {
     state_->source = std::make_unique<OctreeNodeSource>(path);
   } else {
-    state_->source =
-        openPointChunks(path, {.text_columns = text_columns, .quantization = quantization});
+    state_->source = openPointChunks(
+        path, {.text_columns = text_columns, .quantization = quantization, .attributes = read});
   }
-  if (filter && !filter->keepsAll()) state_->filter = *filter;
 }
 PointStream::PointStream(std::unique_ptr<PointChunkSource> source)
     : state_(std::make_unique<State>()) {
@@ -90,7 +115,8 @@ PointStream openPassStream(const ConvertPlan& plan, const std::vector<ConvertInp
     return PointStream(plan.spills[index]->read(last_pass));
   }
   return PointStream(inputs[index].path, inputs[index].text_columns,
-                     &plan.input_quantizations[index], &inputs[index].filter);
+                     &plan.input_quantizations[index], &inputs[index].filter,
+                     inputs[index].attributes);
 }
 
 std::uint64_t PointStream::pointCount() const {
@@ -117,10 +143,15 @@ void PointStream::restrictTo(std::uint64_t first, std::uint64_t last) {
 }
 
 bool PointStream::next(PointCloud& batch, std::size_t max_points) {
-  if (!state_->filter) return nextUnfiltered(batch, max_points);
+  if (!state_->filter) {
+    if (!nextUnfiltered(batch, max_points)) return false;
+    keepOnly(batch, state_->kept);
+    return true;
+  }
   // Batches the filter empties are skipped: a stage never sees an empty batch.
   while (nextUnfiltered(batch, max_points)) {
     batch = filterPoints(batch, *state_->filter);
+    keepOnly(batch, state_->kept);
     if (batch.count > 0) return true;
   }
   return false;

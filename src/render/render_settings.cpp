@@ -1,5 +1,7 @@
 #include "render/render_settings.h"
 
+#include "core/filter_attributes.h"
+
 namespace parallax {
 
 namespace {
@@ -108,14 +110,7 @@ AttributeSelection attributesDrawn(const RenderSettings& settings) {
       break;
   }
   if (settings.lighting && settings.color != ColorMode::Normal) add_normals();
-  const PointFilter& filter = settings.filter;
-  if (!filter.keepsEveryClass()) names.emplace_back("classification");
-  if (!filter.keepsEveryReturn()) {
-    names.emplace_back(filter_names::kReturnNumber);
-    names.emplace_back(filter_names::kNumberOfReturns);
-  }
-  if (filter.intensity) names.emplace_back("intensity");
-  if (filter.gps_time) names.emplace_back(filter_names::kGpsTime);
+  for (std::string& name : attributesTested(settings.filter)) names.push_back(std::move(name));
   AttributeSelection selection = AttributeSelection::only({});
   for (std::string& name : names) selection.add(std::move(name));  // (no name twice)
   return selection;

@@ -75,7 +75,8 @@ void checkLazFile(const std::filesystem::path& path, const std::string& what) {
 TEST(LazSelectiveReaders, EveryTestFileGivesTheAskedColumnsOfAFullRead) {
   for (const char* name :
        {"point-time-1.4.las.laz", "ellipsoid.laz", "ellipsoid.copc.laz", "simple.copc.laz",
-        "point10.las.laz", "point-color-time.las.laz", "extrabytes.laz", "1815.laz"}) {
+        "point10.las.laz", "point-color-time.las.laz", "point-color.las.laz", "point-time.las.laz",
+        "extrabytes.laz", "1815.laz"}) {
     checkLazFile(test::testDataFile(std::string("laz/") + name), name);
   }
 }
@@ -84,10 +85,12 @@ TEST(LazSelectiveReaders, ParallaxsOwnLayeredFilesGiveTheAskedColumns) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() /
                                     ("parallax-laz-selective-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
-  // Real records (colour, GPS time; extra bytes with descriptions) written as formats 7 and 8
-  // (8 adds a NIR column of zeros) in small chunks, so that every reader meets many chunks.
+  // Real records (colour, GPS time; extra bytes with descriptions) written as formats 6, 7 and 8
+  // (6 without colour, 8 adds a NIR column of zeros) in small chunks, so that every reader meets
+  // many chunks.
   for (const auto& [source, format] :
-       std::vector<std::pair<std::string, int>>{{"point-color-time.las.laz", 7},
+       std::vector<std::pair<std::string, int>>{{"point-time.las.laz", 6},
+                                                {"point-color-time.las.laz", 7},
                                                 {"point-color-time.las.laz", 8},
                                                 {"extrabytes.laz", 7}}) {
     const std::filesystem::path in = test::testDataFile("laz/" + source);

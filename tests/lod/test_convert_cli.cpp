@@ -112,5 +112,36 @@ TEST(ConvertCli, FormatPotreeOverridesAPointFileExtension) {
   EXPECT_EQ(metadata["points"], 120);
 }
 
+// --properties on an octree output: only those attributes (and the positions) are kept, in
+// Potree's order; a name no input has, and a distributed plan, are refused.
+TEST(ConvertCli, PropertiesKeepFewerAttributesInAnOctree) {
+  TempDir dir;
+  writePointFile(makeSurfaceCloud(3000), dir / "in.laz", {.las_point_format = 7});
+  const std::string in = (dir / "in.laz").string();
+  const RunResult run = runParallax(dir, "convert -q '" + in + "' -o '" + (dir / "rgb").string() +
+                                             "/' --properties blue,green,red");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto metadata = nlohmann::json::parse(readText(dir / "rgb" / "metadata.json"));
+  std::vector<std::string> names;
+  for (const auto& attribute : metadata["attributes"]) names.push_back(attribute["name"]);
+  EXPECT_EQ(names, (std::vector<std::string>{"position", "rgb"}));
+  EXPECT_EQ(metadata["points"], 3000);
+
+  const RunResult unknown = runParallax(
+      dir, "convert '" + in + "' -o '" + (dir / "bad").string() + "/' --properties red,hue");
+  EXPECT_EQ(unknown.exit_code, 1) << unknown.err;
+  EXPECT_NE(
+      unknown.err.find("--properties: no attribute 'hue' in " + in + " (" + in + " has x,y,z,"),
+      std::string::npos)
+      << unknown.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
+
+  const RunResult plan = runParallax(dir, "convert '" + in + "' -o '" + (dir / "planned").string() +
+                                              "/' --plan --work-dir '" + (dir / "work").string() +
+                                              "' --properties red");
+  EXPECT_EQ(plan.exit_code, 1) << plan.err;
+  EXPECT_NE(plan.err.find("--plan"), std::string::npos) << plan.err;
+}
+
 }  // namespace
 }  // namespace parallax::test
