@@ -1,10 +1,10 @@
-// The height, area, angle and profile tools in a real window under Xvfb, driven with xdotool
-// (as test_viewer_measure.cpp drives the distance tool), with oracles of their own: the clicks
-// land on known points of a bowl the test writes (coordinates that are exact in float), at the
-// pixels the test's own projection (support/reference_projection.h) gives them; the viewer must
-// name exactly those points, print the height, area or angle the test computes from their
-// coordinates, draw the overlay's markers and lines where that projection puts them, and export
-// exactly the points a brute-force count puts within the profile's corridor.
+// The distance, height, area, angle and profile tools in a real window under Xvfb, driven with
+// xdotool (as test_viewer_measure.cpp drives them against `parallax pick`), with oracles of their
+// own: the clicks land on known points of a bowl the test writes (coordinates that are exact in
+// float), at the pixels the test's own projection (support/reference_projection.h) gives them;
+// the viewer must name exactly those points, print the length, height, area or angle the test
+// computes from their coordinates, draw the overlay's markers and lines where that projection
+// puts them, and export exactly the points a brute-force count puts within the profile's corridor.
 //
 // Needs the Debian packages xvfb and xdotool; skipped (with the reason) where they are missing.
 #include <gtest/gtest.h>
@@ -169,9 +169,11 @@ class ToolSession {
     ASSERT_TRUE(viewer_->logged("parallax view: first picture after")) << viewer_->log();
     viewer_->key("g");
   }
-  // Clicks each vertex's pixel; the viewer must name exactly that point of the file.
-  void clickVertices(const std::string& kind, const std::vector<glm::dvec3>& vertices) {
-    for (std::size_t i = 0; i < vertices.size(); ++i) {
+  // Clicks each vertex's pixel from `first` on (those before it are already the measurement's);
+  // the viewer must name exactly that point of the file.
+  void clickVertices(const std::string& kind, const std::vector<glm::dvec3>& vertices,
+                     std::size_t first = 0) {
+    for (std::size_t i = first; i < vertices.size(); ++i) {
       const Pixel pixel = pixelOf(vertices[i]);
       ASSERT_GE(pixel.column, 10);
       ASSERT_LT(pixel.column, kWidth - 10);
@@ -205,10 +207,42 @@ bool haveXvfbAndXdotool() {
 }
 
 // The measurement kinds' colours (measure/measurement_overlay.cpp), in 8 bits.
+constexpr std::array<int, 3> kDistanceColour{255, 217, 26};
 constexpr std::array<int, 3> kHeightColour{77, 255, 102};
 constexpr std::array<int, 3> kAreaColour{77, 179, 255};
 constexpr std::array<int, 3> kAngleColour{255, 128, 255};
 constexpr std::array<int, 3> kProfileColour{255, 153, 51};
+
+// Two clicks and Enter: the distance of the two points; Ctrl + E reopens it (the measurement just
+// finished is the selected one), a third click extends the polyline and Enter gives the total.
+TEST(ViewerTools, DistanceToolPrintsThePolylineOfKnownPointsAndDrawsIt) {
+  if (!haveXvfbAndXdotool()) GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages)";
+  const std::vector<glm::dvec3> points = {bowlPoint(6, 8), bowlPoint(28, 14), bowlPoint(34, 32)};
+  const auto length = [](const glm::dvec3& a, const glm::dvec3& b) {
+    return std::sqrt((b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y) +
+                     (b.z - a.z) * (b.z - a.z));
+  };
+
+  ToolSession session("distance");
+  ASSERT_NO_FATAL_FAILURE(session.start());
+  ViewerProcess& viewer = session.viewer();
+  ASSERT_NO_FATAL_FAILURE(session.clickVertices("distance", {points[0], points[1]}));
+  viewer.key("Return");
+  ASSERT_TRUE(viewer.logged(" m (2 points)", 10s)) << viewer.log();
+  auto values = numbersAfter(viewer.log(), "parallax view: distance ", " m (2 points)");
+  ASSERT_EQ(values.size(), 1u) << viewer.log();
+  EXPECT_NEAR(values[0], length(points[0], points[1]), 5e-7);
+
+  viewer.key("ctrl+e");
+  ASSERT_NO_FATAL_FAILURE(session.clickVertices("distance", points, 2));
+  viewer.key("Return");
+  ASSERT_TRUE(viewer.logged(" m (3 points)", 10s)) << viewer.log();
+  values = numbersAfter(viewer.log(), "parallax view: distance ", " m (3 points)");
+  ASSERT_EQ(values.size(), 1u) << viewer.log();
+  EXPECT_NEAR(values[0], length(points[0], points[1]) + length(points[1], points[2]), 5e-7);
+  expectOverlay(viewer.screenshot(session.dir().path()), points, false, kDistanceColour);
+  EXPECT_EQ(viewer.quit(), 0) << viewer.log();
+}
 
 TEST(ViewerTools, HeightToolPrintsTheHeightOfTwoKnownPointsAndDrawsIt) {
   if (!haveXvfbAndXdotool()) GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages)";
