@@ -1,8 +1,9 @@
 // `parallax pick` end to end: the point it names at a pixel is the one a CPU projection (in
 // double, written out in the test from the same --eye, --target and --fov:
-// support/reference_projection.h, not the product's camera) puts in front there, with the file's exact coordinates (a LAS
-// file at UTM scale, scale 0.001) and attribute values; in each eye of sbs stereo; on the same
-// points as a Potree directory and as a COPC file; nothing on the background; clear errors.
+// support/reference_projection.h, not the product's camera) puts in front there, with the file's
+// exact coordinates (a LAS file at UTM scale, scale 0.001) and attribute values; in each eye of
+// sbs stereo; on the same points as a Potree directory and as a COPC file; nothing on the
+// background; clear errors.
 #include <gtest/gtest.h>
 
 #include <algorithm>
