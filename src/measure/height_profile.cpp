@@ -28,7 +28,9 @@ class Corridor {
       const double length = glm::length(b - a);
       // A vertical segment (same XY twice) has no direction on the ground: it adds no station and
       // no corridor of its own (its neighbours' cover the spot).
-      if (length > 0) segments_.push_back({a, (b - a) / length, length, station});
+      if (length > 0) {
+        segments_.push_back({a, b - a, (b - a) / length, glm::dot(b - a, b - a), length, station});
+      }
       station += length;
     }
     for (const glm::dvec3& p : line) {
@@ -48,8 +50,12 @@ class Corridor {
     double best_distance = std::numeric_limits<double>::infinity();
     for (const Segment& s : segments_) {
       const glm::dvec2 d = p - s.start;
-      const double along = glm::dot(d, s.direction);
-      if (along < 0 || along > s.length) continue;
+      // The foot's place against the segment unnormalised: the end vertex itself (d == delta)
+      // is then exactly at the end and inside, which (d . direction) <= length, one rounding
+      // off, may not be.
+      const double scaled = glm::dot(d, s.delta);
+      if (scaled < 0 || scaled > s.length2) continue;
+      const double along = std::min(scaled / s.length, s.length);
       // Left of the direction of travel is positive (the z of direction x d).
       const double offset = s.direction.x * d.y - s.direction.y * d.x;
       if (std::abs(offset) <= half_width_ && std::abs(offset) < best_distance) {
@@ -62,8 +68,8 @@ class Corridor {
 
  private:
   struct Segment {
-    glm::dvec2 start, direction;
-    double length, station;
+    glm::dvec2 start, delta, direction;  // delta: end - start; direction: delta / length
+    double length2, length, station;
   };
   std::vector<Segment> segments_;
   double half_width_;

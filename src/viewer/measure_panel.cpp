@@ -168,9 +168,9 @@ void drawMeasurePanel(Session& s) {
           ImGui::TextWrapped("%zu points, from %s", profile->profile.samples.size(),
                              profile->source.c_str());
           plotProfile(profile->profile);
-          if (ImGui::Button("Export CSV")) exportProfile(s, false);
+          if (ImGui::Button("Export CSV (Ctrl+X)")) exportProfile(s, false);
           ImGui::SameLine();
-          if (ImGui::Button("Export LAS")) exportProfile(s, true);
+          if (ImGui::Button("Export LAS (Ctrl+Shift+X)")) exportProfile(s, true);
         }
       }
     }

@@ -229,6 +229,12 @@ bool measureKey(Session& s, int key, int mods) {
     editSelectedMeasurement(s);
     return true;
   }
+  if (key == GLFW_KEY_X && (mods & GLFW_MOD_CONTROL)) {
+    // The panel's Export buttons from the keyboard (and for scripts and tests, which cannot
+    // find a button): the selected profile, CSV, or LAS with Shift.
+    exportProfile(s, (mods & GLFW_MOD_SHIFT) != 0);
+    return true;
+  }
   switch (key) {
     case GLFW_KEY_ENTER:
     case GLFW_KEY_KP_ENTER:

@@ -243,7 +243,8 @@ void editSelectedMeasurement(Session& s);
 void deleteSelectedMeasurement(Session& s);
 // Enter (finish), Escape (cancel, while drawing), Backspace (remove the last point), Delete (the
 // selected measurement), Ctrl + E (edit the selected measurement), Ctrl + S (save the measurement
-// file): true when the key was the tools'.
+// file), Ctrl + X (export the selected profile: CSV, with Shift LAS): true when the key was the
+// tools'.
 bool measureKey(Session& s, int key, int mods);
 // Animates the camera to the annotation's saved camera, or looks at its point from here.
 void flyToAnnotation(Session& s, const Annotation& annotation);

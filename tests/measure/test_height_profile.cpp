@@ -128,6 +128,30 @@ TEST(HeightProfile, OctreeGivesTheSamePointsAtFullDetail) {
   EXPECT_TRUE(streamed.points.hasIntensity());
 }
 
+// A line drawn between two points of the cloud (as the viewer's profile tool draws it) holds
+// both: the end vertex is at the very end of the corridor, never a rounding past it. Every
+// diagonal from one grid point to a spread of others.
+TEST(HeightProfile, BothEndPointsOfTheLineAreInIt) {
+  const PointCloud cloud = slope();
+  const auto gridPoint = [&](std::size_t k) {
+    return glm::dvec3(cloud.worldX(k), cloud.worldY(k), cloud.worldZ(k));
+  };
+  const glm::dvec3 start = gridPoint(5 * 41 + 3);
+  std::size_t lines = 0;
+  for (std::size_t k = 7 * 41; k < cloud.count; k += 5 * 41 + 3) {
+    const glm::dvec3 end = gridPoint(k);
+    const HeightProfile profile = extractProfile(cloud, {start, end}, 0.1);
+    for (const glm::dvec3& vertex : {start, end}) {
+      EXPECT_TRUE(std::any_of(profile.samples.begin(), profile.samples.end(),
+                              [&](const ProfileSample& s) { return s.position == vertex; }))
+          << "from " << start.x - kEast << "," << start.y - kNorth << " to " << end.x - kEast << ","
+          << end.y - kNorth << ": " << vertex.x - kEast << "," << vertex.y - kNorth << " left out";
+    }
+    ++lines;
+  }
+  EXPECT_GT(lines, 10u);
+}
+
 TEST(HeightProfile, DegenerateLinesGiveNothing) {
   const PointCloud cloud = slope();
   EXPECT_TRUE(extractProfile(cloud, {{kEast + 1, kNorth, 0}}, 1.0).samples.empty());

@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -179,6 +180,9 @@ class Nginx {
     std::string last_error;
     for (int attempt = 0; attempt < 5; ++attempt) {
       port_ = freeLoopbackPort();
+      do {
+        status_port_ = freeLoopbackPort();
+      } while (status_port_ == port_);
       writeConfig(options);
       std::filesystem::remove(dir_ / "access.log");
       process_ = ChildProcess(nginxProgram(),
@@ -228,18 +232,22 @@ class Nginx {
     return log;
   }
 
-  // The access log once no line has come for 300 ms (or after 5 s, as it is): for counts a test
-  // cannot know beforehand, read after its clients are done, whose last lines may still be due.
+  // The access log once it holds a line for every request nginx has taken (or after 5 s, as it
+  // is): for counts a test cannot know beforehand, read after its clients are done, whose last
+  // lines may still be due. nginx counts the requests it takes (stub_status, served on a plain
+  // port of its own whose requests are not logged); the log is settled when it holds a line for
+  // each of them but the status requests themselves.
   std::vector<AccessLine> settledAccessLog() const {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-    std::vector<AccessLine> log = accessLog();
-    while (std::chrono::steady_clock::now() < deadline) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(300));
-      std::vector<AccessLine> again = accessLog();
-      if (again.size() == log.size()) break;
-      log = std::move(again);
+    for (;;) {
+      const std::optional<std::uint64_t> taken = requestsTaken();
+      std::vector<AccessLine> log = accessLog();
+      if ((taken && log.size() + status_requests_ >= *taken) ||
+          std::chrono::steady_clock::now() >= deadline) {
+        return log;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
-    return log;
   }
 
  private:
@@ -269,12 +277,43 @@ class Nginx {
          << "  keepalive_requests 100000;\n"
          << "  server {\n    " << listen << ";\n"
          << tls << "    root " << o.root.string() << ";\n"
-         << o.server_config << "\n  }\n}\n";
+         << o.server_config << "\n  }\n"
+         << "  server {\n    listen 127.0.0.1:" << status_port_ << ";\n"
+         << "    access_log off;\n    location / { stub_status; }\n  }\n}\n";
+  }
+
+  // The requests nginx has taken so far, this one included (stub_status's third counter);
+  // nothing when the status server does not answer.
+  std::optional<std::uint64_t> requestsTaken() const {
+    const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    address.sin_port = htons(std::uint16_t(status_port_));
+    std::string reply;
+    if (fd >= 0 && ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0) {
+      const std::string request = "GET / HTTP/1.0\r\nHost: 127.0.0.1\r\n\r\n";
+      if (::write(fd, request.data(), request.size()) == ssize_t(request.size())) {
+        ++status_requests_;
+        char buffer[1024];
+        for (ssize_t got; (got = ::read(fd, buffer, sizeof buffer)) > 0;) reply.append(buffer, got);
+      }
+    }
+    if (fd >= 0) ::close(fd);
+    // "Active connections: 1 \nserver accepts handled requests\n 5 5 12 \nReading: ..."
+    const auto at = reply.find("requests\n");
+    if (at == std::string::npos) return std::nullopt;
+    std::istringstream counters(reply.substr(at + 9));
+    std::uint64_t accepts = 0, handled = 0, requests = 0;
+    if (!(counters >> accepts >> handled >> requests)) return std::nullopt;
+    return requests;
   }
 
   std::filesystem::path dir_;
   bool tls_ = false;
   int port_ = 0;
+  int status_port_ = 0;
+  mutable std::uint64_t status_requests_ = 0;
   ChildProcess process_;
 };
 

@@ -1,7 +1,9 @@
 // `parallax pick` end to end: the point it names at a pixel is the one a CPU projection (in
-// double, with the same camera) puts in front there, with the file's exact coordinates (a LAS
-// file at UTM scale, scale 0.001) and attribute values; in each eye of sbs stereo; on the same
-// points as a Potree directory and as a COPC file; nothing on the background; clear errors.
+// double, written out in the test from the same --eye, --target and --fov:
+// support/reference_projection.h, not the product's camera) puts in front there, with the file's
+// exact coordinates (a LAS file at UTM scale, scale 0.001) and attribute values; in each eye of
+// sbs stereo; on the same points as a Potree directory and as a COPC file; nothing on the
+// background; clear errors.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,8 +17,7 @@
 #include <vector>
 
 #include "io/test_las_builder.h"
-#include "render/camera.h"
-#include "render/stereo.h"
+#include "support/reference_projection.h"
 #include "support/run_parallax.h"
 #include "support/temp_dir.h"
 
@@ -60,11 +61,23 @@ double world(const LasTestPoint& p, int axis) {
   return double(q) * kScale + kOffset[axis];
 }
 
-Camera testCamera() {
-  Camera camera;
-  camera.lookAt(kEye, kTarget, {0, 0, 1});
-  camera.fov_y_deg = kFov;
-  return camera;
+// The picture of cameraArgs(): one view, or the two eyes of sbs stereo (the left half and the
+// right half of the picture, each eye half the separation to its side).
+std::vector<ReferenceView> monoViews() {
+  ReferenceView view;
+  view.eye = kEye, view.target = kTarget, view.up = {0, 0, 1}, view.fov_y_deg = kFov;
+  view.width = kWidth, view.height = kHeight;
+  return {view};
+}
+
+std::vector<ReferenceView> sideBySideViews(double separation, double convergence) {
+  ReferenceView left = monoViews()[0];
+  left.width = kWidth / 2;
+  left.eye_offset = -separation / 2, left.convergence = convergence;
+  ReferenceView right = left;
+  right.x = kWidth / 2;
+  right.eye_offset = separation / 2;
+  return {left, right};
 }
 
 std::string cameraArgs() {
@@ -82,14 +95,11 @@ struct ExpectedPick {
   int candidates = 0;  // points that land in the pixel
 };
 
-std::vector<ExpectedPick> certainPixels(const LasTestFile& file, const std::vector<View>& views) {
-  Bounds3 bounds;
-  for (const auto& p : file.points) bounds.extend(world(p, 0), world(p, 1), world(p, 2));
+std::vector<ExpectedPick> certainPixels(const LasTestFile& file,
+                                        const std::vector<ReferenceView>& views) {
   std::vector<ExpectedPick> out;
   for (std::size_t v = 0; v < views.size(); ++v) {
-    const View& view = views[v];
-    const glm::dmat4 projection =
-        view.camera.projectionMatrix(view.aspect(), view.camera.clipRange(bounds));
+    const ReferenceView& view = views[v];
     struct Hit {
       double depth;
       std::size_t point;
@@ -99,23 +109,20 @@ std::vector<ExpectedPick> certainPixels(const LasTestFile& file, const std::vect
     for (std::size_t i = 0; i < file.points.size(); ++i) {
       const glm::dvec3 p{world(file.points[i], 0), world(file.points[i], 1),
                          world(file.points[i], 2)};
-      const glm::dvec3 eye = glm::dmat3(view.camera.viewMatrix()) * (p - view.camera.position);
-      const glm::dvec4 clip = projection * glm::dvec4(eye, 1.0);
-      if (clip.w <= 0) continue;
-      const double x = view.viewport.x + (clip.x / clip.w + 1) * 0.5 * view.viewport.width;
-      const double y = view.viewport.y + (clip.y / clip.w + 1) * 0.5 * view.viewport.height;
+      const auto projected = referenceProject(view, p);
+      if (!projected) continue;
+      const double x = projected->window.x, y = projected->window.y;
       const double fx = x - std::floor(x), fy = y - std::floor(y);
       const bool sure = fx > 0.05 && fx < 0.95 && fy > 0.05 && fy < 0.95;
       for (double ox : {-0.05, 0.0, 0.05}) {
         for (double oy : {-0.05, 0.0, 0.05}) {
           const int px = int(std::floor(x + ox)), py = int(std::floor(y + oy));
-          if (px < view.viewport.x || py < view.viewport.y ||
-              px >= view.viewport.x + view.viewport.width ||
-              py >= view.viewport.y + view.viewport.height) {
+          if (px < view.x || py < view.y || px >= view.x + view.width ||
+              py >= view.y + view.height) {
             continue;
           }
           auto& hits = pixels[{px, py}];
-          if (hits.empty() || hits.back().point != i) hits.push_back({-eye.z, i, sure});
+          if (hits.empty() || hits.back().point != i) hits.push_back({projected->depth, i, sure});
         }
       }
     }
@@ -202,9 +209,7 @@ TEST(PickCommand, LasFileGivesTheFrontMostPointWithExactCoordinatesAndAttributes
   TempDir dir;
   const LasTestFile file = utmCloud();
   const auto las = dir.write("utm.las", makeLas(file));
-  const Camera camera = testCamera();
-  const StereoFrame mono = stereoFrame(camera, StereoSettings{}, kWidth, kHeight);
-  const auto picks = choose(certainPixels(file, mono.views), 0, 4);
+  const auto picks = choose(certainPixels(file, monoViews()), 0, 4);
   ASSERT_GE(picks.size(), 4u);
   EXPECT_GE(picks.front().candidates, 2) << "no pixel where the front-most point matters";
   expectPicks(dir, las.string(), cameraArgs(), file, picks, true);
@@ -221,10 +226,9 @@ TEST(PickCommand, APointTheFilterHidesIsNeverPicked) {
   const auto las = dir.write("utm.las", makeLas(file));
   LasTestFile kept = file;
   std::erase_if(kept.points, [](const LasTestPoint& p) { return p.return_number != 2; });
-  const StereoFrame mono = stereoFrame(testCamera(), StereoSettings{}, kWidth, kHeight);
-  const std::vector<ExpectedPick> whole = certainPixels(file, mono.views);
+  const std::vector<ExpectedPick> whole = certainPixels(file, monoViews());
   std::vector<ExpectedPick> picks;
-  for (const ExpectedPick& p : choose(certainPixels(kept, mono.views), 0, 1000)) {
+  for (const ExpectedPick& p : choose(certainPixels(kept, monoViews()), 0, 1000)) {
     // Pixels whose front-most point in the whole file is one the filter hides.
     const auto front = std::find_if(whole.begin(), whole.end(), [&](const ExpectedPick& w) {
       return w.x == p.x && w.y == p.y && w.view == p.view;
@@ -240,13 +244,8 @@ TEST(PickCommand, EachEyeOfSideBySideStereo) {
   TempDir dir;
   const LasTestFile file = utmCloud();
   const auto las = dir.write("utm.las", makeLas(file));
-  StereoSettings stereo;
-  stereo.mode = StereoMode::SideBySide;
-  stereo.eye_separation = 2.0, stereo.convergence = 30.0;
-  const StereoFrame frame = stereoFrame(testCamera(), stereo, kWidth, kHeight);
-  ASSERT_EQ(frame.views.size(), 2u);
   const std::string args = cameraArgs() + " --stereo sbs --eye-separation 2 --convergence 30";
-  const auto all = certainPixels(file, frame.views);
+  const auto all = certainPixels(file, sideBySideViews(2.0, 30.0));
   for (int view : {0, 1}) {
     SCOPED_TRACE("view " + std::to_string(view));
     expectPicks(dir, las.string(), args, file, choose(all, view, 2), true);
@@ -265,8 +264,7 @@ TEST(PickCommand, PotreeDirectoryAndCopcFileGiveTheSamePoints) {
   ASSERT_EQ(runParallax(dir, "convert -q " + quoted(las.string()) + " -o " + quoted(copc.string()))
                 .exit_code,
             0);
-  const StereoFrame mono = stereoFrame(testCamera(), StereoSettings{}, kWidth, kHeight);
-  const auto picks = choose(certainPixels(file, mono.views), 0, 2);
+  const auto picks = choose(certainPixels(file, monoViews()), 0, 2);
   // Every node drawn, however small on screen, so that all points compete as in the file.
   const std::string args = cameraArgs() + " --min-node-size 0";
   for (const auto& octree : {potree, copc}) {
@@ -288,8 +286,7 @@ TEST(PickCommand, NearestPointWithinTheRadiusAndNothingOnTheBackground) {
   far.x = 2000, far.z = -4000, far.intensity = 1;
   file.points.push_back(far);
   const auto las = dir.write("two.las", makeLas(file));
-  const StereoFrame mono = stereoFrame(testCamera(), StereoSettings{}, kWidth, kHeight);
-  const auto picks = certainPixels(file, mono.views);
+  const auto picks = certainPixels(file, monoViews());
   const auto centre =
       std::find_if(picks.begin(), picks.end(), [](const ExpectedPick& e) { return e.point == 0; });
   ASSERT_NE(centre, picks.end());

@@ -1,7 +1,8 @@
 // Picking in every look: at every pixel a drawn splat covers, the pick names a point whose splat
 // covers that pixel and that is front-most there, for each size mode (fixed small and large,
 // attenuated, adaptive), each shape, both rasterizers and each stereo eye, against a coverage
-// computed here on the CPU in double from the views' own matrices (GL's point rule: the pixels
+// computed here on the CPU in double with the test's own projection of the same eye, target,
+// field of view and stereo settings (support/reference_projection.h; GL's point rule: the pixels
 // whose centres lie inside the point's square, or its disc). Where no splat covers a pixel, the
 // pick finds nothing.
 #include <gtest/gtest.h>
@@ -16,6 +17,7 @@
 #include "render/point_picker.h"
 #include "render/stereo.h"
 #include "render_test_support.h"
+#include "support/reference_projection.h"
 
 namespace parallax::test {
 namespace {
@@ -46,30 +48,22 @@ struct Splat {
   double depth = 0.0;      // eye depth
 };
 
-std::vector<Splat> cpuSplats(const PointCloud& cloud, const StereoFrame& frame,
-                             const DrawSet& draw_set, const RenderSettings& settings,
-                             double node_spacing, double max_point_size) {
+std::vector<Splat> cpuSplats(const PointCloud& cloud, const std::vector<ReferenceView>& views,
+                             const RenderSettings& settings, double node_spacing,
+                             double max_point_size) {
   std::vector<Splat> splats;
-  for (std::size_t v = 0; v < frame.views.size(); ++v) {
-    const View& view = frame.views[v];
-    const ClipRange range = view.camera.clipRange(draw_set.bounds);
-    const glm::dmat4 world_to_eye = view.camera.viewMatrix();
-    const glm::dmat4 to_clip = view.camera.projectionMatrix(view.aspect(), range) * world_to_eye;
-    const double pixels_per_unit =
-        view.viewport.height / (2.0 * std::tan(glm::radians(view.camera.fov_y_deg) / 2));
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const ReferenceView& view = views[v];
+    const double pixels_per_unit = view.height / (2.0 * std::tan(view.fov_y_deg * M_PI / 360.0));
     for (std::size_t k = 0; k < cloud.count; ++k) {
-      const glm::dvec4 world(cloud.worldX(k), cloud.worldY(k), cloud.worldZ(k), 1.0);
-      const glm::dvec4 clip = to_clip * world;
-      if (!(clip.w > 0 && std::abs(clip.x) <= clip.w && std::abs(clip.y) <= clip.w && clip.z >= 0 &&
-            clip.z <= clip.w)) {
-        continue;
-      }
+      const auto projected =
+          referenceProject(view, {cloud.worldX(k), cloud.worldY(k), cloud.worldZ(k)});
+      if (!projected) continue;
       Splat splat;
       splat.point = k;
       splat.view = int(v);
-      splat.window = {view.viewport.x + (clip.x / clip.w + 1) / 2 * view.viewport.width,
-                      view.viewport.y + (clip.y / clip.w + 1) / 2 * view.viewport.height};
-      splat.depth = -(world_to_eye * world).z;
+      splat.window = projected->window;
+      splat.depth = projected->depth;
       double size = settings.point_size_px;
       if (settings.size_mode != PointSizeMode::Fixed) {
         const double world_size = settings.size_mode == PointSizeMode::Attenuated
@@ -145,9 +139,11 @@ TEST(PickSplats, EveryCoveredPixelNamesItsFrontMostSplatInEveryLookRasterizerAnd
   for (std::size_t k = 0; k < cloud.count; ++k) {
     index_of[{cloud.worldX(k), cloud.worldY(k), cloud.worldZ(k)}] = k;
   }
+  const glm::dvec3 eye{0.2, -1.8, 1.0}, look_at{0.0, 1.2, 0.4};
   Camera camera;
-  camera.lookAt({0.2, -1.8, 1.0}, {0.0, 1.2, 0.4}, {0, 0, 1});
+  camera.lookAt(eye, look_at, {0, 0, 1});
   camera.fov_y_deg = 60.0;
+  constexpr double kSeparation = 0.2, kConvergence = 3.0;
   // Adaptive sizes from a level-of-detail node's spacing (DrawItem::node_spacing), which the CPU
   // reference knows; a whole cloud's per-point spacing is the renderer's own estimate.
   constexpr double kNodeSpacing = 0.3;
@@ -156,8 +152,19 @@ TEST(PickSplats, EveryCoveredPixelNamesItsFrontMostSplatInEveryLookRasterizerAnd
     const int width = mode == StereoMode::Mono ? 96 : 192, height = 64;
     StereoSettings stereo;
     stereo.mode = mode;
-    stereo.eye_separation = 0.2;
+    stereo.eye_separation = kSeparation, stereo.convergence = kConvergence;
     const StereoFrame frame = stereoFrame(camera, stereo, width, height);
+    // The same views written out: the whole picture, or its halves for the two eyes.
+    std::vector<ReferenceView> views(mode == StereoMode::Mono ? 1 : 2);
+    for (std::size_t v = 0; v < views.size(); ++v) {
+      views[v].eye = eye, views[v].target = look_at, views[v].fov_y_deg = 60.0;
+      views[v].height = height, views[v].width = width / int(views.size());
+      views[v].x = int(v) * views[v].width;
+      if (mode != StereoMode::Mono) {
+        views[v].eye_offset = (v == 0 ? -0.5 : 0.5) * kSeparation;
+        views[v].convergence = kConvergence;
+      }
+    }
     for (const Look& look : everyLook()) {
       DrawSet draw_set = gpu.drawSet();
       if (look.settings.size_mode == PointSizeMode::Adaptive) {
@@ -176,7 +183,7 @@ TEST(PickSplats, EveryCoveredPixelNamesItsFrontMostSplatInEveryLookRasterizerAnd
             << name;
         const double max_point_size = renderer.computeRasterizer().maxPointSize();
         const std::vector<Splat> splats =
-            cpuSplats(cloud, frame, draw_set, settings, kNodeSpacing, max_point_size);
+            cpuSplats(cloud, views, settings, kNodeSpacing, max_point_size);
         PickSource source(cloud);
         std::size_t checked = 0, empty = 0, large = 0;
         for (const Splat& splat : splats) large += splat.size > ComputeRasterizer::kInlineSplatPx;
@@ -184,7 +191,7 @@ TEST(PickSplats, EveryCoveredPixelNamesItsFrontMostSplatInEveryLookRasterizerAnd
         std::vector<std::vector<const Splat*>> covering_at(std::size_t(width) * height);
         std::vector<char> unsure_at(std::size_t(width) * height, 0);
         for (const Splat& splat : splats) {
-          const Viewport& vp = frame.views[std::size_t(splat.view)].viewport;
+          const ReferenceView& vp = views[std::size_t(splat.view)];
           const int x0 = std::max(vp.x, int(std::floor(splat.window.x - splat.size / 2 - 1)));
           const int x1 = std::min(vp.x + vp.width - 1, int(splat.window.x + splat.size / 2 + 1));
           const int y0 = std::max(vp.y, int(std::floor(splat.window.y - splat.size / 2 - 1)));

@@ -1,6 +1,6 @@
 // `parallax render --measurements FILE` end to end: the file's camera is used, a distance
-// measurement's line lands on the pixels a CPU projection in double of its endpoints gives (UTM
-// coordinates), faded behind a nearer point, and a malformed file is a clear error.
+// measurement's line lands on the pixels the test's own projection in double of its endpoints
+// gives (UTM coordinates), faded behind a nearer point, and a malformed file is a clear error.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -13,6 +13,7 @@
 
 #include "render/camera.h"
 #include "render/image_file.h"
+#include "support/reference_projection.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
@@ -69,13 +70,17 @@ nlohmann::json document() {
              {"points", {{kEast + 1, kNorth + 5, kUp}, {kEast + 9, kNorth + 5, kUp}}}}}}};
 }
 
-std::pair<int, int> cpuPixel(const Camera& camera, double x, double y, double z) {
-  const glm::dmat4 m =
-      camera.projectionMatrix(double(kWidth) / kHeight, ClipRange{1, 100}) * camera.viewMatrix();
-  const glm::dvec4 clip = m * glm::dvec4(x, y, z, 1.0);
-  const double px = (clip.x / clip.w * 0.5 + 0.5) * kWidth;
-  const double py = (clip.y / clip.w * 0.5 + 0.5) * kHeight;
-  return {int(std::floor(px)), kHeight - 1 - int(std::floor(py))};
+// Where topCamera() puts a point, projected by the test's own matrix from the same eye, target, up
+// and field of view (support/reference_projection.h), not by the product's camera.
+std::pair<int, int> cpuPixel(double x, double y, double z) {
+  ReferenceView view;
+  view.eye = {kEast + 5, kNorth + 5, kUp + 40}, view.target = {kEast + 5, kNorth + 5, kUp};
+  view.up = {0, 1, 0}, view.fov_y_deg = 30;
+  view.width = kWidth, view.height = kHeight;
+  const auto projected = referenceProject(view, {x, y, z});
+  EXPECT_TRUE(projected.has_value()) << x << " " << y << " " << z << " is out of view";
+  if (!projected) return {0, 0};
+  return {projected->column(), projected->row(kHeight)};
 }
 
 std::array<int, 3> rgbAt(const RgbaImage& image, std::pair<int, int> pixel) {
@@ -108,17 +113,16 @@ TEST(RenderMeasurements, DistanceLineOnTheProjectedPixelsFadedBehindANearerPoint
   ASSERT_EQ(image.width, kWidth);
   // The distance colour (measure/measurement_overlay.cpp): 1, 0.85, 0.1.
   const std::array<int, 3> line{255, 217, 26};
-  const Camera camera = topCamera();
   for (double x : {2.0, 3.0, 7.0, 8.0}) {
-    expectColor(rgbAt(image, cpuPixel(camera, kEast + x, kNorth + 5, kUp)), line, 1,
+    expectColor(rgbAt(image, cpuPixel(kEast + x, kNorth + 5, kUp)), line, 1,
                 "the line at x " + std::to_string(x));
   }
   // Three pixels off the line (2 pixels wide) is the ground or the background, not the line.
-  const auto off = cpuPixel(camera, kEast + 3, kNorth + 5, kUp);
+  const auto off = cpuPixel(kEast + 3, kNorth + 5, kUp);
   EXPECT_NE(rgbAt(image, {off.first, off.second - 3}), line);
   EXPECT_NE(rgbAt(image, {off.first, off.second + 3}), line);
   // Under the red point 10 units above the ground the line is hidden: faded to 30 %.
-  expectColor(rgbAt(image, cpuPixel(camera, kEast + 5, kNorth + 5, kUp)),
+  expectColor(rgbAt(image, cpuPixel(kEast + 5, kNorth + 5, kUp)),
               {int(0.7 * 255 + 0.3 * 255 + 0.5), int(0.3 * 217 + 0.5), int(0.3 * 26 + 0.5)}, 2,
               "the line behind the red point");
 }
@@ -139,7 +143,7 @@ TEST(RenderMeasurements, CameraOptionsWinOverTheFilesCamera) {
   ASSERT_EQ(run(command), 0) << readText(dir / "log");
   EXPECT_EQ(readText(dir / "log").find("from its camera"), std::string::npos);
   const RgbaImage image = readPng(png);
-  const auto where = cpuPixel(topCamera(), kEast + 3, kNorth + 5, kUp);
+  const auto where = cpuPixel(kEast + 3, kNorth + 5, kUp);
   EXPECT_NE(rgbAt(image, where), (std::array<int, 3>{255, 217, 26}));
 }
 

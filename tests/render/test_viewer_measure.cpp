@@ -1,8 +1,8 @@
-// The measurement tools in a real window under Xvfb, driven with xdotool: the distance tool's
-// two clicks print the two points and their distance (then Ctrl + E extends it), the profile
-// tool's corridor holds exactly the file's points within half its width, and an annotation
-// saved with Ctrl + S is drawn by `parallax render --measurements` where the viewer showed it.
-// Every expected point comes from `parallax pick` at the same pixel of the same picture.
+// The measurement tools in a real window under Xvfb, driven with xdotool, against `parallax
+// pick` at the same pixel of the same picture: in the viewer's own look on the demo scene the
+// distance tool's clicks land on the points pick names, and an annotation saved with Ctrl + S is
+// drawn by `parallax render --measurements` where the viewer showed it. The distance, height,
+// area, angle and profile tools against oracles of the test's own: test_viewer_tools.cpp.
 //
 // Needs the Debian packages xvfb and xdotool; skipped (with the reason) where they are missing.
 #include <gtest/gtest.h>
@@ -59,78 +59,6 @@ void expectTwoPointDistanceLogged(const std::string& log,
   EXPECT_NEAR(std::stod(log.substr(start, at - start)), distance, 5e-7) << log;
 }
 
-// With the distance tool (`--tool distance`), clicking two points and pressing Enter prints the
-// two points (the file's values, exactly those `parallax pick` gives for those pixels) and their
-// distance, computed in double from them.
-TEST(ViewerWindow, DistanceToolClickingTwoPointsPrintsTheirDistance) {
-  if (!onPath("Xvfb") || !onPath("xdotool")) {
-    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
-  }
-  TempDir dir;
-  const auto cloud = dir.write("grid.ply", gridPly());
-  const std::vector<std::string> look = {"--width",      "640",   "--height", "400",
-                                         "--point-size", "4",     "--eye",    "0.4,-1.6,1.2",
-                                         "--target",     "0,0,0", "--fov",    "30"};
-  std::array<nlohmann::json, 3> expected;
-  const std::array<std::string, 3> pixels = {"250,150", "420,260", "330,300"};
-  for (int i = 0; i < 3; ++i) {
-    std::string args = " pick " + cloud.string() + " --pixel " + pixels[i] + " --json";
-    for (const std::string& option : look) args += " " + option;
-    const auto json = dir / ("pick" + std::to_string(i) + ".json");
-    ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + args + " > " + json.string()), 0);
-    expected[i] = nlohmann::json::parse(readFile(json));
-    ASSERT_TRUE(expected[i].at("found").get<bool>()) << expected[i].dump();
-  }
-  auto point = [&](int i) {
-    const nlohmann::json& p = expected[i].at("point");
-    return std::array<double, 3>{p.at("x").get<double>(), p.at("y").get<double>(),
-                                 p.at("z").get<double>()};
-  };
-  auto between = [&](int i, int j) {
-    const auto a = point(i), b = point(j);
-    return std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
-                     (b[2] - a[2]) * (b[2] - a[2]));
-  };
-  const double distance = between(0, 1);
-  ASSERT_GT(distance, 0.1) << "the two pixels picked the same point";
-  ASSERT_GT(between(1, 2), 0.1) << "the last two pixels picked the same point";
-
-  Display display(dir);
-  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
-  std::vector<std::string> view_args = {cloud.string(), "--no-vsync",       "--tool",
-                                        "distance",     "--screenshot-dir", dir.path().string()};
-  view_args.insert(view_args.end(), look.begin(), look.end());
-  ViewerProcess viewer(dir, display.name(), view_args, "viewer.log");
-  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
-  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
-  ASSERT_NO_FATAL_FAILURE(measureBetweenTwoPicks(viewer, expected[0], expected[1]));
-  expectTwoPointDistanceLogged(viewer.log(), {point(0), point(1)}, distance);
-  const std::string prefix = "parallax view: distance ";
-  // Ctrl + E reopens it (the measurement just finished is the selected one); a third click
-  // extends the polyline, Enter puts it back: the total of both segments.
-  viewer.key("ctrl+e");
-  viewer.click(expected[2].at("point_pixel")[0], expected[2].at("point_pixel")[1]);
-  ASSERT_TRUE(viewer.logged("parallax view: distance point 3: ")) << viewer.log();
-  viewer.key("Return");
-  ASSERT_TRUE(viewer.logged(" m (3 points)", 10s)) << viewer.log();
-  const std::string extended = viewer.log();
-  const auto end3 = extended.find(" m (3 points)");
-  const auto start3 = extended.rfind(prefix, end3) + prefix.size();
-  EXPECT_NEAR(std::stod(extended.substr(start3, end3 - start3)), distance + between(1, 2), 5e-7)
-      << extended;
-  // The overlay: the measurement's vertex markers (distance yellow, 1 0.85 0.1) around the two
-  // points clicked, drawn over the points.
-  const RgbaImage shot = viewer.screenshot(dir.path());
-  for (int i = 0; i < 2; ++i) {
-    const int x = expected[i].at("point_pixel")[0], y = expected[i].at("point_pixel")[1];
-    const std::size_t pixel = (std::size_t(y) * std::size_t(shot.width) + std::size_t(x + 2)) * 4;
-    EXPECT_NEAR(shot.pixels[pixel], 255, 1) << "marker " << i;
-    EXPECT_NEAR(shot.pixels[pixel + 1], 217, 1) << "marker " << i;
-    EXPECT_NEAR(shot.pixels[pixel + 2], 26, 1) << "marker " << i;
-  }
-  EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
-}
-
 // The viewer's own look (no size, shape or lighting option: round points sized to the local
 // spacing, lit) on the demo's scanned scene: the distance tool's two clicks land on the points
 // drawn there, which `parallax pick` with the same look finds at exactly those pixels (the splat
@@ -182,74 +110,6 @@ TEST(ViewerWindow, DistanceOnTheDemoSceneInTheViewersDefaultLook) {
   EXPECT_EQ(viewer.log().find("picked nothing"), std::string::npos) << viewer.log();
   expectTwoPointDistanceLogged(viewer.log(), {point(0), point(1)}, distance);
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
-}
-
-// The profile tool: two clicks and Enter extract the points within the corridor at once; their
-// count is the count of the file's points within --profile-width / 2 of the line, horizontally
-// (measure/height_profile.h), counted here from the PLY's own text.
-TEST(ViewerWindow, ProfileToolExtractsThePointsOfItsCorridor) {
-  if (!onPath("Xvfb") || !onPath("xdotool")) {
-    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
-  }
-  TempDir dir;
-  const std::string ply = gridPly();
-  const auto cloud = dir.write("grid.ply", ply);
-  const std::vector<std::string> look = {"--width",      "640",   "--height", "400",
-                                         "--point-size", "4",     "--eye",    "0.4,-1.6,1.2",
-                                         "--target",     "0,0,0", "--fov",    "30"};
-  std::array<std::array<double, 3>, 2> ends;
-  std::array<std::array<int, 2>, 2> pixels;
-  const std::array<std::string, 2> asked = {"230,160", "430,250"};
-  for (int i = 0; i < 2; ++i) {
-    std::string args = " pick " + cloud.string() + " --pixel " + asked[i] + " --json";
-    for (const std::string& option : look) args += " " + option;
-    const auto json = dir / ("pick" + std::to_string(i) + ".json");
-    ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + args + " > " + json.string()), 0);
-    const nlohmann::json picked = nlohmann::json::parse(readFile(json));
-    ASSERT_TRUE(picked.at("found").get<bool>()) << picked.dump();
-    ends[i] = {picked.at("point").at("x"), picked.at("point").at("y"), picked.at("point").at("z")};
-    pixels[i] = {picked.at("point_pixel")[0], picked.at("point_pixel")[1]};
-  }
-  // The file's points as the reader gives them (float properties), within 0.1 of the segment.
-  const double half_width = 0.1;
-  const double dx = ends[1][0] - ends[0][0], dy = ends[1][1] - ends[0][1];
-  const double length = std::hypot(dx, dy);
-  std::size_t inside = 0;
-  std::istringstream rows(ply.substr(ply.find("end_header\n") + 11));
-  for (std::string row; std::getline(rows, row);) {
-    std::istringstream values(row);
-    std::string x_text, y_text;
-    values >> x_text >> y_text;
-    const double x = std::stof(x_text) - ends[0][0], y = std::stof(y_text) - ends[0][1];
-    const double along = (x * dx + y * dy) / length;
-    const double offset = (dx * y - dy * x) / length;
-    inside += along >= 0 && along <= length && std::abs(offset) <= half_width;
-  }
-  ASSERT_GT(inside, 10u);
-
-  Display display(dir);
-  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
-  std::vector<std::string> view_args = {cloud.string(), "--no-vsync",      "--tool",
-                                        "profile",      "--profile-width", "0.2"};
-  view_args.insert(view_args.end(), look.begin(), look.end());
-  ViewerProcess viewer(dir, display.name(), view_args, "viewer.log");
-  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
-  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
-  viewer.key("g");
-  for (int i = 0; i < 2; ++i) {
-    viewer.click(pixels[i][0], pixels[i][1]);
-    ASSERT_TRUE(viewer.logged("parallax view: profile point " + std::to_string(i + 1) + ": "))
-        << viewer.log();
-  }
-  viewer.key("Return");
-  ASSERT_TRUE(viewer.logged("parallax view: profile of measurement 1: ", 10s)) << viewer.log();
-  const std::string log = viewer.log();
-  EXPECT_NE(log.find("parallax view: profile of measurement 1: " + std::to_string(inside) +
-                     " points from every point of the file"),
-            std::string::npos)
-      << "expected " << inside << " points: " << log;
-  EXPECT_NE(log.find(" m long, 0.200000 m wide (2 points)"), std::string::npos) << log;
-  EXPECT_EQ(viewer.quit(), 0) << viewer.log();
 }
 
 // The annotation tool places a labelled point where the click picks one; Ctrl + S saves it with

@@ -8,6 +8,9 @@
 //       (WKT) is the reference's; and that the
 //       records of all nodes are exactly the point records of REFERENCE.las (an uncompressed LAS
 //       file of the same point format and record length), each found exactly once.
+//       Both modes also read FILE front to back as a plain LAZ reader does (laz-perf's LASZip,
+//       through the LAZ chunk table: COPC's chunks are variable, one a node, each with its own
+//       point count and size): the records must be the nodes' own, node after node in file order.
 //   node copc_oracle.cjs summary FILE.copc.laz
 //       The pages, nodes and points copc.js finds, each point in its node's cube (for files of
 //       other writers, which sample otherwise: no spacing check).
@@ -45,6 +48,43 @@ function lasRecords(file) {
     at += 54 + size;
   }
   return { records: b.subarray(offset, offset + count * length), count, length, format, wkt };
+}
+
+// The LAZ chunk size of the laszip VLR (user "laszip encoded", record 22204: compressor, coder,
+// version, revision, options, then the chunk size); 0xffffffff for variable chunks.
+function lazChunkSize(file) {
+  const b = fs.readFileSync(file);
+  let at = b.readUInt16LE(94);
+  for (let i = 0; i < b.readUInt32LE(100); ++i) {
+    const user = b.toString('latin1', at + 2, at + 18).replace(/\0.*$/, '');
+    const id = b.readUInt16LE(at + 18), size = b.readUInt16LE(at + 20);
+    if (user === 'laszip encoded' && id === 22204) return b.readUInt32LE(at + 54 + 12);
+    at += 54 + size;
+  }
+  fail(file + ' has no laszip VLR');
+}
+
+// Every record laz-perf's LASZip decodes reading FILE front to back, as one Buffer.
+function frontToBack(file, lazPerf) {
+  const bytes = fs.readFileSync(file);
+  const input = lazPerf._malloc(bytes.length);
+  lazPerf.HEAPU8.set(bytes, input);
+  const laszip = new lazPerf.LASZip();
+  try {
+    laszip.open(input, bytes.length);
+    const count = laszip.getCount(), length = laszip.getPointLength();
+    const point = lazPerf._malloc(length);
+    const out = Buffer.alloc(count * length);
+    for (let i = 0; i < count; ++i) {
+      laszip.getPoint(point);
+      out.set(lazPerf.HEAPU8.subarray(point, point + length), i * length);
+    }
+    lazPerf._free(point);
+    return out;
+  } finally {
+    laszip.delete();
+    lazPerf._free(input);
+  }
 }
 
 // Every node of the file, from every page (copc.js's own page parser).
@@ -119,6 +159,7 @@ async function check(file, reference) {
   let points = 0, inner = 0;
   const keys = Object.keys(nodes);
   const hasChildren = new Set();
+  const chunks = [];  // each node's records and where its chunk starts
   for (const key of keys) {
     const [d, x, y, z] = key.split('-').map(Number);
     if (d > 0) hasChildren.add(`${d - 1}-${x >> 1}-${y >> 1}-${z >> 1}`);
@@ -147,6 +188,7 @@ async function check(file, reference) {
       seen.set(record, (seen.get(record) || 0) + 1);
     }
     points += view.pointCount;
+    chunks.push({ offset: node.pointDataOffset, records: Buffer.from(buffer) });
     if (ref && hasChildren.has(key)) {
       ++inner;
       const spacing = info.spacing / 2 ** Number(key.split('-')[0]);
@@ -160,6 +202,24 @@ async function check(file, reference) {
   }
   if (points !== header.pointCount) fail(`${points} points in the nodes, the header says ${header.pointCount}`);
   let summary = `${file}: copc.js read ${pages} hierarchy pages, ${keys.length} nodes, ${points} points`;
+  // The chunk table: variable chunks, read front to back, are the nodes in file order.
+  if (lazChunkSize(file) !== 0xffffffff) fail(`${file}: fixed LAZ chunks, COPC's are variable`);
+  chunks.sort((a, b) => a.offset - b.offset);
+  const nodeOrder = Buffer.concat(chunks.map((c) => c.records));
+  const plain = frontToBack(file, lazPerf);
+  if (plain.length !== nodeOrder.length) {
+    fail(`${file}: a plain LAZ read through the chunk table gives ${plain.length / length} points, ` +
+         `the nodes ${nodeOrder.length / length}`);
+  }
+  for (let c = 0, at = 0; c < chunks.length; at += chunks[c].records.length, ++c) {
+    if (!plain.subarray(at, at + chunks[c].records.length).equals(chunks[c].records)) {
+      fail(`${file}: chunk ${c} (at byte ${chunks[c].offset}) read through the chunk table ` +
+           `differs from its node's points`);
+    }
+  }
+  const sizes = new Set(chunks.map((c) => c.records.length / length));
+  summary += `; laz-perf read its ${chunks.length} variable chunks (${sizes.size} sizes) front to ` +
+             'back through the chunk table, each its node\'s points';
   if (ref) summary += `; ${inner} inner nodes keep their level's spacing`;
   if (ref) {
     if (ref.count !== points) fail(`${points} points in ${file}, ${ref.count} in ${reference}`);

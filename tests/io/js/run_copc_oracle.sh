@@ -5,7 +5,8 @@
 #   run_copc_oracle.sh PARALLAX WORKDIR DATA
 #       A generated scan (LAS 1.4, point format 7 with extra bytes) converted to COPC through the
 #       builder, and its Potree directory re-encoded node by node, must each hold exactly the
-#       LAS file's points (copc.js walks every hierarchy page, laz-perf decodes every chunk);
+#       LAS file's points (copc.js walks every hierarchy page, laz-perf decodes every chunk,
+#       and reads the file front to back through its variable LAZ chunk table);
 #       so must the real COPC file DATA/simple.copc.laz written again by Parallax, with its WKT.
 # WORKDIR is emptied first.
 set -euo pipefail
