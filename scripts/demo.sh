@@ -19,7 +19,7 @@ echo "== dependencies"
 scripts/install-deps.sh </dev/null
 
 echo "== build (Release, $build_dir/)"
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DPARALLAX_UNITY_BUILD=ON
 cmake --build "$build_dir" -j "$jobs" --target parallax
 parallax=$build_dir/apps/parallax/parallax
 

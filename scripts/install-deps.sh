@@ -8,6 +8,8 @@ set -euo pipefail
 packages=(
   # toolchain; packaging (cpack -G DEB: dpkg-shlibdeps, file); the formatter CI checks with
   build-essential cmake pkg-config dpkg-dev file clang-format
+  # LLD, the faster linker (PARALLAX_LINK_WITH_LLD)
+  lld
   # core, io, command line
   libtbb-dev libfast-float-dev libcli11-dev nlohmann-json3-dev
   # PCD's binary_compressed data (LZF)

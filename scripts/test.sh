@@ -11,6 +11,8 @@
 #                   time as there are build jobs
 # Every tree is built with PARALLAX_WERROR=ON (a compiler warning fails the build) and its build
 # log is searched for any other warning (CMake, linker), which fails the stage too.
+# Every tree compiles the command line in unity batches (PARALLAX_UNITY_BUILD) and links with LLD
+# where it is installed: CI's time is mostly compiling and linking, three times over.
 # A skipped test is not a passed one: every skip is listed in the summary with its reason, and a
 # skip fails the run unless its test's name matches a pattern of PARALLAX_ALLOWED_SKIPS (empty in
 # CI, where Xvfb, xdotool and Mesa are installed and nothing has a reason to skip).
@@ -81,7 +83,7 @@ configure_and_build() {
   banner "$name: configure and build ($dir)"
   local start rc warnings
   start=$(now)
-  { cmake -S "$root" -B "$dir" -DPARALLAX_WERROR=ON "$@" &&
+  { cmake -S "$root" -B "$dir" -DPARALLAX_WERROR=ON -DPARALLAX_UNITY_BUILD=ON "$@" &&
     cmake --build "$dir" -j "$jobs" --target "$target"; } 2>&1 | tee "$log"
   rc=${PIPESTATUS[0]}
   # -Werror stops on a compiler warning; this catches the rest (CMake's, the linker's).

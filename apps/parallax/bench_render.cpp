@@ -104,8 +104,6 @@ struct RenderBenchOptions {
   LodOptions lod;
 };
 
-using Clock = std::chrono::steady_clock;
-
 PointCloud randomCloud(std::uint64_t count) {
   PointCloud cloud;
   cloud.count = count;

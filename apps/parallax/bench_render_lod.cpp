@@ -41,12 +41,6 @@
 namespace parallax::cli {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
 // The points of `nodes` as one cloud (positions and colours), for the plain reference.
 PointCloud mergeNodes(const Octree& octree, const std::vector<std::int32_t>& nodes) {
   std::uint64_t count = 0;

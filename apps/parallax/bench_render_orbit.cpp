@@ -75,8 +75,6 @@ std::string lookLine(const RenderSettings& s, const StereoSettings& stereo) {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 struct Side {
   std::vector<double> wall, cpu;
   FrameStats stats;  // the last frame's

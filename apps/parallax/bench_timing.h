@@ -1,10 +1,12 @@
-// Timing helpers of the render benchmarks (bench_render*.cpp): process CPU time, the load
-// average beside each figure, medians and percentiles.
+// Timing helpers of the benchmarks (bench_render*.cpp, command_bench*.cpp) and of render's
+// phase times: wall and CPU time, the load average beside each figure, medians and percentiles.
 #pragma once
 
+#include <sys/resource.h>
 #include <time.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstddef>
 #include <fstream>
 #include <utility>
@@ -14,10 +16,26 @@
 
 namespace parallax::cli {
 
+using Clock = std::chrono::steady_clock;
+
+inline double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
 inline double processCpuSeconds() {
   timespec now{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
   return double(now.tv_sec) + double(now.tv_nsec) * 1e-9;
+}
+
+// User + system CPU seconds so far of this process (RUSAGE_SELF) or of its finished children
+// (RUSAGE_CHILDREN: the peers a benchmark runs): on a shared machine the work per core is better
+// measured by CPU time than by wall time divided by the cores.
+inline double rusageCpuSeconds(int who) {
+  rusage usage{};
+  getrusage(who, &usage);
+  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+         1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
 
 // /proc/loadavg's three figures (zeros where it cannot be read).

@@ -40,6 +40,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_timing.h"
 #include "commands.h"
 #include "core/attribute_selection.h"
 #include "core/error.h"
@@ -50,12 +51,6 @@
 
 namespace parallax::cli {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 [[noreturn]] void throwReadError(const std::string& path, int error) {
   throw InputError({.file = path, .expected = "a readable file", .found = std::strerror(error)});
@@ -138,22 +133,6 @@ std::string peerCommand(const std::string& pattern, const std::string& file) {
   return command;
 }
 
-// CPU seconds (user + system) of the whole process so far.
-double cpuSeconds() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
-         1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
-}
-
-// CPU seconds (user + system) of the finished child processes so far (the --peer runs).
-double childrenCpuSeconds() {
-  rusage usage{};
-  getrusage(RUSAGE_CHILDREN, &usage);
-  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
-         1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
-}
-
 int runBenchLoad(const LoadOptions& options) {
   const std::string& path = options.file;
   // Warm-up: puts the file in the page cache ("drop nothing": both measurements then read memory).
@@ -180,28 +159,28 @@ int runBenchLoad(const LoadOptions& options) {
     buffer.reset();
 
     start = Clock::now();
-    const double cpu_start = cpuSeconds();
+    const double cpu_start = rusageCpuSeconds(RUSAGE_SELF);
     PointCloud cloud = readPointFile(path, {.attributes = selection});
     load.seconds.push_back(secondsSince(start));
-    load_cpu.seconds.push_back(cpuSeconds() - cpu_start);
+    load_cpu.seconds.push_back(rusageCpuSeconds(RUSAGE_SELF) - cpu_start);
     points = cloud.count;
     columns = columnBytes(cloud);
     cloud = PointCloud();
     if (!selection.all()) {
       start = Clock::now();
-      const double full_start = cpuSeconds();
+      const double full_start = rusageCpuSeconds(RUSAGE_SELF);
       cloud = readPointFile(path);
       full.seconds.push_back(secondsSince(start));
-      full_cpu.seconds.push_back(cpuSeconds() - full_start);
+      full_cpu.seconds.push_back(rusageCpuSeconds(RUSAGE_SELF) - full_start);
       cloud = PointCloud();
     }
     if (!options.peer.empty()) {
       const std::string command = peerCommand(options.peer, path);
       start = Clock::now();
-      const double children_start = childrenCpuSeconds();
+      const double children_start = rusageCpuSeconds(RUSAGE_CHILDREN);
       const int status = std::system(command.c_str());
       peer.seconds.push_back(secondsSince(start));
-      peer_cpu.seconds.push_back(childrenCpuSeconds() - children_start);
+      peer_cpu.seconds.push_back(rusageCpuSeconds(RUSAGE_CHILDREN) - children_start);
       if (status != 0) {
         throw std::runtime_error("bench load --peer: '" + command + "' failed (status " +
                                  std::to_string(status) + ")");

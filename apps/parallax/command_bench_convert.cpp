@@ -36,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_timing.h"
 #include "commands.h"
 #include "lod/copc_converter.h"
 #include "lod/potree_converter.h"
@@ -97,20 +98,6 @@ double peakResidentMb() {
   return double(usage.ru_maxrss) / 1024.0;  // KiB on Linux
 }
 
-// User + system CPU seconds of this process so far: on a shared machine the work per core is
-// better measured by CPU time than by wall time divided by the cores.
-double cpuSeconds() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
-         double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) * 1e-6;
-}
-
-double loadAverage() {
-  double load[1] = {0.0};
-  return getloadavg(load, 1) == 1 ? load[0] : -1.0;
-}
-
 int runBenchConvert(const BenchConvertOptions& args) {
   std::vector<ConvertInput> inputs, twin;
   for (const std::string& file : args.files) inputs.push_back({file, {}});
@@ -130,10 +117,10 @@ int runBenchConvert(const BenchConvertOptions& args) {
       "bench convert: %zu input(s), sampling %s, --memory %llu MB, %d threads, "
       "load average %.2f\n",
       inputs.size(), args.sampling.c_str(), static_cast<unsigned long long>(args.memory_mb), cores,
-      loadAverage());
-  const double cpu_before = cpuSeconds();
+      loadAverage()[0]);
+  const double cpu_before = rusageCpuSeconds(RUSAGE_SELF);
   const PotreeConvertResult result = convertToPotree(inputs, output, options);
-  const double cpu = cpuSeconds() - cpu_before;
+  const double cpu = rusageCpuSeconds(RUSAGE_SELF) - cpu_before;
   const double peak_mb = peakResidentMb();
   std::filesystem::remove_all(output);
   const double rate = double(result.points) / result.seconds_total;
@@ -171,7 +158,7 @@ int runBenchConvert(const BenchConvertOptions& args) {
   if (!twin.empty() || !args.potree_converter.empty()) {
     options.progress = nullptr;
     for (int round = 1; round <= args.rounds; ++round) {
-      const double load = loadAverage();
+      const double load = loadAverage()[0];
       const double convert = convertToPotree(inputs, output, options).seconds_total;
       std::filesystem::remove_all(output);
       std::printf("round %d (load average %.2f): convert %.2f s", round, load, convert);
@@ -198,9 +185,9 @@ int runBenchConvert(const BenchConvertOptions& args) {
         work / ("parallax-bench-convert-" + std::to_string(::getpid()) + ".copc.laz");
     CopcConvertOptions copc_options;
     copc_options.potree = options;
-    const double copc_cpu_before = cpuSeconds();
+    const double copc_cpu_before = rusageCpuSeconds(RUSAGE_SELF);
     const CopcConvertResult copc = convertToCopc(inputs, copc_output, copc_options);
-    const double copc_cpu = cpuSeconds() - copc_cpu_before;
+    const double copc_cpu = rusageCpuSeconds(RUSAGE_SELF) - copc_cpu_before;
     const double bytes = double(std::filesystem::file_size(copc_output));
     std::filesystem::remove(copc_output);
     const double copc_rate = double(copc.copc.points) / copc.seconds_total;
@@ -214,7 +201,7 @@ int runBenchConvert(const BenchConvertOptions& args) {
                 copc_rate / rate,
                 (double(copc.copc.points) / copc_cpu) / (double(result.points) / cpu));
   }
-  std::printf("load average after: %.2f\n", loadAverage());
+  std::printf("load average after: %.2f\n", loadAverage()[0]);
   return 0;
 }
 

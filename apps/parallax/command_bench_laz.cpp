@@ -22,13 +22,12 @@
 #include <string>
 #include <vector>
 
+#include "bench_timing.h"
 #include "commands.h"
 #include "io/laz_decode.h"
 
 namespace parallax::cli {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 struct BenchLazOptions {
   std::string file;
@@ -37,19 +36,8 @@ struct BenchLazOptions {
   std::string peer;
 };
 
-double cpuOf(int who) {
-  rusage usage{};
-  getrusage(who, &usage);
-  return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
-         1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
-}
-
-double loadAverage() {
-  double load[1] = {0.0};
-  return getloadavg(load, 1) == 1 ? load[0] : -1.0;
-}
-
-double median(std::vector<double> v) {
+// The mean of the two middle values for an even count (bench_timing.h's median takes the upper).
+double meanMedian(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const std::size_t n = v.size();
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
@@ -78,7 +66,7 @@ int runBenchLaz(const BenchLazOptions& options) {
     peer_command.replace(at, 2, quoted(options.file));
   }
 
-  const double load_before = loadAverage();
+  const double load_before = loadAverage()[0];
   // Warm-up: the file into the page cache, and the checksums every path must agree on.
   const LazDecodeResult reference = decodeLazRecords(options.file, specialised);
   if (decodeLazRecords(options.file, general).checksum != reference.checksum) {
@@ -90,9 +78,9 @@ int runBenchLaz(const BenchLazOptions& options) {
   for (int round = 0; round < options.repeat; ++round) {
     for (int k = 0; k < 3; ++k) {
       const auto start = Clock::now();
-      const double cpu = cpuOf(RUSAGE_SELF);
+      const double cpu = rusageCpuSeconds(RUSAGE_SELF);
       const LazDecodeResult r = decodeLazRecords(options.file, *paths[k]);
-      runs[k].cpu.push_back(cpuOf(RUSAGE_SELF) - cpu);
+      runs[k].cpu.push_back(rusageCpuSeconds(RUSAGE_SELF) - cpu);
       runs[k].wall.push_back(std::chrono::duration<double>(Clock::now() - start).count());
       if (r.checksum != reference.checksum) {
         throw std::runtime_error(std::string("bench laz: the ") + runs[k].name +
@@ -101,9 +89,9 @@ int runBenchLaz(const BenchLazOptions& options) {
     }
     if (!peer_command.empty()) {
       const auto start = Clock::now();
-      const double cpu = cpuOf(RUSAGE_CHILDREN);
+      const double cpu = rusageCpuSeconds(RUSAGE_CHILDREN);
       const int status = std::system((peer_command + " > /dev/null").c_str());
-      runs[3].cpu.push_back(cpuOf(RUSAGE_CHILDREN) - cpu);
+      runs[3].cpu.push_back(rusageCpuSeconds(RUSAGE_CHILDREN) - cpu);
       runs[3].wall.push_back(std::chrono::duration<double>(Clock::now() - start).count());
       if (status != 0) {
         throw std::runtime_error("bench laz --peer: '" + peer_command + "' failed (status " +
@@ -117,23 +105,24 @@ int runBenchLaz(const BenchLazOptions& options) {
       "bench laz: %s, %llu points, %d thread(s), median of %d rounds, load average %.1f "
       "before, %.1f after\n",
       options.file.c_str(), static_cast<unsigned long long>(reference.points), options.threads,
-      options.repeat, load_before, loadAverage());
+      options.repeat, load_before, loadAverage()[0]);
   for (const Series& s : runs) {
     if (s.cpu.empty()) continue;
     std::printf("%-17s wall %.3f s (%.2f M points/s), cpu %.3f s (%.2f M points/s per CPU s)\n",
-                s.name, median(s.wall), points / median(s.wall) / 1e6, median(s.cpu),
-                points / median(s.cpu) / 1e6);
+                s.name, meanMedian(s.wall), points / meanMedian(s.wall) / 1e6, meanMedian(s.cpu),
+                points / meanMedian(s.cpu) / 1e6);
   }
-  const double special_cpu = median(runs[0].cpu), special_wall = median(runs[0].wall);
+  const double special_cpu = meanMedian(runs[0].cpu), special_wall = meanMedian(runs[0].wall);
   std::printf(
       "ratio             general / specialised cpu %.2f; full / positions+colour cpu "
       "%.2f (the speed-up of decoding only x, y, z and colour)\n",
-      median(runs[1].cpu) / special_cpu, special_cpu / median(runs[2].cpu));
+      meanMedian(runs[1].cpu) / special_cpu, special_cpu / meanMedian(runs[2].cpu));
   if (!runs[3].cpu.empty()) {
     std::printf(
         "speed-up          over the peer: cpu %.2f (per core), wall %.2f (%d thread(s) "
         "against the peer's one)\n",
-        median(runs[3].cpu) / special_cpu, median(runs[3].wall) / special_wall, options.threads);
+        meanMedian(runs[3].cpu) / special_cpu, meanMedian(runs[3].wall) / special_wall,
+        options.threads);
   }
   return 0;
 }

@@ -40,6 +40,7 @@
 #include "core/error.h"
 #include "core/point_cloud.h"
 #include "core/progress.h"
+#include "info_json.h"
 #include "io/format_description.h"
 #include "io/point_file.h"
 #include "lod/copc_reader.h"
@@ -53,7 +54,7 @@
 namespace parallax::cli {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using Json = InfoJson;
 
 // ---------------------------------------------------------------------------------------------
 // Per-attribute ranges, computed in parallel over the columns.
@@ -180,14 +181,6 @@ std::vector<NamedRange> attributeRanges(const PointCloud& cloud) {
 // The format's own description: its row's (io/point_format.h). Formats without one (text) show
 // their name and what was loaded.
 
-Json finiteOrNull(double v) {
-  return std::isfinite(v) ? Json(v) : Json(nullptr);
-}
-
-Json triple(const std::array<double, 3>& v) {
-  return Json::array({finiteOrNull(v[0]), finiteOrNull(v[1]), finiteOrNull(v[2])});
-}
-
 FormatDescription describeFormat(const std::filesystem::path& path, PointFormat format) {
   const PointFormatEntry* row = format.entry();
   if (row != nullptr && row->describe) return row->describe(path);
@@ -223,10 +216,10 @@ void printJson(const std::filesystem::path& path, const FormatDescription& forma
       {"format_details", format.details},
       {"elements", format.elements},
       {"points", cloud.count},
-      {"bounds", {{"min", triple(cloud.bounds.min)}, {"max", triple(cloud.bounds.max)}}},
+      {"bounds", {{"min", jsonTriple(cloud.bounds.min)}, {"max", jsonTriple(cloud.bounds.max)}}},
       {"quantization",
-       {{"scale", triple(cloud.quantization.scale)},
-        {"offset", triple(cloud.quantization.offset)}}},
+       {{"scale", jsonTriple(cloud.quantization.scale)},
+        {"offset", jsonTriple(cloud.quantization.offset)}}},
       {"attributes", cloud.attributeNames()},
       {"attribute_ranges", ranges_json},
       {"load_seconds", load.seconds},
@@ -234,8 +227,8 @@ void printJson(const std::filesystem::path& path, const FormatDescription& forma
       {"million_points_per_second", load.millionPointsPerSecond(cloud.count)},
   };
   if (format.declared_bounds) {
-    out["declared_bounds"] = {{"min", triple(format.declared_bounds->min)},
-                              {"max", triple(format.declared_bounds->max)}};
+    out["declared_bounds"] = {{"min", jsonTriple(format.declared_bounds->min)},
+                              {"max", jsonTriple(format.declared_bounds->max)}};
   }
   std::puts(out.dump(2).c_str());
 }
@@ -336,16 +329,17 @@ int runPotreeInfo(const std::filesystem::path& path, bool json) {
     if (a.name != "position")
       ranges[a.name] = {{"min", potreeRange(a.min)}, {"max", potreeRange(a.max)}};
   }
-  Json details = {{"version", metadata.version},
-                  {"encoding", metadata.encoding},
-                  {"record_bytes", metadata.record_size},
-                  {"nodes", node_count},
-                  {"depth", depth},
-                  {"declared_depth", metadata.hierarchy.depth},
-                  {"spacing", metadata.spacing},
-                  {"projection", metadata.projection},
-                  {"cube", {{"min", triple(info.cube.min)}, {"max", triple(info.cube.max)}}},
-                  {"potree_attributes", attributes}};
+  Json details = {
+      {"version", metadata.version},
+      {"encoding", metadata.encoding},
+      {"record_bytes", metadata.record_size},
+      {"nodes", node_count},
+      {"depth", depth},
+      {"declared_depth", metadata.hierarchy.depth},
+      {"spacing", metadata.spacing},
+      {"projection", metadata.projection},
+      {"cube", {{"min", jsonTriple(info.cube.min)}, {"max", jsonTriple(info.cube.max)}}},
+      {"potree_attributes", attributes}};
   if (json) {
     Json out = {
         {"file", path.string()},
@@ -354,10 +348,10 @@ int runPotreeInfo(const std::filesystem::path& path, bool json) {
         {"format_details", details},
         {"elements", nullptr},
         {"points", info.point_count},
-        {"bounds", {{"min", triple(info.bounds.min)}, {"max", triple(info.bounds.max)}}},
+        {"bounds", {{"min", jsonTriple(info.bounds.min)}, {"max", jsonTriple(info.bounds.max)}}},
         {"quantization",
-         {{"scale", triple(info.quantization.scale)},
-          {"offset", triple(info.quantization.offset)}}},
+         {{"scale", jsonTriple(info.quantization.scale)},
+          {"offset", jsonTriple(info.quantization.offset)}}},
         {"attributes", info.attributes},
         {"attribute_ranges", ranges},
         {"load_seconds", load.seconds},

@@ -1,5 +1,7 @@
 #include "command_info_copc.h"
 
+#include "info_json.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -15,15 +17,7 @@
 namespace parallax::cli {
 namespace {
 
-using Json = nlohmann::ordered_json;
-
-Json number(double v) {
-  return std::isfinite(v) ? Json(v) : Json(nullptr);
-}
-
-Json triple(const std::array<double, 3>& v) {
-  return Json::array({number(v[0]), number(v[1]), number(v[2])});
-}
+using Json = InfoJson;
 
 std::string text(const std::array<double, 3>& v) {
   char out[128];
@@ -78,13 +72,13 @@ int runCopcInfo(const std::filesystem::path& path, bool json) {
           {"record_bytes", header.record_length},
           {"chunks", details.chunks},
           {"info",
-           {{"center", triple(v.center)},
-            {"halfsize", number(v.halfsize)},
-            {"spacing", number(v.spacing)},
+           {{"center", jsonTriple(v.center)},
+            {"halfsize", finiteOrNull(v.halfsize)},
+            {"spacing", finiteOrNull(v.spacing)},
             {"root_hierarchy_offset", v.root_hierarchy_offset},
             {"root_hierarchy_size", v.root_hierarchy_size},
-            {"gps_time_min", number(v.gps_time_min)},
-            {"gps_time_max", number(v.gps_time_max)}}},
+            {"gps_time_min", finiteOrNull(v.gps_time_min)},
+            {"gps_time_max", finiteOrNull(v.gps_time_max)}}},
           {"hierarchy",
            {{"pages", details.pages_read},
             {"nodes", octree->nodes().size()},
@@ -94,11 +88,11 @@ int runCopcInfo(const std::filesystem::path& path, bool json) {
           {"crs", header.crs.summary()},
           {"generating_software", header.generating_software}}},
         {"points", info.point_count},
-        {"bounds", {{"min", triple(info.bounds.min)}, {"max", triple(info.bounds.max)}}},
-        {"cube", {{"min", triple(info.cube.min)}, {"max", triple(info.cube.max)}}},
+        {"bounds", {{"min", jsonTriple(info.bounds.min)}, {"max", jsonTriple(info.bounds.max)}}},
+        {"cube", {{"min", jsonTriple(info.cube.min)}, {"max", jsonTriple(info.cube.max)}}},
         {"quantization",
-         {{"scale", triple(info.quantization.scale)},
-          {"offset", triple(info.quantization.offset)}}},
+         {{"scale", jsonTriple(info.quantization.scale)},
+          {"offset", jsonTriple(info.quantization.offset)}}},
         {"attributes", info.attributes},
         {"load_seconds", seconds},
     };

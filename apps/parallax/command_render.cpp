@@ -28,6 +28,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "bench_timing.h"
 #include "commands.h"
 #include "core/error.h"
 #include "core/point_cloud.h"
@@ -57,12 +58,6 @@
 
 namespace parallax::cli {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Expands the one printf-style integer field (%d or %0Nd) of a frame pattern. Done by hand so
 // that a user's pattern is never a printf format string.
