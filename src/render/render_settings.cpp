@@ -1,5 +1,7 @@
 #include "render/render_settings.h"
 
+#include "core/column_names.h"
+
 namespace parallax {
 
 namespace {
@@ -88,17 +90,18 @@ AttributeSelection attributesDrawn(const RenderSettings& settings) {
   if (!settings.scalar.field.empty()) names.push_back(settings.scalar.field);
   // Normals are three extra-bytes columns in LAS: each is asked by its name.
   const auto add_normals = [&] {
-    for (const char* axis : {"nx", "ny", "nz"}) names.emplace_back(axis);
+    for (const char* axis : {column_names::kNx, column_names::kNy, column_names::kNz})
+      names.emplace_back(axis);
   };
   switch (settings.color) {
     case ColorMode::Rgb:
-      names.emplace_back("red");
+      names.emplace_back(column_names::kRed);
       break;
     case ColorMode::Intensity:
-      names.emplace_back("intensity");
+      names.emplace_back(column_names::kIntensity);
       break;
     case ColorMode::Classification:
-      names.emplace_back("classification");
+      names.emplace_back(column_names::kClassification);
       break;
     case ColorMode::Normal:
       add_normals();
@@ -109,12 +112,12 @@ AttributeSelection attributesDrawn(const RenderSettings& settings) {
   }
   if (settings.lighting && settings.color != ColorMode::Normal) add_normals();
   const PointFilter& filter = settings.filter;
-  if (!filter.keepsEveryClass()) names.emplace_back("classification");
+  if (!filter.keepsEveryClass()) names.emplace_back(column_names::kClassification);
   if (!filter.keepsEveryReturn()) {
     names.emplace_back(filter_names::kReturnNumber);
     names.emplace_back(filter_names::kNumberOfReturns);
   }
-  if (filter.intensity) names.emplace_back("intensity");
+  if (filter.intensity) names.emplace_back(column_names::kIntensity);
   if (filter.gps_time) names.emplace_back(filter_names::kGpsTime);
   AttributeSelection selection = AttributeSelection::only({});
   for (std::string& name : names) selection.add(std::move(name));  // (no name twice)
