@@ -79,11 +79,14 @@ void forEachBlock(const ByteSource& in, const LasHeader& header, std::uint64_t f
                   std::uint64_t count, bool parallel, F fn) {
   const std::size_t length = header.record_length;
   tbb::enumerable_thread_specific<std::vector<std::byte>> buffers;
-  auto readBlock = [&](std::uint64_t b, std::size_t n) {
+  // `read` is called as soon as the block's bytes are in, before it is decoded (the read-ahead
+  // must not hint again a range whose read has returned: the source would fetch it anew).
+  auto readBlock = [&](std::uint64_t b, std::size_t n, auto read) {
     std::vector<std::byte>& buffer = buffers.local();
     buffer.resize(std::max(buffer.size(), n * length));
     in.read(header.point_data_offset + b * length, std::span(buffer.data(), n * length),
             {.element = "point records"});
+    read();
     fn(buffer.data(), n, std::size_t(b - first));
   };
   if (!in.local()) {
@@ -103,14 +106,13 @@ void forEachBlock(const ByteSource& in, const LasHeader& header, std::uint64_t f
     ReadAhead ahead(in, std::move(plan), kReadAheadBlocks);
     forEachInOrder(blocks, parallel, [&](std::size_t k) {
       const auto [b, n] = blockOf(k);
-      readBlock(b, std::size_t(n));
-      ahead.finished(k);
+      readBlock(b, std::size_t(n), [&] { ahead.finished(k); });
     });
     return;
   }
   auto body = [&](const tbb::blocked_range<std::uint64_t>& range) {
     for (std::uint64_t b = range.begin(); b < range.end(); b += kBlockRecords) {
-      readBlock(b, std::size_t(std::min(kBlockRecords, range.end() - b)));
+      readBlock(b, std::size_t(std::min(kBlockRecords, range.end() - b)), [] {});
     }
   };
   const tbb::blocked_range<std::uint64_t> all(first, first + count, kBlockRecords);

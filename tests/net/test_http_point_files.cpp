@@ -92,7 +92,7 @@ TEST(HttpPointFiles, ALasFileIsReadByRangesInAFewLargeRequests) {
   // Detection, header and records: the file about once (blocks of 32 768 records, hinted
   // ahead and merged), not a request a block, let alone a point.
   EXPECT_GE(whole.bytes, s.size("scene.las"));
-  EXPECT_LE(whole.bytes, s.size("scene.las") + (256u << 10));
+  EXPECT_LE(whole.bytes, s.size("scene.las") + (256u << 10));  // the two heads
   EXPECT_LE(whole.requests, 24u);
 }
 
