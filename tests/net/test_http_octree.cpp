@@ -479,7 +479,7 @@ TEST(HttpOctree, PointFilesFromAUrlAnswerAsTheLocalFile) {
                             "file_bytes", "quantization", "attribute_ranges"}) {
       EXPECT_EQ(a[key], b[key]) << key;
     }
-    EXPECT_EQ(a["points"], 1065);
+    EXPECT_EQ(a["points"], 1247);
 
     const auto remote_png = dir / "remote.png", local_png = dir / "local.png";
     const test::RunResult remote_render =
