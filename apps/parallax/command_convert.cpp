@@ -39,6 +39,7 @@
 #include "lod/potree_converter.h"
 #include "lod/potree_octree_writer.h"
 #include "lod/potree_reader.h"
+#include "network_options.h"
 #include "octree_export.h"
 #include "progress_options.h"
 
@@ -418,6 +419,7 @@ int runConvert(ConvertArgs args) {
   writePointFile(cloud, args.output, options);
   if (progress) progress->finish();
   if (!args.quiet) std::fprintf(stderr, "wrote %s\n", args.output.c_str());
+  if (args.verbose) printFetchReport("convert", args.input);
   return 0;
 }
 
@@ -500,7 +502,7 @@ Command addConvertCommand(CLI::App& app) {
   addQuietFlag(*sub, args->quiet);
   sub->add_flag("-v,--verbose", args->verbose,
                 "An octree (or its URL) to a point file: report the nodes read and the bytes the "
-                "network fetched");
+                "network fetched; any point file's URL: the requests and bytes fetched");
   sub->add_flag("--clean", args->clean,
                 "Remove the partial outputs killed conversions to -o OUTPUT left (hidden "
                 ".OUTPUT.partial-PID), whose process is gone, and say how much that freed; "

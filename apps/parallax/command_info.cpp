@@ -36,6 +36,7 @@
 
 #include "command_info_copc.h"
 #include "commands.h"
+#include "core/byte_source_opener.h"
 #include "core/column_names.h"
 #include "core/error.h"
 #include "core/point_cloud.h"
@@ -46,7 +47,6 @@
 #include "lod/copc_reader.h"
 #include "lod/octree_export.h"
 #include "lod/octree_open.h"
-#include "lod/octree_url.h"
 #include "lod/potree_reader.h"
 #include "octree_export.h"
 #include "progress_options.h"
@@ -129,7 +129,7 @@ Range scalarColumnRange(const ScalarColumn& column, std::size_t count) {
 std::vector<NamedRange> attributeRanges(const PointCloud& cloud) {
   std::vector<NamedRange> out;
   const std::size_t n = cloud.count;
-  const char* const kAxes[3] = {"x", "y", "z"};
+  const char* const kAxes[3] = {column_names::kX, column_names::kY, column_names::kZ};
   if (!cloud.positions.empty()) {
     const Int3* p = cloud.positions.data();
     auto q = columnRanges<3>(n, [p](std::size_t i, int c) {
@@ -317,7 +317,7 @@ int runPotreeInfo(const std::filesystem::path& path, bool json) {
 
   Json attributes = Json::array();
   Json ranges = Json::object();
-  const char* const kAxes[3] = {"x", "y", "z"};
+  const char* const kAxes[3] = {column_names::kX, column_names::kY, column_names::kZ};
   for (int axis = 0; axis < 3; ++axis) {
     ranges[kAxes[axis]] = {{"min", finiteOrNull(info.bounds.min[axis])},
                            {"max", finiteOrNull(info.bounds.max[axis])}};
@@ -402,7 +402,8 @@ int runInfo(const InfoOptions& options) {
     throw std::invalid_argument("info: no file (give a point file, or --formats)");
   }
   const std::filesystem::path path = options.file;
-  checkOctreeUrl(options.file);
+  // A URL of an octree or of any point file: the format table opens it by range (a LAS or LAZ
+  // file's header and chunks) as it opens a path.
   if (isPotreeDirectory(path)) return runPotreeInfo(path, options.json);
   if (detectOctreeFormat(path) == OctreeFormat::Copc) return runCopcInfo(path, options.json);
   // Detection opens the file: a missing or unreadable file is an InputError naming it.
@@ -410,7 +411,8 @@ int runInfo(const InfoOptions& options) {
 
   LoadStats load;
   std::error_code size_error;
-  load.file_bytes = std::filesystem::file_size(path, size_error);
+  load.file_bytes = isUrl(options.file) ? openByteSource(options.file)->size()
+                                        : std::filesystem::file_size(path, size_error);
   if (size_error) load.file_bytes = 0;  // a pipe or special file: no rate in MB/s
 
   PointCloud cloud;

@@ -17,7 +17,6 @@
 #include "commands.h"
 #include "core/column_names.h"
 #include "io/point_format.h"
-#include "lod/octree_url.h"
 #include "network_options.h"
 #include "render/gl_context.h"
 #include "render/point_picker.h"
@@ -81,7 +80,6 @@ nlohmann::ordered_json attributeValue(const PointAttribute& attribute) {
 int runPick(const PickCommandOptions& o) {
   const auto [pixel_x, pixel_y] = parsePixel(o);  // before the file is read
   configureNetworkFrom(o.lod);
-  checkOctreeUrl(o.input);
   pointFilterFrom(o.render.filter, FilterTarget::Gpu);
   // Quiet: stdout carries the answer, and stderr stays free of progress bars.
   RenderSource source = openRenderSource(

@@ -39,7 +39,6 @@
 #include "lod/large_file.h"
 #include "lod/octree_cache.h"
 #include "lod/octree_open.h"
-#include "lod/octree_url.h"
 #include "lod/potree_reader.h"
 #include "measure/measurement_document.h"
 #include "measure/measurement_overlay.h"
@@ -100,7 +99,6 @@ int runRender(const RenderCommandOptions& o) {
   if (!o.measurements_file.empty()) measurements = loadMeasurementDocument(o.measurements_file);
 
   configureNetworkFrom(o.lod);
-  checkOctreeUrl(o.input);
   pointFilterFrom(o.render.filter,
                   FilterTarget::Gpu);  // a malformed list is reported before the file is read
   RenderSource source = openRenderSource({.input = o.input,

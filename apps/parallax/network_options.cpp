@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "core/byte_source_opener.h"
+#include "core/url.h"
 #include "lod/potree_reader.h"
 #include "net/network.h"
 #include "net/network_counters.h"
@@ -35,6 +37,22 @@ void printNetworkReport(const char* command, const Octree& octree, std::uint64_t
                needed / 1e6, double(drawn_points) * double(metadata->record_size) / 1e6,
                double(read->hierarchy_bytes) / 1e6,
                needed > 0 ? double(net.bytes_received) / needed : 0.0);
+}
+
+void printFetchReport(const char* command, const std::string& input) {
+  if (!isUrl(input)) return;
+  const NetworkStats net = networkStats();  // before the size's own request
+  const std::uint64_t size = openByteSource(input)->size();
+  std::fprintf(stderr,
+               "%s: network: %llu requests (%llu retried), %llu bytes received of a file of %llu "
+               "bytes (%.1f %%), %llu reads from the cache (%llu bytes): %s\n",
+               command, static_cast<unsigned long long>(net.requests),
+               static_cast<unsigned long long>(net.retries),
+               static_cast<unsigned long long>(net.bytes_received),
+               static_cast<unsigned long long>(size),
+               size > 0 ? 100.0 * double(net.bytes_received) / double(size) : 0.0,
+               static_cast<unsigned long long>(net.cache_hits),
+               static_cast<unsigned long long>(net.cache_bytes), urlForMessages(input).c_str());
 }
 
 }  // namespace parallax::cli

@@ -19,4 +19,8 @@ void configureNetworkFrom(const LodOptions& lod);
 // ratio of the two. Nothing for local octrees.
 void printNetworkReport(const char* command, const Octree& octree, std::uint64_t drawn_points);
 
+// For a point file read from a URL (`convert -v`), a line on stderr: the requests sent, the bytes
+// received against the file's size, and the reads the disk cache answered. Nothing for a path.
+void printFetchReport(const char* command, const std::string& input);
+
 }  // namespace parallax::cli

@@ -5,6 +5,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "core/byte_source_opener.h"
 #include "core/error.h"
 #include "core/url.h"
 #include "io/ply_preview.h"
@@ -42,6 +43,17 @@ RenderSource openRenderSource(const RenderSourceOptions& o, const LodOptions& lo
     source.cloud = std::move(*preview);
     source.file_points = drawing.points;
     return source;
+  }
+  if (isUrl(o.input)) {
+    // The octree cache keys a file by its path and time on this disk; a URL has neither, and
+    // building its octree here would fetch the whole file anyway.
+    throw InputError({.file = urlForMessages(o.input),
+                      .expected = "a point file within the point budget (" +
+                                  std::to_string(lod.budget) + " points) when drawn from a URL",
+                      .found = std::to_string(drawing.points) + " points",
+                      .hint = "--preview draws a sample read by range; or raise --budget; or "
+                              "convert it to an octree first (parallax convert URL -o DIR/) and "
+                              "serve that"});
   }
   const OctreeCacheSettings cache = octreeCacheSettingsFrom(lod);
   source.location = std::make_unique<OctreeLocation>(o.input, cache);

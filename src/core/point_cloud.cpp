@@ -114,7 +114,7 @@ std::vector<std::string> PointCloud::attributeOrder(const std::vector<std::strin
         throw std::invalid_argument("attribute '" + chosen[i] + "' named twice");
       }
     }
-    for (const char* axis : {"x", "y", "z"}) {
+    for (const char* axis : {column_names::kX, column_names::kY, column_names::kZ}) {
       if (indexIn(chosen, axis) == chosen.size()) {
         throw std::invalid_argument(std::string("the attributes must include ") + axis +
                                     " (x, y and z are the point)");

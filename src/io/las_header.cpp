@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/byte_order.h"
+#include "core/byte_source_opener.h"
 #include "core/error.h"
 #include "io/laz/laz_layout.h"
 #include "io/mapped_file.h"
@@ -152,7 +153,20 @@ void parseGeoKeys(LasCrs& crs, const LasVlr& vlr) {
   }
 }
 
-void readVlrs(LasHeader& header, std::span<const std::byte> bytes, const std::string& file) {
+// Reads `size` bytes at `offset` of the header region (checked against the file before).
+std::vector<std::byte> readRegion(const ByteSource& in, std::uint64_t offset, std::uint64_t size,
+                                  std::string_view element) {
+  std::vector<std::byte> bytes(static_cast<std::size_t>(size));
+  in.read(offset, bytes, {.element = element});
+  return bytes;
+}
+
+// The VLRs between the header and the points, then 1.4's EVLRs after them, each read by range:
+// a remote file's VLRs usually come with its first request (las_header.h, kLasHeadBytes), its
+// EVLRs cost one request each, and no point record is read.
+void readVlrs(LasHeader& header, const ByteSource& in, bool with_records) {
+  const std::string& file = in.name();
+  const std::uint64_t size = in.size();
   std::uint64_t pos = header.header_size;
   for (std::uint32_t i = 0; i < header.vlr_count; ++i) {
     if (pos + kLasVlrHeaderSize > header.point_data_offset) {
@@ -162,7 +176,8 @@ void readVlrs(LasHeader& header, std::span<const std::byte> bytes, const std::st
            "it would run past the point data offset",
            "the number of VLRs or the point data offset in the header is wrong");
     }
-    const std::byte* p = bytes.data() + pos;
+    const std::vector<std::byte> head = readRegion(in, pos, kLasVlrHeaderSize, "VLR header");
+    const std::byte* p = head.data();
     LasVlr vlr;
     vlr.user_id = loadText(p + 2, 16);
     vlr.record_id = loadLE<std::uint16_t>(p + 18);
@@ -177,8 +192,7 @@ void readVlrs(LasHeader& header, std::span<const std::byte> bytes, const std::st
                std::to_string(vlr.data_offset + vlr.data_size),
            "the VLR runs past the header region");
     }
-    vlr.data.assign(bytes.begin() + std::ptrdiff_t(vlr.data_offset),
-                    bytes.begin() + std::ptrdiff_t(vlr.data_offset + vlr.data_size));
+    vlr.data = readRegion(in, vlr.data_offset, vlr.data_size, "VLR payload");
     pos = vlr.data_offset + vlr.data_size;
     header.vlrs.push_back(std::move(vlr));
   }
@@ -186,13 +200,13 @@ void readVlrs(LasHeader& header, std::span<const std::byte> bytes, const std::st
   // EVLRs follow the points; a bad offset is reported but only the CRS depends on them.
   pos = header.evlr_offset;
   for (std::uint32_t i = 0; i < header.evlr_count; ++i) {
-    if (pos < header.point_data_offset || pos > bytes.size() ||
-        bytes.size() - pos < kLasEvlrHeaderSize) {
+    if (pos < header.point_data_offset || pos > size || size - pos < kLasEvlrHeaderSize) {
       fail(file, pos, "EVLR " + std::to_string(i + 1) + " of " + std::to_string(header.evlr_count),
-           "a 60-byte EVLR header inside the file (" + std::to_string(bytes.size()) + " bytes)",
+           "a 60-byte EVLR header inside the file (" + std::to_string(size) + " bytes)",
            "offset " + std::to_string(pos), "the EVLR offset or count in the header is wrong");
     }
-    const std::byte* p = bytes.data() + pos;
+    const std::vector<std::byte> head = readRegion(in, pos, kLasEvlrHeaderSize, "EVLR header");
+    const std::byte* p = head.data();
     LasVlr vlr;
     vlr.extended = true;
     vlr.user_id = loadText(p + 2, 16);
@@ -200,16 +214,16 @@ void readVlrs(LasHeader& header, std::span<const std::byte> bytes, const std::st
     vlr.data_size = loadLE<std::uint64_t>(p + 20);
     vlr.description = loadText(p + 28, 32);
     vlr.data_offset = pos + kLasEvlrHeaderSize;
-    if (vlr.data_size > bytes.size() - vlr.data_offset) {
+    if (vlr.data_size > size - vlr.data_offset) {
       fail(file, pos + 20, "EVLR " + std::to_string(i + 1) + " record length",
            "a payload inside the file", std::to_string(vlr.data_size) + " bytes",
            "the file may be truncated");
     }
-    // Only the small records we use are copied; waveform data stays in the file.
-    if ((vlr.user_id == "LASF_Projection" || vlr.user_id == "LASF_Spec") &&
-        vlr.data_size <= (std::uint64_t{16} << 20)) {
-      vlr.data.assign(bytes.begin() + std::ptrdiff_t(vlr.data_offset),
-                      bytes.begin() + std::ptrdiff_t(vlr.data_offset + vlr.data_size));
+    // Only the small records we use are copied; waveform data stays in the file unless a writer
+    // asked for every record.
+    if (with_records || ((vlr.user_id == "LASF_Projection" || vlr.user_id == "LASF_Spec") &&
+                         vlr.data_size <= (std::uint64_t{16} << 20))) {
+      vlr.data = readRegion(in, vlr.data_offset, vlr.data_size, "EVLR payload");
     }
     pos = vlr.data_offset + vlr.data_size;
     header.vlrs.push_back(std::move(vlr));
@@ -301,11 +315,17 @@ bool looksLikeLaz(std::span<const std::byte> bytes) {
   return (loadLE<std::uint8_t>(bytes.data() + 104) & 0xC0) != 0;
 }
 
-LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& file) {
-  const std::size_t size = bytes.size();
+namespace {
+
+LasHeader readHeader(const ByteSource& in, bool with_records) {
+  const std::string& file = in.name();
+  const std::uint64_t size = in.size();
+  // The public header block: at most 375 bytes (1.4), fewer in a shorter file.
+  const std::vector<std::byte> bytes =
+      readRegion(in, 0, std::min<std::uint64_t>(size, kLasHeaderSize14), "header");
   if (!hasLasSignature(bytes)) {
     std::string_view found(reinterpret_cast<const char*>(bytes.data()),
-                           std::min<std::size_t>(size, 4));
+                           std::min<std::size_t>(bytes.size(), 4));
     fail(file, 0, "file signature", "'LASF'", quoteInput(found), "this is not a LAS file");
   }
   if (size < kLasHeaderSize12) {
@@ -405,7 +425,7 @@ LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& fi
          std::to_string(header.point_count), kTruncatedHint);
   }
 
-  readVlrs(header, bytes, file);
+  readVlrs(header, in, with_records);
   for (const LasVlr& vlr : header.vlrs) {
     if (vlr.user_id == "LASF_Spec" && vlr.record_id == 4) parseExtraBytes(header, vlr, file);
     if (compressed && !vlr.extended && vlr.user_id == laz::kLaszipUserId &&
@@ -439,23 +459,37 @@ LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& fi
   return header;
 }
 
+}  // namespace
+
+LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& file_name) {
+  return readHeader(*viewMemorySource(bytes, file_name), false);
+}
+
+LasHeader readLasHeader(const ByteSource& in) {
+  return readHeader(in, false);
+}
+
+LasHeader readLasHeaderWithRecords(const ByteSource& in) {
+  return readHeader(in, true);
+}
+
+std::unique_ptr<ByteSource> openLasSource(const std::filesystem::path& path) {
+  if (!isUrl(path.string()) && !std::filesystem::is_regular_file(path)) {
+    // A pipe or a special file: read whole into memory (MappedFile's fallback), which the
+    // source then owns.
+    const MappedFile file(path);
+    const std::span<const std::byte> bytes = file.bytes();
+    return makeMemorySource(std::vector<std::byte>(bytes.begin(), bytes.end()), path.string());
+  }
+  return openByteSource(path.string(), kLasHeadBytes);
+}
+
 LasHeader readLasHeader(const std::filesystem::path& path) {
-  MappedFile file(path);
-  return parseLasHeader(file.bytes(), path.string());
+  return readLasHeader(*openLasSource(path));
 }
 
 LasHeader readLasHeaderWithRecords(const std::filesystem::path& path) {
-  MappedFile file(path);
-  const std::span<const std::byte> bytes = file.bytes();
-  LasHeader header = parseLasHeader(bytes, path.string());
-  for (LasVlr& vlr : header.vlrs) {
-    // parseLasHeader checked that every payload lies inside the file.
-    if (vlr.data.size() != vlr.data_size) {
-      vlr.data.assign(bytes.begin() + std::ptrdiff_t(vlr.data_offset),
-                      bytes.begin() + std::ptrdiff_t(vlr.data_offset + vlr.data_size));
-    }
-  }
-  return header;
+  return readLasHeaderWithRecords(*openLasSource(path));
 }
 
 std::size_t lasHeaderSizeFor(int minor_version) {

@@ -11,12 +11,14 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "core/bounds.h"
+#include "core/byte_source.h"
 #include "core/point_cloud.h"
 #include "core/quantization.h"
 #include "core/scalar_type.h"
@@ -196,11 +198,25 @@ bool looksLikeLaz(std::span<const std::byte> bytes);
 // file's size justifies.
 LasHeader parseLasHeader(std::span<const std::byte> bytes, const std::string& file_name);
 
-// The header of a LAS file on disk (memory-mapped; reads only the header, VLRs and EVLRs).
+// The first bytes of a LAS or LAZ file a remote source fetches with its opening request: the
+// header and, in nearly every file, all its VLRs (LASzip's, the CRS, extra bytes), so that the
+// header costs one request and the points are read by range after it.
+constexpr std::uint64_t kLasHeadBytes = 64 << 10;
+
+// A LAS or LAZ file's bytes: a local file (pread) or a URL (core/byte_source_opener.h, its first
+// kLasHeadBytes fetched at once), read by range; a pipe or special file read whole into memory.
+// Throws InputError when it cannot be opened.
+std::unique_ptr<ByteSource> openLasSource(const std::filesystem::path& path);
+
+// The header, VLRs and EVLRs of the LAS or LAZ file `in`, read by range (the header block, each
+// VLR, each EVLR; never a point record). Throws as parseLasHeader, naming in.name().
+LasHeader readLasHeader(const ByteSource& in);
+// The header of a LAS file or URL (openLasSource).
 LasHeader readLasHeader(const std::filesystem::path& path);
 
 // The same, with the payload of every VLR and EVLR loaded (parseLasHeader leaves large EVLRs,
 // waveform data among them, in the file): what a LAS or LAZ writer carries over.
+LasHeader readLasHeaderWithRecords(const ByteSource& in);
 LasHeader readLasHeaderWithRecords(const std::filesystem::path& path);
 
 // The public header block of `header` for its version 1.0-1.4 (LAS 1.4 R15 Table 3; 1.0-1.2

@@ -75,6 +75,7 @@ PointCloud readSource(LazSource& s, const LazReadOptions& options) {
   const std::size_t count = s.records.point_count;
   PointCloud cloud = allocateLasCloud(s.records, plan, count);
   if (s.chunks.empty()) return cloud;
+  s.planChunkReads(range(0, s.chunks.size()));
   DecoderPool pool;
   LasDecodeStats stats;
   std::mutex stats_mutex;
@@ -99,6 +100,7 @@ PointCloud readSource(LazSource& s, const LazReadOptions& options) {
   if (plan.colors_8bit && stats.color_above_255) {
     // Rare: 8-bit colours in the first chunk, 16-bit ones later. Decode again for the colours.
     plan.colors_8bit = false;
+    s.planChunkReads(range(0, s.chunks.size()));
     forEachChunk(s, pool, plan.laz_fields, range(0, s.chunks.size()), options.parallel,
                  [&](std::size_t index, const std::byte* records) {
                    const laz::LazChunk& chunk = s.chunks[index];
@@ -111,7 +113,8 @@ PointCloud readSource(LazSource& s, const LazReadOptions& options) {
 }
 
 std::unique_ptr<LazSource> openFile(const std::filesystem::path& path) {
-  LasHeader header = readLasHeader(path);
+  std::unique_ptr<ByteSource> in = openLasSource(path);  // a URL: the chunks by range
+  LasHeader header = readLasHeader(*in);
   if (!header.laszip) {
     throw InputError({.file = path.string(),
                       .byte_offset = 104,
@@ -121,7 +124,7 @@ std::unique_ptr<LazSource> openFile(const std::filesystem::path& path) {
                       .found = "an uncompressed LAS file",
                       .hint = "read it as LAS"});
   }
-  return openLazSource(openByteSource(path.string()), std::move(header));
+  return openLazSource(std::move(in), std::move(header));
 }
 
 // Which colour rule later streams of a file use, once a stream found 16-bit values that its
@@ -139,7 +142,7 @@ std::string fileKey(const std::filesystem::path& path) {
 }  // namespace
 
 PointCloud readLaz(const std::filesystem::path& path, const LazReadOptions& options) {
-  if (!std::filesystem::is_regular_file(path)) {
+  if (!isUrl(path.string()) && !std::filesystem::is_regular_file(path)) {
     const MappedFile file(path);  // a pipe or a special file: read whole first
     return readLazFromMemory(file.bytes(), path.string(), options);
   }
@@ -188,6 +191,7 @@ PointCloud readLazPreview(const std::filesystem::path& path, std::uint64_t max_p
   }
   LasDecodePlan plan = makeLasDecodePlan(s.records);
   PointCloud cloud = allocateLasCloud(s.records, plan, first.back());
+  s.planChunkReads(indices);
   DecoderPool pool;
   // Colours: 16-bit as soon as one sampled chunk says so; sampled chunks are decoded once, so
   // the rule comes from a first pass over the first chunk and is checked after.
@@ -220,6 +224,7 @@ PointCloud readLazPreview(const std::filesystem::path& path, std::uint64_t max_p
                });
   if (stats.color_above_255) {
     plan.colors_8bit = false;
+    s.planChunkReads(indices);
     forEachChunk(s, pool, plan.laz_fields, indices, true,
                  [&](std::size_t index, const std::byte* records) {
                    const std::size_t k = slot_of[index];
@@ -355,6 +360,8 @@ bool LazChunkReader::next(PointCloud& chunk, std::size_t max_points) {
     while (last_chunk < s.chunks.size() && whole + s.chunks[last_chunk].points <= n) {
       whole += std::size_t(s.chunks[last_chunk++].points);
     }
+    // This batch's chunks and the one it may end inside, hinted for a remote file.
+    s.planChunkReads(range(first_chunk, std::min(last_chunk + 1, s.chunks.size())));
     if (last_chunk > first_chunk) {
       const std::uint64_t base = s.chunks[first_chunk].first_point;
       forEachChunk(s, st.pool, st.plan.laz_fields, range(first_chunk, last_chunk), true,

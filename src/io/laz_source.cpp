@@ -285,6 +285,20 @@ LazChunkDecoder::LazChunkDecoder(const LazSource& source, std::uint32_t fields,
 
 LazChunkDecoder::~LazChunkDecoder() = default;
 
+void LazSource::planChunkReads(const std::vector<std::size_t>& indices) {
+  // Chunks of 50 000 points are 0.3-1 MB compressed: 8 in flight ahead of two decoders.
+  constexpr std::size_t kChunksAhead = 8;
+  read_ahead.reset();
+  if (in->local() || sequential || indices.size() < 2) return;
+  std::vector<ByteRange> plan;
+  read_ahead_slot.assign(chunks.size(), std::size_t(-1));
+  for (std::size_t index : indices) {
+    read_ahead_slot[index] = plan.size();
+    plan.push_back({chunks[index].offset, chunks[index].bytes});
+  }
+  read_ahead = std::make_unique<ReadAhead>(*in, std::move(plan), kChunksAhead);
+}
+
 const std::byte* LazChunkDecoder::decode(LazSource& s, std::size_t index) {
   laz::LazChunk chunk;
   if (s.sequential) {
@@ -305,6 +319,10 @@ const std::byte* LazChunkDecoder::decode(LazSource& s, std::size_t index) {
   }
   compressed_.resize(std::size_t(window));
   s.in->read(chunk.offset, compressed_, {.element = "LAZ chunk"});
+  if (s.read_ahead && index < s.read_ahead_slot.size() &&
+      s.read_ahead_slot[index] != std::size_t(-1)) {
+    s.read_ahead->finished(s.read_ahead_slot[index]);
+  }
   try {
     if (s.sequential) {
       const std::size_t used = codec_->decodeUnsized(compressed_, chunk.points, raw_.data());

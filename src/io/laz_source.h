@@ -18,6 +18,7 @@
 #include "io/las_header.h"
 #include "io/laz/chunk_codec.h"
 #include "io/laz/laz_layout.h"
+#include "io/read_ahead.h"
 
 namespace parallax {
 
@@ -51,6 +52,14 @@ struct LazSource {
   std::mutex sequential_mutex;  // guards `chunks` offsets while they are being found
 
   std::size_t rawRecordLength() const { return header.record_length; }
+
+  // A remote file's chunks hinted ahead of the decoders (io/read_ahead.h): a reader names the
+  // chunks it is about to decode, in order, and LazChunkDecoder::decode marks each one read.
+  // Called between decodes, never during them; nothing for a local file or a `sequential` one
+  // (whose chunks' ends are not known).
+  void planChunkReads(const std::vector<std::size_t>& indices);
+  std::unique_ptr<ReadAhead> read_ahead;
+  std::vector<std::size_t> read_ahead_slot;  // chunk index -> its place in the plan, or npos
 };
 
 // Opens a LAZ file whose header `header` has been parsed (header.laszip set). Reads and checks

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <filesystem>
 
+#include "core/column_names.h"
 #include "core/error.h"
 #include "io/las_reader.h"
 
@@ -106,26 +107,26 @@ ScalarType knownScalarType(const std::string& name) {
 
 Target targetFor(const std::string& raw) {
   static const std::pair<const char*, Target> kNames[] = {
-      {"x", Target::X},
-      {"y", Target::Y},
-      {"z", Target::Z},
+      {column_names::kX, Target::X},
+      {column_names::kY, Target::Y},
+      {column_names::kZ, Target::Z},
       {"r", Target::R},
       {"g", Target::G},
       {"b", Target::B},
       {"a", Target::A},
-      {"red", Target::R},
-      {"green", Target::G},
-      {"blue", Target::B},
-      {"alpha", Target::A},
-      {"nx", Target::Nx},
-      {"ny", Target::Ny},
-      {"nz", Target::Nz},
+      {column_names::kRed, Target::R},
+      {column_names::kGreen, Target::G},
+      {column_names::kBlue, Target::B},
+      {column_names::kAlpha, Target::A},
+      {column_names::kNx, Target::Nx},
+      {column_names::kNy, Target::Ny},
+      {column_names::kNz, Target::Nz},
       {"normal_x", Target::Nx},
       {"normal_y", Target::Ny},
       {"normal_z", Target::Nz},
-      {"intensity", Target::Intensity},
+      {column_names::kIntensity, Target::Intensity},
       {"i", Target::Intensity},
-      {"classification", Target::Classification},
+      {column_names::kClassification, Target::Classification},
       {"class", Target::Classification},
       {"_", Target::Skip},
       {"skip", Target::Skip},
@@ -140,15 +141,22 @@ Target targetFor(const std::string& raw) {
 std::vector<std::string> commonLayout(std::size_t n) {
   switch (n) {
     case 3:
-      return {"x", "y", "z"};
+      return {column_names::kX, column_names::kY, column_names::kZ};
     case 4:
-      return {"x", "y", "z", "intensity"};
+      return {column_names::kX, column_names::kY, column_names::kZ, column_names::kIntensity};
     case 6:
-      return {"x", "y", "z", "r", "g", "b"};
+      return {column_names::kX, column_names::kY, column_names::kZ, "r", "g", "b"};
     case 7:
-      return {"x", "y", "z", "intensity", "r", "g", "b"};
+      return {column_names::kX,
+              column_names::kY,
+              column_names::kZ,
+              column_names::kIntensity,
+              "r",
+              "g",
+              "b"};
     case 9:
-      return {"x", "y", "z", "r", "g", "b", "nx", "ny", "nz"};
+      return {column_names::kX,  column_names::kY,  column_names::kZ, "r", "g", "b",
+              column_names::kNx, column_names::kNy, column_names::kNz};
     default:
       return {};
   }

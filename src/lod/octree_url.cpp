@@ -31,9 +31,9 @@ void checkOctreeUrl(std::string_view input) {
                         .expected = "the URL of a Potree 2.0 directory (.../cloud/ or "
                                     ".../cloud/metadata.json) or of a .copc.laz file",
                         .found = "a file '" + urlFileName(input) + "'",
-                        .hint = "only octrees stream over HTTP; `parallax convert URL -o "
-                                "FILE` reads any point file from a URL (a directory whose name "
-                                "has a dot needs its trailing slash)"});
+                        .hint = "only octrees stream over HTTP here; `parallax info`, "
+                                "`render`, `pick` and `convert` read any point file from a URL "
+                                "(a directory whose name has a dot needs its trailing slash)"});
   }
 }
 

@@ -1,8 +1,8 @@
 // The octrees `parallax` opens from an http(s) URL, by what the URL names: a Potree 2.0
 // directory (potree_reader.h: ".../cloud", ".../cloud/", ".../cloud/metadata.json") or a COPC
-// file (".copc.laz"). Other files do not stream: a PLY, LAS or LAZ file has no index to read
-// ranges by, so drawing one would download it whole; `convert` reads them from a URL (the
-// format table opens URLs through core's openByteSource).
+// file (".copc.laz"). Other files are no octrees: `info`, `render`, `pick` and `convert` read
+// them from a URL through the format table (core's openByteSource; a LAS or LAZ file by range),
+// while `view` and `bench render` take octree URLs only (checkOctreeUrl).
 //
 // Both read through core's openByteSource, which net serves (one connection pool, merged
 // ranges, the on-disk cache); a COPC file's hierarchy pages and chunks are ranges like a Potree

@@ -1,5 +1,6 @@
 #include "render/render_settings.h"
 
+#include "core/column_names.h"
 #include "core/filter_attributes.h"
 
 namespace parallax {
@@ -90,17 +91,18 @@ AttributeSelection attributesDrawn(const RenderSettings& settings) {
   if (!settings.scalar.field.empty()) names.push_back(settings.scalar.field);
   // Normals are three extra-bytes columns in LAS: each is asked by its name.
   const auto add_normals = [&] {
-    for (const char* axis : {"nx", "ny", "nz"}) names.emplace_back(axis);
+    for (const char* axis : {column_names::kNx, column_names::kNy, column_names::kNz})
+      names.emplace_back(axis);
   };
   switch (settings.color) {
     case ColorMode::Rgb:
-      names.emplace_back("red");
+      names.emplace_back(column_names::kRed);
       break;
     case ColorMode::Intensity:
-      names.emplace_back("intensity");
+      names.emplace_back(column_names::kIntensity);
       break;
     case ColorMode::Classification:
-      names.emplace_back("classification");
+      names.emplace_back(column_names::kClassification);
       break;
     case ColorMode::Normal:
       add_normals();

@@ -74,6 +74,34 @@ TEST(HttpConvert, ALazFileFromAUrlConvertsToTheLocalFilesLas) {
   EXPECT_GE(sent, std::filesystem::file_size(dir / "www" / "1815.laz"));
 }
 
+TEST(HttpConvert, ALasFileFromAUrlConvertsByRangesToTheLocalFilesBytes) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "www");
+  std::filesystem::copy_file(test::testDataFile("laz/1815.las"), dir / "www" / "1815.las");
+  ::setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);
+  Nginx nginx(dir / "nginx", {.root = dir / "www"});
+
+  // To LAS (header and VLRs carried over) and to LAZ, each byte for byte the local file's.
+  for (const char* output : {"1815-copy.las", "1815.laz"}) {
+    const Converted c = convertBoth(dir, nginx, "1815.las", output, "-v");
+    ASSERT_EQ(c.remote.exit_code, 0) << c.remote.err;
+    ASSERT_EQ(c.local.exit_code, 0) << c.local.err;
+    const std::string remote = fileText(c.remote_out);
+    ASSERT_GT(remote.size(), 227u);
+    EXPECT_EQ(remote, fileText(c.local_out)) << output;
+    // -v says what the network fetched: requests, bytes, of the file's 35 436 bytes.
+    EXPECT_NE(c.remote.err.find("bytes received of a file of 35436 bytes"), std::string::npos)
+        << c.remote.err;
+    EXPECT_EQ(c.local.err.find("network:"), std::string::npos) << c.local.err;
+  }
+  // Every answer was a range (206) or "not modified" (304, the cache's), never the whole file.
+  const std::vector<test::AccessLine> log = nginx.settledAccessLog();
+  ASSERT_FALSE(log.empty());
+  for (const test::AccessLine& line : log) {
+    EXPECT_TRUE(line.status == 206 || line.status == 304) << line.status << " " << line.range;
+  }
+}
+
 TEST(HttpConvert, APlyFromAUrlConvertsToTheLocalFilesPoints) {
   test::TempDir dir;
   std::filesystem::create_directories(dir / "www");

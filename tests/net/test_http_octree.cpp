@@ -4,7 +4,7 @@
 // either gives that same picture or fails with an error naming the URL and the node; none hangs
 // (each run is bounded by `timeout`, and the client's stall timeout is 1-2 s here). Also: info,
 // convert (a copy and a point file), bench render, a proxy from the environment, and URLs of
-// COPC files and other files refused with a clear message.
+// COPC files, and point files (info, render and pick of a LAS or LAZ file's URL).
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -453,16 +453,73 @@ TEST(HttpOctree, CopcChildHierarchyPagesStreamLikeTheLocalFile) {
   }
 }
 
-TEST(HttpOctree, OtherFilesAreRefusedClearly) {
+// Point files that are no octree: `info`, `render` and `pick` of their URL go through the format
+// table (a LAS or LAZ file read by range), and each answers as for the local file.
+TEST(HttpOctree, PointFilesFromAUrlAnswerAsTheLocalFile) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "www");
+  for (const char* name : {"1815.las", "1815.laz"}) {
+    std::filesystem::copy_file(test::testDataFile(std::string("laz/") + name), dir / "www" / name);
+  }
+  Nginx nginx(dir / "nginx", {.root = dir / "www"});
+  const std::map<std::string, std::string> env{{"XDG_CACHE_HOME", (dir / "cache").string()}};
+  const std::string size = "--width 128 --height 96";
+  for (const char* name : {"1815.las", "1815.laz"}) {
+    SCOPED_TRACE(name);
+    const std::string url = quoted(nginx.url(name));
+    const std::string path = quoted((dir / "www" / name).string());
+
+    const test::RunResult remote_info = run(dir, env, "info --json " + url);
+    ASSERT_EQ(remote_info.exit_code, 0) << remote_info.err;
+    const test::RunResult local_info = run(dir, env, "info --json " + path);
+    ASSERT_EQ(local_info.exit_code, 0) << local_info.err;
+    const nlohmann::json a = nlohmann::json::parse(remote_info.out);
+    const nlohmann::json b = nlohmann::json::parse(local_info.out);
+    for (const char* key : {"format", "points", "bounds", "attributes", "format_details",
+                            "file_bytes", "quantization", "attribute_ranges"}) {
+      EXPECT_EQ(a[key], b[key]) << key;
+    }
+    EXPECT_EQ(a["points"], 1247);
+
+    const auto remote_png = dir / "remote.png", local_png = dir / "local.png";
+    const test::RunResult remote_render =
+        run(dir, env, "render -q " + url + " -o " + quoted(remote_png.string()) + " " + size);
+    ASSERT_EQ(remote_render.exit_code, 0) << remote_render.err;
+    ASSERT_EQ(run(dir, env, "render -q " + path + " -o " + quoted(local_png.string()) + " " + size)
+                  .exit_code,
+              0);
+    const RgbaImage remote_picture = readPng(remote_png), local_picture = readPng(local_png);
+    ASSERT_EQ(remote_picture.pixels.size(), local_picture.pixels.size());
+    EXPECT_TRUE(remote_picture.pixels == local_picture.pixels);
+    std::size_t lit = 0;
+    for (std::size_t i = 0; i < local_picture.pixels.size(); i += 4) {
+      lit += local_picture.pixels[i] || local_picture.pixels[i + 1] || local_picture.pixels[i + 2];
+    }
+    EXPECT_GT(lit, 100u) << "the picture shows the cloud";
+
+    const std::string pick = "pick --json --pixel 64,48 --radius 40 " + size + " ";
+    const test::RunResult remote_pick = run(dir, env, pick + url);
+    ASSERT_EQ(remote_pick.exit_code, 0) << remote_pick.err;
+    const test::RunResult local_pick = run(dir, env, pick + path);
+    ASSERT_EQ(local_pick.exit_code, 0) << local_pick.err;
+    EXPECT_EQ(remote_pick.out, local_pick.out);
+    EXPECT_EQ(nlohmann::json::parse(remote_pick.out)["found"], true) << remote_pick.out;
+  }
+  // Every request was a range or a cache's conditional one: no file was fetched whole.
+  for (const test::AccessLine& line : nginx.settledAccessLog()) {
+    EXPECT_TRUE(line.status == 206 || line.status == 304) << line.status << " " << line.path;
+  }
+}
+
+TEST(HttpOctree, AUrlOfNoPointFileIsAnErrorNamingIt) {
   Served s;
-  const test::RunResult ply = run(s.dir, s.env, "info " + quoted(s.nginx.url("scan.ply")));
-  EXPECT_EQ(ply.exit_code, 2);
-  expectContains(ply.err, {"/scan.ply", "only octrees stream over HTTP"});
-  const test::RunResult laz =
+  const test::RunResult missing = run(s.dir, s.env, "info " + quoted(s.nginx.url("scan.ply")));
+  EXPECT_EQ(missing.exit_code, 2);
+  expectContains(missing.err, {"/scan.ply", "404"});
+  const test::RunResult render =
       run(s.dir, s.env, "render " + quoted(s.nginx.url("a/b.laz")) + " -o x.png");
-  EXPECT_EQ(laz.exit_code, 2);
-  expectContains(laz.err, {"/a/b.laz", "only octrees stream over HTTP"});
-  EXPECT_TRUE(s.nginx.settledAccessLog().empty()) << "refused before any request";
+  EXPECT_EQ(render.exit_code, 2);
+  expectContains(render.err, {"/a/b.laz", "404"});
 }
 
 }  // namespace
