@@ -383,11 +383,13 @@ void drawPanel(Session& s, const FrameStats& stats) {
     ImGui::SameLine();
     ImGui::Checkbox("swap eyes (X)", &s.stereo.swap_eyes);
   }
+  // Before the filters: what is added to the picture (the window tests scroll to the panel's end
+  // to find the filters above the tools).
+  drawRasterPanel(s);
+  drawRegistrationPanel(s);
   drawFilterPanel(s);
   drawMeasurePanel(s);
   drawProcessPanel(s);
-  drawRasterPanel(s);
-  drawRegistrationPanel(s);
   drawPickedPanel(s);
   ImGui::Separator();
   ImGui::TextDisabled("Camera");
