@@ -24,10 +24,6 @@ parallax_require_package(LibXml2_FOUND libxml2-dev "libxml2")
 find_package(nlohmann_json CONFIG QUIET)
 parallax_require_package(nlohmann_json_FOUND nlohmann-json3-dev "nlohmann JSON")
 
-# Neighbour search of src/process (k-d tree, header only).
-find_package(nanoflann CONFIG QUIET)
-parallax_require_package(nanoflann_FOUND libnanoflann-dev "nanoflann")
-
 # The ground's triangulation of src/terrain (--height-above-ground): CGAL's 2D Delaunay
 # triangulation, header only.
 find_package(CGAL CONFIG QUIET)
@@ -85,4 +81,8 @@ find_package(OpenXR CONFIG QUIET)
 option(PARALLAX_XR "Build VR through OpenXR (parallax view --xr)" ${OpenXR_FOUND})
 if(PARALLAX_XR)
   parallax_require_package(OpenXR_FOUND "libopenxr-dev libopenxr-loader1" "OpenXR loader")
+  # The Xlib/GLX binding of XR_KHR_opengl_enable (a window's context) hands the runtime X11
+  # objects; libX11 frees what GLX returns.
+  find_package(X11 QUIET)
+  parallax_require_package(X11_FOUND libx11-dev "Xlib")
 endif()

@@ -23,7 +23,7 @@ packages=(
   xvfb xdotool
   # VR (src/xr): the Khronos OpenXR loader; in tests, its core validation layer and hello_xr
   # against the project's own test runtime (tests/xr/runtime)
-  libopenxr-dev libopenxr-loader1 openxr-layer-corevalidation libopenxr-utils
+  libopenxr-dev libopenxr-loader1 openxr-layer-corevalidation libopenxr-utils libx11-dev
   # the real Potree client test (tests/lod/js) and the LAZ oracles (tests/io/js): Node.js (with
   # npm; see install_npm_packages)
   nodejs
@@ -36,8 +36,6 @@ packages=(
   python3-distributed
   # the Python module (python/parallax: pybind11, numpy) and its tests (pytest)
   pybind11-dev python3-dev python3-numpy python3-pytest
-  # processing (src/process): neighbour search, a k-d tree (header only)
-  libnanoflann-dev
   # the ground's 2D Delaunay triangulation (src/terrain, --height-above-ground; header only)
   libcgal-dev
   # registration's oracle in tests (tests/registration/compare_open3d.py): Open3D's

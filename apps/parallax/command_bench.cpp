@@ -46,6 +46,7 @@
 #include "core/point_cloud.h"
 #include "io/point_file.h"
 #include "progress_options.h"
+#include "xr_view.h"
 
 namespace parallax::cli {
 namespace {
@@ -295,6 +296,7 @@ Command addBenchCommand(CLI::App& app) {
       addBenchRenderCommand(*command.subcommand),
       addBenchConvertCommand(*command.subcommand),
       addBenchLazCommand(*command.subcommand),
+      addBenchXrCommand(*command.subcommand),
   });
   command.run = [modes] {
     for (const auto& mode : *modes) {

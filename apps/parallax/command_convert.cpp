@@ -34,6 +34,7 @@
 #include "lod/copc_reader.h"
 #include "lod/copc_writer.h"
 #include "lod/octree_url.h"
+#include "lod/output_kind.h"
 #include "lod/potree_converter.h"
 #include "lod/potree_octree_writer.h"
 #include "lod/potree_reader.h"
@@ -97,12 +98,6 @@ void cleanPartialOutputs(const std::string& output, bool quiet) {
                  static_cast<unsigned long long>(cleanup.freed_bytes),
                  formatBytes(cleanup.freed_bytes).c_str());
   }
-}
-
-bool hasCopcName(const std::string& path) {
-  std::string name = std::filesystem::path(path).filename().string();
-  for (char& c : name) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return name.size() > 9 && name.ends_with(".copc.laz");
 }
 
 PotreeConvertOptions buildOptions(const ConvertArgs& args) {
@@ -225,17 +220,6 @@ int runPotreeConvert(const ConvertArgs& args) {
   return 0;
 }
 
-// An octree (Potree 2.0 directory) is written for --format potree, for a name ending in '/', for
-// an existing directory, and for a name without extension; a point file for a known extension.
-bool isOctreeOutput(const ConvertArgs& args) {
-  if (!args.format.empty()) return args.format == "potree";  // (copc: runCopcConvert)
-  const std::filesystem::path output(args.output);
-  if (!args.output.empty() && args.output.back() == '/') return true;
-  std::error_code ignored;
-  if (std::filesystem::is_directory(output, ignored)) return true;
-  return formatForExtension(output) == PointFormat::Unknown && !output.has_extension();
-}
-
 [[noreturn]] void throwUnknownOutput(const std::string& output) {
   const std::filesystem::path path(output);
   std::string extension = path.extension().string();
@@ -272,10 +256,10 @@ int runConvert(ConvertArgs args) {
                            .build_tasks = args.build_tasks,
                            .quiet = args.quiet});
   }
-  if (args.format == "copc" || (args.format.empty() && hasCopcName(args.output))) {
-    return runCopcConvert(args);
-  }
-  const bool to_potree = isOctreeOutput(args);
+  // The output's kind, by the rule process shares (lod/output_kind.h).
+  const OutputKind kind = outputKind(args.output, args.format);
+  if (kind == OutputKind::kCopc) return runCopcConvert(args);
+  const bool to_potree = kind == OutputKind::kPotree;
   const bool one_input = args.inputs.size() == 1;
   if (one_input && to_potree && isCopcFile(args.inputs.front())) return runPotreeConvert(args);
   if (one_input && isPotreeDirectory(args.inputs.front()) &&

@@ -51,6 +51,9 @@ int runView(const ViewCommandOptions& o, const CLI::App& command,
     xr.input = o.input;
     xr.render = o.render;
     xr.lod = o.lod;
+    xr.look = viewerLookChoiceFrom(command);
+    xr.mirror_width = o.width;
+    xr.mirror_height = o.height;
     if (xr.input.empty()) throw std::invalid_argument("--xr needs an INPUT");
     return runXrView(xr);
   }
@@ -189,6 +192,11 @@ Command addViewCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   sub->add_flag("--xr-tabletop", options->xr_options.tabletop,
                 "Fit the cloud in 1 m (a tabletop model) instead of true scale");
+  sub->add_flag("--xr-no-mirror", options->xr_options.no_mirror,
+                "No mirror window (the left eye, --width x --height) even where DISPLAY is set: "
+                "draw headless through EGL (needs the runtime's XR_MNDX_egl_enable)");
+  sub->add_flag("--xr-vignette", options->xr_options.vignette,
+                "Fade the edges of the view to black while flying (a comfort option)");
   sub->add_option("--xr-frames", options->xr_options.frames,
                   "End the session after N frames (0: when the runtime ends it)")
       ->check(CLI::NonNegativeNumber);

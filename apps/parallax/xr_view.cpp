@@ -1,19 +1,72 @@
 #include "xr_view.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <stdexcept>
 #include <vector>
 
 #include "filter_options.h"
+#include "measure/measurement.h"
+#include "measure/measurement_overlay.h"
 #include "render/gl_context.h"
+#include "render/point_picker.h"
 #include "render/renderer.h"
 #include "render_scene.h"
+#include "viewer/xr_mirror_window.h"
+#include "xr/comfort_vignette.h"
+#include "xr/frame_budget.h"
+#include "xr/locomotion.h"
 #include "xr/stage_mapping.h"
 #include "xr/xr_headset.h"
 
 namespace parallax::cli {
+namespace {
+
+// The laser picks what a narrow camera along the aim ray sees at its centre: the front-most
+// point within kLaserConeDeg / 2 of the ray (render/point_picker.h, exact source values).
+constexpr int kLaserPixels = 33;
+constexpr double kLaserConeDeg = 2.0;
+constexpr double kLaserLength = 5.0;  // stage metres drawn from the hand
+const OverlayColor kLaserColor{1.0f, 0.2f, 0.2f, 0.9f};
+
+View laserView(const StagePlacement& placement, const StagePose& aim) {
+  View view;
+  view.viewport = {0, 0, kLaserPixels, kLaserPixels};
+  Camera& camera = view.camera;
+  camera.projection = Projection::Perspective;
+  camera.world_up = glm::dvec3(0, 0, 1);
+  camera.position = stageToFile(placement, aim.position);
+  camera.orientation = glm::normalize(stageToFileRotation(placement) * aim.orientation);
+  camera.pivot = camera.position + camera.forward();
+  camera.fov_y_deg = kLaserConeDeg;
+  return view;
+}
+
+// The lasers of the tracked hands, from the aim's position along its -z, and the distance being
+// measured: lines in file coordinates that the overlay pass draws in each eye at its depth.
+OverlayScene laserOverlay(const StagePlacement& placement, const XrInput* input,
+                          const MeasurementDocument& document, const Measurement& in_progress) {
+  OverlayScene scene;
+  MeasurementOverlayOptions options;
+  if (!in_progress.points.empty()) options.in_progress = &in_progress;
+  appendMeasurementOverlay(document, options, scene);
+  if (!input) return scene;
+  for (const XrHandInput& hand : input->hands) {
+    if (!hand.tracked) continue;
+    const glm::dvec3 end =
+        hand.aim.position + hand.aim.orientation * glm::dvec3(0, 0, -kLaserLength);
+    OverlayPolyline line;
+    line.points = {stageToFile(placement, hand.aim.position), stageToFile(placement, end)};
+    line.color = kLaserColor;
+    scene.polylines.push_back(std::move(line));
+  }
+  return scene;
+}
+
+}  // namespace
 
 bool xrViewAvailable() {
   return true;
@@ -27,8 +80,23 @@ int runXrView(const XrViewOptions& o) {
   pointFilterFrom(o.render.filter, FilterTarget::Gpu);
   RenderSource source = openRenderSource({.input = o.input, .command = "view"}, o.lod);
   paintScalarColors(source, o.render, false, "view");
-  auto context = GlContext::createHeadless();
-  RenderScene scene = uploadRenderSource(source, false);
+  // With a display, the mirror window's GLX context draws (XR_KHR_opengl_enable's Xlib
+  // binding); without one, a headless EGL context (XR_MNDX_egl_enable).
+  std::unique_ptr<XrMirrorWindow> mirror;
+  std::unique_ptr<GlContext> context;
+  const char* display = std::getenv("DISPLAY");
+  if (!o.no_mirror && display && *display) {
+    mirror = std::make_unique<XrMirrorWindow>(o.mirror_width, o.mirror_height,
+                                              "Parallax - " + o.input + " (XR mirror)");
+    context = GlContext::adoptCurrent();
+  } else {
+    context = GlContext::createHeadless();
+  }
+  // The cloud is kept for the laser's picks (exact source values, as `pick` reports them).
+  RenderScene scene = uploadRenderSource(source, true);
+  std::unique_ptr<PickSource> pick_source = source.lod()
+                                                ? std::make_unique<PickSource>(*source.octree)
+                                                : std::make_unique<PickSource>(source.cloud);
 
   const Bounds3& bounds = scene.extent.bounds;
   StagePlacement placement = o.tabletop ? tabletopPlacement(bounds) : StagePlacement{};
@@ -37,29 +105,85 @@ int runXrView(const XrViewOptions& o) {
   if (o.scale > 0) placement.scale = o.scale;
 
   XrHeadset headset("parallax view");
+  Locomotion locomotion(placement);
+  MeasurementDocument measurements;
+  Measurement distance;  // the distance the trigger is measuring: its first point, or none
   Renderer renderer;
+  std::unique_ptr<ComfortVignette> vignette;
+  if (o.vignette) vignette = std::make_unique<ComfortVignette>();
   std::optional<RenderSettings> settings;
+  // An octree's point budget follows the frame time (a whole cloud is drawn whole).
+  FrameBudget frame_budget(
+      {.most = o.lod.budget, .least = std::min<std::uint64_t>(100'000, o.lod.budget)});
+  LodOptions lod = o.lod;
   std::unique_ptr<RenderTarget> canvas;  // both eyes, each in a viewport taller than its picture
   FrameStats last;
   const XrSessionStats stats = headset.run(
       [&](const XrFrameInfo& frame) {
+        const auto frame_start = std::chrono::steady_clock::now();
+        lod.budget = frame_budget.budget();
+        const LocomotionEvents events =
+            frame.input ? locomotion.update(*frame.input) : LocomotionEvents{};
         StereoFrame views;
         std::vector<EyeView> eyes;
         int rows = 0;
-        for (const XrEye& eye : frame.eyes) {
-          eyes.push_back(eyeView(placement, eye.fov, eye.pose, eye.viewport.x, eye.viewport.width,
-                                 eye.viewport.height));
-          views.views.push_back(eyes.back().view);
-          rows = std::max(rows, eyes.back().view.viewport.height);
+        const auto placeEyes = [&] {
+          views.views.clear();
+          eyes.clear();
+          rows = 0;
+          for (const XrEye& eye : frame.eyes) {
+            eyes.push_back(eyeView(locomotion.placement(), eye.fov, eye.pose, eye.viewport.x,
+                                   eye.viewport.width, eye.viewport.height));
+            views.views.push_back(eyes.back().view);
+            rows = std::max(rows, eyes.back().view.viewport.height);
+          }
+        };
+        placeEyes();
+        // One draw set (one LOD selection, one node cache) for both eyes, drawn in one pass.
+        const DrawSet* draw_set = &frameDrawSet(scene, source, views, lod);
+        if (!settings) {
+          // view's look: what the options leave open, chosen for the cloud as the window does.
+          const RenderSettings asked = renderSettingsFrom(o.render, draw_set->typical_spacing);
+          const LookTraits traits =
+              source.lod() ? LookTraits{.spacing_known = source.octree->info().spacing > 0,
+                                        .has_normals = source.octree->info().has_normals}
+                           : LookTraits{.spacing_known = scene.gpu->typicalSpacing() > 0,
+                                        .has_normals = scene.gpu->hasNormals()};
+          settings = viewerLook(asked, asked, o.look, traits);
         }
+        for (int h = 0; h < 2 && frame.input; ++h) {
+          if (!events.pick[h] && !events.teleport[h]) continue;
+          const View laser = laserView(locomotion.placement(), frame.input->hands[h].aim);
+          const auto hit = pickPoint(renderer, *pick_source, *draw_set, std::span(&laser, 1),
+                                     Composition::Direct, *settings, kLaserPixels, kLaserPixels,
+                                     {kLaserPixels / 2, kLaserPixels / 2, kLaserPixels / 2, false});
+          if (!hit) continue;
+          std::fprintf(stderr, "parallax view --xr: laser pick %s,%s,%s\n",
+                       formatAttributeValue(hit->position.x).c_str(),
+                       formatAttributeValue(hit->position.y).c_str(),
+                       formatAttributeValue(hit->position.z).c_str());
+          if (events.teleport[h]) {
+            locomotion.teleportTo(hit->position, frame.input->head);
+            placeEyes();
+            draw_set = &frameDrawSet(scene, source, views, lod);
+            continue;
+          }
+          // The distance tool: two picks make a measurement.
+          distance.points.push_back(hit->position);
+          if (distance.points.size() == 2) {
+            std::fprintf(stderr, "parallax view --xr: %s\n",
+                         describeMeasurement(distance, 6).c_str());
+            measurements.measurements.push_back(distance);
+            distance.points.clear();
+          }
+        }
+        renderer.setOverlay(
+            laserOverlay(locomotion.placement(), frame.input, measurements, distance));
         if (!canvas || canvas->width() != frame.width || canvas->height() != rows) {
           canvas = std::make_unique<RenderTarget>(frame.width, rows);
         }
-        // One draw set (one LOD selection, one node cache) for both eyes, drawn in one pass.
-        const DrawSet& draw_set = frameDrawSet(scene, source, views, o.lod);
-        if (!settings) settings = renderSettingsFrom(o.render, draw_set.typical_spacing);
         last =
-            renderer.render(draw_set, views, *settings, canvas->framebuffer(), frame.width, rows);
+            renderer.render(*draw_set, views, *settings, canvas->framebuffer(), frame.width, rows);
         for (std::size_t v = 0; v < eyes.size(); ++v) {
           const Viewport& to = frame.eyes[v].viewport;
           const int from_y = eyes[v].source_y;
@@ -67,15 +191,31 @@ int runXrView(const XrViewOptions& o) {
                                  to.x + to.width, from_y + to.height, to.x, to.y, to.x + to.width,
                                  to.y + to.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
         }
+        if (vignette && locomotion.flying()) {
+          for (const XrEye& eye : frame.eyes)
+            vignette->draw(frame.framebuffer, eye.viewport, eye.fov);
+        }
+        if (mirror && !mirror->show(frame.framebuffer, frame.eyes[0].viewport)) {
+          headset.requestExit();
+        }
+        if (scene.lod && frame.input) {
+          glFinish();  // the frame's whole cost, as the runtime will wait for it
+          const std::chrono::duration<double> took = std::chrono::steady_clock::now() - frame_start;
+          frame_budget.update(took.count(), frame.input->period_s, last.points_drawn);
+        }
       },
       o.frames);
-  std::fprintf(stderr,
-               "parallax view --xr: %s on %s, %lld frames of 2 x %dx%d drawn (%llu points, "
-               "rasterizer %s), origin %.3f,%.3f,%.3f, scale %g\n",
-               stats.system.c_str(), stats.runtime.c_str(), stats.frames_drawn, stats.eye_width,
-               stats.eye_height, static_cast<unsigned long long>(last.points_drawn),
-               last.rasterizer == RasterizerKind::Compute ? "compute" : "points",
-               placement.origin.x, placement.origin.y, placement.origin.z, placement.scale);
+  // The placement as the controllers left it, to the last digit (tests compare it).
+  const StagePlacement& end = locomotion.placement();
+  std::fprintf(
+      stderr,
+      "parallax view --xr: %s on %s through %s, %lld frames of 2 x %dx%d drawn (%llu points, "
+      "rasterizer %s, budget %llu), origin %.17g,%.17g,%.17g, scale %.17g, yaw %.17g\n",
+      stats.system.c_str(), stats.runtime.c_str(), stats.binding.c_str(), stats.frames_drawn,
+      stats.eye_width, stats.eye_height, static_cast<unsigned long long>(last.points_drawn),
+      last.rasterizer == RasterizerKind::Compute ? "compute" : "points",
+      static_cast<unsigned long long>(scene.lod ? frame_budget.budget() : scene.points),
+      end.origin.x, end.origin.y, end.origin.z, end.scale, end.yaw);
   return 0;
 }
 

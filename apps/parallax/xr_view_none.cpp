@@ -15,4 +15,14 @@ int runXrView(const XrViewOptions&) {
       "-DPARALLAX_XR=ON)");
 }
 
+Command addBenchXrCommand(CLI::App& bench) {
+  Command command;
+  command.subcommand =
+      bench.add_subcommand("xr", "A headset frame of view --xr; not in this build");
+  command.run = []() -> int {
+    throw std::runtime_error("bench xr: this parallax was built without OpenXR");
+  };
+  return command;
+}
+
 }  // namespace parallax::cli

@@ -206,12 +206,22 @@ std::vector<std::string> describeTextLosses(const PointCloud& cloud,
   return losses;
 }
 
-void writeText(const PointCloud& cloud, const std::filesystem::path& path,
-               const TextWriteOptions& options) {
-  Plan plan{};
+struct TextStreamWriter::State {
+  Plan plan;
+  OutputFile out;
+  std::uint64_t count = 0, written = 0;
+  Progress* progress = nullptr;
+  std::vector<std::string> buffers;
+  explicit State(const std::filesystem::path& path) : out(path) {}
+};
+
+TextStreamWriter::TextStreamWriter(const std::filesystem::path& path, const PointCloud& layout,
+                                   std::uint64_t count, const TextWriteOptions& options)
+    : state_(std::make_unique<State>(path)) {
+  Plan& plan = state_->plan;
   plan.delimiter = options.pts ? ' ' : options.delimiter;
   for (int axis = 0; axis < 3; ++axis)
-    plan.decimals[axis] = decimalsOf(cloud.quantization.scale[std::size_t(axis)]);
+    plan.decimals[axis] = decimalsOf(layout.quantization.scale[std::size_t(axis)]);
   if (options.pts) {
     // PTS: x y z [intensity] [r g b], whatever the order asked.
     if (!options.properties.empty()) {
@@ -220,40 +230,63 @@ void writeText(const PointCloud& cloud, const std::filesystem::path& path,
           "choose");
     }
     plan.names = {column_names::kX, column_names::kY, column_names::kZ};
-    if (cloud.hasIntensity()) plan.names.push_back(column_names::kIntensity);
-    if (cloud.hasColors())
+    if (layout.hasIntensity()) plan.names.push_back(column_names::kIntensity);
+    if (layout.hasColors())
       plan.names.insert(plan.names.end(),
                         {column_names::kRed, column_names::kGreen, column_names::kBlue});
   } else {
-    plan.names = cloud.attributeOrder(options.properties);
+    plan.names = layout.attributeOrder(options.properties);
   }
-  for (const std::string& name : plan.names) plan.columns.push_back(columnFor(cloud, name));
-
-  OutputFile out(path);
+  for (const std::string& name : plan.names) plan.columns.push_back(columnFor(layout, name));
+  state_->count = count;
+  state_->progress = options.progress;
   if (options.pts) {
-    out.write(std::to_string(cloud.count) + "\n");
+    state_->out.write(std::to_string(count) + "\n");
   } else if (options.header) {
     std::string line;
     for (std::size_t i = 0; i < plan.names.size(); ++i) {
       if (i) line += plan.delimiter;
       line += plan.names[i];
     }
-    out.write(line + "\n");
+    state_->out.write(line + "\n");
   }
+}
+
+TextStreamWriter::~TextStreamWriter() = default;
+
+void TextStreamWriter::write(const PointCloud& cloud) {
+  // Blocks of lines formatted on every core, written in order: a batch's lines at a time.
   constexpr std::size_t kBlock = 1 << 15;
   constexpr std::size_t kBatch = 16;
-  std::vector<std::string> buffers(kBatch);
+  std::vector<std::string>& buffers = state_->buffers;
+  buffers.resize(kBatch);
   const std::size_t count = cloud.count;
   for (std::size_t batch = 0; batch < count; batch += kBlock * kBatch) {
     std::size_t blocks = std::min(kBatch, (count - batch + kBlock - 1) / kBlock);
     tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
       std::size_t first = batch + b * kBlock;
-      formatBlock(cloud, plan, first, std::min(kBlock, count - first), buffers[b]);
+      formatBlock(cloud, state_->plan, first, std::min(kBlock, count - first), buffers[b]);
     });
-    for (std::size_t b = 0; b < blocks; ++b) out.write(buffers[b]);
-    if (options.progress) options.progress->advance(std::min(count - batch, kBlock * kBatch));
+    for (std::size_t b = 0; b < blocks; ++b) state_->out.write(buffers[b]);
+    if (state_->progress) state_->progress->advance(std::min(count - batch, kBlock * kBatch));
   }
-  out.commit();
+  state_->written += count;
+}
+
+void TextStreamWriter::finish() {
+  if (state_->written != state_->count) {
+    throw std::logic_error("TextStreamWriter: " + std::to_string(state_->written) +
+                           " points written where " + std::to_string(state_->count) +
+                           " were announced");
+  }
+  state_->out.commit();
+}
+
+void writeText(const PointCloud& cloud, const std::filesystem::path& path,
+               const TextWriteOptions& options) {
+  TextStreamWriter writer(path, cloud, cloud.count, options);
+  writer.write(cloud);
+  writer.finish();
 }
 
 }  // namespace parallax

@@ -14,7 +14,9 @@
 // fewest digits that read back to the same float; integer types as integers.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -41,8 +43,31 @@ std::vector<std::string> describeTextLosses(const PointCloud& cloud,
                                             const TextWriteOptions& options);
 
 // Writes to a temporary file beside `path`, renamed at the end (parallel formatting, in order).
-// Throws std::runtime_error on I/O failure.
+// Throws std::runtime_error on I/O failure. A TextStreamWriter fed the whole cloud.
 void writeText(const PointCloud& cloud, const std::filesystem::path& path,
                const TextWriteOptions& options = {});
+
+// Text written a batch at a time: memory for one batch's lines, whatever the point count (for
+// a cloud larger than memory). `layout`: a cloud with the output's columns and quantization (its
+// points are not written; the first batch will do); `count`: the points that will be written
+// (PTS's first line; checked by finish()). Every batch must have the layout's columns, in the
+// same order, and its quantization. The bytes are those writeText gives the whole cloud.
+class TextStreamWriter {
+ public:
+  TextStreamWriter(const std::filesystem::path& path, const PointCloud& layout, std::uint64_t count,
+                   const TextWriteOptions& options = {});
+  ~TextStreamWriter();  // unfinished: the temporary file is removed
+  TextStreamWriter(const TextStreamWriter&) = delete;
+  TextStreamWriter& operator=(const TextStreamWriter&) = delete;
+
+  void write(const PointCloud& batch);
+  // Renames the temporary file to `path`. Throws std::logic_error when the points written are
+  // not the `count` promised (a PTS header would lie).
+  void finish();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 }  // namespace parallax

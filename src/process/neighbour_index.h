@@ -1,7 +1,9 @@
-// Exact nearest-neighbour queries over the points of one tile: nanoflann's k-d tree (Debian's
-// libnanoflann-dev), searched with a result set of Parallax's own that orders by (distance, id).
-// Chosen over a uniform grid of the project's own on measurement (NOTES.md): scans' density
-// varies by orders of magnitude, which a k-d tree follows and a grid does not.
+// Exact nearest-neighbour queries over the points of one tile: a tree of boxes over the points in
+// Morton order, of the project's own, searched with result sets ordered by (distance, id).
+// Chosen on measurement (NOTES.md): a uniform grid does not follow scans' density, which varies
+// by orders of magnitude; nanoflann's k-d tree (Debian's libnanoflann-dev) does, and this tree
+// does too, built in a sort and a linear pass instead of median splits, and searched over
+// points adjacent in memory.
 //
 // Results are exact and fully determined: neighbours are ordered by (squared distance, id), so a
 // tie at the K-th distance is broken by the smaller id whatever the grid's cell size or the
@@ -23,9 +25,10 @@ struct GridPoint {
 };
 
 struct Neighbour {
-  double d2;         // squared distance to the query
-  std::uint32_t at;  // index into NeighbourIndex::points()
-  std::uint64_t id;  // the point's id
+  double d2;              // squared distance to the query
+  std::uint32_t at;       // index into NeighbourIndex::points()
+  std::uint64_t id;       // the point's id
+  std::uint32_t in_tree;  // index into NeighbourIndex::treePoints(): the same point
   friend bool operator<(const Neighbour& a, const Neighbour& b) {
     return a.d2 < b.d2 || (a.d2 == b.d2 && a.id < b.id);
   }
@@ -55,6 +58,10 @@ class NeighbourIndex {
   static double radiusForCount(std::span<const GridPoint> points, double count);
 
   const std::vector<GridPoint>& points() const { return points_; }
+  // The same points in the tree's order (Morton order): the neighbours of one query, and of the
+  // queries asked before it in Morton order, lie close together here, where points() scatters
+  // them over the tile (what a loop over every neighbour's position should read).
+  std::span<const GridPoint> treePoints() const;
 
   // The k nearest points to (x, y, z) (the point itself included when it is indexed), in
   // (d2, id) order, into `out` (fewer when there are fewer). `out` is reused storage.

@@ -17,6 +17,7 @@
 #include "io/las_writer.h"
 #include "io/laz_writer.h"
 #include "io/ply_writer.h"
+#include "io/text_writer.h"
 #include "lod/copc_converter.h"
 #include "lod/potree_converter.h"
 #include "process/sensor_positions.h"
@@ -30,27 +31,10 @@ namespace {
 constexpr std::size_t kBatchPoints = std::size_t(1) << 20;
 constexpr std::uint8_t kLowNoiseClass = 7;
 
-}  // namespace
-
-ProcessOutput outputKind(const std::filesystem::path& output) {
-  const std::string text = output.string();
-  std::string lower = text;
-  for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (lower.size() > 9 && lower.ends_with(".copc.laz")) return ProcessOutput::kCopc;
-  std::error_code ignored;
-  if (!text.empty() && text.back() == '/') return ProcessOutput::kPotree;
-  if (std::filesystem::is_directory(output, ignored)) return ProcessOutput::kPotree;
-  if (formatForExtension(output) == PointFormat::Unknown && !output.has_extension())
-    return ProcessOutput::kPotree;
-  return ProcessOutput::kPointFile;
-}
-
-namespace {
-
 void checkSteps(const ProcessOptions& options) {
-  const ProcessOutput kind = outputKind(options.output);
-  if (kind == ProcessOutput::kPotree) checkPotreeOutput(options.output);
-  if (kind == ProcessOutput::kPointFile &&
+  const OutputKind kind = outputKind(options.output);
+  if (kind == OutputKind::kPotree) checkPotreeOutput(options.output);
+  if (kind == OutputKind::kPointFile &&
       formatForExtension(options.output) == PointFormat::Unknown) {
     throw std::invalid_argument("process: cannot write " + options.output.string() +
                                 ": the output is a point file (.ply, .las, .laz, .xyz, .txt, "
@@ -279,7 +263,7 @@ PointCloud outputBatch(const PointCloud& batch, const TileSet& tiles, const Adde
   return out;
 }
 
-// The batches of an output that is not streamed (text) joined into one cloud.
+// The batches of an output that is not streamed (PCD, PTX) joined into one cloud.
 PointCloud joinBatches(std::vector<PointCloud>& batches) {
   PointCloud all;
   std::uint64_t total = 0;
@@ -369,7 +353,7 @@ struct WritePass {
 };
 
 // The last pass: the inputs once more, in order, each point matched with its tile's next records
-// and written as it comes (PLY, LAS, LAZ; text is held whole: its writer takes one cloud). A LAS
+// and written as it comes (PLY, LAS, LAZ, text; the other formats held whole). A LAS
 // or LAZ output's point format is chosen before its first record, from `las_layout` (a
 // ColumnMaxima cloud) or, without one, from the first batch; returns the maxima of every kept
 // point when they ask for another layout than the one written (a class above 31 first seen after
@@ -408,7 +392,9 @@ std::optional<PointCloud> writeOutput(const WritePass& pass, ProcessReport& repo
   auto bar = options.progress ? options.progress("writing", report.input_points) : nullptr;
   const PointFormat format = formatForExtension(output);
   const bool las_output = format == PointFormat::Las || format == PointFormat::Laz;
+  const bool text_output = format == PointFormat::Text || format == PointFormat("pts");
   std::unique_ptr<PlyStreamWriter> ply;
+  std::unique_ptr<TextStreamWriter> text;
   std::unique_ptr<LasStreamWriter> las_writer;
   ColumnMaxima maxima;
   std::vector<PointCloud> held;  // formats written whole
@@ -439,6 +425,11 @@ std::optional<PointCloud> writeOutput(const WritePass& pass, ProcessReport& repo
               .properties = options.write.properties};
           ply =
               std::make_unique<PlyStreamWriter>(output, layout, report.output_points, ply_options);
+        } else if (text_output) {
+          TextWriteOptions text_options = textOptionsForPath(output);
+          text_options.properties = options.write.properties;
+          text = std::make_unique<TextStreamWriter>(output, layout, report.output_points,
+                                                    text_options);
         }
         first = false;
       } else if (attributeSignature(layout) != signature || !(out.quantization == quantization)) {
@@ -461,6 +452,8 @@ std::optional<PointCloud> writeOutput(const WritePass& pass, ProcessReport& repo
       if (out.count == 0) continue;
       if (ply) {
         ply->write(out);
+      } else if (text) {
+        text->write(out);
       } else if (las_writer) {
         las_writer->write(out);
       } else {
@@ -473,6 +466,8 @@ std::optional<PointCloud> writeOutput(const WritePass& pass, ProcessReport& repo
         {.file = options.inputs.front().path.string(), .expected = "points", .found = "none"});
   if (ply) {
     ply->finish();
+  } else if (text) {
+    text->finish();
   } else if (las_writer) {
     const LasWritePlan whole = planLasWrite(maxima.cloud(), las, report.output_points);
     if (whole.point_format != las_writer->plan().point_format ||
@@ -487,7 +482,33 @@ std::optional<PointCloud> writeOutput(const WritePass& pass, ProcessReport& repo
   return std::nullopt;
 }
 
-ProcessReport runProcess(const ProcessOptions& options) {
+// A stage's progress sink that first checks the run's cancel flag: every step reports its
+// tiles, the spill and the write their batches, so this is the check per tile, in one place.
+class CancellableProgress final : public Progress {
+ public:
+  CancellableProgress(std::unique_ptr<Progress> inner, const std::atomic<bool>& cancel)
+      : inner_(std::move(inner)), cancel_(cancel) {}
+  void advance(std::uint64_t amount) override {
+    if (cancel_.load(std::memory_order_relaxed)) throw ProcessCancelled();
+    if (inner_) inner_->advance(amount);
+  }
+
+ private:
+  std::unique_ptr<Progress> inner_;
+  const std::atomic<bool>& cancel_;
+};
+
+ProcessReport runProcess(const ProcessOptions& given) {
+  ProcessOptions options = given;
+  if (given.cancel) {
+    options.progress = [&given](const std::string& stage, std::uint64_t total) {
+      return std::unique_ptr<Progress>(std::make_unique<CancellableProgress>(
+          given.progress ? given.progress(stage, total) : nullptr, *given.cancel));
+    };
+  }
+  auto check = [&] {
+    if (given.cancel && given.cancel->load()) throw ProcessCancelled();
+  };
   checkSteps(options);
   const std::vector<SensorPositions> sensors = findSensors(options);
   const WorkFolder work(options.output);
@@ -501,6 +522,7 @@ ProcessReport runProcess(const ProcessOptions& options) {
 
   Added added;
   for (const ProcessStep& step : options.steps) {
+    check();
     const StepContext context{tiles,
                               work.path(),
                               max_tile_points,
@@ -539,8 +561,9 @@ ProcessReport runProcess(const ProcessOptions& options) {
   // LAZ (their CRS and the positions' scale and offset carried exactly, what the steps added as
   // extra bytes, normals as nx ny nz, which the LAS reader gives back as normals), PLY otherwise
   // (a LAS file would add LAS's fixed fields, zeros, to a cloud that never had them).
+  check();
   report.output_points = tiles.keptPoints();
-  const ProcessOutput kind = outputKind(options.output);
+  const OutputKind kind = outputKind(options.output);
   const bool las_inputs =
       std::all_of(options.inputs.begin(), options.inputs.end(), [](const ConvertInput& input) {
         std::error_code ignored;
@@ -549,19 +572,22 @@ ProcessReport runProcess(const ProcessOptions& options) {
         return format == PointFormat::Las || format == PointFormat::Laz;
       });
   const WritePass pass{options, tiles, added, sensors,
-                       kind == ProcessOutput::kPointFile
+                       kind == OutputKind::kPointFile
                            ? options.output
                            : work.path() / (las_inputs ? "processed.las" : "processed.ply")};
   if (const std::optional<PointCloud> maxima = writeOutput(pass, report, nullptr)) {
     writeOutput(pass, report, &*maxima);
   }
-  if (kind == ProcessOutput::kPointFile) return report;
+  if (kind == OutputKind::kPointFile) return report;
+  check();
   report.losses.clear();  // those of the temporary LAS; an octree keeps every attribute
   PotreeConvertOptions build;
   build.build.memory_bytes = options.memory_mb << 20;
-  build.progress = options.progress;
+  // Not the cancellable sinks: the builders report from their own threads and pipelines, which
+  // are not made to be left by an exception; a cancel is checked before the build.
+  build.progress = given.progress;
   const std::vector<ConvertInput> processed = {ConvertInput{.path = pass.output}};
-  if (kind == ProcessOutput::kPotree) {
+  if (kind == OutputKind::kPotree) {
     convertToPotree(processed, options.output, build);
   } else {
     convertToCopc(processed, options.output, {.potree = build});

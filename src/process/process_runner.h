@@ -10,30 +10,37 @@
 // the output's bytes do not depend on `memory_mb`.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "io/point_file.h"
 #include "lod/convert_stages.h"
+#include "lod/output_kind.h"
 #include "process/process_steps.h"
 
 namespace parallax {
 
-// What `ProcessOptions::output` names: a point file by its extension (.ply .las .laz .xyz .txt
-// .csv .pts), a COPC file (.copc.laz), or a Potree 2.0 directory (a name ending in '/', an
-// existing directory, a name without extension), as `parallax convert` tells them apart.
-enum class ProcessOutput { kPointFile, kPotree, kCopc };
-ProcessOutput outputKind(const std::filesystem::path& output);
-
 struct ProcessOptions {
   std::vector<ConvertInput> inputs;  // read in order, as one cloud
-  std::filesystem::path output;      // a point file, COPC file or Potree directory (outputKind)
+  std::filesystem::path output;      // a point file, COPC file or Potree directory
+                                     // (lod/output_kind.h)
   std::vector<ProcessStep> steps;
   std::uint64_t memory_mb = 2048;  // what the tiles may take
   PointWriteOptions write;         // its progress is set by the run
   ProgressFactory progress;        // one sink per stage ("reading", "tiling", a step, "writing")
+  // Set (from another thread) to stop the run: it is checked at every tile of every step and
+  // every batch read or written (where the stages report progress), and the run then throws
+  // ProcessCancelled, its work folder and unfinished output removed. Null: not cancellable.
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+// What runProcess throws when ProcessOptions::cancel was set.
+struct ProcessCancelled : std::runtime_error {
+  ProcessCancelled() : std::runtime_error("process: cancelled") {}
 };
 
 struct ProcessReport {

@@ -311,7 +311,7 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
             grid.withinRadius(q.x, q.y, q.z, step.radius, neighbours);
           }
           if (!hood.covers(q, reach)) return false;
-          const LocalPlane plane = fitLocalPlane(grid.points(), neighbours);
+          const LocalPlane plane = fitLocalPlane(grid, neighbours);
           if (plane.valid) {
             double n[3] = {plane.normal[0], plane.normal[1], plane.normal[2]};
             orient(step, q, n);

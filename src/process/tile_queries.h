@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/progress.h"
@@ -32,7 +33,8 @@ struct StepContext {
                                                       // that need their other columns
 };
 
-// For each of `queries` (the tile's kept points), calls `answer(hood, grid, query, scratch)`,
+// For each of `queries` (the tile's kept points), calls `answer(hood, grid, i, query, scratch)`
+// (`hood`'s points moved into `grid`: grid.points()),
 // which returns whether its answer is exact (TileNeighbourhood::covers); those that are not are
 // asked again with the halo doubled. `load(halo)` loads the points searched for the first round;
 // later rounds load only the points of `searched` in the box of the pending queries, grown by the
@@ -63,13 +65,19 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
       }
       hood = loadBox(searched, lo, hi);
     }
-    const NeighbourIndex grid(hood.points);
+    // The loaded points move into the index (the answers read them as grid.points()); the
+    // queries are gathered in the order they are asked, so that reading them does not wait on
+    // memory in the middle of each search.
+    const NeighbourIndex grid(std::move(hood.points));
+    hood.points = {};
+    std::vector<GridPoint> asked(pending.size());
+    for (std::size_t j = 0; j < pending.size(); ++j) asked[j] = queries[pending[j]];
     std::vector<std::uint8_t> exact(pending.size(), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         std::vector<Neighbour>& local = scratch.local();
                         for (std::size_t j = range.begin(); j != range.end(); ++j) {
-                          exact[j] = answer(hood, grid, pending[j], queries[pending[j]], local);
+                          exact[j] = answer(hood, grid, pending[j], asked[j], local);
                         }
                       });
     std::vector<std::uint32_t> again;

@@ -250,6 +250,9 @@ TileNeighbourhood loadNeighbourhood(const TileSet& tiles, std::size_t tile, doub
                                     const std::vector<GridPoint>& core_points,
                                     const std::vector<std::uint8_t>& core_kept) {
   TileNeighbourhood hood;
+  // Reserved: grown by push_back, the copies of a large tile cost more than the loop.
+  hood.points.reserve(core_points.size());
+  hood.slot.reserve(core_points.size());
   for (std::size_t i = 0; i < core_points.size(); ++i) {
     if (!core_kept[i]) continue;
     hood.points.push_back(core_points[i]);

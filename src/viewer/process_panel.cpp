@@ -7,7 +7,8 @@
 //
 // The runner reads the file again rather than the points on the GPU: it works out of core on the
 // file's own values (a float chunk would lose precision), and the output keeps every attribute.
-// A run cannot be interrupted (the runner has no cancel): quitting during one waits for it.
+// A run is cancelled by its Cancel button (ProcessOptions::cancel, checked at every tile): its
+// temporary output and work files are removed, the input stays shown.
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
@@ -106,6 +107,7 @@ void startProcessing(Session& s) {
     options.progress = [progress](const std::string& stage, std::uint64_t total) {
       return std::unique_ptr<Progress>(std::make_unique<PanelProgress>(progress, stage, total));
     };
+    options.cancel = &progress->cancel;  // the factory above keeps `progress` alive
     p.progress = progress;
     p.running_output = options.output;
     p.running_steps = options.steps;
@@ -153,6 +155,8 @@ void updateProcessing(Session& s) {
     message += p.running_output.string();
     message += text;
     report(s, std::move(message));
+  } catch (const ProcessCancelled&) {
+    report(s, "processing cancelled: nothing written to " + p.running_output.string());
   } catch (const std::exception& e) {
     report(s, std::string("processing failed: ") + e.what());
   }
@@ -196,6 +200,11 @@ void drawProcessPanel(Session& s) {
     const std::uint64_t total = p.progress->total, done = p.progress->done;
     ImGui::ProgressBar(total > 0 ? float(double(done) / double(total)) : 0.0f, ImVec2(-1.0f, 0.0f),
                        stage.c_str());
+    if (p.progress->cancel) {
+      ImGui::TextDisabled("cancelling at the next tile");
+    } else if (ImGui::Button("Cancel")) {
+      p.progress->cancel = true;
+    }
   } else if (ImGui::Button("Run (K)")) {
     startProcessing(s);
   }

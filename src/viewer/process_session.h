@@ -22,6 +22,7 @@ struct ProcessProgress {
   std::mutex mutex;
   std::string stage;  // guarded by mutex
   std::atomic<std::uint64_t> done{0}, total{0};
+  std::atomic<bool> cancel{false};  // the Cancel button: the run stops at its next tile
 };
 
 struct ProcessSession {

@@ -11,6 +11,14 @@ namespace {
 // (determinant 1): +90 degrees about x.
 const glm::dquat kStageToFile = glm::angleAxis(glm::radians(90.0), glm::dvec3(1, 0, 0));
 
+// Ry(angle) and its inverse written out, so that a yaw of 0 leaves every value exactly as the
+// issue's mapping gives it.
+glm::dvec3 turnY(const glm::dvec3& v, double angle) {
+  if (angle == 0.0) return v;
+  const double c = std::cos(angle), s = std::sin(angle);
+  return {c * v.x + s * v.z, v.y, -s * v.x + c * v.z};
+}
+
 }  // namespace
 
 glm::dvec3 baseCentre(const Bounds3& bounds) {
@@ -31,11 +39,20 @@ StagePlacement tabletopPlacement(const Bounds3& bounds) {
 
 glm::dvec3 fileToStage(const StagePlacement& p, const glm::dvec3& file) {
   const glm::dvec3 d = file - p.origin;
-  return {d.x * p.scale, d.z * p.scale, -d.y * p.scale};
+  return turnY({d.x * p.scale, d.z * p.scale, -d.y * p.scale}, p.yaw);
+}
+
+glm::dvec3 stageToFileVector(const StagePlacement& p, const glm::dvec3& stage) {
+  const glm::dvec3 s = turnY(stage, -p.yaw);
+  return glm::dvec3(s.x, -s.z, s.y) / p.scale;
 }
 
 glm::dvec3 stageToFile(const StagePlacement& p, const glm::dvec3& stage) {
-  return p.origin + glm::dvec3(stage.x, -stage.z, stage.y) / p.scale;
+  return p.origin + stageToFileVector(p, stage);
+}
+
+glm::dquat stageToFileRotation(const StagePlacement& p) {
+  return kStageToFile * glm::angleAxis(-p.yaw, glm::dvec3(0, 1, 0));
 }
 
 EyeView eyeView(const StagePlacement& placement, const EyeFov& fov, const StagePose& eye, int x,
@@ -67,7 +84,7 @@ EyeView eyeView(const StagePlacement& placement, const EyeFov& fov, const StageP
   camera.projection = Projection::Perspective;
   camera.world_up = glm::dvec3(0, 0, 1);
   camera.position = stageToFile(placement, eye.position);
-  camera.orientation = glm::normalize(kStageToFile * eye.orientation);
+  camera.orientation = glm::normalize(stageToFileRotation(placement) * eye.orientation);
   camera.pivot = camera.position + camera.forward();
   const double half_tan_y = rows / (2.0 * k);
   camera.fov_y_deg = glm::degrees(2.0 * std::atan(half_tan_y));

@@ -3,9 +3,11 @@
 // File coordinates are z-up (LAS, PLY scans); OpenXR's stage is y-up, metres, -z forward. A file
 // point X maps to stage = ((X - Ox) * S, (Z - Oz) * S, -(Y - Oy) * S), with O the file coordinate
 // put at the stage origin and S stage metres per file unit (issue 24, item 3): exactly this, so
-// that a test can project points itself. The mapping is a rotation about x by -90 degrees plus a
-// uniform scale, so angles (fields of view) are unchanged and an eye in the stage is a camera in
-// file coordinates with the same frustum.
+// that a test can project points itself. Controllers may turn the world about the stage's
+// vertical axis (snap turns, a two-hand grab): stage = Ry(yaw) * the above, never a pitch or a
+// roll, so the horizon stays level. The mapping is a rotation plus a uniform scale, so angles
+// (fields of view) are unchanged and an eye in the stage is a camera in file coordinates with the
+// same frustum.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -20,6 +22,9 @@ namespace parallax {
 struct StagePlacement {
   glm::dvec3 origin{0.0};  // file coordinates put at the stage origin
   double scale = 1.0;      // stage metres per file unit, > 0
+  // Radians about the stage's +y (counter-clockwise seen from above), applied after the issue's
+  // mapping; 0 until a controller turns the world.
+  double yaw = 0.0;
 };
 
 // The default origin: the centre of the cloud's base (x, y centre, lowest z), so the ground of a
@@ -30,6 +35,10 @@ StagePlacement tabletopPlacement(const Bounds3& bounds);
 
 glm::dvec3 fileToStage(const StagePlacement& placement, const glm::dvec3& file);
 glm::dvec3 stageToFile(const StagePlacement& placement, const glm::dvec3& stage);
+// A stage direction (an eye's or a controller's orientation) as a file direction.
+glm::dquat stageToFileRotation(const StagePlacement& placement);
+// A stage vector as a file vector (rotated and divided by the scale; exact axis swaps at yaw 0).
+glm::dvec3 stageToFileVector(const StagePlacement& placement, const glm::dvec3& stage);
 
 // An eye as OpenXR reports it: XrFovf's four angles (radians; left and down usually negative)
 // and its pose in stage space (XrPosef; orientation turns eye-local vectors into stage ones).

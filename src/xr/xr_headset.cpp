@@ -1,14 +1,18 @@
 #include "xr/xr_headset.h"
 
 #include <epoxy/egl.h>
+#include <epoxy/glx.h>
 #define XR_USE_GRAPHICS_API_OPENGL
 #define XR_USE_PLATFORM_EGL
+#define XR_USE_PLATFORM_XLIB
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
 
 #include <cstdlib>
 #include <cstring>
 #include <vector>
+
+#include "xr/xr_actions.h"
 
 namespace parallax {
 namespace {
@@ -21,14 +25,14 @@ std::string resultName(XrInstance instance, XrResult result) {
   return "XrResult " + std::to_string(int(result));
 }
 
-void check(XrInstance instance, XrResult result, const char* call) {
+}  // namespace
+
+void xrCheck(XrInstance instance, XrResult result, const char* call) {
   if (XR_FAILED(result)) {
     throw XrError(std::string("OpenXR: ") + call + " failed: " + resultName(instance, result) +
                   " (runtime: " + xrRuntimeLookedFor() + ")");
   }
 }
-
-}  // namespace
 
 std::string xrRuntimeLookedFor() {
   if (const char* json = std::getenv("XR_RUNTIME_JSON"); json && *json) {
@@ -60,8 +64,10 @@ struct XrHeadset::State {
   XrSessionState session_state = XR_SESSION_STATE_UNKNOWN;
   bool running = false;
   XrSessionStats stats;
+  std::unique_ptr<XrActions> actions;
+  XrInput input;
 
-  void check(XrResult result, const char* call) const { parallax::check(instance, result, call); }
+  void check(XrResult result, const char* call) const { xrCheck(instance, result, call); }
   // OpenXR's two-call idiom: the count first, then that many elements filled, each starting as
   // `blank` (typed structs need their type set before the runtime fills them).
   template <typename T, typename Call>
@@ -77,8 +83,14 @@ struct XrHeadset::State {
 
 XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_unique<State>()) {
   State& s = *state_;
-  // The EGL binding needs the runtime's XR_MNDX_egl_enable (and XR_KHR_opengl_enable, which it
-  // builds on); a runtime without them cannot draw into this headless context.
+  // The binding follows the context that is current: a headless EGL context needs the runtime's
+  // XR_MNDX_egl_enable (and XR_KHR_opengl_enable, which it builds on); a window's GLX context
+  // (the mirror) the Xlib binding of XR_KHR_opengl_enable alone, which every OpenGL runtime and
+  // Debian's core validation layer know.
+  const bool egl = eglGetCurrentContext() != EGL_NO_CONTEXT;
+  if (!egl && glXGetCurrentContext() == nullptr) {
+    throw XrError("OpenXR: no current EGL or GLX context to draw the headset's frames with");
+  }
   uint32_t count = 0;
   XrResult result = xrEnumerateInstanceExtensionProperties(nullptr, 0, &count, nullptr);
   if (XR_FAILED(result)) {
@@ -93,18 +105,22 @@ XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_uni
     has_gl |= std::strcmp(e.extensionName, XR_KHR_OPENGL_ENABLE_EXTENSION_NAME) == 0;
     has_egl |= std::strcmp(e.extensionName, XR_MNDX_EGL_ENABLE_EXTENSION_NAME) == 0;
   }
-  if (!has_gl || !has_egl) {
+  if (!has_gl || (egl && !has_egl)) {
     throw XrError("OpenXR runtime (" + xrRuntimeLookedFor() + ") lacks " +
-                  (has_gl ? "" : "XR_KHR_opengl_enable ") + (has_egl ? "" : "XR_MNDX_egl_enable ") +
-                  "which headless OpenGL drawing needs");
+                  (has_gl ? "" : "XR_KHR_opengl_enable ") +
+                  (egl && !has_egl ? "XR_MNDX_egl_enable " : "") +
+                  (egl ? "which headless OpenGL drawing needs (a window, on a display, would "
+                         "need only XR_KHR_opengl_enable)"
+                       : "which OpenGL drawing needs"));
   }
+  // XR_KHR_opengl_enable first: the GLX binding enables it alone.
   const char* enabled[] = {XR_KHR_OPENGL_ENABLE_EXTENSION_NAME, XR_MNDX_EGL_ENABLE_EXTENSION_NAME};
   XrInstanceCreateInfo create{XR_TYPE_INSTANCE_CREATE_INFO};
   std::snprintf(create.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "%s",
                 application_name.c_str());
   std::snprintf(create.applicationInfo.engineName, XR_MAX_ENGINE_NAME_SIZE, "Parallax");
   create.applicationInfo.apiVersion = XR_CURRENT_API_VERSION;
-  create.enabledExtensionCount = 2;
+  create.enabledExtensionCount = egl ? 2 : 1;
   create.enabledExtensionNames = enabled;
   result = xrCreateInstance(&create, &s.instance);
   if (XR_FAILED(result)) {
@@ -155,21 +171,44 @@ XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_uni
   s.check(requirements_fn(s.instance, s.system, &requirements),
           "xrGetOpenGLGraphicsRequirementsKHR");
 
-  XrGraphicsBindingEGLMNDX binding{XR_TYPE_GRAPHICS_BINDING_EGL_MNDX};
-  binding.getProcAddress = eglGetProcAddress;
-  binding.display = eglGetCurrentDisplay();
-  binding.context = eglGetCurrentContext();
-  if (binding.display == EGL_NO_DISPLAY || binding.context == EGL_NO_CONTEXT) {
-    throw XrError("OpenXR: no current EGL context to draw the headset's frames with");
-  }
-  EGLint config_id = 0;
-  eglQueryContext(binding.display, binding.context, EGL_CONFIG_ID, &config_id);
-  const EGLint attributes[] = {EGL_CONFIG_ID, config_id, EGL_NONE};
-  EGLint configs = 0;
-  binding.config = nullptr;
-  if (config_id > 0) eglChooseConfig(binding.display, attributes, &binding.config, 1, &configs);
+  XrGraphicsBindingEGLMNDX egl_binding{XR_TYPE_GRAPHICS_BINDING_EGL_MNDX};
+  XrGraphicsBindingOpenGLXlibKHR glx_binding{XR_TYPE_GRAPHICS_BINDING_OPENGL_XLIB_KHR};
   XrSessionCreateInfo session_info{XR_TYPE_SESSION_CREATE_INFO};
-  session_info.next = &binding;
+  if (egl) {
+    egl_binding.getProcAddress = eglGetProcAddress;
+    egl_binding.display = eglGetCurrentDisplay();
+    egl_binding.context = eglGetCurrentContext();
+    EGLint config_id = 0;
+    eglQueryContext(egl_binding.display, egl_binding.context, EGL_CONFIG_ID, &config_id);
+    const EGLint attributes[] = {EGL_CONFIG_ID, config_id, EGL_NONE};
+    EGLint configs = 0;
+    egl_binding.config = nullptr;
+    if (config_id > 0) {
+      eglChooseConfig(egl_binding.display, attributes, &egl_binding.config, 1, &configs);
+    }
+    session_info.next = &egl_binding;
+    s.stats.binding = "EGL (XR_MNDX_egl_enable)";
+  } else {
+    glx_binding.xDisplay = glXGetCurrentDisplay();
+    glx_binding.glxContext = glXGetCurrentContext();
+    glx_binding.glxDrawable = glXGetCurrentDrawable();
+    // The context's framebuffer configuration and its visual, as the binding asks for them.
+    int config_id = 0, screen = 0;
+    glXQueryContext(glx_binding.xDisplay, glx_binding.glxContext, GLX_FBCONFIG_ID, &config_id);
+    glXQueryContext(glx_binding.xDisplay, glx_binding.glxContext, GLX_SCREEN, &screen);
+    const int attributes[] = {GLX_FBCONFIG_ID, config_id, 0};
+    int configs = 0;
+    GLXFBConfig* found = glXChooseFBConfig(glx_binding.xDisplay, screen, attributes, &configs);
+    if (found && configs > 0) {
+      glx_binding.glxFBConfig = found[0];
+      int visual = 0;
+      glXGetFBConfigAttrib(glx_binding.xDisplay, found[0], GLX_VISUAL_ID, &visual);
+      glx_binding.visualid = uint32_t(visual);
+    }
+    if (found) XFree(found);
+    session_info.next = &glx_binding;
+    s.stats.binding = "GLX (XR_KHR_opengl_enable)";
+  }
   session_info.systemId = s.system;
   s.check(xrCreateSession(s.instance, &session_info, &s.session), "xrCreateSession");
 
@@ -185,6 +224,7 @@ XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_uni
   }
   space_info.poseInReferenceSpace.orientation.w = 1.0f;
   s.check(xrCreateReferenceSpace(s.session, &space_info, &s.space), "xrCreateReferenceSpace");
+  s.actions = std::make_unique<XrActions>(s.instance, s.session);
 
   const std::vector<int64_t> formats =
       s.enumerate("xrEnumerateSwapchainFormats", int64_t{},
@@ -221,6 +261,7 @@ XrHeadset::XrHeadset(const std::string& application_name) : state_(std::make_uni
 XrHeadset::~XrHeadset() {
   State& s = *state_;
   if (s.framebuffer) glDeleteFramebuffers(1, &s.framebuffer);
+  s.actions.reset();
   if (s.swapchain) xrDestroySwapchain(s.swapchain);
   if (s.space) xrDestroySpace(s.space);
   if (s.session) xrDestroySession(s.session);
@@ -306,6 +347,10 @@ XrSessionStats XrHeadset::run(const std::function<void(const XrFrameInfo&)>& dra
           layer_views[v].subImage.imageRect.extent = {s.eye_width, s.eye_height};
           layer_views[v].subImage.imageArrayIndex = 0;
         }
+        s.input.head = (eyes[0].pose.position + eyes[1].pose.position) / 2.0;
+        s.input.period_s = double(frame_state.predictedDisplayPeriod) * 1e-9;
+        s.actions->read(s.space, frame_state.predictedDisplayTime,
+                        s.session_state == XR_SESSION_STATE_FOCUSED, s.input);
         uint32_t index = 0;
         XrSwapchainImageAcquireInfo acquire{XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO};
         s.check(xrAcquireSwapchainImage(s.swapchain, &acquire, &index), "xrAcquireSwapchainImage");
@@ -314,7 +359,7 @@ XrSessionStats XrHeadset::run(const std::function<void(const XrFrameInfo&)>& dra
         s.check(xrWaitSwapchainImage(s.swapchain, &wait), "xrWaitSwapchainImage");
         glNamedFramebufferTexture(s.framebuffer, GL_COLOR_ATTACHMENT0, s.images[index].image, 0);
         draw({std::span<const XrEye>(eyes, 2), s.framebuffer, 2 * s.eye_width, s.eye_height,
-              s.stats.frames_drawn});
+              s.stats.frames_drawn, &s.input});
         // The runtime reads the image once it is released: the drawing must be finished.
         glFinish();
         XrSwapchainImageReleaseInfo release{XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO};
@@ -333,8 +378,9 @@ XrSessionStats XrHeadset::run(const std::function<void(const XrFrameInfo&)>& dra
     s.check(xrEndFrame(s.session, &end), "xrEndFrame");
     ++s.stats.frames_ended;
     if (submit) ++s.stats.frames_drawn;
-    if (stop_after > 0 && s.stats.frames_drawn >= stop_after &&
+    if (((stop_after > 0 && s.stats.frames_drawn >= stop_after) || exit_wanted_) &&
         s.session_state != XR_SESSION_STATE_STOPPING) {
+      exit_wanted_ = false;
       s.check(xrRequestExitSession(s.session), "xrRequestExitSession");
       stop_after = 0;
     }

@@ -18,6 +18,7 @@
 
 #include "render/view.h"
 #include "xr/stage_mapping.h"
+#include "xr/xr_input.h"
 
 namespace parallax {
 
@@ -41,6 +42,9 @@ struct XrFrameInfo {
   GLuint framebuffer = 0;       // both eyes' picture: width x height, eyes side by side
   int width = 0, height = 0;
   long long index = 0;  // frames drawn before this one
+  // The controllers at the frame's predicted display time, the head between the eyes, the
+  // display period (xr_actions.h); hands are untracked while the session is not focused.
+  const XrInput* input = nullptr;
 };
 
 struct XrSessionStats {
@@ -48,13 +52,15 @@ struct XrSessionStats {
   long long frames_ended = 0;  // every xrEndFrame
   std::string runtime;         // the runtime's name and version
   std::string system;          // the headset's name
+  std::string binding;         // how frames reach the runtime: "EGL (...)" or "GLX (...)"
   int eye_width = 0, eye_height = 0;
 };
 
 class XrHeadset {
  public:
-  // Needs the EGL context the frames are drawn with current on this thread for its whole life
-  // (render/gl_context.h createHeadless). Throws XrError.
+  // Needs the context the frames are drawn with current on this thread for its whole life: a
+  // headless EGL one (render/gl_context.h createHeadless) or a window's GLX one (the mirror,
+  // viewer/xr_mirror_window.h). Throws XrError.
   explicit XrHeadset(const std::string& application_name);
   ~XrHeadset();
   XrHeadset(const XrHeadset&) = delete;
@@ -67,10 +73,14 @@ class XrHeadset {
   // Runs the session until the runtime ends it (or `stop_after` frames were drawn, 0: never),
   // calling `draw` for every frame the runtime wants drawn. Throws XrError.
   XrSessionStats run(const std::function<void(const XrFrameInfo&)>& draw, long long stop_after = 0);
+  // Asks the runtime to end the session after the current frame (the mirror window was closed);
+  // run() returns once it has.
+  void requestExit() { exit_wanted_ = true; }
 
  private:
   struct State;
   std::unique_ptr<State> state_;
+  bool exit_wanted_ = false;
 };
 
 // Where the loader looks for a runtime, for messages: "XR_RUNTIME_JSON=<path>" or the

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -52,6 +53,7 @@ TEST(NeighbourIndex, NearestEqualsBruteForceWithTiesBrokenBySmallerId) {
           EXPECT_EQ(found[i].id, expected[i].id) << "query " << q << " k " << k;
           EXPECT_EQ(found[i].d2, expected[i].d2);
           EXPECT_EQ(grid.points()[found[i].at].id, found[i].id);
+          EXPECT_EQ(grid.treePoints()[found[i].in_tree].id, found[i].id);
         }
       }
     }
@@ -63,6 +65,41 @@ TEST(NeighbourIndex, NearestEqualsBruteForceWithTiesBrokenBySmallerId) {
     grid.nearest(500.0, 500.0, 500.0, 3, found);
     const std::vector<Neighbour> lonely = bruteNearest(points, 500.0, 500.0, 500.0, 3);
     for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(found[i].id, lonely[i].id);
+  }
+}
+
+TEST(NeighbourIndex, ClustersOfEveryDensityEqualBruteForce) {
+  // Dense clusters a few millimetres wide beside sparse points a hundred metres apart, as a scan
+  // is near and far from its station: the tree's boxes, split at Morton midpoints, are of every
+  // size. Every answer equals the brute force one, and the plane read in tree order has the
+  // same bits as the one read in the given order.
+  std::mt19937 rng(11);
+  std::normal_distribution<double> tight(0.0, 0.002);
+  std::uniform_real_distribution<double> wide(-100.0, 100.0);
+  std::vector<GridPoint> points;
+  for (int cluster = 0; cluster < 6; ++cluster) {
+    const double c[3] = {wide(rng), wide(rng), wide(rng) * 0.1};
+    for (int i = 0; i < 1500; ++i) {
+      points.push_back({c[0] + tight(rng), c[1] + tight(rng), c[2] + tight(rng), points.size()});
+    }
+  }
+  for (int i = 0; i < 800; ++i) points.push_back({wide(rng), wide(rng), wide(rng), points.size()});
+  std::shuffle(points.begin(), points.end(), rng);
+  const NeighbourIndex grid(points);
+  std::vector<Neighbour> found;
+  for (std::size_t q = 0; q < points.size(); q += 29) {
+    grid.nearest(points[q].x, points[q].y, points[q].z, 16, found);
+    const std::vector<Neighbour> expected =
+        bruteNearest(points, points[q].x, points[q].y, points[q].z, 16);
+    ASSERT_EQ(found.size(), expected.size());
+    for (std::size_t i = 0; i < found.size(); ++i) {
+      ASSERT_EQ(found[i].id, expected[i].id) << "query " << q;
+      ASSERT_EQ(found[i].d2, expected[i].d2);
+    }
+    const LocalPlane given = fitLocalPlane(grid.points(), found);
+    const LocalPlane in_tree = fitLocalPlane(grid, found);
+    for (int a = 0; a < 3; ++a) ASSERT_EQ(given.normal[a], in_tree.normal[a]);
+    ASSERT_EQ(given.curvature, in_tree.curvature);
   }
 }
 
@@ -156,6 +193,62 @@ TEST(LocalPlane, EigenOfKnownMatrix) {
   // Smallest: (1, sqrt 2, 1) / 2 up to sign.
   EXPECT_NEAR(std::abs(vectors[0][0] + std::sqrt(2.0) * vectors[1][0] + vectors[2][0]) / 2.0, 1.0,
               1e-12);
+}
+
+TEST(LocalPlane, ClosedFormEqualsJacobi) {
+  // Covariances R diag(l0, l1, l2) R^T of random rotations R, from flat (l0 a millionth of l1:
+  // a noisy plane) to nearly isotropic, and the degenerate ones the closed form hands to Jacobi
+  // (a line, a ball, a point, an axis-aligned plane): the same eigenvalues and, where the
+  // smallest is single, the same vector up to sign.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<std::array<double, 3>> spectra = {
+      {0.0, 0.0, 0.0}, {0.0, 0.0, 1.0},    {1.0, 1.0, 1.0},    {0.0, 1.0, 1.0},
+      {0.0, 2.0, 3.0}, {1e-6, 1.0, 2.0},   {1e-9, 0.5, 0.5},   {0.1, 0.2, 0.3},
+      {0.9, 1.0, 1.1}, {3e-4, 2e-3, 1e-1}, {1e-12, 1e-5, 1e-5}};
+  for (int round = 0; round < 400; ++round) {
+    const std::array<double, 3> l = spectra[std::size_t(round) % spectra.size()];
+    // A random rotation from a normalised quaternion (the first rounds: none).
+    double w = 1, x = 0, y = 0, z = 0;
+    if (round >= int(spectra.size())) {
+      w = u(rng), x = u(rng), y = u(rng), z = u(rng);
+      const double n = std::sqrt(w * w + x * x + y * y + z * z);
+      w /= n, x /= n, y /= n, z /= n;
+    }
+    const double r[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
+                            {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
+                            {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+    double m[3][3];
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        m[i][j] = 0.0;
+        for (int k = 0; k < 3; ++k) m[i][j] += r[i][k] * l[std::size_t(k)] * r[j][k];
+      }
+    }
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < i; ++j) m[i][j] = m[j][i];  // exactly symmetric
+    }
+    double jacobi_values[3], jacobi_vectors[3][3], values[3], vector[3];
+    symmetricEigen3(m, jacobi_values, jacobi_vectors);
+    smallestEigen3(m, values, vector);
+    const double scale = l[2] + 1e-300;
+    // lambda0 to rounding level; lambda1 and lambda2 to 1e-8 where they nearly meet (the
+    // characteristic polynomial's double root), which only the validity test reads.
+    for (int i = 0; i < 3; ++i) {
+      const double tolerance = (i == 0 ? 1e-13 : 1e-7) * scale;
+      EXPECT_NEAR(values[i], jacobi_values[i], tolerance) << "round " << round << " value " << i;
+      EXPECT_NEAR(values[i], l[std::size_t(i)], tolerance) << "round " << round << " value " << i;
+    }
+    EXPECT_NEAR(vector[0] * vector[0] + vector[1] * vector[1] + vector[2] * vector[2], 1.0, 1e-14);
+    if (l[1] - l[0] > 1e-6 * l[2]) {
+      // The smallest's vector is R's first column, up to sign.
+      const double dot = vector[0] * r[0][0] + vector[1] * r[1][0] + vector[2] * r[2][0];
+      EXPECT_NEAR(std::abs(dot), 1.0, 1e-12) << "round " << round;
+      const double jacobi_dot = vector[0] * jacobi_vectors[0][0] +
+                                vector[1] * jacobi_vectors[1][0] + vector[2] * jacobi_vectors[2][0];
+      EXPECT_NEAR(std::abs(jacobi_dot), 1.0, 1e-12) << "round " << round;
+    }
+  }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -832,10 +833,16 @@ TEST(ProcessOutput, PotreeAndCopcOctreesHoldEveryProcessedPoint) {
   const std::vector<ProcessStep> steps = {outliers, normals, distance};
   const ProcessReport file = run(in, dir / "out.ply", steps);
   EXPECT_LT(file.output_points, 30000u);  // the outliers are gone
-  EXPECT_EQ(outputKind(dir / "octree/"), ProcessOutput::kPotree);
-  EXPECT_EQ(outputKind(dir / "octree"), ProcessOutput::kPotree);
-  EXPECT_EQ(outputKind(dir / "out.COPC.LAZ"), ProcessOutput::kCopc);
-  EXPECT_EQ(outputKind(dir / "out.laz"), ProcessOutput::kPointFile);
+  EXPECT_EQ(outputKind(dir / "octree/"), OutputKind::kPotree);
+  EXPECT_EQ(outputKind(dir / "octree"), OutputKind::kPotree);
+  EXPECT_EQ(outputKind(dir / "out.COPC.LAZ"), OutputKind::kCopc);
+  EXPECT_EQ(outputKind(dir / "out.laz"), OutputKind::kPointFile);
+  // The rule convert shares (lod/output_kind.h): an existing directory whatever its name, and
+  // convert's --format over the name.
+  EXPECT_EQ(outputKind(dir.path()), OutputKind::kPotree);
+  EXPECT_EQ(outputKind(dir / "out.ply", "potree"), OutputKind::kPotree);
+  EXPECT_EQ(outputKind(dir / "out.laz", "copc"), OutputKind::kCopc);
+  EXPECT_EQ(outputKind(dir / "out.unknown"), OutputKind::kPointFile);
   run(in, dir / "octree/", steps, 1);
   run(in, dir / "out.copc.laz", steps);
   const auto expected = pointsById(dir / "out.ply");
@@ -868,6 +875,59 @@ std::string messageOf(Parse&& parse) {
     return e.what();
   }
   return "(no error)";
+}
+
+// A progress sink that sets the cancel flag when the normals step reports its first tile, as
+// the viewer's Cancel button would from its own thread.
+class CancelAtFirstTile final : public Progress {
+ public:
+  explicit CancelAtFirstTile(std::atomic<bool>& cancel) : cancel_(cancel) {}
+  void advance(std::uint64_t) override { cancel_ = true; }
+
+ private:
+  std::atomic<bool>& cancel_;
+};
+
+TEST(ProcessSteps, CancelledBetweenTilesLeavesNoOutputAndNoWorkFiles) {
+  TempDir dir;
+  const auto in = writeCloud(dir, "in.ply", terrainWithNoise(20000, 4));
+  NormalsStep normals;
+  normals.k = 8;
+  for (const char* name : {"out.ply", "out.xyz", "octree/"}) {
+    SCOPED_TRACE(name);
+    std::atomic<bool> cancel = false;
+    std::vector<std::string> stages;
+    ProcessOptions options;
+    options.inputs = {ConvertInput{.path = in}};
+    options.output = dir / name;
+    options.steps = {normals};
+    options.memory_mb = 1;  // 4 096-point tiles: 5 of them
+    options.cancel = &cancel;
+    options.progress = [&](const std::string& stage, std::uint64_t) -> std::unique_ptr<Progress> {
+      stages.push_back(stage);
+      if (stage.starts_with("--normals")) return std::make_unique<CancelAtFirstTile>(cancel);
+      return nullptr;
+    };
+    EXPECT_THROW(runProcess(options), ProcessCancelled);
+    EXPECT_TRUE(cancel);
+    ASSERT_FALSE(stages.empty());
+    EXPECT_TRUE(stages.back().starts_with("--normals"));  // stopped there: nothing written
+    // Only the input is left: no output, no partial file, no work folder.
+    std::vector<std::string> left;
+    for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+      left.push_back(entry.path().filename().string());
+    }
+    EXPECT_EQ(left, std::vector<std::string>{"in.ply"});
+  }
+  // Not cancelled: the same options run to the end.
+  std::atomic<bool> never = false;
+  ProcessOptions options;
+  options.inputs = {ConvertInput{.path = in}};
+  options.output = dir / "out.ply";
+  options.steps = {normals};
+  options.memory_mb = 1;
+  options.cancel = &never;
+  EXPECT_EQ(runProcess(options).output_points, 20000u);
 }
 
 TEST(ProcessSteps, BadParametersAreErrorsNamingTheStep) {

@@ -6,15 +6,18 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "../render/viewer_window_support.h"
 #include "render/image_file.h"
 #include "support/run_parallax.h"
 #include "support/temp_dir.h"
@@ -70,7 +73,8 @@ void writePly(const std::filesystem::path& path, const std::vector<TestPoint>& p
 }
 
 void writeConfig(const std::filesystem::path& path, const Eye (&eyes)[2], int width, int height,
-                 int frames, const std::filesystem::path& output) {
+                 int frames, const std::filesystem::path& output,
+                 const nlohmann::json& controllers = nullptr) {
   nlohmann::json views = nlohmann::json::array();
   for (const Eye& e : eyes) {
     views.push_back(
@@ -80,23 +84,25 @@ void writeConfig(const std::filesystem::path& path, const Eye (&eyes)[2], int wi
            {"orientation",
             {e.orientation.x, e.orientation.y, e.orientation.z, e.orientation.w}}}}});
   }
-  std::ofstream(path) << nlohmann::json{
-      {"views", views},
-      {"width", width},
-      {"height", height},
-      {"frames", frames},
-      {"output",
-       output.string()}}.dump();
+  nlohmann::json config{{"views", views},
+                        {"width", width},
+                        {"height", height},
+                        {"frames", frames},
+                        {"output", output.string()}};
+  if (!controllers.is_null()) config["controllers"] = controllers;
+  std::ofstream(path) << config.dump();
 }
 
 // Where the point lands in the eye's picture, x right and y down from the top-left corner
 // (pixels, continuous), written from the issue's definitions alone: stage = ((X-Ox)S, (Z-Oz)S,
 // -(Y-Oy)S), eye space = the inverse of the eye's pose, the picture spans tan(left)..tan(right)
 // and tan(down)..tan(up) at unit depth. False when the point is behind the eye.
+// `moved` is what the controllers did to the world: stage position before -> after.
+using StageMove = std::function<glm::dvec3(const glm::dvec3&)>;
 bool project(const TestPoint& p, const Eye& eye, double scale, int width, int height,
-             glm::dvec2& pixel) {
+             glm::dvec2& pixel, const StageMove& moved) {
   const glm::dvec3 d = p.file - kOrigin;
-  const glm::dvec3 stage(d.x * scale, d.z * scale, -d.y * scale);
+  const glm::dvec3 stage = moved(glm::dvec3(d.x * scale, d.z * scale, -d.y * scale));
   const glm::dvec3 local = glm::conjugate(eye.orientation) * (stage - eye.position);
   if (local.z >= 0) return false;
   const double tx = local.x / -local.z, ty = local.y / -local.z;
@@ -126,11 +132,14 @@ class XrViewTest : public ::testing::Test {
  protected:
   void SetUp() override {
     setenv("XR_RUNTIME_JSON", PARALLAX_XR_TEST_RUNTIME, 1);
-    // Not under the core validation layer yet: Debian's build of it (1.0.20) rejects
-    // XrGraphicsBindingEGLMNDX in XrSessionCreateInfo's next chain ("Invalid structure(s) in
-    // next chain", VUID-XrSessionCreateInfo-next-next) although XR_MNDX_egl_enable is enabled:
-    // it was built without XR_USE_PLATFORM_EGL. The GLX binding (XR_KHR_opengl_enable, under
-    // Xvfb) would pass it; see src/xr/NOTES.md.
+    // Headless (EGL) unless a test opens a display: with DISPLAY, view --xr opens the mirror.
+    unsetenv("DISPLAY");
+    unsetenv("XR_ENABLE_API_LAYERS");
+    // The headless tests are not under the core validation layer: Debian's build of it (1.0.20)
+    // rejects XrGraphicsBindingEGLMNDX in XrSessionCreateInfo's next chain ("Invalid
+    // structure(s) in next chain", VUID-XrSessionCreateInfo-next-next) although
+    // XR_MNDX_egl_enable is enabled: it was built without XR_USE_PLATFORM_EGL. The tests under
+    // Xvfb below use the GLX binding (the mirror window's context) and run under the layer.
     setenv("PARALLAX_XR_TEST", (dir_ / "headset.json").c_str(), 1);
     points_ = gridPoints();
     writePly(dir_ / "grid.ply", points_);
@@ -138,18 +147,20 @@ class XrViewTest : public ::testing::Test {
 
   // Runs view --xr.
   test::RunResult run(const Eye (&eyes)[2], int width, int height, int frames,
-                      const std::string& extra = "") {
-    writeConfig(dir_ / "headset.json", eyes, width, height, frames, dir_ / "out");
-    const auto result =
-        runParallax(dir_, "view " + quoted((dir_ / "grid.ply").string()) + " --xr --xr-origin " +
-                              std::to_string(kOrigin.x) + "," + std::to_string(kOrigin.y) + "," +
-                              std::to_string(kOrigin.z) + " " + extra);
+                      const std::string& extra = "", const nlohmann::json& controllers = nullptr) {
+    writeConfig(dir_ / "headset.json", eyes, width, height, frames, dir_ / "out", controllers);
+    const auto result = runParallax(
+        dir_, "view " + quoted((dir_ / "grid.ply").string()) + " --xr --point-size 1 --xr-origin " +
+                  std::to_string(kOrigin.x) + "," + std::to_string(kOrigin.y) + "," +
+                  std::to_string(kOrigin.z) + " " + extra);
     return result;
   }
 
   // Every point in the picture is drawn in its colour within a pixel of where the CPU puts it,
   // and every lit pixel is such a point.
-  void expectProjection(const Eye& eye, const RgbaImage& image, double scale, int* inside_count) {
+  void expectProjection(
+      const Eye& eye, const RgbaImage& image, double scale, int* inside_count,
+      const StageMove& moved = [](const glm::dvec3& s) { return s; }) {
     const auto lit = litPixels(image);
     struct Projected {
       const TestPoint* point;
@@ -159,7 +170,7 @@ class XrViewTest : public ::testing::Test {
     std::vector<Projected> projected;
     for (const auto& p : points_) {
       glm::dvec2 px;
-      if (project(p, eye, scale, image.width, image.height, px)) {
+      if (project(p, eye, scale, image.width, image.height, px, moved)) {
         projected.push_back({&p, px, glm::length(p.file - kOrigin)});
       }
     }
@@ -286,6 +297,336 @@ TEST_F(XrViewTest, TheSessionRunsTheConfiguredFramesThenEnds) {
     }
   }
   EXPECT_FALSE(std::filesystem::exists(dir_ / "out" / "frame_3.json"));
+}
+
+TEST_F(XrViewTest, TakesViewsLookDefaultsAdaptiveRoundPoints) {
+  // Without --point-size, --size-mode or --shape, view (the window and --xr alike) sizes round
+  // points to the local spacing: the grid's points (1 m apart, 3 to 8 m away) cover many pixels
+  // each, where --point-size 1 (render's look) lights about one.
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  writeConfig(dir_ / "headset.json", eyes, 160, 120, 1, dir_ / "out");
+  const std::string origin = " --xr-origin " + std::to_string(kOrigin.x) + "," +
+                             std::to_string(kOrigin.y) + "," + std::to_string(kOrigin.z);
+  const std::string input = "view " + quoted((dir_ / "grid.ply").string()) + " --xr" + origin;
+  auto result = runParallax(dir_, input + " --point-size 1");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto one_pixel = litPixels(readPng(dir_ / "out" / "frame_0_view_0.png")).size();
+  result = runParallax(dir_, input);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto adaptive = litPixels(readPng(dir_ / "out" / "frame_0_view_0.png")).size();
+  EXPECT_GT(one_pixel, 40u);
+  EXPECT_GT(adaptive, 4 * one_pixel) << one_pixel << " pixels at 1 px, " << adaptive << " adaptive";
+}
+
+// --- controllers (the test runtime's scripted "controllers", xr/locomotion.h's rules) ----------
+
+nlohmann::json poseJson(const glm::dvec3& p, const glm::dquat& q) {
+  return {{"position", {p.x, p.y, p.z}}, {"orientation", {q.x, q.y, q.z, q.w}}};
+}
+
+// Hands held behind the head and pointing backwards: their lasers stay out of the eyes' view, so
+// every lit pixel is still a point.
+const glm::dquat kBackwards = glm::angleAxis(glm::radians(180.0), glm::dvec3(0, 1, 0));
+nlohmann::json handJson(const glm::dvec3& grip, const nlohmann::json& inputs,
+                        const glm::dquat& aim = kBackwards) {
+  return {{"grip", poseJson(grip, aim)}, {"inputs", inputs}};
+}
+
+// Ry(a) v: a turn about the stage's vertical, counter-clockwise seen from above.
+glm::dvec3 turnY(const glm::dvec3& v, double a) {
+  return {std::cos(a) * v.x + std::sin(a) * v.z, v.y, -std::sin(a) * v.x + std::cos(a) * v.z};
+}
+
+struct Placement {
+  glm::dvec3 origin{0.0};
+  double scale = 0, yaw = 0;
+};
+// The placement `view --xr` reports at the end ("origin X,Y,Z, scale S, yaw A").
+Placement reportedPlacement(const std::string& err) {
+  Placement p;
+  const auto at = err.find("origin ");
+  EXPECT_NE(at, std::string::npos) << err;
+  if (at == std::string::npos) return p;
+  EXPECT_EQ(std::sscanf(err.c_str() + at, "origin %lf,%lf,%lf, scale %lf, yaw %lf", &p.origin.x,
+                        &p.origin.y, &p.origin.z, &p.scale, &p.yaw),
+            5)
+      << err;
+  return p;
+}
+// A file point's stage position under a reported placement: the issue's mapping, then the yaw.
+glm::dvec3 stageOf(const Placement& p, const glm::dvec3& file) {
+  const glm::dvec3 d = file - p.origin;
+  return turnY({d.x * p.scale, d.z * p.scale, -d.y * p.scale}, p.yaw);
+}
+
+constexpr double kFramePeriod = 0.011111111;  // the test runtime's 90 Hz, in seconds
+
+TEST_F(XrViewTest, GrabbingWithOneHandMovesTheWorldWithTheHand) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const glm::dvec3 g0(0.2, 1.1, 0.3), d(0.5, -0.25, -1.0);
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames",
+       {{{"frame", 0}, {"right", handJson(g0, {{"squeeze/value", 1.0}})}},
+        {{"frame", 1}, {"right", handJson(g0 + d, {{"squeeze/value", 0.9}})}},
+        {{"frame", 2}, {"right", handJson(g0 + d, {{"squeeze/value", 0.0}})}}}}};
+  const auto result = run(eyes, 128, 96, 3, "", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto moved = [&](const glm::dvec3& s) { return s + d; };
+  for (int v = 0; v < 2; ++v) {
+    int inside = 0;
+    expectProjection(eyes[v],
+                     readPng(dir_ / "out" / ("frame_2_view_" + std::to_string(v) + ".png")), 1.0,
+                     &inside, moved);
+    EXPECT_GT(inside, 20);
+  }
+  const Placement p = reportedPlacement(result.err);
+  EXPECT_NEAR(p.scale, 1.0, 1e-12);
+  EXPECT_EQ(p.yaw, 0.0);
+  for (const auto& point : points_) {
+    const glm::dvec3 expected = stageOf({kOrigin, 1.0, 0.0}, point.file) + d;
+    EXPECT_NEAR(glm::length(stageOf(p, point.file) - expected), 0.0, 1e-6);
+  }
+}
+
+TEST_F(XrViewTest, TwoHandsScaleAndTurnTheWorldAboutTheirMidpoint) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const glm::dvec3 m0(0.0, 1.2, 0.4), m(0.1, 1.25, 0.2);
+  const double angle = glm::radians(15.0);
+  const glm::dvec3 half = turnY({0.3, 0.0, 0.0}, angle);  // 1.5 times the first span
+  const nlohmann::json squeeze{{"squeeze/value", 1.0}};
+  const nlohmann::json controllers{{"profile", "/interaction_profiles/valve/index_controller"},
+                                   {"frames",
+                                    {{{"frame", 0},
+                                      {"left", handJson(m0 - glm::dvec3(0.2, 0, 0), squeeze)},
+                                      {"right", handJson(m0 + glm::dvec3(0.2, 0, 0), squeeze)}},
+                                     {{"frame", 1},
+                                      {"left", handJson(m - half, squeeze)},
+                                      {"right", handJson(m + half, squeeze)}}}}};
+  const auto result = run(eyes, 128, 96, 2, "", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto moved = [&](const glm::dvec3& s) { return turnY(s - m0, angle) * 1.5 + m; };
+  for (int v = 0; v < 2; ++v) {
+    int inside = 0;
+    expectProjection(eyes[v],
+                     readPng(dir_ / "out" / ("frame_1_view_" + std::to_string(v) + ".png")), 1.0,
+                     &inside, moved);
+    EXPECT_GT(inside, 15);
+  }
+  const Placement p = reportedPlacement(result.err);
+  EXPECT_NEAR(p.scale, 1.5, 1e-6);
+  EXPECT_NEAR(p.yaw, angle, 1e-6);
+  for (const auto& point : points_) {
+    const glm::dvec3 expected = moved(stageOf({kOrigin, 1.0, 0.0}, point.file));
+    EXPECT_NEAR(glm::length(stageOf(p, point.file) - expected), 0.0, 1e-5);
+  }
+}
+
+TEST_F(XrViewTest, SnapTurnAboutTheHeadThenFlyForward) {
+  // Wide eyes, so that the grid stays in view after the turn.
+  Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  for (Eye& e : eyes) e.left = -1.2, e.right = 1.2;
+  const glm::dvec3 head(0.0, 1.6, 0.0);
+  const glm::dvec3 right_hand(0.2, 1.0, 0.3), left_hand(-0.2, 1.0, 0.3);
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames",
+       {{{"frame", 0}, {"right", handJson(right_hand, nlohmann::json::object())}},
+        {{"frame", 1}, {"right", handJson(right_hand, {{"thumbstick", {1.0, 0.0}}})}},
+        // Held past the first frame: one snap per push.
+        {{"frame", 2},
+         {"right", handJson(right_hand, {{"thumbstick", {0.95, 0.0}}})},
+         // The left hand aims backwards: pulling its stick back flies towards -z.
+         {"left", handJson(left_hand, {{"thumbstick", {0.0, -1.0}}})}}}}};
+  const auto result = run(eyes, 160, 96, 4, "", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const double snap = glm::radians(30.0);
+  // Frames 2 and 3 fly at 2 m/s for one display period each.
+  const glm::dvec3 flown(0.0, 0.0, 2.0 * 2.0 * kFramePeriod);
+  const auto moved = [&](const glm::dvec3& s) { return turnY(s - head, snap) + head + flown; };
+  for (int v = 0; v < 2; ++v) {
+    int inside = 0;
+    expectProjection(eyes[v],
+                     readPng(dir_ / "out" / ("frame_3_view_" + std::to_string(v) + ".png")), 1.0,
+                     &inside, moved);
+    EXPECT_GT(inside, 15);
+  }
+  const Placement p = reportedPlacement(result.err);
+  EXPECT_NEAR(p.yaw, snap, 1e-12);
+  for (const auto& point : points_) {
+    const glm::dvec3 expected = moved(stageOf({kOrigin, 1.0, 0.0}, point.file));
+    EXPECT_NEAR(glm::length(stageOf(p, point.file) - expected), 0.0, 1e-5);
+  }
+}
+
+TEST_F(XrViewTest, TheVignetteHidesTheEdgesOnlyWhileFlying) {
+  Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  for (Eye& e : eyes) e.left = -1.0, e.right = 1.0, e.up = 0.9, e.down = -0.9;
+  const glm::dvec3 left_hand(-0.2, 1.0, 0.3);
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames",
+       {{{"frame", 0}, {"left", handJson(left_hand, nlohmann::json::object())}},
+        {{"frame", 1}, {"left", handJson(left_hand, {{"thumbstick", {0.0, -1.0}}})}}}}};
+  const int width = 160, height = 120;
+  const auto result = run(eyes, width, height, 2, "--xr-vignette", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  // Lit pixels by their tangent's distance from the eye's forward direction.
+  const auto count = [&](int frame, double from, double to) {
+    int n = 0;
+    const Eye& e = eyes[0];
+    for (const Lit& l :
+         litPixels(readPng(dir_ / "out" / ("frame_" + std::to_string(frame) + "_view_0.png")))) {
+      const double tx =
+          std::tan(e.left) + (l.x + 0.5) / width * (std::tan(e.right) - std::tan(e.left));
+      const double ty = std::tan(e.up) - (l.y + 0.5) / height * (std::tan(e.up) - std::tan(e.down));
+      const double r = std::hypot(tx, ty);
+      n += r >= from && r < to;
+    }
+    return n;
+  };
+  EXPECT_GT(count(0, 0.85, 100.0), 5) << "standing still: the edges are shown";
+  EXPECT_EQ(count(1, 0.85, 100.0), 0) << "flying: the edges are black";
+  EXPECT_GT(count(1, 0.0, 0.45), 5) << "flying: the centre is still shown";
+}
+
+// The orientation that turns -z (an aim's pointing direction) towards `direction`.
+glm::dquat aimingAt(const glm::dvec3& direction) {
+  const glm::dvec3 from(0, 0, -1), to = glm::normalize(direction);
+  const glm::dvec3 axis = glm::cross(from, to);
+  return glm::angleAxis(std::acos(glm::dot(from, to)), glm::normalize(axis));
+}
+
+TEST_F(XrViewTest, TheLaserPicksThePointItAimsAtAndMeasuresADistance) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const TestPoint& a = points_[7];
+  const TestPoint& b = points_[52];
+  const glm::dvec3 hand(0.15, 1.3, -0.2);
+  const auto stage = [](const glm::dvec3& file) {
+    const glm::dvec3 d = file - kOrigin;
+    return glm::dvec3(d.x, d.z, -d.y);
+  };
+  const auto aim = [&](const TestPoint& p, bool click) {
+    return nlohmann::json{{"grip", poseJson(hand, glm::dquat(1, 0, 0, 0))},
+                          {"aim", poseJson(hand, aimingAt(stage(p.file) - hand))},
+                          {"inputs", {{"select/click", click}}}};
+  };
+  const nlohmann::json controllers{{"profile", "/interaction_profiles/khr/simple_controller"},
+                                   {"frames",
+                                    {{{"frame", 0}, {"right", aim(a, false)}},
+                                     {{"frame", 1}, {"right", aim(a, true)}},
+                                     {{"frame", 2}, {"right", aim(b, false)}},
+                                     {{"frame", 3}, {"right", aim(b, true)}}}}};
+  const auto result = run(eyes, 128, 96, 4, "", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::vector<glm::dvec3> picks;
+  for (std::size_t at = result.err.find("laser pick "); at != std::string::npos;
+       at = result.err.find("laser pick ", at + 1)) {
+    glm::dvec3 p;
+    ASSERT_EQ(std::sscanf(result.err.c_str() + at, "laser pick %lf,%lf,%lf", &p.x, &p.y, &p.z), 3);
+    picks.push_back(p);
+  }
+  ASSERT_EQ(picks.size(), 2u) << result.err;
+  // The file's values as the cloud stores them (quantized to its scale: well under a millimetre).
+  EXPECT_LT(glm::length(picks[0] - a.file), 1e-3) << result.err;
+  EXPECT_LT(glm::length(picks[1] - b.file), 1e-3) << result.err;
+  const auto at = result.err.find("distance ");
+  ASSERT_NE(at, std::string::npos) << result.err;
+  double distance = 0;
+  ASSERT_EQ(std::sscanf(result.err.c_str() + at, "distance %lf", &distance), 1);
+  EXPECT_NEAR(distance, glm::length(a.file - b.file), 2e-3);
+}
+
+TEST_F(XrViewTest, TheAButtonTeleportsToTheLaserPointOnTheFloorUnderTheHead) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const TestPoint& target = points_[33];
+  const glm::dvec3 hand(0.15, 1.3, -0.2);
+  const glm::dvec3 d = target.file - kOrigin;
+  const nlohmann::json aim{{"grip", poseJson(hand, glm::dquat(1, 0, 0, 0))},
+                           {"aim", poseJson(hand, aimingAt(glm::dvec3(d.x, d.z, -d.y) - hand))}};
+  nlohmann::json pressed = aim;
+  pressed["inputs"] = {{"a/click", true}};
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames", {{{"frame", 0}, {"right", aim}}, {{"frame", 1}, {"right", pressed}}}}};
+  const auto result = run(eyes, 96, 72, 2, "", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  // The head is at (0, 1.6, 0): the point comes to the stage's origin, on the floor.
+  const Placement p = reportedPlacement(result.err);
+  EXPECT_LT(glm::length(stageOf(p, target.file)), 1e-3) << result.err;
+  EXPECT_EQ(p.yaw, 0.0);
+}
+
+// --- under Xvfb: the mirror window's GLX context, the Khronos core validation layer ----------
+
+class XrViewValidatedTest : public XrViewTest {
+ protected:
+  void SetUp() override {
+    XrViewTest::SetUp();
+    display_ = std::make_unique<test::Display>(dir_);
+    ASSERT_FALSE(display_->name().empty())
+        << "Xvfb did not start: " << test::readFile(dir_ / "xvfb.log");
+    setenv("DISPLAY", display_->name().c_str(), 1);
+    setenv("XR_ENABLE_API_LAYERS", "XR_APILAYER_LUNARG_core_validation", 1);
+  }
+  void TearDown() override { unsetenv("DISPLAY"); }
+
+  // The layer ran (it announces its output type on stderr) and reported nothing: every message
+  // of it starts "[VALID_" (errors, warnings, performance warnings alike), on stdout.
+  static void expectValidated(const test::RunResult& result) {
+    EXPECT_NE(result.err.find("Core Validation output type"), std::string::npos)
+        << "the core validation layer did not run: " << result.err;
+    EXPECT_EQ(result.out.find("[VALID_"), std::string::npos) << result.out;
+    EXPECT_EQ(result.err.find("[VALID_"), std::string::npos) << result.err;
+    EXPECT_NE(result.err.find("through GLX (XR_KHR_opengl_enable)"), std::string::npos)
+        << result.err;
+  }
+
+  std::unique_ptr<test::Display> display_;
+};
+
+TEST_F(XrViewValidatedTest, TheLifecycleRunsCleanUnderTheValidationLayer) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const auto result = run(eyes, 32, 24, 3, "--width 320 --height 200");
+  ASSERT_EQ(result.exit_code, 0) << result.err << result.out;
+  expectValidated(result);
+  EXPECT_NE(result.err.find("3 frames of 2 x 32x24 drawn"), std::string::npos) << result.err;
+  EXPECT_TRUE(std::filesystem::exists(dir_ / "out" / "frame_2.json"));
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "out" / "frame_3.json"));
+}
+
+TEST_F(XrViewValidatedTest, EyesEqualACpuProjectionUnderTheValidationLayer) {
+  const glm::dquat head = glm::angleAxis(glm::radians(-8.0), glm::dvec3(0, 1, 0));
+  const glm::dvec3 centre(-0.1, 1.5, 0.2);
+  const Eye eyes[2] = {{-0.8, 0.6, 0.5, -0.7, centre + head * glm::dvec3(-0.032, 0, 0), head},
+                       {-0.6, 0.8, 0.5, -0.7, centre + head * glm::dvec3(0.032, 0, 0), head}};
+  const auto result = run(eyes, 140, 110, 1);
+  ASSERT_EQ(result.exit_code, 0) << result.err << result.out;
+  expectValidated(result);
+  for (int v = 0; v < 2; ++v) {
+    int inside = 0;
+    expectProjection(eyes[v],
+                     readPng(dir_ / "out" / ("frame_0_view_" + std::to_string(v) + ".png")), 1.0,
+                     &inside);
+    EXPECT_GT(inside, 30);
+  }
+}
+
+TEST_F(XrViewValidatedTest, ControllersRunCleanUnderTheValidationLayer) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const glm::dvec3 g0(0.2, 1.1, 0.3), d(-0.3, 0.1, -0.5);
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames",
+       {{{"frame", 0}, {"right", handJson(g0, {{"squeeze/value", 1.0}})}},
+        {{"frame", 1}, {"right", handJson(g0 + d, {{"squeeze/value", 1.0}})}}}}};
+  const auto result = run(eyes, 128, 96, 2, "", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err << result.out;
+  expectValidated(result);
+  int inside = 0;
+  expectProjection(eyes[0], readPng(dir_ / "out" / "frame_1_view_0.png"), 1.0, &inside,
+                   [&](const glm::dvec3& s) { return s + d; });
+  EXPECT_GT(inside, 20);
 }
 
 TEST_F(XrViewTest, WithoutARuntimeTheMessageNamesTheRuntimeLookedFor) {

@@ -8,7 +8,9 @@
 // pose, fov and image rect submitted). After the configured number of frames it takes the session
 // through focus loss (VISIBLE), SYNCHRONIZED and STOPPING; after xrEndSession, IDLE then EXITING.
 //
-// One instance and one session at a time; no real tracking: controllers are never active. What
+// One instance and one session at a time; no real tracking: the controllers are scripted per
+// frame by the configuration's "controllers" (poses and inputs), read through the action system
+// as the application's suggested bindings for the configured interaction profile route them. What
 // an application may not do, the core validation layer reports; this runtime only checks what it
 // needs to stay sane and answers XR_ERROR_VALIDATION_FAILURE otherwise.
 #include <epoxy/egl.h>
@@ -21,6 +23,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <deque>
@@ -109,12 +112,6 @@ struct Swapchain {
   Binding binding = Binding::None;
 };
 
-struct Space {
-  XrReferenceSpaceType type = XR_REFERENCE_SPACE_TYPE_STAGE;  // action spaces: never located
-  bool action = false;
-  Pose pose;  // poseInReferenceSpace
-};
-
 struct ActionSet {
   std::string name;
   bool attached = false;
@@ -124,6 +121,13 @@ struct Action {
   std::string name;
 };
 
+struct Space {
+  XrReferenceSpaceType type = XR_REFERENCE_SPACE_TYPE_STAGE;
+  const Action* action = nullptr;  // an action space: where its pose action's hand is
+  XrPath subaction = XR_NULL_PATH;
+  Pose pose;  // poseInReferenceSpace or poseInActionSpace
+};
+
 struct Session {
   XrSessionState state = XR_SESSION_STATE_IDLE;
   Binding binding = Binding::None;
@@ -131,6 +135,9 @@ struct Session {
   bool frame_begun = false;
   bool exit_requested = false;
   uint64_t frames_waited = 0, frames_ended = 0;
+  bool actions_attached = false;
+  // The controllers' state as of the last xrSyncActions (none before it, or while unfocused).
+  const parallax::xr_test::ControllerFrame* controllers = nullptr;
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
 };
 
@@ -138,6 +145,8 @@ struct Instance {
   RuntimeConfig config;
   std::deque<XrEventDataBuffer> events;
   std::vector<std::string> paths{""};  // XrPath n names paths[n]; 0 is XR_NULL_PATH
+  // The application's suggested bindings, by interaction profile: (action, input path).
+  std::map<XrPath, std::vector<std::pair<const Action*, XrPath>>> suggested;
   std::unique_ptr<Session> session;
 };
 
@@ -475,7 +484,8 @@ XRAPI_ATTR XrResult XRAPI_CALL createReferenceSpace(XrSession handle,
       info->referenceSpaceType != XR_REFERENCE_SPACE_TYPE_STAGE) {
     return XR_ERROR_REFERENCE_SPACE_UNSUPPORTED;
   }
-  auto* s = new Space{info->referenceSpaceType, false, toPose(info->poseInReferenceSpace)};
+  auto* s = new Space{info->referenceSpaceType, nullptr, XR_NULL_PATH,
+                      toPose(info->poseInReferenceSpace)};
   *space = reinterpret_cast<XrSpace>(s);
   return XR_SUCCESS;
 }
@@ -492,7 +502,11 @@ XRAPI_ATTR XrResult XRAPI_CALL createActionSpace(XrSession handle,
                                                  const XrActionSpaceCreateInfo* info,
                                                  XrSpace* space) {
   if (!sessionOf(handle)) return XR_ERROR_HANDLE_INVALID;
-  auto* s = new Space{XR_REFERENCE_SPACE_TYPE_STAGE, true, toPose(info->poseInActionSpace)};
+  auto* action = reinterpret_cast<const Action*>(info->action);
+  if (!action) return XR_ERROR_HANDLE_INVALID;
+  if (action->type != XR_ACTION_TYPE_POSE_INPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
+  auto* s = new Space{XR_REFERENCE_SPACE_TYPE_STAGE, action, info->subactionPath,
+                      toPose(info->poseInActionSpace)};
   *space = reinterpret_cast<XrSpace>(s);
   return XR_SUCCESS;
 }
@@ -522,17 +536,65 @@ Pose spaceInStage(const Space& space) {
   return compose(base, space.pose);
 }
 
+// The hand (0 left, 1 right) a subaction path names; -1 for XR_NULL_PATH or another path.
+int handOf(XrPath path) {
+  if (path == XR_NULL_PATH || path >= g_instance->paths.size()) return -1;
+  const std::string& p = g_instance->paths[path];
+  return p == "/user/hand/left" ? 0 : p == "/user/hand/right" ? 1 : -1;
+}
+
+// Where the configured profile binds `action` for `hand`: the input's path under
+// /user/hand/<hand>/input/ ("trigger/value", "grip/pose"), or empty when it is not bound there.
+std::string boundInput(const Action* action, int hand) {
+  const Instance& in = *g_instance;
+  const std::string& profile = in.config.controllers.profile;
+  const std::string prefix =
+      std::string("/user/hand/") + (hand == 0 ? "left" : "right") + "/input/";
+  for (const auto& [profile_path, bindings] : in.suggested) {
+    if (in.paths[profile_path] != profile) continue;
+    for (const auto& [bound, input] : bindings) {
+      if (bound == action && in.paths[input].rfind(prefix, 0) == 0) {
+        return in.paths[input].substr(prefix.size());
+      }
+    }
+  }
+  return {};
+}
+
+// An action space's pose in the stage this frame; false where its hand is not tracked or the
+// action not bound to one of its poses.
+bool handPose(const Space& space, Pose& in_stage) {
+  const Session* session = g_instance->session.get();
+  if (!session || !session->controllers) return false;
+  const int only = handOf(space.subaction);
+  for (int h = 0; h < 2; ++h) {
+    if (only >= 0 && h != only) continue;
+    const auto& hand = session->controllers->hands[h];
+    const std::string input = boundInput(space.action, h);
+    if (!hand.tracked || (input != "grip/pose" && input != "aim/pose")) continue;
+    const auto& p = input == "grip/pose" ? hand.grip : hand.aim;
+    Pose pose;
+    pose.orientation = glm::normalize(
+        glm::quat(p.orientation[3], p.orientation[0], p.orientation[1], p.orientation[2]));
+    pose.position = glm::vec3(p.position[0], p.position[1], p.position[2]);
+    in_stage = compose(pose, space.pose);
+    return true;
+  }
+  return false;
+}
+
 XRAPI_ATTR XrResult XRAPI_CALL locateSpace(XrSpace space, XrSpace base, XrTime,
                                            XrSpaceLocation* location) {
   const auto* s = reinterpret_cast<const Space*>(space);
   const auto* b = reinterpret_cast<const Space*>(base);
   if (!g_instance || !s || !b) return XR_ERROR_HANDLE_INVALID;
-  if (s->action || b->action) {
+  Pose in_stage = spaceInStage(*s);
+  if (b->action || (s->action && !handPose(*s, in_stage))) {
     location->locationFlags = 0;
     location->pose = toXr(Pose{});
     return XR_SUCCESS;
   }
-  location->pose = toXr(compose(inverse(spaceInStage(*b)), spaceInStage(*s)));
+  location->pose = toXr(compose(inverse(spaceInStage(*b)), in_stage));
   location->locationFlags =
       XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT |
       XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT | XR_SPACE_LOCATION_POSITION_TRACKED_BIT;
@@ -771,7 +833,7 @@ XRAPI_ATTR XrResult XRAPI_CALL endFrame(XrSession handle, const XrFrameEndInfo* 
   return XR_SUCCESS;
 }
 
-// --- actions (the test headset has no controllers: every action is inactive) --------------------
+// --- actions (scripted by the configuration's "controllers") ----------------------------------
 
 const char* const kProfiles[] = {"/interaction_profiles/khr/simple_controller",
                                  "/interaction_profiles/oculus/touch_controller",
@@ -809,70 +871,136 @@ XRAPI_ATTR XrResult XRAPI_CALL suggestInteractionProfileBindings(
   bool known = false;
   for (const char* p : kProfiles) known |= profile == p;
   if (!known) return XR_ERROR_PATH_UNSUPPORTED;
+  std::vector<std::pair<const Action*, XrPath>> bindings;
   for (uint32_t i = 0; i < suggested->countSuggestedBindings; ++i) {
     const XrPath path = suggested->suggestedBindings[i].binding;
     if (path >= in->paths.size() || in->paths[path].rfind("/user/hand/", 0) != 0) {
       return XR_ERROR_PATH_UNSUPPORTED;
     }
+    bindings.emplace_back(reinterpret_cast<const Action*>(suggested->suggestedBindings[i].action),
+                          path);
   }
+  // A later suggestion for the same profile replaces the earlier one (specification).
+  in->suggested[suggested->interactionProfile] = std::move(bindings);
   return XR_SUCCESS;
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL attachSessionActionSets(XrSession handle,
                                                        const XrSessionActionSetsAttachInfo* info) {
-  if (!sessionOf(handle)) return XR_ERROR_HANDLE_INVALID;
+  Session* s = sessionOf(handle);
+  if (!s) return XR_ERROR_HANDLE_INVALID;
+  if (s->actions_attached) return XR_ERROR_ACTIONSETS_ALREADY_ATTACHED;
   for (uint32_t i = 0; i < info->countActionSets; ++i) {
     auto* set = reinterpret_cast<ActionSet*>(info->actionSets[i]);
     if (set->attached) return XR_ERROR_ACTIONSETS_ALREADY_ATTACHED;
     set->attached = true;
   }
+  s->actions_attached = true;
+  if (!g_instance->config.controllers.profile.empty()) {
+    // The controllers are "connected" now: the application learns their profile from this event.
+    XrEventDataBuffer buffer{XR_TYPE_EVENT_DATA_BUFFER};
+    auto* changed = reinterpret_cast<XrEventDataInteractionProfileChanged*>(&buffer);
+    changed->type = XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED;
+    changed->next = nullptr;
+    changed->session = handle;
+    g_instance->events.push_back(buffer);
+  }
   return XR_SUCCESS;
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL getCurrentInteractionProfile(XrSession handle, XrPath,
+XRAPI_ATTR XrResult XRAPI_CALL getCurrentInteractionProfile(XrSession handle, XrPath top_level,
                                                             XrInteractionProfileState* state) {
-  if (!sessionOf(handle)) return XR_ERROR_HANDLE_INVALID;
+  const Session* s = sessionOf(handle);
+  if (!s) return XR_ERROR_HANDLE_INVALID;
+  if (!s->actions_attached) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
   state->interactionProfile = XR_NULL_PATH;
+  if (handOf(top_level) < 0) return XR_SUCCESS;
+  for (const auto& [profile, bindings] : g_instance->suggested) {
+    if (g_instance->paths[profile] == g_instance->config.controllers.profile) {
+      state->interactionProfile = profile;
+    }
+  }
   return XR_SUCCESS;
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL syncActions(XrSession handle, const XrActionsSyncInfo*) {
   Session* s = sessionOf(handle);
   if (!s) return XR_ERROR_HANDLE_INVALID;
-  return s->state == XR_SESSION_STATE_FOCUSED ? XR_SUCCESS : XR_SESSION_NOT_FOCUSED;
+  if (!s->actions_attached) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
+  if (s->state != XR_SESSION_STATE_FOCUSED) {
+    s->controllers = nullptr;
+    return XR_SESSION_NOT_FOCUSED;
+  }
+  // The frame being drawn: xrEndFrame has been called frames_ended times.
+  s->controllers = g_instance->config.controllers.at(s->frames_ended);
+  return XR_SUCCESS;
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL getActionStateBoolean(XrSession handle, const XrActionStateGetInfo*,
+// An action's state for the hands the request names: active where a tracked hand has the action
+// bound; its value the bound input's (0 where the entry does not list it), the largest of the
+// two hands' where the request names none.
+struct ActionValue {
+  bool active = false;
+  std::array<float, 2> value{0, 0};
+};
+ActionValue actionValue(const XrActionStateGetInfo* info) {
+  ActionValue out;
+  const Session* s = g_instance->session.get();
+  const auto* action = reinterpret_cast<const Action*>(info->action);
+  if (!s || !s->controllers || !action) return out;
+  const int only = handOf(info->subactionPath);
+  for (int h = 0; h < 2; ++h) {
+    if (only >= 0 && h != only) continue;
+    const auto& hand = s->controllers->hands[h];
+    const std::string input = boundInput(action, h);
+    if (!hand.tracked || input.empty()) continue;
+    out.active = true;
+    const auto it = hand.inputs.find(input);
+    const std::array<float, 2> v =
+        it == hand.inputs.end() ? std::array<float, 2>{0, 0} : it->second;
+    if (std::hypot(v[0], v[1]) > std::hypot(out.value[0], out.value[1])) out.value = v;
+  }
+  return out;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL getActionStateBoolean(XrSession handle,
+                                                     const XrActionStateGetInfo* info,
                                                      XrActionStateBoolean* state) {
   if (!sessionOf(handle)) return XR_ERROR_HANDLE_INVALID;
-  state->currentState = XR_FALSE;
+  const ActionValue v = actionValue(info);
+  state->currentState = v.value[0] > 0.5f ? XR_TRUE : XR_FALSE;
   state->changedSinceLastSync = XR_FALSE;
   state->lastChangeTime = 0;
-  state->isActive = XR_FALSE;
+  state->isActive = v.active ? XR_TRUE : XR_FALSE;
   return XR_SUCCESS;
 }
-XRAPI_ATTR XrResult XRAPI_CALL getActionStateFloat(XrSession handle, const XrActionStateGetInfo*,
+XRAPI_ATTR XrResult XRAPI_CALL getActionStateFloat(XrSession handle,
+                                                   const XrActionStateGetInfo* info,
                                                    XrActionStateFloat* state) {
   if (!sessionOf(handle)) return XR_ERROR_HANDLE_INVALID;
-  state->currentState = 0;
+  const ActionValue v = actionValue(info);
+  state->currentState = v.value[0];
   state->changedSinceLastSync = XR_FALSE;
   state->lastChangeTime = 0;
-  state->isActive = XR_FALSE;
+  state->isActive = v.active ? XR_TRUE : XR_FALSE;
   return XR_SUCCESS;
 }
-XRAPI_ATTR XrResult XRAPI_CALL getActionStateVector2f(XrSession handle, const XrActionStateGetInfo*,
+XRAPI_ATTR XrResult XRAPI_CALL getActionStateVector2f(XrSession handle,
+                                                      const XrActionStateGetInfo* info,
                                                       XrActionStateVector2f* state) {
   if (!sessionOf(handle)) return XR_ERROR_HANDLE_INVALID;
-  state->currentState = {0, 0};
+  const ActionValue v = actionValue(info);
+  state->currentState = {v.value[0], v.value[1]};
   state->changedSinceLastSync = XR_FALSE;
   state->lastChangeTime = 0;
-  state->isActive = XR_FALSE;
+  state->isActive = v.active ? XR_TRUE : XR_FALSE;
   return XR_SUCCESS;
 }
-XRAPI_ATTR XrResult XRAPI_CALL getActionStatePose(XrSession handle, const XrActionStateGetInfo*,
+XRAPI_ATTR XrResult XRAPI_CALL getActionStatePose(XrSession handle,
+                                                  const XrActionStateGetInfo* info,
                                                   XrActionStatePose* state) {
   if (!sessionOf(handle)) return XR_ERROR_HANDLE_INVALID;
-  state->isActive = XR_FALSE;
+  state->isActive = actionValue(info).active ? XR_TRUE : XR_FALSE;
   return XR_SUCCESS;
 }
 XRAPI_ATTR XrResult XRAPI_CALL
