@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "io/point_file.h"
 #include "progress_options.h"
+#include "registration/cloud_registration.h"
 #include "registration/point_to_plane_icp.h"
 #include "registration/rigid_transform.h"
 
@@ -27,28 +28,6 @@ struct RegisterArgs {
   bool json = false, quiet = false;
 };
 
-std::vector<Point3> positionsOf(const PointCloud& cloud) {
-  std::vector<Point3> out(cloud.count);
-  for (std::size_t i = 0; i < cloud.count; ++i)
-    out[i] = {cloud.worldX(i), cloud.worldY(i), cloud.worldZ(i)};
-  return out;
-}
-
-// The file's own normals when it has them (any not zero), else none (estimated by PCA).
-std::vector<Point3> normalsOf(const PointCloud& cloud) {
-  std::vector<Point3> out;
-  if (!cloud.hasNormals()) return out;
-  bool any = false;
-  out.resize(cloud.count);
-  for (std::size_t i = 0; i < cloud.count; ++i) {
-    const Float3& n = cloud.normals[i];
-    out[i] = {n.x, n.y, n.z};
-    any = any || n.x != 0.0f || n.y != 0.0f || n.z != 0.0f;
-  }
-  if (!any) out.clear();
-  return out;
-}
-
 int runRegister(const RegisterArgs& args) {
   IcpOptions options;
   options.max_distance = args.max_distance;
@@ -58,22 +37,7 @@ int runRegister(const RegisterArgs& args) {
   if (!args.init.empty()) options.init = readRigidTransform(args.init);
   PointCloud source = readPointFile(args.source);
   const PointCloud target = readPointFile(args.target);
-  auto enough = [](const PointCloud& cloud, const std::string& name) {
-    if (cloud.count < 3) {
-      throw InputError({.file = name,
-                        .expected = "at least 3 points to register",
-                        .found = std::to_string(cloud.count) + " points"});
-    }
-  };
-  enough(source, args.source);
-  enough(target, args.target);
-  IcpResult result;
-  try {
-    result =
-        alignPointToPlane(positionsOf(source), positionsOf(target), normalsOf(target), options);
-  } catch (const RegistrationError& e) {
-    throw RegistrationError("register " + args.source + " to " + args.target + ": " + e.what());
-  }
+  const IcpResult result = registerClouds(source, target, options, args.source, args.target);
   if (args.json) {
     nlohmann::json out;
     out["transform"] = nlohmann::json::array();

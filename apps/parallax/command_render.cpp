@@ -44,12 +44,15 @@
 #include "measure/measurement_overlay.h"
 #include "network_options.h"
 #include "progress_options.h"
+#include "raster/raster_layer.h"
 #include "render/camera_path.h"
+#include "render/draw_set_layers.h"
 #include "render/gl_context.h"
 #include "render/image_file.h"
 #include "render/lod_scene.h"
 #include "render/point_buffers.h"
 #include "render/renderer.h"
+#include "render/scalar_legend.h"
 #include "render/stereo.h"
 #include "render/view_extent.h"
 #include "render_options.h"
@@ -88,6 +91,9 @@ struct RenderCommandOptions {
   bool preview = false;
   bool quiet = false;  // no progress bar, no report on stderr
   std::string measurements_file;
+  bool legend = false;
+  std::string raster_file;  // a raster shown with the cloud (raster/raster_layer.h)
+  std::string raster_ramp = "viridis";
   RenderOptions render;
   LodOptions lod;
 };
@@ -106,7 +112,29 @@ int runRender(const RenderCommandOptions& o) {
                                           .quiet = o.quiet,
                                           .attributes = attributesDrawn(o.render)},
                                          o.lod);
-  paintScalarColors(source, o.render, o.quiet, "render");
+  const std::optional<ScalarRange> scalar_range =
+      paintScalarColors(source, o.render, o.quiet, "render");
+  if (o.legend && !scalar_range) {
+    throw std::invalid_argument("--legend shows a scalar attribute's ramp: give --color ATTRIBUTE");
+  }
+  std::optional<ScalarLegend> legend;
+  std::optional<OverlayFont> legend_font;  // the labels' font, as the viewer's panel has it
+  if (o.legend) {
+    legend_font.emplace();
+    const RenderSettings asked = renderSettingsFrom(o.render, 0.0);
+    legend = scalarLegend(asked.scalar.field, asked.scalar.ramp, *scalar_range,
+                          fieldUnit(asked.scalar.field, o.render.length_unit));
+  }
+  PointCloud raster_points;
+  if (!o.raster_file.empty()) {
+    const auto ramp = parseColorRamp(o.raster_ramp);
+    if (!ramp) {
+      throw std::invalid_argument("--raster-ramp: unknown ramp '" + o.raster_ramp + "' (use " +
+                                  colorRampNames() + ")");
+    }
+    raster_points =
+        loadRasterLayer(o.raster_file, [r = *ramp](double t) { return rampColor(r, t); });
+  }
   const double load_s = secondsSince(start);
 
   auto phase = Clock::now();
@@ -117,6 +145,8 @@ int runRender(const RenderCommandOptions& o) {
   RenderScene scene = uploadRenderSource(source, false);
   const LodScene* lod = scene.lod.get();
   const std::uint64_t points = scene.points;
+  std::unique_ptr<GpuPointCloud> raster_layer;
+  if (raster_points.count) raster_layer = std::make_unique<GpuPointCloud>(raster_points);
   const double upload_s = secondsSince(phase);
 
   const StereoSettings stereo = headlessStereoSettings(o.render, o.quiet, "render");
@@ -155,7 +185,9 @@ int runRender(const RenderCommandOptions& o) {
     phase = Clock::now();
     const StereoFrame frame = stereoFrame(cameras[i], stereo, o.width, o.height);
     // The finished picture: finishLoading waits for every node this frame selects.
-    const DrawSet& draw_set = frameDrawSet(scene, source, frame, o.lod);
+    const DrawSet& cloud_set = frameDrawSet(scene, source, frame, o.lod);
+    const DrawSet draw_set =
+        raster_layer ? withLayer(cloud_set, raster_layer->drawSet()) : cloud_set;
     if (!settings) settings = renderSettingsFrom(o.render, draw_set.typical_spacing);
     last_stats =
         renderer.render(draw_set, frame, *settings, target.framebuffer(), o.width, o.height);
@@ -163,7 +195,9 @@ int runRender(const RenderCommandOptions& o) {
     glFinish();
     draw_s += secondsSince(phase);
     phase = Clock::now();
-    writePng(outputs[i], {o.width, o.height, target.readRgba()});
+    RgbaImage image{o.width, o.height, target.readRgba()};
+    if (legend) paintScalarLegend(image, *legend, *legend_font);
+    writePng(outputs[i], image);
     write_s += secondsSince(phase);
   }
   const double total_s = secondsSince(start);
@@ -254,6 +288,16 @@ Command addRenderCommand(CLI::App& app) {
   sub->add_option("--measurements", options->measurements_file,
                   "Measurement file (JSON, as the viewer saves it): draw its measurements and "
                   "annotations, from its camera unless --eye or --camera is given");
+  sub->add_option("--raster", options->raster_file,
+                  "A single-band raster in the cloud's CRS (a GeoTIFF of parallax raster): drawn "
+                  "with the points, a point per cell at its value's height, coloured by "
+                  "--raster-ramp over its values and shaded by its hillshade");
+  sub->add_option("--raster-ramp", options->raster_ramp,
+                  "Ramp of --raster's colours: " + colorRampNames())
+      ->capture_default_str();
+  sub->add_flag("--legend", options->legend,
+                "With --color ATTRIBUTE: draw the ramp's legend (bar, range, ticks, unit) at the "
+                "right of the picture");
   addQuietFlag(*sub, options->quiet);
   addRenderOptions(*sub, options->render);
   addLodOptions(*sub, options->lod);

@@ -33,6 +33,9 @@ struct ViewCommandOptions {
   std::string tool = "none";
   std::vector<std::string> process_steps;
   std::string process_output;
+  std::string raster;
+  std::string register_with, write_transform;
+  std::string raster_ramp = "viridis";
   double profile_width = 1.0;
   RenderOptions render;
   LodOptions lod;
@@ -81,6 +84,21 @@ int runView(const ViewCommandOptions& o, const CLI::App& command,
     viewer.process_steps.push_back(step);
   }
   viewer.process_output = o.process_output;
+  viewer.length_unit = o.render.length_unit;
+  viewer.raster = o.raster;
+  viewer.register_with = o.register_with;
+  viewer.write_transform = o.write_transform;
+  if (!o.register_with.empty() && o.write_transform.empty()) {
+    viewer.write_transform = std::filesystem::path(o.screenshot_dir) /
+                             (std::filesystem::path(o.input).stem().string() + "-to-" +
+                              std::filesystem::path(o.register_with).stem().string() + ".txt");
+  }
+  const auto raster_ramp = parseColorRamp(o.raster_ramp);
+  if (!raster_ramp) {
+    throw std::invalid_argument("--raster-ramp: unknown ramp '" + o.raster_ramp + "' (use " +
+                                colorRampNames() + ")");
+  }
+  viewer.raster_ramp = *raster_ramp;
   if (!o.measurements_file.empty()) {
     // Read before the window opens: a malformed file is reported like a bad point file.
     viewer.measurements = loadMeasurementDocument(o.measurements_file);
@@ -140,6 +158,20 @@ Command addViewCommand(CLI::App& app) {
                   "A step of the Processing panel, as `process` takes it: \"normals 16\", "
                   "\"outliers statistical:8,2\", \"subsample voxel:0.1\", \"distance-to "
                   "REF\" (repeatable, run in order; K or the panel's Run runs them)");
+  sub->add_option("--raster", options->raster,
+                  "A single-band raster in the cloud's CRS (a GeoTIFF of parallax raster) drawn "
+                  "with the points, coloured by --raster-ramp and shaded (the panel's Raster "
+                  "layer section loads another)");
+  sub->add_option("--raster-ramp", options->raster_ramp,
+                  "Ramp of --raster's colours: " + colorRampNames())
+      ->capture_default_str();
+  sub->add_option("--register-with", options->register_with,
+                  "Register the cloud to this target file (point-to-plane ICP, as parallax "
+                  "register) and preview both, coloured apart, before and after; the panel's "
+                  "Accept writes the transform");
+  sub->add_option("--write-transform", options->write_transform,
+                  "Where Accept writes the transform (default SOURCE-to-TARGET.txt in "
+                  "--screenshot-dir), four lines of four numbers as register --init reads");
   sub->add_option("--process-output", options->process_output,
                   "Where the Processing panel writes its result (default: NAME-processed.ply in "
                   "--screenshot-dir)");

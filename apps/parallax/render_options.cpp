@@ -42,10 +42,23 @@ void addRenderOptions(CLI::App& command, RenderOptions& o) {
       ->capture_default_str();
   command
       .add_option("--color-range", o.color_range,
-                  "MIN,MAX of the scalar attribute's ramp (default: its smallest and largest "
-                  "value); values outside take the nearer end's colour")
+                  "MIN,MAX of the scalar attribute's ramp (default: from --color-percentiles); "
+                  "values outside take the nearer end's colour")
       ->delimiter(',')
       ->expected(2);
+  command
+      .add_option("--color-percentiles", o.color_percentiles,
+                  "LOW,HIGH: the automatic range of a scalar attribute's ramp runs from its "
+                  "LOWth to its HIGHth percentile (0,100: smallest to largest; 2,98 leaves out "
+                  "outliers); a diverging ramp's is made symmetric about zero")
+      ->delimiter(',')
+      ->expected(2)
+      ->capture_default_str();
+  command
+      .add_option("--length-unit", o.length_unit,
+                  "Unit written in the legend of distances and heights (distance, "
+                  "height_above_ground, m3c2_*): the cloud's length unit")
+      ->capture_default_str();
   command.add_option("--point-size", o.point_size, "Point size in pixels (fixed size mode)")
       ->capture_default_str()
       ->check(CLI::Range(1.0f, 255.0f));
@@ -205,6 +218,11 @@ RenderSettings renderSettingsFrom(const RenderOptions& o, double typical_spacing
     settings.scalar.ramp = *ramp;
     if (!o.color_range.empty())
       settings.scalar.range = ScalarRange{o.color_range[0], o.color_range[1]};
+    if (o.color_percentiles.size() != 2 || !(o.color_percentiles[0] >= 0.0) ||
+        !(o.color_percentiles[1] <= 100.0) || !(o.color_percentiles[0] < o.color_percentiles[1])) {
+      throw std::invalid_argument("--color-percentiles takes LOW,HIGH with 0 <= LOW < HIGH <= 100");
+    }
+    settings.scalar.percentiles = {o.color_percentiles[0], o.color_percentiles[1]};
   }
   settings.size_mode = *size_mode;
   settings.shape = *shape;

@@ -21,7 +21,9 @@ namespace parallax::cli {
 struct RenderOptions {
   std::string color = "rgb";  // a colour mode, or the name of a scalar attribute
   std::string color_ramp = "viridis";
-  std::vector<double> color_range;  // MIN,MAX; empty: the attribute's own
+  std::vector<double> color_range;  // MIN,MAX; empty: automatic, from color_percentiles
+  std::vector<double> color_percentiles{0.0, 100.0};  // LOW,HIGH percentiles of the auto range
+  std::string length_unit = "m";                      // the legend's unit of distances and heights
   std::string size_mode = "fixed";
   std::string shape = "square";
   float point_size = 1.0f;
@@ -61,7 +63,8 @@ void addLodOptions(CLI::App& command, LodOptions& options);
 LodFrameSettings lodFrameSettingsFrom(const LodOptions& options);
 OctreeCacheSettings octreeCacheSettingsFrom(const LodOptions& options);
 
-// Registers --color, --color-ramp, --color-range, --point-size, --size-mode, --shape, --world-size, --adaptive-scale,
+// Registers --color, --color-ramp, --color-range, --color-percentiles, --length-unit,
+// --point-size, --size-mode, --shape, --world-size, --adaptive-scale,
 // --uniform-color, --background, --lighting, --edl, --edl-strength, --edl-radius, --msaa,
 // --rasterizer, --hq, --eye,
 // --target, --up, --fov, --ortho, --camera, --stereo, --eye-separation, --convergence,

@@ -78,10 +78,10 @@ RenderSource openRenderSource(const RenderSourceOptions& o, const LodOptions& lo
   return source;
 }
 
-void paintScalarColors(RenderSource& source, const RenderOptions& options, bool quiet,
-                       std::string_view command) {
+std::optional<ScalarRange> paintScalarColors(RenderSource& source, const RenderOptions& options,
+                                             bool quiet, std::string_view command) {
   const ScalarColoring coloring = renderSettingsFrom(options, 0.0).scalar;
-  if (coloring.field.empty()) return;
+  if (coloring.field.empty()) return std::nullopt;
   if (source.lod()) {
     throw std::invalid_argument("--color " + coloring.field +
                                 ": scalar attributes are coloured on whole clouds, and " +
@@ -94,6 +94,7 @@ void paintScalarColors(RenderSource& source, const RenderOptions& options, bool 
     std::fprintf(stderr, "parallax %s: %s from %.9g to %.9g, %s ramp\n",
                  std::string(command).c_str(), coloring.field.c_str(), range.min, range.max,
                  std::string(colorRampName(coloring.ramp)).c_str());
+  return range;
 }
 
 RenderScene uploadRenderSource(RenderSource& source, bool keep_cloud) {

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -49,9 +50,10 @@ RenderSource openRenderSource(const RenderSourceOptions& options, const LodOptio
 // With `--color ATTRIBUTE` (a scalar attribute, not a colour mode), replaces the whole cloud's
 // colours with the attribute's ramp (render/scalar_colors.h) and, unless `quiet`, says the range
 // on stderr. Throws std::invalid_argument naming the attribute and those the cloud has, and for an
-// octree (its nodes carry no scalar attributes for the renderer).
-void paintScalarColors(RenderSource& source, const RenderOptions& options, bool quiet,
-                       std::string_view command);
+// octree (its nodes carry no scalar attributes for the renderer). Returns the range used;
+// std::nullopt without a scalar attribute.
+std::optional<ScalarRange> paintScalarColors(RenderSource& source, const RenderOptions& options,
+                                             bool quiet, std::string_view command);
 
 // The source on the GPU (needs a current context): the whole cloud, or a LodScene.
 struct RenderScene {

@@ -8,8 +8,11 @@
 // needs the whole ground (terrain/NOTES.md).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+#include <utility>
 
+#include "core/bounds.h"
 #include "process/process_steps.h"
 #include "process/tile_queries.h"
 #include "terrain/ground_triangulation.h"
@@ -25,6 +28,24 @@ std::vector<std::uint8_t> groundFlags(const TileSet& tiles, std::size_t t) {
   const std::vector<std::uint8_t> kept = tiles.readKept(t);
   for (std::size_t i = 0; i < flags.size(); ++i) flags[i] = kept[i] && flags[i] == kGroundClass;
   return flags;
+}
+
+// The x range of the part of the disc (cx, cy, r) inside the ground's bounding box (x0..x1,
+// y0..y1): no ground point lies outside the box, so only the ground points with x in that range
+// can fall inside the disc. Why it matters: the triangles along the hull's edges in x (the
+// cloud's bottom and top rows of ground points, nearly collinear) have circumcircles far wider
+// than the cloud, centred outside it; their x extent is the whole cloud's width, but the part of
+// them within the box is a sliver along the edge. Measured against the circle's own extent, one
+// such triangle near a slab grew its halo to the whole ground. Empty (first > second) where the
+// disc misses the box.
+std::pair<double, double> xRangeWithin(double cx, double cy, double r, const Bounds3& ground) {
+  double half = r;
+  if (cy < ground.min[1] || cy > ground.max[1]) {
+    const double dy = cy < ground.min[1] ? ground.min[1] - cy : cy - ground.max[1];
+    if (!(dy < r)) return {1.0, 0.0};
+    half = std::sqrt((r - dy) * (r + dy));
+  }
+  return {std::max(cx - half, ground.min[0]), std::min(cx + half, ground.max[0])};
 }
 
 }  // namespace
@@ -49,6 +70,8 @@ void runHeightAboveGroundStep(const HeightAboveGroundStep&, const StepContext& c
     hull.insert(hull.end(), own.begin(), own.end());
   }
   hull = GroundTriangulation::convexHull(hull);
+  Bounds3 ground_box;  // the ground's bounding box: its hull's
+  for (const auto& v : hull) ground_box.extend(v[0], v[1], v[2]);
   if (ground_points == 0 && tiles.points() > 0) {
     throw std::invalid_argument(context.label +
                                 ": no ground point (class 2) in the input; classify it first "
@@ -92,12 +115,17 @@ void runHeightAboveGroundStep(const HeightAboveGroundStep&, const StepContext& c
       for (std::uint32_t i : pending) {
         const GridPoint& q = points[i];
         const GroundTriangulation::Answer answer = triangulation.at(q.x, q.y);
-        if (everything || (q.x - answer.reach >= lo && q.x + answer.reach < hi)) {
+        const auto [from, to] =
+            std::isfinite(answer.radius)
+                ? xRangeWithin(answer.centre_x, answer.centre_y, answer.radius, ground_box)
+                : std::pair{-std::numeric_limits<double>::infinity(),
+                            std::numeric_limits<double>::infinity()};
+        // Every ground point that could be in the disc was loaded: x in [lo, hi).
+        if (everything || from > to || (from >= lo && to < hi)) {
           hag[i] = float(q.z - answer.z);
         } else {
           again.push_back(i);
-          const double need =
-              std::max(q.x + answer.reach - tiles.hi(t), tiles.lo(t) - (q.x - answer.reach));
+          const double need = std::max(to - tiles.hi(t), tiles.lo(t) - from);
           next = std::max(next, std::min(whole, 1.01 * need));
         }
       }

@@ -73,12 +73,16 @@ GroundTriangulation::Answer GroundTriangulation::at(double x, double y) const {
       const Point centre = CGAL::circumcenter(a, b, c);
       const double radius = std::sqrt(CGAL::squared_distance(centre, a));
       answer.reach = std::sqrt(CGAL::squared_distance(centre, q)) + radius;
+      answer.centre_x = centre.x(), answer.centre_y = centre.y(), answer.radius = radius;
       return answer;
     }
   }
   const Delaunay::Vertex_handle nearest = dt.nearest_vertex(q);
   answer.z = nearest->info();
-  if (holds_hull_) answer.reach = std::sqrt(CGAL::squared_distance(nearest->point(), q));
+  if (holds_hull_) {
+    answer.reach = std::sqrt(CGAL::squared_distance(nearest->point(), q));
+    answer.centre_x = x, answer.centre_y = y, answer.radius = answer.reach;
+  }
   return answer;
 }
 

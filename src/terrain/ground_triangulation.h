@@ -38,6 +38,11 @@ class GroundTriangulation {
     // is the nearest ground point's, infinite (a larger ground may hold the point) unless the
     // triangulation holds the whole ground's hull (then the nearest point's distance).
     double reach = std::numeric_limits<double>::infinity();
+    // The disc the answer depends on, where `reach` is finite: the triangle's circumcircle, or
+    // outside the hull the disc around (x, y) through the nearest ground point. Only the ground
+    // points inside it could change the answer, so a caller that knows where the ground can be
+    // (its bounding box) needs only the part of the disc there (step_height.cpp).
+    double centre_x = 0.0, centre_y = 0.0, radius = std::numeric_limits<double>::infinity();
   };
   // Linear within the triangle holding (x, y); outside the convex hull the nearest ground point.
   // The search starts from the last answer's triangle (a walk, O(distance)): ask in a spatial

@@ -30,6 +30,7 @@
 #include "lod/octree_open.h"
 #include "lod/octree_url.h"
 #include "lod/potree_reader.h"
+#include "render/draw_set_layers.h"
 #include "render/frame_step.h"
 #include "render/gl_context.h"
 #include "render/image_file.h"
@@ -498,6 +499,13 @@ int runViewer(const ViewerOptions& options) {
   std::fprintf(stderr, "parallax view: OpenGL %s on %s\n", context->version().c_str(),
                context->renderer().c_str());
   if (!options.input.empty()) openFile(s, options.input, true);
+  s.raster_ramp = options.raster_ramp;
+  prepareRegistration(s, options.register_with, options.write_transform);
+  if (!options.raster.empty()) {
+    const std::string path = options.raster.string();
+    path.copy(s.raster_path_text.data(), s.raster_path_text.size() - 1);
+    loadRasterLayer(s, options.raster);
+  }
 
   if (const char* trace = std::getenv("PARALLAX_VIEW_TRACE_KEYS")) {
     s.trace_keys = std::strcmp(trace, "0") != 0 && *trace != '\0';
@@ -557,6 +565,7 @@ int runViewer(const ViewerOptions& options) {
     refreshScalarColors(s);
     updateLodAttributes(s);
     updateProcessing(s);
+    updateRegistration(s);
     if (s.cloud || s.lod) {
       const StereoFrame frame = stereoFrame(s.camera, s.stereo, width, height);
       const void* scene = s.lod ? static_cast<const void*>(s.lod.get()) : s.cloud.get();
@@ -607,6 +616,12 @@ int runViewer(const ViewerOptions& options) {
           ProgressiveSettings progressive = s.progressive.settings();
           progressive.frame_budget_s = s.frame_budget_ms / 1e3;
           s.progressive.setSettings(progressive);
+        }
+        if (const DrawSet* preview = registrationDrawSet(s)) draw_set = preview;
+        DrawSet layered;  // the raster layer after the cloud (raster_panel.cpp)
+        if (s.raster_layer) {
+          layered = withLayer(*draw_set, s.raster_layer->drawSet());
+          draw_set = &layered;
         }
         const FrameStepResult step =
             drawFrameStep(*s.renderer, refine ? &s.progressive : nullptr, *draw_set, frame, *look,
@@ -670,6 +685,7 @@ int runViewer(const ViewerOptions& options) {
       s.screenshot_requested = false;
       writeScreenshot(s, width, height);
     }
+    drawScalarLegendOverlay(s);
     if (s.show_panel) {
       drawPanel(s, stats);
     } else {

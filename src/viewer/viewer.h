@@ -61,6 +61,17 @@ struct ViewerOptions {
   // NAME-processed.ply in screenshot_dir).
   std::vector<std::string> process_steps;
   std::filesystem::path process_output;
+  // A raster drawn with the cloud (raster/raster_layer.h), coloured by `raster_ramp`; empty:
+  // none (the panel can load one).
+  std::filesystem::path raster;
+  ColorRamp raster_ramp = ColorRamp::Viridis;
+  // The registration preview: the target file the cloud shown is registered to at once (ICP,
+  // registration/cloud_registration.h; empty: none, the panel can start one) and where the
+  // panel's Accept writes the transform.
+  std::filesystem::path register_with;
+  std::filesystem::path write_transform;
+  // The unit the legend of distances and heights shows (render/scalar_legend.h fieldUnit).
+  std::string length_unit = "m";
   // When the command started: the time to the first picture is printed from here.
   std::chrono::steady_clock::time_point start_time = std::chrono::steady_clock::now();
 };

@@ -123,7 +123,8 @@ void drawScalarFieldPanel(Session& s) {
   }
   if (!s.scalar_error.empty()) ImGui::TextWrapped("%s", s.scalar_error.c_str());
   if (scalar.field.empty()) return;
-  comboOf("ramp", scalar.ramp, std::array{ColorRamp::Viridis, ColorRamp::Rainbow, ColorRamp::Grey},
+  comboOf("ramp", scalar.ramp,
+          std::array{ColorRamp::Viridis, ColorRamp::Rainbow, ColorRamp::Grey, ColorRamp::CoolWarm},
           colorRampName);
   // Edited as a pair; only a range with min below max is applied.
   ScalarRange shown = scalar.range.value_or(s.shown_scalar_range);
@@ -135,6 +136,15 @@ void drawScalarFieldPanel(Session& s) {
   }
   ImGui::SameLine();
   if (ImGui::Button("auto")) scalar.range.reset();
+  // The automatic range's percentiles (a diverging ramp's is then centred on zero).
+  double percentiles[2] = {scalar.percentiles.low, scalar.percentiles.high};
+  if (ImGui::InputScalarN("auto percentiles", ImGuiDataType_Double, percentiles, 2, nullptr,
+                          nullptr, "%.3g", ImGuiInputTextFlags_EnterReturnsTrue) &&
+      percentiles[0] >= 0.0 && percentiles[0] < percentiles[1] && percentiles[1] <= 100.0) {
+    scalar.percentiles = {percentiles[0], percentiles[1]};
+    scalar.range.reset();
+  }
+  ImGui::Checkbox("legend in the window", &s.show_legend);
   drawRampLegend(scalar.ramp, shown);
 }
 
@@ -374,6 +384,10 @@ void drawPanel(Session& s, const FrameStats& stats) {
     ImGui::SameLine();
     ImGui::Checkbox("swap eyes (X)", &s.stereo.swap_eyes);
   }
+  // Before the filters: what is added to the picture (the window tests scroll to the panel's end
+  // to find the filters above the tools).
+  drawRasterPanel(s);
+  drawRegistrationPanel(s);
   drawFilterPanel(s);
   drawMeasurePanel(s);
   drawProcessPanel(s);

@@ -29,6 +29,7 @@
 #include "viewer/camera_controller.h"
 #include "viewer/measure_session.h"
 #include "viewer/process_session.h"
+#include "viewer/registration_session.h"
 #include "viewer/viewer.h"
 
 namespace parallax::viewer_internal {
@@ -48,6 +49,15 @@ struct Session {
   ScalarColoring shown_scalar;
   ScalarRange shown_scalar_range;
   std::string scalar_error;
+  bool show_legend = true;  // the scalar colouring's legend over the picture (legend_overlay.cpp)
+  // A raster drawn with what is shown (raster_panel.cpp): its points on the GPU, the file, the
+  // ramp it was coloured with and the one the panel asks for, the panel's path field.
+  std::unique_ptr<GpuPointCloud> raster_layer;
+  std::uint64_t raster_layer_cells = 0;
+  std::filesystem::path raster_path;
+  ColorRamp raster_ramp = ColorRamp::Viridis, raster_shown_ramp = ColorRamp::Viridis;
+  std::array<char, 1024> raster_path_text{};
+  std::string raster_error;
   // Level of detail: the octree (and the temporary folder holding it, with --no-cache) and the
   // scene streaming it; declared in this order so that they end in the reverse one.
   std::unique_ptr<OctreeLocation> lod_location;
@@ -171,6 +181,7 @@ struct Session {
   // The Processing panel (process_panel.cpp); last, so that a run under way ends (is waited for)
   // first when the session ends.
   ProcessSession process;
+  RegistrationSession registration;  // registration_panel.cpp
 };
 
 // The session of a window (its user pointer).
@@ -219,6 +230,29 @@ void prepareFilters(Session& s, const PointCloud* points, bool whole, bool has_c
 void appendClipBoxOutline(const Session& s, OverlayScene& scene);
 // The keys and mouse (H).
 void drawHelp();
+// Reads the raster at `path` as the layer drawn with the cloud (raster_panel.cpp); false, with
+// raster_error and a line on stderr, where it cannot be read.
+bool loadRasterLayer(Session& s, const std::filesystem::path& path);
+// The panel's Raster layer section: path, ramp, Load, Remove.
+void drawRasterPanel(Session& s);
+
+// The registration preview (registration_panel.cpp). prepareRegistration sets the target and
+// transform file the command line gave and, with a target, asks for a run once the cloud is
+// shown; startRegistration runs ICP of the cloud shown onto the target on a thread of its own;
+// updateRegistration, once a frame, starts an asked run and takes a finished one's result;
+// registrationDrawSet is the preview to draw in place of the cloud (nullptr: the cloud);
+// acceptRegistration writes the transform found (false, with the reason in the panel, where
+// there is none or it cannot be written).
+void prepareRegistration(Session& s, const std::filesystem::path& target,
+                         const std::filesystem::path& output);
+void startRegistration(Session& s);
+void updateRegistration(Session& s);
+const DrawSet* registrationDrawSet(const Session& s);
+bool acceptRegistration(Session& s);
+void drawRegistrationPanel(Session& s);
+// The legend of the scalar colouring shown (legend_overlay.cpp), at the window's right edge,
+// while show_legend and an attribute colours the cloud.
+void drawScalarLegendOverlay(Session& s);
 
 // The point under window pixel (x, y) (bottom-left origin) of the frame shown, read back from
 // the source with every attribute; std::nullopt (and the user told) where there is none or the

@@ -93,7 +93,9 @@ TEST(ColorRamp, NamesParseAndUnknownNamesDoNot) {
   EXPECT_EQ(parseColorRamp("grey"), ColorRamp::Grey);
   EXPECT_EQ(parseColorRamp("gray"), ColorRamp::Grey);
   EXPECT_FALSE(parseColorRamp("Viridis"));
-  EXPECT_EQ(colorRampNames(), "viridis|rainbow|grey");
+  EXPECT_EQ(parseColorRamp("coolwarm"), ColorRamp::CoolWarm);
+  EXPECT_EQ(parseColorRamp("diverging"), ColorRamp::CoolWarm);
+  EXPECT_EQ(colorRampNames(), "viridis|rainbow|grey|coolwarm");
 }
 
 // The distance values of the test cloud, one point each at x = 0, 1, 2, ...
@@ -270,7 +272,7 @@ TEST(RenderScalarColorsErrors, UnknownAttributeRampAndRangeAreNamed) {
   EXPECT_NE(r.log.find("scalar fields: distance"), std::string::npos) << r.log;
   r = renderDistances(dir, "points", "--color distance --color-ramp hot");
   EXPECT_NE(r.rc, 0);
-  EXPECT_NE(r.log.find("unknown ramp 'hot' (use viridis|rainbow|grey)"), std::string::npos)
+  EXPECT_NE(r.log.find("unknown ramp 'hot' (use viridis|rainbow|grey|coolwarm)"), std::string::npos)
       << r.log;
   r = renderDistances(dir, "points", "--color distance --color-range 5,1");
   EXPECT_NE(r.rc, 0);

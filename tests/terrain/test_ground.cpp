@@ -16,6 +16,7 @@
 #include "io/point_file.h"
 #include "process/process_runner.h"
 #include "support/temp_dir.h"
+#include "terrain/ground_triangulation.h"
 
 namespace parallax {
 namespace {
@@ -298,6 +299,29 @@ TEST(HeightAboveGround, AnalyticTerrainHeightsAndTheSameBytesAtAnyMemory) {
   EXPECT_LT(worst_tree, 0.01);  // linear between ground points 0.5 m apart, millimetres in the file
   EXPECT_LT(worst_roof, 0.1);   // linear across a roof 12-16 m wide (measured 0.046)
   EXPECT_GT(worst_roof, 0.0);
+}
+
+// The disc an answer depends on (what --height-above-ground clips to the ground's box before it
+// decides whether a tile's halo holds every ground point that matters): the triangle's
+// circumcircle inside the hull, the disc through the nearest ground point outside it.
+TEST(HeightAboveGround, AnswersNameTheDiscTheyDependOn) {
+  const std::array<std::array<double, 3>, 3> ground{{{0, 0, 1}, {4, 0, 2}, {0, 3, 3}}};
+  const GroundTriangulation triangulation(ground, true);
+  const GroundTriangulation::Answer inside = triangulation.at(1, 1);
+  // The right triangle's circumcentre is its hypotenuse's midpoint (2, 1.5), radius 2.5.
+  EXPECT_NEAR(inside.centre_x, 2.0, 1e-12);
+  EXPECT_NEAR(inside.centre_y, 1.5, 1e-12);
+  EXPECT_NEAR(inside.radius, 2.5, 1e-12);
+  EXPECT_NEAR(inside.reach, std::sqrt(1.25) + 2.5, 1e-12);
+  EXPECT_NEAR(inside.z, 1.0 + 0.25 * 1.0 + (1.0 / 3.0) * 2.0, 1e-12);  // linear: 1 + x/4 + 2y/3
+  const GroundTriangulation::Answer outside = triangulation.at(10, 10);
+  EXPECT_EQ(outside.z, 2.0);  // (4, 0) is the nearest: sqrt(136) against sqrt(149)
+  EXPECT_EQ(outside.centre_x, 10.0);
+  EXPECT_EQ(outside.centre_y, 10.0);
+  EXPECT_NEAR(outside.radius, std::sqrt(136.0), 1e-12);
+  // Without the whole hull, an answer outside could depend on any point: no disc.
+  const GroundTriangulation partial(ground, false);
+  EXPECT_TRUE(std::isinf(partial.at(10, 10).radius));
 }
 
 TEST(HeightAboveGround, NoGroundIsAnErrorNamingTheStep) {

@@ -1,0 +1,294 @@
+// The diverging ramp, the automatic range from percentiles, and the legend
+// (render/scalar_legend.h): the ramp against Moreland's three colours interpolated here, the
+// percentiles against ranks counted here, and `parallax render --color m3c2_distance --legend`
+// end to end: each point's pixels and every pixel of the legend's bar against colours computed
+// in the test from the values and the bar's rows.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "render/image_file.h"
+#include "render/overlay_font.h"
+#include "render/scalar_colors.h"
+#include "render/scalar_legend.h"
+#include "support/temp_dir.h"
+
+namespace parallax::test {
+namespace {
+
+using Rgb = std::array<int, 3>;
+
+Rgb rgbOf(const Rgba8& c) {
+  return {c.r, c.g, c.b};
+}
+
+// Moreland's cool-warm end and middle colours, linear in RGB between them.
+Rgb coolWarm(double t) {
+  const std::array<double, 3> cool{59, 76, 192}, mid{221, 221, 221}, warm{180, 4, 38};
+  Rgb c;
+  for (int i = 0; i < 3; ++i) {
+    const double v = t <= 0.5 ? cool[i] + (mid[i] - cool[i]) * (t / 0.5)
+                              : mid[i] + (warm[i] - mid[i]) * ((t - 0.5) / 0.5);
+    c[i] = int(std::lround(v));
+  }
+  return c;
+}
+
+bool near(const Rgb& a, const Rgb& b, int tolerance) {
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(a[i] - b[i]) > tolerance) return false;
+  }
+  return true;
+}
+
+std::string text(const Rgb& c) {
+  return std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]);
+}
+
+TEST(CoolWarmRamp, MorelandsColoursAtTheEndsAndTheMiddleAndLinearBetween) {
+  EXPECT_EQ(rgbOf(rampColor(ColorRamp::CoolWarm, 0.0)), (Rgb{59, 76, 192}));
+  EXPECT_EQ(rgbOf(rampColor(ColorRamp::CoolWarm, 0.5)), (Rgb{221, 221, 221}));
+  EXPECT_EQ(rgbOf(rampColor(ColorRamp::CoolWarm, 1.0)), (Rgb{180, 4, 38}));
+  for (int i = 0; i <= 64; ++i) {
+    const double t = i / 64.0;
+    EXPECT_TRUE(near(rgbOf(rampColor(ColorRamp::CoolWarm, t)), coolWarm(t), 1)) << t;
+  }
+  EXPECT_TRUE(isDiverging(ColorRamp::CoolWarm));
+  EXPECT_FALSE(isDiverging(ColorRamp::Viridis));
+}
+
+// A cloud whose "m3c2_distance" holds `values` (float), one point each at x = 0, 1, 2, ...
+PointCloud cloudWith(const std::vector<float>& values) {
+  PointCloud cloud;
+  cloud.count = values.size();
+  cloud.positions = Column<Int3>(cloud.count);
+  ScalarColumn column{.name = "m3c2_distance",
+                      .type = ScalarType::Float32,
+                      .data = ByteBuffer(cloud.count * sizeof(float))};
+  for (std::size_t i = 0; i < cloud.count; ++i) {
+    cloud.positions[i] = {std::int32_t(i), 0, 0};
+    column.as<float>()[i] = values[i];
+  }
+  cloud.scalars.push_back(std::move(column));
+  cloud.computeBounds();
+  return cloud;
+}
+
+TEST(ScalarPercentiles, NearestRankOverTheFiniteValues) {
+  // 0, 1, ..., 100 shuffled by a stride, a NaN and an infinity that do not count.
+  std::vector<float> values;
+  for (int i = 0; i <= 100; ++i) values.push_back(float((i * 37) % 101));
+  values.push_back(std::numeric_limits<float>::quiet_NaN());
+  values.push_back(std::numeric_limits<float>::infinity());
+  const PointCloud cloud = cloudWith(values);
+  EXPECT_EQ(scalarPercentileRange(cloud, "m3c2_distance", {0, 100}), (ScalarRange{0, 100}));
+  EXPECT_EQ(scalarPercentileRange(cloud, "m3c2_distance", {2, 98}), (ScalarRange{2, 98}));
+  EXPECT_EQ(scalarPercentileRange(cloud, "m3c2_distance", {25, 25}), (ScalarRange{25, 25}));
+  // 10 values: ranks round(0.05 * 9) = 0 and round(0.95 * 9) = 9 (8.55).
+  const PointCloud ten = cloudWith({9, 8, 7, 6, 5, 4, 3, 2, 1, 0});
+  EXPECT_EQ(scalarPercentileRange(ten, "m3c2_distance", {5, 95}), (ScalarRange{0, 9}));
+  EXPECT_EQ(scalarPercentileRange(ten, "m3c2_distance", {10, 90}), (ScalarRange{1, 8}));
+  EXPECT_THROW(scalarPercentileRange(ten, "m3c2_distance", {50, 40}), std::invalid_argument);
+  EXPECT_THROW(scalarPercentileRange(ten, "m3c2_distance", {-1, 40}), std::invalid_argument);
+  EXPECT_THROW(scalarPercentileRange(ten, "curvature", {0, 100}), std::invalid_argument);
+  const PointCloud none = cloudWith({std::numeric_limits<float>::quiet_NaN()});
+  EXPECT_EQ(scalarPercentileRange(none, "m3c2_distance", {2, 98}), std::nullopt);
+}
+
+TEST(ScalarAutoRange, ADivergingRampIsCentredOnZeroWhereTheValuesStraddleIt) {
+  const PointCloud cloud = cloudWith({-0.4f, -0.2f, -0.1f, 0.0f, 0.05f, 0.1f, 0.3f, 1.0f});
+  ScalarColoring coloring{.field = "m3c2_distance", .ramp = ColorRamp::CoolWarm};
+  EXPECT_EQ(scalarAutoRange(cloud, coloring), (ScalarRange{-1.0, 1.0}));
+  coloring.percentiles = {10, 90};  // ranks 1 and 6 of 8: -0.2 and 0.3
+  EXPECT_EQ(scalarAutoRange(cloud, coloring), (ScalarRange{double(-0.3f), double(0.3f)}));
+  coloring.ramp = ColorRamp::Viridis;  // not diverging: the percentiles as they are
+  EXPECT_EQ(scalarAutoRange(cloud, coloring), (ScalarRange{double(-0.2f), double(0.3f)}));
+  const PointCloud positive = cloudWith({1, 2, 3});
+  EXPECT_EQ(scalarAutoRange(positive, {.field = "m3c2_distance", .ramp = ColorRamp::CoolWarm}),
+            (ScalarRange{1, 3}));
+}
+
+TEST(ScalarLegendTicks, RoundValuesBetweenTheEndsWhichCarryTheUnit) {
+  const ScalarLegend legend = scalarLegend("m3c2_distance", ColorRamp::CoolWarm, {-0.3, 0.3},
+                                           fieldUnit("m3c2_distance", "m"));
+  EXPECT_EQ(legend.title, "m3c2_distance [m]");
+  std::vector<std::string> texts;
+  for (const auto& tick : legend.ticks) texts.push_back(tick.text);
+  EXPECT_EQ(texts,
+            (std::vector<std::string>{"-0.30 m", "0.30 m", "-0.2", "-0.1", "0.0", "0.1", "0.2"}));
+  EXPECT_EQ(fieldUnit("height_above_ground", "ft"), "ft");
+  EXPECT_EQ(fieldUnit("intensity", "m"), "");
+  const ScalarLegend counts = scalarLegend("m3c2_count1", ColorRamp::Viridis, {0, 1234}, "");
+  EXPECT_EQ(counts.title, "m3c2_count1");
+  texts.clear();
+  for (const auto& tick : counts.ticks) texts.push_back(tick.text);
+  // Step 1234 / 6 = 205.7 -> 500; 1000 is kept, 0 and 1234's neighbours are the ends themselves.
+  EXPECT_EQ(texts, (std::vector<std::string>{"0", "1234", "500", "1000"}));
+}
+
+// --- `parallax render --color m3c2_distance --legend`, end to end ---------------------------
+
+const std::vector<float> kSigned{
+    -0.4f, -0.2f, -0.1f, 0.0f, 0.05f, 0.1f, 0.3f, std::numeric_limits<float>::quiet_NaN(), 1.0f};
+constexpr int kWidth = 400, kHeight = 160;  // 20 pixels a unit (the ortho height: 8)
+const Rgb kMagenta{255, 0, 255};
+
+int run(const std::string& command) {
+  const std::string quiet_mesa =
+      "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" " + command;
+  const int status = std::system(quiet_mesa.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string readText(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string signedPly() {
+  std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex " +
+                    std::to_string(kSigned.size()) +
+                    "\nproperty double x\nproperty double y\nproperty double z\n"
+                    "property float m3c2_distance\nend_header\n";
+  for (std::size_t i = 0; i < kSigned.size(); ++i) {
+    const double xyz[3] = {double(i), 0.0, 0.0};
+    char bytes[28];
+    std::memcpy(bytes, xyz, 24);
+    std::memcpy(bytes + 24, &kSigned[i], 4);
+    ply.append(bytes, sizeof bytes);
+  }
+  return ply;
+}
+
+Rgb pixel(const RgbaImage& image, int x, int y) {
+  const std::uint8_t* p = &image.pixels[(std::size_t(y) * image.width + x) * 4];
+  return {p[0], p[1], p[2]};
+}
+
+struct Rendered {
+  int rc = 0;
+  std::string log;
+  RgbaImage image;
+};
+
+// The cloud from above, orthographic, the points along a row in the left half (x to the
+// right), magenta behind.
+Rendered renderSigned(const TempDir& dir, const std::string& options) {
+  const auto ply = dir.write("signed.ply", signedPly());
+  const auto png = dir / "out.png";
+  const auto log = dir / "log";
+  const std::string command = std::string(PARALLAX_EXECUTABLE) + " render '" + ply.string() +
+                              "' -o '" + png.string() + "' --width " + std::to_string(kWidth) +
+                              " --height " + std::to_string(kHeight) +
+                              " --point-size 3 --ortho --eye 9,0.1,10 --target 9,0.1,0 --up "
+                              "0,1,0 --background 255,0,255 --rasterizer points " +
+                              options + " 2>'" + log.string() + "'";
+  Rendered r;
+  r.rc = run(command);
+  r.log = readText(log);
+  if (r.rc == 0) r.image = readPng(png);
+  return r;
+}
+
+// The colours met left to right along the row of `image` (left of `right`) with the most
+// pixels other than magenta, one per run of equal pixels.
+std::vector<Rgb> pointColours(const RgbaImage& image, int right) {
+  int best_row = 0, best = -1;
+  for (int y = 0; y < image.height; ++y) {
+    int count = 0;
+    for (int x = 0; x < right; ++x) count += pixel(image, x, y) != kMagenta;
+    if (count > best) best = count, best_row = y;
+  }
+  std::vector<Rgb> runs;
+  bool in_run = false;
+  for (int x = 0; x < right; ++x) {
+    const Rgb c = pixel(image, x, best_row);
+    const bool background = c == kMagenta;
+    if (!background && (!in_run || runs.back() != c)) runs.push_back(c);
+    in_run = !background;
+  }
+  return runs;
+}
+
+TEST(RenderLegend, PointsAndTheBarTakeTheDivergingRampOverTheSymmetricPercentileRange) {
+  TempDir dir;
+  const Rendered r = renderSigned(
+      dir, "--color m3c2_distance --color-ramp coolwarm --color-percentiles 10,90 --legend");
+  ASSERT_EQ(r.rc, 0) << r.log;
+  // Finite values sorted: -0.4 -0.2 -0.1 0 0.05 0.1 0.3 1; ranks round(0.1 * 7) = 1 and
+  // round(0.9 * 7) = 6: -0.2 and 0.3, made symmetric: -0.3 .. 0.3.
+  const double reach = double(0.3f);
+  EXPECT_NE(r.log.find("m3c2_distance from -0.300000012 to 0.300000012"), std::string::npos)
+      << r.log;
+
+  // The legend's place, from the layout of the same legend in the same font.
+  const ScalarLegend legend =
+      scalarLegend("m3c2_distance", ColorRamp::CoolWarm, {-reach, reach}, "m");
+  const LegendLayout layout = legendLayout(legend, OverlayFont(), kWidth, kHeight);
+  ASSERT_GT(layout.bar_height, 50);
+  ASSERT_GT(layout.box_x, kWidth / 2);
+
+  const std::vector<Rgb> points = pointColours(r.image, layout.box_x);
+  ASSERT_EQ(points.size(), kSigned.size());
+  for (std::size_t i = 0; i < kSigned.size(); ++i) {
+    const double v = kSigned[i];
+    const Rgb expected = std::isnan(v) ? Rgb{128, 128, 128}
+                                       : coolWarm(std::clamp((v + reach) / (2 * reach), 0.0, 1.0));
+    EXPECT_TRUE(near(points[i], expected, 1)) << i << ": " << text(points[i]);
+  }
+
+  // Every pixel of the bar: the ramp at 1 - row / (rows - 1), the maximum at the top.
+  int wrong = 0;
+  for (int row = 0; row < layout.bar_height; ++row) {
+    const Rgb expected = coolWarm(1.0 - double(row) / double(layout.bar_height - 1));
+    for (int x = layout.bar_x; x < layout.bar_x + layout.bar_width; ++x) {
+      const Rgb got = pixel(r.image, x, layout.bar_y + row);
+      if (!near(got, expected, 1) && wrong++ < 5) {
+        ADD_FAILURE() << "bar row " << row << " x " << x << ": " << text(got) << ", expected "
+                      << text(expected);
+      }
+    }
+  }
+  EXPECT_EQ(wrong, 0);
+  // The box behind: magenta darkened to 40 %, where no text is (its bottom-left corner).
+  EXPECT_EQ(pixel(r.image, layout.box_x + 1, layout.box_y + layout.box_height - 2),
+            (Rgb{102, 0, 102}));
+  // Labels: white text within the box, right of the bar.
+  int white = 0;
+  for (int y = layout.box_y; y < layout.box_y + layout.box_height; ++y) {
+    for (int x = layout.label_x; x < layout.box_x + layout.box_width; ++x) {
+      white += pixel(r.image, x, y) == Rgb{255, 255, 255};
+    }
+  }
+  EXPECT_GT(white, 100);
+}
+
+TEST(RenderLegend, NoLegendWithoutTheFlagAndNoneWithoutAScalarAttribute) {
+  TempDir dir;
+  Rendered r = renderSigned(dir, "--color m3c2_distance --color-ramp coolwarm");
+  ASSERT_EQ(r.rc, 0) << r.log;
+  for (int y = 0; y < 20; ++y) {
+    for (int x = kWidth - 60; x < kWidth; ++x) ASSERT_EQ(pixel(r.image, x, y), kMagenta);
+  }
+  r = renderSigned(dir, "--legend");
+  EXPECT_NE(r.rc, 0);
+  EXPECT_NE(r.log.find("--legend shows a scalar attribute's ramp"), std::string::npos) << r.log;
+  r = renderSigned(dir, "--color m3c2_distance --color-percentiles 50,10");
+  EXPECT_NE(r.rc, 0);
+  EXPECT_NE(r.log.find("--color-percentiles takes LOW,HIGH"), std::string::npos) << r.log;
+}
+
+}  // namespace
+}  // namespace parallax::test
