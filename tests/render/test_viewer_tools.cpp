@@ -11,9 +11,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <optional>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -99,10 +99,24 @@ std::vector<double> numbersAfter(const std::string& log, const std::string& pref
   }
   if (line.empty()) return numbers;
   line = line.substr(prefix.size());
-  static const std::regex kDecimal("-?[0-9]+\\.[0-9]+");
-  for (auto it = std::sregex_iterator(line.begin(), line.end(), kDecimal);
-       it != std::sregex_iterator(); ++it) {
-    numbers.push_back(std::stod(it->str()));
+  // Every decimal number (-?digits.digits) left to right, as a regex search would find them;
+  // by hand, since GCC 12 warns inside std::regex under the sanitizers (-Wmaybe-uninitialized).
+  const auto digit = [&](std::size_t k) {
+    return k < line.size() && std::isdigit(static_cast<unsigned char>(line[k]));
+  };
+  for (std::size_t i = 0; i < line.size();) {
+    const std::size_t start = i;
+    std::size_t k = line[i] == '-' ? i + 1 : i;
+    const std::size_t whole = k;
+    while (digit(k)) ++k;
+    if (k > whole && k < line.size() && line[k] == '.' && digit(k + 1)) {
+      ++k;
+      while (digit(k)) ++k;
+      numbers.push_back(std::stod(line.substr(start, k - start)));
+      i = k;
+    } else {
+      i = std::max(k, start + 1);
+    }
   }
   return numbers;
 }
