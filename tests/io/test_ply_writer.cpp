@@ -11,15 +11,13 @@
 #include <vector>
 
 #include "io/ply_reader.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
 namespace {
 
-std::string readBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using test::readBytes;
 
 std::vector<std::string> listFolder(const std::filesystem::path& folder) {
   std::vector<std::string> names;

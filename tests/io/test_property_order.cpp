@@ -13,19 +13,15 @@
 #include "io/ply_writer.h"
 #include "io/point_file.h"
 #include "io/text_writer.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
 namespace {
 
-using test::PlyBody;
+using test::readBytes;
 
-std::string readBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
+using test::PlyBody;
 
 const std::vector<std::string> kNormalsFirst = {
     "element vertex 2",     "property float x",   "property float y",  "property float z",

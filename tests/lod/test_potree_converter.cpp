@@ -16,17 +16,11 @@
 #include "lod/potree_converter.h"
 #include "lod/potree_layout.h"
 #include "lod_test_clouds.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
 namespace {
-
-std::string readBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
 
 struct WalkedNode {
   std::string name;
@@ -289,21 +283,7 @@ TEST(PotreeConverter, MergesSeveralInputsIntoOneOctree) {
 
 TEST(PotreeConverter, KeepsLasAttributesUnderPotreeNames) {
   TempDir dir;
-  PointCloud cloud = makeSurfaceCloud(4000);
-  cloud.normals = {};
-  cloud.scalars.clear();
-  cloud.classification = Column<std::uint8_t>(cloud.count);
-  ScalarColumn returns{
-      .name = "return_number", .type = ScalarType::UInt8, .data = ByteBuffer(cloud.count)};
-  ScalarColumn gps{
-      .name = "gps_time", .type = ScalarType::Float64, .data = ByteBuffer(cloud.count * 8)};
-  for (std::uint64_t i = 0; i < cloud.count; ++i) {
-    cloud.classification[i] = std::uint8_t(i % 19);
-    returns.as<std::uint8_t>()[i] = std::uint8_t(1 + i % 3);
-    gps.as<double>()[i] = 1000.0 + double(i) * 0.25;
-  }
-  cloud.scalars.push_back(std::move(returns));
-  cloud.scalars.push_back(std::move(gps));
+  const PointCloud cloud = makeLasLikeCloud(4000, 19);
   writePointFile(cloud, dir / "in.las");
   const PointCloud las = readPointFile(dir / "in.las");
   PotreeConvertOptions options;

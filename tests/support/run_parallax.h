@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
@@ -29,10 +30,7 @@ inline std::string quoted(const std::string& text) {
 }
 
 inline std::string readText(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return readBytes(path);
 }
 
 // Runs a shell command line (a `parallax` command with its redirections) and returns its exit

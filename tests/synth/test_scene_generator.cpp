@@ -11,15 +11,13 @@
 #include <string>
 
 #include "io/ply_reader.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax::synth {
 namespace {
 
-std::string readBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using parallax::test::readBytes;
 
 std::filesystem::path generate(const test::TempDir& dir, const std::string& name,
                                std::uint64_t points, std::uint64_t seed, int threads,
