@@ -101,9 +101,9 @@ inline PointCloud makeLasLikeCloud(std::uint64_t count, int classes) {
 // The three files of two Potree octrees, byte for byte.
 inline void expectSameOctree(const std::filesystem::path& a, const std::filesystem::path& b) {
   for (const char* file : {"octree.bin", "hierarchy.bin", "metadata.json"}) {
-    const std::string bytes_a = readBytes(a / file);
+    const std::string bytes_a = fileBytes(a / file);
     EXPECT_FALSE(bytes_a.empty()) << file;
-    const std::string bytes_b = readBytes(b / file);
+    const std::string bytes_b = fileBytes(b / file);
     EXPECT_TRUE(bytes_a == bytes_b)
         << file << " differs: " << bytes_a.size() << " and " << bytes_b.size() << " bytes";
   }

@@ -118,7 +118,7 @@ std::map<std::string, int>& opensByFile() {
 
 class OnceSource final : public PointChunkSource {
  public:
-  explicit OnceSource(const std::filesystem::path& path) : bytes_(readBytes(path)) {
+  explicit OnceSource(const std::filesystem::path& path) : bytes_(fileBytes(path)) {
     if (++opensByFile()[path.string()] > 1) {
       throw InputError(
           {.file = path.string(), .expected = "to be read once", .found = "a second reading"});

@@ -122,7 +122,7 @@ TEST(ConvertSelective, DamageInALayerNotAskedForChangesNothing) {
   TempDir dir;
   const PointCloud cloud = makeLasLikeCloud(20'000, 7);
   writePointFile(cloud, dir / "in.laz", {.las_point_format = 7});
-  std::string bytes = readBytes(dir / "in.laz");
+  std::string bytes = fileBytes(dir / "in.laz");
   const auto [at, size] = firstChunkLayer(bytes, 8);  // GPS time
   ASSERT_GT(size, 100u);
   ASSERT_LT(at + size, bytes.size());

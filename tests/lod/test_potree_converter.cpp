@@ -41,9 +41,9 @@ struct WalkedOctree {
 // first entry is the proxy node again. Fails the test on any inconsistency.
 WalkedOctree walk(const std::filesystem::path& dir) {
   WalkedOctree result;
-  result.metadata = nlohmann::json::parse(readBytes(dir / "metadata.json"));
-  result.octree = readBytes(dir / "octree.bin");
-  const std::string hierarchy = readBytes(dir / "hierarchy.bin");
+  result.metadata = nlohmann::json::parse(fileBytes(dir / "metadata.json"));
+  result.octree = fileBytes(dir / "octree.bin");
+  const std::string hierarchy = fileBytes(dir / "hierarchy.bin");
   auto entry = [&](std::uint64_t at) {
     WalkedNode node;
     EXPECT_LE(at + 22, hierarchy.size());
@@ -193,7 +193,7 @@ TEST(PotreeConverter, WritesMetadataAsPotreeClientsReadIt) {
   // What the reader makes of the file (its quantization is chosen from float positions).
   const PointCloud cloud = readPointFile(dir / "in.ply");
   convertToPotree({{dir / "in.ply", {}}}, dir / "out");
-  const auto metadata = nlohmann::json::parse(readBytes(dir / "out" / "metadata.json"));
+  const auto metadata = nlohmann::json::parse(fileBytes(dir / "out" / "metadata.json"));
   EXPECT_EQ(metadata["version"], "2.0");
   EXPECT_EQ(metadata["encoding"], "DEFAULT");
   EXPECT_EQ(metadata["name"], "out");
@@ -233,7 +233,7 @@ TEST(PotreeConverter, WritesMetadataAsPotreeClientsReadIt) {
   EXPECT_DOUBLE_EQ(metadata["attributes"][0]["max"][2], cloud.bounds.max[2]);
   EXPECT_EQ(metadata["attributes"][1]["max"][0], 255 * 257);
   // The root's records: the first point's bytes as a client decodes them.
-  const std::string octree = readBytes(dir / "out" / "octree.bin");
+  const std::string octree = fileBytes(dir / "out" / "octree.bin");
   EXPECT_EQ(octree.size(), 2000u * 36u);
 }
 
@@ -333,10 +333,10 @@ TEST(PotreeConverter, InterruptedConversionLeavesNothingThatLooksComplete) {
   // An earlier complete output under the same name survives a failed rerun unchanged.
   options.fail_after_octree_bytes = 0;
   convertToPotree({{dir / "in.ply", {}}}, dir / "out", options);
-  const std::string before = readBytes(dir / "out" / "hierarchy.bin");
+  const std::string before = fileBytes(dir / "out" / "hierarchy.bin");
   options.fail_after_octree_bytes = 1000;
   EXPECT_THROW(convertToPotree({{dir / "in.ply", {}}}, dir / "out", options), std::runtime_error);
-  EXPECT_EQ(readBytes(dir / "out" / "hierarchy.bin"), before);
+  EXPECT_EQ(fileBytes(dir / "out" / "hierarchy.bin"), before);
 }
 
 TEST(PotreeConverter, RefusesToReplaceSomethingElse) {

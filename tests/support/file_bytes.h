@@ -8,7 +8,7 @@
 
 namespace parallax::test {
 
-inline std::string readBytes(const std::filesystem::path& path) {
+inline std::string fileBytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }

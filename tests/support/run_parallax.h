@@ -30,7 +30,7 @@ inline std::string quoted(const std::string& text) {
 }
 
 inline std::string readText(const std::filesystem::path& path) {
-  return readBytes(path);
+  return fileBytes(path);
 }
 
 // Runs a shell command line (a `parallax` command with its redirections) and returns its exit
