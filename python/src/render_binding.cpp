@@ -92,6 +92,33 @@ cli::RenderSource openSource(const py::object& input, const SceneOptions& o, boo
   return source;
 }
 
+// One headless frame drawn as `parallax render` draws it, handed to `use` while the GL context,
+// the renderer and the target are alive (pick reads the frame back through them).
+struct DrawnFrame {
+  Renderer& renderer;
+  RenderTarget& target;
+  const DrawSet& draw_set;
+  const StereoFrame& frame;
+  const RenderSettings& settings;
+};
+
+template <class Use>
+void drawHeadless(cli::RenderSource& source, const SceneOptions& o, bool for_pick,
+                  const char* command, Use&& use) {
+  // The context outlives every GL object below (declared first, destroyed last).
+  const auto context = GlContext::createHeadless();
+  cli::RenderScene scene = cli::uploadRenderSource(source, for_pick);
+  const StereoSettings stereo = cli::headlessStereoSettings(o.render, true, command);
+  const Camera camera = cli::cameraFrom(o.render, scene.extent, double(o.width) / o.height);
+  const StereoFrame frame = stereoFrame(camera, stereo, o.width, o.height);
+  const DrawSet& draw_set = cli::frameDrawSet(scene, source, frame, o.lod);
+  const RenderSettings settings = cli::renderSettingsFrom(o.render, draw_set.typical_spacing);
+  Renderer renderer;
+  RenderTarget target(o.width, o.height);
+  renderer.render(draw_set, frame, settings, target.framebuffer(), o.width, o.height);
+  use(DrawnFrame{renderer, target, draw_set, frame, settings});
+}
+
 py::array_t<std::uint8_t> render(const py::object& input, const py::kwargs& kwargs) {
   const SceneOptions o = sceneOptionsFrom(kwargs, "render");
   cli::RenderSource source = openSource(input, o, false);
@@ -99,18 +126,8 @@ py::array_t<std::uint8_t> render(const py::object& input, const py::kwargs& kwar
   {
     py::gil_scoped_release release;
     cli::paintScalarColors(source, o.render, true, "render");
-    // The context outlives every GL object below (declared first, destroyed last).
-    const auto context = GlContext::createHeadless();
-    cli::RenderScene scene = cli::uploadRenderSource(source, false);
-    const StereoSettings stereo = cli::headlessStereoSettings(o.render, true, "render");
-    const Camera camera = cli::cameraFrom(o.render, scene.extent, double(o.width) / o.height);
-    const StereoFrame frame = stereoFrame(camera, stereo, o.width, o.height);
-    const DrawSet& draw_set = cli::frameDrawSet(scene, source, frame, o.lod);
-    const RenderSettings settings = cli::renderSettingsFrom(o.render, draw_set.typical_spacing);
-    Renderer renderer;
-    RenderTarget target(o.width, o.height);
-    renderer.render(draw_set, frame, settings, target.framebuffer(), o.width, o.height);
-    rgba = target.readRgba();
+    drawHeadless(source, o, false, "render",
+                 [&](const DrawnFrame& drawn) { rgba = drawn.target.readRgba(); });
   }
   py::array_t<std::uint8_t> image({py::ssize_t(o.height), py::ssize_t(o.width), py::ssize_t(3)});
   std::uint8_t* out = image.mutable_data();
@@ -146,24 +163,16 @@ py::dict pick(const py::object& input, const std::pair<int, int>& pixel, const p
   std::optional<PickResult> picked;
   {
     py::gil_scoped_release release;
-    const auto context = GlContext::createHeadless();
-    cli::RenderScene scene = cli::uploadRenderSource(source, true);
-    const StereoSettings stereo = cli::headlessStereoSettings(o.render, true, "pick");
-    const Camera camera = cli::cameraFrom(o.render, scene.extent, double(o.width) / o.height);
-    const StereoFrame frame = stereoFrame(camera, stereo, o.width, o.height);
-    const DrawSet& draw_set = cli::frameDrawSet(scene, source, frame, o.lod);
-    const RenderSettings settings = cli::renderSettingsFrom(o.render, draw_set.typical_spacing);
-    Renderer renderer;
-    RenderTarget target(o.width, o.height);
-    renderer.render(draw_set, frame, settings, target.framebuffer(), o.width, o.height);
-    const auto pick_source = source.lod() ? std::make_unique<PickSource>(*source.octree)
-                                          : std::make_unique<PickSource>(source.cloud);
-    PickRequest request;
-    request.x = pixel_x, request.y = o.height - 1 - pixel_y;  // GL counts rows from the bottom
-    request.radius_px = o.radius;
-    request.last_frame_matches = true;
-    picked = pickPoint(renderer, *pick_source, draw_set, frame.views, frame.composition, settings,
-                       o.width, o.height, request);
+    drawHeadless(source, o, true, "pick", [&](const DrawnFrame& drawn) {
+      const auto pick_source = source.lod() ? std::make_unique<PickSource>(*source.octree)
+                                            : std::make_unique<PickSource>(source.cloud);
+      PickRequest request;
+      request.x = pixel_x, request.y = o.height - 1 - pixel_y;  // GL counts rows from the bottom
+      request.radius_px = o.radius;
+      request.last_frame_matches = true;
+      picked = pickPoint(drawn.renderer, *pick_source, drawn.draw_set, drawn.frame.views,
+                         drawn.frame.composition, drawn.settings, o.width, o.height, request);
+    });
   }
   py::dict result;
   result["found"] = picked.has_value();

@@ -3,8 +3,8 @@
 // channels, pulses of up to 15 returns (and impossible return pairs), GPS times that jump between
 // sequences, colours, near infrared, wave packets and extra bytes. Every `quiet_span` points,
 // every third span keeps all fields but the coordinates constant, so whole chunks leave layers
-// empty. Deterministic (integer arithmetic only), so that a program outside the repository can
-// build the same records and have LASzip compress them (see test_laz_layered.cpp).
+// empty. Deterministic (integer arithmetic only), so that tests/io/tools/laszip_expectations.cpp
+// builds the same records and has LASzip compress them (see test_laz_layered.cpp).
 #pragma once
 
 #include <array>

@@ -12,6 +12,7 @@
 
 #include "io/las_header.h"
 #include "io/laz_source.h"
+#include "support/file_bytes.h"
 #include "support/test_data.h"
 
 namespace parallax::test {
@@ -22,11 +23,6 @@ inline std::filesystem::path lazData(const std::string& name) {
   const std::filesystem::path own = std::filesystem::path(PARALLAX_LAZ_DATA) / name;
   if (std::filesystem::is_regular_file(own)) return own;
   return testDataFile("laz/" + name);
-}
-
-inline std::string fileBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 // Every record of a LAZ file, decoded chunk by chunk in file order.

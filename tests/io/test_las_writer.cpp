@@ -17,10 +17,13 @@
 #include "io/test_las_builder.h"
 #include "io/text_reader.h"
 #include "support/allocation_counter.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
 namespace {
+
+using test::fileBytes;
 
 using test::LasTestFile;
 using test::LasTestPoint;
@@ -173,11 +176,6 @@ std::string recordsOf(const std::string& las) {
   count = legacy;
   if (las[25] >= 4 && legacy == 0) std::memcpy(&count, las.data() + 247, 8);
   return las.substr(offset, std::size_t(count) * length);
-}
-
-std::string fileBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 // The stream writer, fed in uneven batches (one point, across LAZ chunk borders, the rest), writes

@@ -1,17 +1,19 @@
 // The layered chunk codec of LAZ (compressor 3, point formats 6-10): bit-exact agreement with
 // LASzip both ways, exact round trips, and bad chunks refused with the first point affected.
 //
-// The expected values from LASzip were made with LASzip 3.5.1 (github.com/LASzip/LASzip, built
-// outside the repository) through its C API (laszip_api.h):
+// The expected values from LASzip come from tests/io/tools/laszip_expectations.cpp, run against
+// LASzip 3.5.1 (github.com/LASzip/LASzip, built outside the repository) through its C API
+// (laszip_api.h); its header says how to build it and how to compare its output with the tables
+// here (or regenerate them):
 //   - decoding: laszip_open_reader + laszip_read_point over the whole file, each laszip_point
 //     written back as its raw LAS 1.4 record (the extended_* fields for the return, channel,
 //     classification and scan angle bytes), then FNV-1a 64 over all records;
 //   - encoding: the records of makeSyntheticRecords() written to an uncompressed LAS 1.4 file,
 //     read by laszip_open_reader and written by laszip_open_writer after
 //     laszip_request_native_extension(TRUE) and laszip_set_chunk_size(chunk) (item version 3;
-//     for version 4 the header said LAS 1.5, which makes LASzip pick version 4), then FNV-1a 64
-//     over the file's chunks (from the point data offset + 8 to the chunk table). LASzip decoded
-//     each of those files back to exactly the input records.
+//     for version 4 the header says LAS 1.5, which makes LASzip pick version 4), then FNV-1a 64
+//     over the file's chunks (from the point data offset + 8 to the chunk table). The tool checks
+//     that LASzip decodes each of those files back to exactly the input records.
 #include <gtest/gtest.h>
 
 #include <algorithm>

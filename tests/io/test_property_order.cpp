@@ -13,19 +13,15 @@
 #include "io/ply_writer.h"
 #include "io/point_file.h"
 #include "io/text_writer.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
 namespace {
 
-using test::PlyBody;
+using test::fileBytes;
 
-std::string readBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
+using test::PlyBody;
 
 const std::vector<std::string> kNormalsFirst = {
     "element vertex 2",     "property float x",   "property float y",  "property float z",
@@ -65,7 +61,7 @@ TEST(PropertyOrder, PlyComesBackInItsOwnOrderByteForByte) {
     EXPECT_EQ(cloud.source.order,
               (std::vector<std::string>{"x", "y", "z", "nx", "ny", "nz", "red", "green", "blue"}));
     writePly(cloud, dir / "out.ply", {.format = format});
-    EXPECT_EQ(readBytes(dir / "out.ply"), ourHeader(format, kNormalsFirst) + body);
+    EXPECT_EQ(fileBytes(dir / "out.ply"), ourHeader(format, kNormalsFirst) + body);
   }
 }
 
@@ -79,7 +75,7 @@ TEST(PropertyOrder, ChosenPropertiesAndOrderGiveExactlyThoseBytes) {
   PlyBody body(PlyFormat::BinaryLittleEndian);
   body.put(std::uint8_t{10}).put(1.5f).put(-2.25f).put(3.0f);
   body.put(std::uint8_t{255}).put(4.0f).put(5.5f).put(-6.125f);
-  EXPECT_EQ(readBytes(dir / "out.ply"),
+  EXPECT_EQ(fileBytes(dir / "out.ply"),
             ourHeader(PlyFormat::BinaryLittleEndian,
                       {"element vertex 2", "property uchar red", "property float x",
                        "property float y", "property float z"}) +
@@ -94,13 +90,13 @@ TEST(PropertyOrder, TextKeepsItsColumnOrderAndPassesItToPly) {
                             "4,5.5,-6.125,1,0,0,255,0,128,7\n");
   const PointCloud cloud = readPointFile(in);
   writePointFile(cloud, dir / "out.csv");
-  EXPECT_EQ(readBytes(dir / "out.csv"),
+  EXPECT_EQ(fileBytes(dir / "out.csv"),
             "x,y,z,nx,ny,nz,red,green,blue,quality\n"
             // Each axis at its own resolution (its most decimals): 0.1, 0.01, 0.001.
             "1.5,2.25,3.000,0,0.6,0.8,10,20,30,0.5\n"
             "4.0,5.50,-6.125,1,0,0,255,0,128,7\n");
   writePointFile(cloud, dir / "out.ply");
-  const std::string ply = readBytes(dir / "out.ply");
+  const std::string ply = fileBytes(dir / "out.ply");
   EXPECT_NE(ply.find("property double x\nproperty double y\nproperty double z\nproperty float nx\n"
                      "property float ny\nproperty float nz\nproperty uchar red\nproperty uchar "
                      "green\nproperty uchar blue\nproperty double quality\nend_header\n"),
@@ -114,7 +110,7 @@ TEST(PropertyOrder, PlyOrderCarriesIntoText) {
       "in.ply", header(PlyFormat::Ascii, kNormalsFirst) + normalsFirstBody(PlyFormat::Ascii));
   writePointFile(readPointFile(in), dir / "out.xyz", {.properties = {"x", "y", "z", "blue"}});
   // Float positions print with the fewest digits that read back the same.
-  EXPECT_EQ(readBytes(dir / "out.xyz"), "x y z blue\n1.5 -2.25 3 30\n4 5.5 -6.125 128\n");
+  EXPECT_EQ(fileBytes(dir / "out.xyz"), "x y z blue\n1.5 -2.25 3 30\n4 5.5 -6.125 128\n");
 }
 
 TEST(PropertyOrder, AChannelTheSourceLacksGoesBesideItsGroup) {

@@ -12,15 +12,13 @@
 #include "io/point_file.h"
 #include "io/text_writer.h"
 #include "support/allocation_counter.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
 namespace {
 
-std::string fileBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using test::fileBytes;
 
 PointCloud numberedCloud(std::size_t points) {
   PointCloud cloud;

@@ -1,15 +1,19 @@
-// Small synthetic clouds for the LOD tests, and the multiset of a cloud's points to compare a
-// build's output with its input.
+// Small synthetic clouds for the LOD tests, the multiset of a cloud's points to compare a build's
+// output with its input, and two octrees compared byte for byte.
 #pragma once
+
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <string>
 #include <tuple>
 #include <vector>
 
 #include "core/point_cloud.h"
+#include "support/file_bytes.h"
 
 namespace parallax::test {
 
@@ -71,6 +75,38 @@ inline void addDenseCluster(PointCloud& cloud) {
                           c.z + (p.z - c.z) / 1000};
   }
   cloud.computeBounds();
+}
+
+// makeSurfaceCloud's points with what a LAS point format 3 or 7 holds besides positions and
+// colour: classification (i % `classes`), return numbers 1-3 and a GPS time; no normals.
+inline PointCloud makeLasLikeCloud(std::uint64_t count, int classes) {
+  PointCloud cloud = makeSurfaceCloud(count);
+  cloud.normals = {};
+  cloud.scalars.clear();
+  cloud.classification = Column<std::uint8_t>(cloud.count);
+  ScalarColumn returns{
+      .name = "return_number", .type = ScalarType::UInt8, .data = ByteBuffer(cloud.count)};
+  ScalarColumn gps{
+      .name = "gps_time", .type = ScalarType::Float64, .data = ByteBuffer(cloud.count * 8)};
+  for (std::uint64_t i = 0; i < cloud.count; ++i) {
+    cloud.classification[i] = std::uint8_t(i % std::uint64_t(classes));
+    returns.as<std::uint8_t>()[i] = std::uint8_t(1 + i % 3);
+    gps.as<double>()[i] = 1000.0 + double(i) * 0.25;
+  }
+  cloud.scalars.push_back(std::move(returns));
+  cloud.scalars.push_back(std::move(gps));
+  return cloud;
+}
+
+// The three files of two Potree octrees, byte for byte.
+inline void expectSameOctree(const std::filesystem::path& a, const std::filesystem::path& b) {
+  for (const char* file : {"octree.bin", "hierarchy.bin", "metadata.json"}) {
+    const std::string bytes_a = fileBytes(a / file);
+    EXPECT_FALSE(bytes_a.empty()) << file;
+    const std::string bytes_b = fileBytes(b / file);
+    EXPECT_TRUE(bytes_a == bytes_b)
+        << file << " differs: " << bytes_a.size() << " and " << bytes_b.size() << " bytes";
+  }
 }
 
 // One point as a comparable tuple: world position (exact for the 1 mm grid here), colour,

@@ -15,17 +15,11 @@
 #include "lod/convert_stages.h"
 #include "lod/potree_converter.h"
 #include "lod_test_clouds.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
 namespace {
-
-std::string readBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
 
 std::vector<std::string> namesIn(const std::filesystem::path& dir) {
   std::vector<std::string> names;
@@ -33,35 +27,6 @@ std::vector<std::string> namesIn(const std::filesystem::path& dir) {
     names.push_back(std::filesystem::relative(entry.path(), dir).string());
   std::sort(names.begin(), names.end());
   return names;
-}
-
-// The three files of an octree, byte for byte.
-void expectSameOctree(const std::filesystem::path& a, const std::filesystem::path& b) {
-  for (const char* file : {"octree.bin", "hierarchy.bin", "metadata.json"}) {
-    const std::string bytes_a = readBytes(a / file);
-    EXPECT_FALSE(bytes_a.empty()) << file;
-    EXPECT_TRUE(bytes_a == readBytes(b / file)) << file << " differs";
-  }
-}
-
-// A cloud with the columns a LAS format 3 file holds.
-PointCloud lasLikeCloud(std::uint64_t count) {
-  PointCloud cloud = makeSurfaceCloud(count);
-  cloud.normals = {};
-  cloud.scalars.clear();
-  cloud.classification = Column<std::uint8_t>(cloud.count);
-  ScalarColumn returns{
-      .name = "return_number", .type = ScalarType::UInt8, .data = ByteBuffer(cloud.count)};
-  ScalarColumn gps{
-      .name = "gps_time", .type = ScalarType::Float64, .data = ByteBuffer(cloud.count * 8)};
-  for (std::uint64_t i = 0; i < cloud.count; ++i) {
-    cloud.classification[i] = std::uint8_t(i % 19);
-    returns.as<std::uint8_t>()[i] = std::uint8_t(1 + i % 3);
-    gps.as<double>()[i] = 1000.0 + double(i) * 0.25;
-  }
-  cloud.scalars.push_back(std::move(returns));
-  cloud.scalars.push_back(std::move(gps));
-  return cloud;
 }
 
 PotreeConvertOptions smallChunks() {
@@ -74,7 +39,7 @@ PotreeConvertOptions smallChunks() {
 
 TEST(ConvertDecodesOnce, LazGivesTheOctreeOfItsLasTwin) {
   TempDir dir;
-  const PointCloud cloud = lasLikeCloud(30'000);
+  const PointCloud cloud = makeLasLikeCloud(30'000, 19);
   writePointFile(cloud, dir / "in.las");
   writePointFile(cloud, dir / "in.laz");
   const auto las = convertToPotree({{dir / "in.las", {}}}, dir / "from_las", smallChunks());
@@ -93,7 +58,7 @@ TEST(ConvertDecodesOnce, LazGivesTheOctreeOfItsLasTwin) {
 
 TEST(ConvertDecodesOnce, SmallMemorySpillsToAScratchFileAndGivesTheSameOctree) {
   TempDir dir;
-  const PointCloud cloud = lasLikeCloud(60'000);
+  const PointCloud cloud = makeLasLikeCloud(60'000, 19);
   writePointFile(cloud, dir / "in.laz");
   const auto roomy = convertToPotree({{dir / "in.laz", {}}}, dir / "roomy", smallChunks());
   EXPECT_EQ(roomy.kept_file_bytes, 0u);
@@ -122,7 +87,7 @@ TEST(ConvertDecodesOnce, SmallMemorySpillsToAScratchFileAndGivesTheSameOctree) {
 
 TEST(ConvertDecodesOnce, AFailureRemovesTheScratchFile) {
   TempDir dir;
-  writePointFile(lasLikeCloud(40'000), dir / "in.laz");
+  writePointFile(makeLasLikeCloud(40'000, 19), dir / "in.laz");
   PotreeConvertOptions options = smallChunks();
   options.build.memory_bytes = 1u << 20;
   const std::filesystem::path partial = partialPathFor(dir / "out");
@@ -153,7 +118,7 @@ std::map<std::string, int>& opensByFile() {
 
 class OnceSource final : public PointChunkSource {
  public:
-  explicit OnceSource(const std::filesystem::path& path) : bytes_(readBytes(path)) {
+  explicit OnceSource(const std::filesystem::path& path) : bytes_(fileBytes(path)) {
     if (++opensByFile()[path.string()] > 1) {
       throw InputError(
           {.file = path.string(), .expected = "to be read once", .found = "a second reading"});

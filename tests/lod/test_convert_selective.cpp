@@ -17,45 +17,11 @@
 #include "lod/potree_converter.h"
 #include "lod/potree_reader.h"
 #include "lod_test_clouds.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
 namespace {
-
-std::string readBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
-void expectSameOctree(const std::filesystem::path& a, const std::filesystem::path& b) {
-  for (const char* file : {"octree.bin", "hierarchy.bin", "metadata.json"}) {
-    const std::string bytes_a = readBytes(a / file);
-    EXPECT_FALSE(bytes_a.empty()) << file;
-    EXPECT_TRUE(bytes_a == readBytes(b / file)) << file << " differs";
-  }
-}
-
-// A cloud with what LAS format 7 holds: colour, intensity, classification, returns, GPS time.
-PointCloud format7Cloud(std::uint64_t count) {
-  PointCloud cloud = makeSurfaceCloud(count);
-  cloud.normals = {};
-  cloud.scalars.clear();
-  cloud.classification = Column<std::uint8_t>(cloud.count);
-  ScalarColumn returns{
-      .name = "return_number", .type = ScalarType::UInt8, .data = ByteBuffer(cloud.count)};
-  ScalarColumn gps{
-      .name = "gps_time", .type = ScalarType::Float64, .data = ByteBuffer(cloud.count * 8)};
-  for (std::uint64_t i = 0; i < cloud.count; ++i) {
-    cloud.classification[i] = std::uint8_t(i % 7);
-    returns.as<std::uint8_t>()[i] = std::uint8_t(1 + i % 3);
-    gps.as<double>()[i] = 1000.0 + double(i) * 0.25;
-  }
-  cloud.scalars.push_back(std::move(returns));
-  cloud.scalars.push_back(std::move(gps));
-  return cloud;
-}
 
 PotreeConvertOptions smallChunks() {
   PotreeConvertOptions options;
@@ -94,7 +60,7 @@ const AttributeSelection kColour = AttributeSelection::only({"red", "green", "bl
 
 TEST(ConvertSelective, KeepsOnlyTheAttributesAskedAsTheLasTwinDoes) {
   TempDir dir;
-  const PointCloud cloud = format7Cloud(30'000);
+  const PointCloud cloud = makeLasLikeCloud(30'000, 7);
   writePointFile(cloud, dir / "in.las", {.las_point_format = 7});
   writePointFile(cloud, dir / "in.laz", {.las_point_format = 7});
   convertToPotree({input(dir / "in.las", kColour)}, dir / "las_rgb", smallChunks());
@@ -116,7 +82,7 @@ TEST(ConvertSelective, KeepsOnlyTheAttributesAskedAsTheLasTwinDoes) {
 
 TEST(ConvertSelective, TheFilterReadsItsAttributesAndTheOutputDropsThem) {
   TempDir dir;
-  const PointCloud cloud = format7Cloud(20'000);
+  const PointCloud cloud = makeLasLikeCloud(20'000, 7);
   writePointFile(cloud, dir / "in.las", {.las_point_format = 7});
   writePointFile(cloud, dir / "in.laz", {.las_point_format = 7});
   PointFilter filter;
@@ -154,9 +120,9 @@ std::pair<std::size_t, std::size_t> firstChunkLayer(const std::string& bytes, in
 
 TEST(ConvertSelective, DamageInALayerNotAskedForChangesNothing) {
   TempDir dir;
-  const PointCloud cloud = format7Cloud(20'000);
+  const PointCloud cloud = makeLasLikeCloud(20'000, 7);
   writePointFile(cloud, dir / "in.laz", {.las_point_format = 7});
-  std::string bytes = readBytes(dir / "in.laz");
+  std::string bytes = fileBytes(dir / "in.laz");
   const auto [at, size] = firstChunkLayer(bytes, 8);  // GPS time
   ASSERT_GT(size, 100u);
   ASSERT_LT(at + size, bytes.size());

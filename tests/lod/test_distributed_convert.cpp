@@ -15,25 +15,11 @@
 #include "lod/distributed_tasks.h"
 #include "lod/potree_converter.h"
 #include "lod_test_clouds.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
 namespace {
-
-std::string readBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
-void expectSameOctree(const std::filesystem::path& expected, const std::filesystem::path& got) {
-  for (const char* name : {"metadata.json", "hierarchy.bin", "octree.bin"}) {
-    const std::string a = readBytes(expected / name), b = readBytes(got / name);
-    EXPECT_FALSE(a.empty()) << name;
-    EXPECT_TRUE(a == b) << name << " differs: " << a.size() << " and " << b.size() << " bytes";
-  }
-}
 
 OctreeBuildOptions smallChunks() {
   OctreeBuildOptions options;

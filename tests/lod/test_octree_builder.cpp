@@ -13,6 +13,7 @@
 #include "lod/potree_converter.h"
 #include "lod/sampler.h"
 #include "lod_test_clouds.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
@@ -155,13 +156,6 @@ TEST(OctreeBuilderEdges, EmptyAndSinglePointClouds) {
   ASSERT_EQ(single->nodes().size(), 1u);
   EXPECT_EQ(single->nodes()[0].point_count, 1u);
   EXPECT_EQ(single->info().cube.max[0] - single->info().cube.min[0], 1.0);
-}
-
-std::string fileBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
 }
 
 // The conversion builds several chunks at once and writes them in chunk order: the files must

@@ -16,17 +16,11 @@
 #include "lod/potree_converter.h"
 #include "lod/potree_layout.h"
 #include "lod_test_clouds.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
 namespace {
-
-std::string readBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
 
 struct WalkedNode {
   std::string name;
@@ -47,9 +41,9 @@ struct WalkedOctree {
 // first entry is the proxy node again. Fails the test on any inconsistency.
 WalkedOctree walk(const std::filesystem::path& dir) {
   WalkedOctree result;
-  result.metadata = nlohmann::json::parse(readBytes(dir / "metadata.json"));
-  result.octree = readBytes(dir / "octree.bin");
-  const std::string hierarchy = readBytes(dir / "hierarchy.bin");
+  result.metadata = nlohmann::json::parse(fileBytes(dir / "metadata.json"));
+  result.octree = fileBytes(dir / "octree.bin");
+  const std::string hierarchy = fileBytes(dir / "hierarchy.bin");
   auto entry = [&](std::uint64_t at) {
     WalkedNode node;
     EXPECT_LE(at + 22, hierarchy.size());
@@ -199,7 +193,7 @@ TEST(PotreeConverter, WritesMetadataAsPotreeClientsReadIt) {
   // What the reader makes of the file (its quantization is chosen from float positions).
   const PointCloud cloud = readPointFile(dir / "in.ply");
   convertToPotree({{dir / "in.ply", {}}}, dir / "out");
-  const auto metadata = nlohmann::json::parse(readBytes(dir / "out" / "metadata.json"));
+  const auto metadata = nlohmann::json::parse(fileBytes(dir / "out" / "metadata.json"));
   EXPECT_EQ(metadata["version"], "2.0");
   EXPECT_EQ(metadata["encoding"], "DEFAULT");
   EXPECT_EQ(metadata["name"], "out");
@@ -239,7 +233,7 @@ TEST(PotreeConverter, WritesMetadataAsPotreeClientsReadIt) {
   EXPECT_DOUBLE_EQ(metadata["attributes"][0]["max"][2], cloud.bounds.max[2]);
   EXPECT_EQ(metadata["attributes"][1]["max"][0], 255 * 257);
   // The root's records: the first point's bytes as a client decodes them.
-  const std::string octree = readBytes(dir / "out" / "octree.bin");
+  const std::string octree = fileBytes(dir / "out" / "octree.bin");
   EXPECT_EQ(octree.size(), 2000u * 36u);
 }
 
@@ -289,21 +283,7 @@ TEST(PotreeConverter, MergesSeveralInputsIntoOneOctree) {
 
 TEST(PotreeConverter, KeepsLasAttributesUnderPotreeNames) {
   TempDir dir;
-  PointCloud cloud = makeSurfaceCloud(4000);
-  cloud.normals = {};
-  cloud.scalars.clear();
-  cloud.classification = Column<std::uint8_t>(cloud.count);
-  ScalarColumn returns{
-      .name = "return_number", .type = ScalarType::UInt8, .data = ByteBuffer(cloud.count)};
-  ScalarColumn gps{
-      .name = "gps_time", .type = ScalarType::Float64, .data = ByteBuffer(cloud.count * 8)};
-  for (std::uint64_t i = 0; i < cloud.count; ++i) {
-    cloud.classification[i] = std::uint8_t(i % 19);
-    returns.as<std::uint8_t>()[i] = std::uint8_t(1 + i % 3);
-    gps.as<double>()[i] = 1000.0 + double(i) * 0.25;
-  }
-  cloud.scalars.push_back(std::move(returns));
-  cloud.scalars.push_back(std::move(gps));
+  const PointCloud cloud = makeLasLikeCloud(4000, 19);
   writePointFile(cloud, dir / "in.las");
   const PointCloud las = readPointFile(dir / "in.las");
   PotreeConvertOptions options;
@@ -353,10 +333,10 @@ TEST(PotreeConverter, InterruptedConversionLeavesNothingThatLooksComplete) {
   // An earlier complete output under the same name survives a failed rerun unchanged.
   options.fail_after_octree_bytes = 0;
   convertToPotree({{dir / "in.ply", {}}}, dir / "out", options);
-  const std::string before = readBytes(dir / "out" / "hierarchy.bin");
+  const std::string before = fileBytes(dir / "out" / "hierarchy.bin");
   options.fail_after_octree_bytes = 1000;
   EXPECT_THROW(convertToPotree({{dir / "in.ply", {}}}, dir / "out", options), std::runtime_error);
-  EXPECT_EQ(readBytes(dir / "out" / "hierarchy.bin"), before);
+  EXPECT_EQ(fileBytes(dir / "out" / "hierarchy.bin"), before);
 }
 
 TEST(PotreeConverter, RefusesToReplaceSomethingElse) {

@@ -17,10 +17,14 @@
 #include "raster/geotiff.h"
 #include "raster/raster_layer.h"
 #include "render/image_file.h"
+#include "support/run_parallax.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
 namespace {
+
+using test::readText;
+using test::runWithoutLeakCheck;
 
 constexpr double kPi = 3.14159265358979323846;
 // The plane z = 0.5 x + 0.25 y over 20 x 10 cells of 1 unit from (0, 0).
@@ -86,20 +90,6 @@ TEST(RasterLayer, APointPerCellWithAValueAtItsCentreAndHeight) {
   EXPECT_NEAR(points.colors[i].r, expectedGrey(plane(5.5, kRows - 2.5), planeShade()), 1);
 }
 
-int run(const std::string& command) {
-  const std::string quiet_mesa =
-      "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" " + command;
-  const int status = std::system(quiet_mesa.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string readText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // Two points that set the camera's extent: 30 x 20 units around the raster.
 std::string cornersPly() {
   return "ply\nformat ascii 1.0\nelement vertex 2\nproperty double x\nproperty double y\n"
@@ -125,7 +115,7 @@ TEST(RenderRasterLayer, EachCellsColourAtItsProjectedCentre) {
       "--point-size 12 --ortho --eye 10,5,100 --target 10,5,0 --up 0,1,0 --background 255,0,255 "
       "--rasterizer points 2>'" +
       log.string() + "'";
-  ASSERT_EQ(run(command), 0) << readText(log);
+  ASSERT_EQ(runWithoutLeakCheck(command), 0) << readText(log);
   const RgbaImage image = readPng(png);
   ASSERT_EQ(image.width, kSize);
   const double flat = 1.0 + 254.0 * std::sin(kPi / 4);
@@ -160,7 +150,7 @@ TEST(RenderRasterLayer, AFileThatIsNotARasterIsNamed) {
   const std::string command = std::string(PARALLAX_EXECUTABLE) + " render '" + ply.string() +
                               "' -o '" + (dir / "out.png").string() + "' --raster '" +
                               bad.string() + "' 2>'" + log.string() + "'";
-  EXPECT_NE(run(command), 0);
+  EXPECT_NE(runWithoutLeakCheck(command), 0);
   EXPECT_NE(readText(log).find(bad.string()), std::string::npos) << readText(log);
 }
 

@@ -18,10 +18,13 @@
 #include "io/point_file.h"
 #include "registration/cloud_registration.h"
 #include "render/image_file.h"
+#include "support/run_parallax.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
 namespace {
+
+using test::runWithoutLeakCheck;
 
 // A wavy 40 x 40 patch, 0.25 apart: z = sin(x) cos(0.7 y), enough relief to fix all six
 // degrees of freedom.
@@ -91,13 +94,6 @@ TEST(RegistrationPreview, TargetBlueThenSourceOrangeMovedByTheTransform) {
   }
 }
 
-int run(const std::string& command) {
-  const std::string quiet_mesa =
-      "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" " + command;
-  const int status = std::system(quiet_mesa.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 using Rgb = std::array<int, 3>;
 
 // A picture of `cloud` from above, orthographic, centred on its bounds' centre: the view's
@@ -131,7 +127,7 @@ Picture renderFromAbove(const TempDir& dir, const PointCloud& cloud, const std::
                               "' -o '" + png.string() +
                               "' --width 400 --height 400 --point-size 4 --ortho --eye " + centre +
                               ",50 --target " + centre + ",0 --up 0,1,0 --rasterizer points -q";
-  EXPECT_EQ(run(command), 0) << command;
+  EXPECT_EQ(runWithoutLeakCheck(command), 0) << command;
   picture.image = readPng(png);
   return picture;
 }

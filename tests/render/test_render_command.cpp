@@ -19,26 +19,14 @@
 #include "render/camera.h"
 #include "render/image_file.h"
 #include "render/view_extent.h"
+#include "support/run_parallax.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
 namespace {
 
-// Runs a shell command. In sanitizer builds the child `parallax` would report Mesa's own
-// allocations at exit as leaks; leak checking is off for the child only.
-int run(const std::string& command) {
-  const std::string quiet_mesa =
-      "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" " + command;
-  const int status = std::system(quiet_mesa.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string readText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using test::readText;
+using test::runWithoutLeakCheck;
 
 std::string quoted(const std::filesystem::path& path) {
   // Appended, not `"'" + path.string()`: GCC 12 warns (-Wrestrict, bug 105329) on that insert.
@@ -84,7 +72,7 @@ TEST(RenderCommand, EyeTargetUpAndFovGiveExactlyTheProjectedPixels) {
                               " --eye 432100.3,5123397.7,251.6 --target 432100,5123400,250"
                               " --up 0,0,1 --fov 40 2>" +
                               quoted(dir / "log");
-  ASSERT_EQ(run(command), 0) << readText(dir / "log");
+  ASSERT_EQ(runWithoutLeakCheck(command), 0) << readText(dir / "log");
   const RgbaImage image = readPng(png);
   ASSERT_EQ(image.width, 96);
   ASSERT_EQ(image.height, 64);
@@ -143,7 +131,7 @@ TEST(RenderCommand, CameraPathWritesEveryFrame) {
                               " --path " + quoted(dir / "path.json") + " --frames 4 -o " +
                               quoted(dir / "frames" / "frame_%04d.png") +
                               " --width 32 --height 24 2>" + quoted(dir / "log");
-  ASSERT_EQ(run(command), 0) << readText(dir / "log");
+  ASSERT_EQ(runWithoutLeakCheck(command), 0) << readText(dir / "log");
   for (int f = 0; f < 4; ++f) {
     char name[32];
     std::snprintf(name, sizeof name, "frame_%04d.png", f);
@@ -178,8 +166,9 @@ TEST(RenderCommand, DefaultViewFillsThePictureWithTheCloud) {
   for (int i = 0; i < 200; ++i) points.push_back({512030, 5400010, 300 + 0.2 * i});
   const auto ply = dir.write("scan.ply", pointsPly(points));
   const int width = 160, height = 120;
-  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(ply) + " --width 160 " +
-                "--height 120 -o " + quoted(dir / "out.png") + " 2>" + quoted(dir / "log")),
+  ASSERT_EQ(runWithoutLeakCheck(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(ply) +
+                                " --width 160 " + "--height 120 -o " + quoted(dir / "out.png") +
+                                " 2>" + quoted(dir / "log")),
             0)
       << readText(dir / "log");
   const RgbaImage image = readPng(dir / "out.png");
@@ -242,13 +231,13 @@ TEST(RenderCommand, StereoQuadBufferFallsBackToSideBySideHeadlessWithAMessage) {
   const auto ply = dir.write("grid.ply", gridPly());
   const std::string base = std::string(PARALLAX_EXECUTABLE) + " render " + quoted(ply) +
                            " --width 96 --height 48 --eye-separation 0.05 --convergence 2";
-  ASSERT_EQ(run(base + " --stereo quad-buffer -o " + quoted(dir / "quad.png") + " 2>" +
-                quoted(dir / "quad.log")),
+  ASSERT_EQ(runWithoutLeakCheck(base + " --stereo quad-buffer -o " + quoted(dir / "quad.png") +
+                                " 2>" + quoted(dir / "quad.log")),
             0)
       << readText(dir / "quad.log");
-  ASSERT_EQ(
-      run(base + " --stereo sbs -o " + quoted(dir / "sbs.png") + " 2>" + quoted(dir / "sbs.log")),
-      0)
+  ASSERT_EQ(runWithoutLeakCheck(base + " --stereo sbs -o " + quoted(dir / "sbs.png") + " 2>" +
+                                quoted(dir / "sbs.log")),
+            0)
       << readText(dir / "sbs.log");
   const std::string log = readText(dir / "quad.log");
   EXPECT_NE(log.find("quad-buffer stereo needs a window with a stereo (GL_STEREO) visual"),
@@ -277,7 +266,7 @@ TEST(RenderCommand, UnknownStereoModeIsAClearError) {
   const std::string command = std::string(PARALLAX_EXECUTABLE) + " render " + quoted(ply) +
                               " --stereo 3d -o " + quoted(dir / "out.png") + " 2>" +
                               quoted(dir / "log");
-  EXPECT_EQ(run(command), 1);  // an option error (bad input is 2), not a crash
+  EXPECT_EQ(runWithoutLeakCheck(command), 1);  // an option error (bad input is 2), not a crash
   const std::string log = readText(dir / "log");
   EXPECT_NE(log.find("--stereo: unknown mode '3d' (use mono|sbs|sbs-squeezed|tb|anaglyph|"
                      "anaglyph-dubois|interlaced|quad-buffer)"),
@@ -291,7 +280,7 @@ TEST(RenderCommand, UnreadableFileIsAClearErrorNotACrash) {
   const auto bad = dir.write("broken.ply", "ply\nformat ascii 1.0\nelement vertex 2\nend_header\n");
   const std::string command = std::string(PARALLAX_EXECUTABLE) + " render " + quoted(bad) + " -o " +
                               quoted(dir / "out.png") + " 2>" + quoted(dir / "log");
-  EXPECT_EQ(run(command), 2);
+  EXPECT_EQ(runWithoutLeakCheck(command), 2);
   EXPECT_NE(readText(dir / "log").find("broken.ply"), std::string::npos) << readText(dir / "log");
   EXPECT_FALSE(std::filesystem::exists(dir / "out.png"));
 }
@@ -304,7 +293,8 @@ TEST(RenderCommand, NoOpenGl45IsAClearError) {
   // Only Mesa honours MESA_GL_VERSION_OVERRIDE. Whether the driver is Mesa is read off a run
   // without the override (its GL version string names Mesa), never off the run under test: a
   // render that succeeds under the override is exactly the failure this test is for.
-  ASSERT_EQ(run(render + " 2>" + quoted(dir / "plain.log")), 0) << readText(dir / "plain.log");
+  ASSERT_EQ(runWithoutLeakCheck(render + " 2>" + quoted(dir / "plain.log")), 0)
+      << readText(dir / "plain.log");
   const std::string plain = readText(dir / "plain.log");
   const auto gl = plain.find("(OpenGL ");
   ASSERT_NE(gl, std::string::npos) << plain;
@@ -315,7 +305,8 @@ TEST(RenderCommand, NoOpenGl45IsAClearError) {
                  << "), so MESA_GL_VERSION_OVERRIDE cannot stand for an old driver";
   }
   // Mesa's override caps the version it offers: what a user with an old driver would see.
-  const int status = run("MESA_GL_VERSION_OVERRIDE=3.3 " + render + " 2>" + quoted(dir / "log"));
+  const int status =
+      runWithoutLeakCheck("MESA_GL_VERSION_OVERRIDE=3.3 " + render + " 2>" + quoted(dir / "log"));
   EXPECT_EQ(status, 1);
   const std::string log = readText(dir / "log");
   EXPECT_NE(log.find("needs OpenGL 4.5 core"), std::string::npos) << log;
@@ -331,8 +322,12 @@ struct LodFiles {
 LodFiles generatedCloud(const TempDir& dir) {
   LodFiles files{dir / "scan.ply", dir / "scan_octree"};
   const std::string exe = PARALLAX_EXECUTABLE;
-  EXPECT_EQ(run(exe + " generate --points 60000 -o " + quoted(files.ply) + " > /dev/null 2>&1"), 0);
-  EXPECT_EQ(run(exe + " convert -q " + quoted(files.ply) + " -o " + quoted(files.octree)), 0);
+  EXPECT_EQ(runWithoutLeakCheck(exe + " generate --points 60000 -o " + quoted(files.ply) +
+                                " > /dev/null 2>&1"),
+            0);
+  EXPECT_EQ(
+      runWithoutLeakCheck(exe + " convert -q " + quoted(files.ply) + " -o " + quoted(files.octree)),
+      0);
   return files;
 }
 
@@ -362,12 +357,12 @@ TEST(RenderCommandLod, DirectoryWithABudgetAboveTheCloudEqualsThePlainRender) {
   // options after the input, which --target's list would otherwise take in.
   const std::string render = std::string(PARALLAX_EXECUTABLE) + " render ";
   const std::string options = " --width 160 --height 120 --eye=-130,-130,80 --target=0,10,0";
-  ASSERT_EQ(run(render + quoted(files.ply) + options + " -o " + quoted(dir / "plain.png") + " 2>" +
-                quoted(dir / "plain.log")),
+  ASSERT_EQ(runWithoutLeakCheck(render + quoted(files.ply) + options + " -o " +
+                                quoted(dir / "plain.png") + " 2>" + quoted(dir / "plain.log")),
             0)
       << readText(dir / "plain.log");
-  ASSERT_EQ(run(render + quoted(files.octree) + options + " --min-node-size 0 -o " +
-                quoted(dir / "lod.png") + " 2>" + quoted(dir / "lod.log")),
+  ASSERT_EQ(runWithoutLeakCheck(render + quoted(files.octree) + options + " --min-node-size 0 -o " +
+                                quoted(dir / "lod.png") + " 2>" + quoted(dir / "lod.log")),
             0)
       << readText(dir / "lod.log");
   const std::string log = readText(dir / "lod.log");
@@ -383,10 +378,11 @@ TEST(RenderCommandLod, SmallBudgetDrawsAtMostTheBudgetInMonoAndStereo) {
   const LodFiles files = generatedCloud(dir);
   for (const std::string stereo : {"mono", "sbs"}) {
     const auto log = dir / (stereo + ".log");
-    ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(files.octree) +
-                  " --budget 20000 --stereo " + stereo + " --width 128 --height 96 -o " +
-                  quoted(dir / (stereo + ".png")) + " 2>" + quoted(log)),
-              0)
+    ASSERT_EQ(
+        runWithoutLeakCheck(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(files.octree) +
+                            " --budget 20000 --stereo " + stereo + " --width 128 --height 96 -o " +
+                            quoted(dir / (stereo + ".png")) + " 2>" + quoted(log)),
+        0)
         << readText(log);
     const std::string text = readText(log);
     const long long drawn = numberAfter(text, "drawn (");
@@ -405,9 +401,10 @@ TEST(RenderCommandLod, CameraPathOverADirectoryWritesEveryFrame) {
   b.lookAt({300, 0, 150}, {0, 0, 0}, {0, 0, 1});
   dir.write("path.json", twoKeyframePath(a, b));
   ASSERT_EQ(
-      run(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(files.octree) +
-          " --budget 30000 --path " + quoted(dir / "path.json") + " --frames 3 -o " +
-          quoted(dir / "frames" / "f%d.png") + " --width 48 --height 32 2>" + quoted(dir / "log")),
+      runWithoutLeakCheck(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(files.octree) +
+                          " --budget 30000 --path " + quoted(dir / "path.json") +
+                          " --frames 3 -o " + quoted(dir / "frames" / "f%d.png") +
+                          " --width 48 --height 32 2>" + quoted(dir / "log")),
       0)
       << readText(dir / "log");
   for (int f = 0; f < 3; ++f) {
@@ -425,9 +422,13 @@ TEST(RenderCommandLod, FileOverTheBudgetIsConvertedOnceIntoTheCache) {
   const std::string command = "XDG_CACHE_HOME=" + quoted(dir / "xdg") + " " + PARALLAX_EXECUTABLE +
                               " render " + quoted(files.ply) +
                               " --budget 30000 --width 128 --height 96 -o ";
-  ASSERT_EQ(run(command + quoted(dir / "first.png") + " 2>" + quoted(dir / "first.log")), 0)
+  ASSERT_EQ(
+      runWithoutLeakCheck(command + quoted(dir / "first.png") + " 2>" + quoted(dir / "first.log")),
+      0)
       << readText(dir / "first.log");
-  ASSERT_EQ(run(command + quoted(dir / "second.png") + " 2>" + quoted(dir / "second.log")), 0)
+  ASSERT_EQ(runWithoutLeakCheck(command + quoted(dir / "second.png") + " 2>" +
+                                quoted(dir / "second.log")),
+            0)
       << readText(dir / "second.log");
   const std::string first = readText(dir / "first.log"), second = readText(dir / "second.log");
   const std::string cache = (dir / "xdg" / "parallax" / "octrees").string();
@@ -443,16 +444,18 @@ TEST(RenderCommandLod, FileOverTheBudgetIsConvertedOnceIntoTheCache) {
   EXPECT_TRUE(readPng(dir / "first.png").pixels == readPng(dir / "second.png").pixels);
 
   // --cache-dir overrides it; --no-cache leaves nothing behind.
-  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(files.ply) +
-                " --budget 30000 --width 64 --height 48 --cache-dir " + quoted(dir / "mine") +
-                " -o " + quoted(dir / "mine.png") + " 2>" + quoted(dir / "mine.log")),
+  ASSERT_EQ(runWithoutLeakCheck(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(files.ply) +
+                                " --budget 30000 --width 64 --height 48 --cache-dir " +
+                                quoted(dir / "mine") + " -o " + quoted(dir / "mine.png") + " 2>" +
+                                quoted(dir / "mine.log")),
             0)
       << readText(dir / "mine.log");
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir / "mine"), {}), 1);
   std::filesystem::create_directories(dir / "tmp");
-  ASSERT_EQ(run("TMPDIR=" + quoted(dir / "tmp") + " " + PARALLAX_EXECUTABLE + " render " +
-                quoted(files.ply) + " --budget 30000 --width 64 --height 48 --no-cache -o " +
-                quoted(dir / "none.png") + " 2>" + quoted(dir / "none.log")),
+  ASSERT_EQ(runWithoutLeakCheck("TMPDIR=" + quoted(dir / "tmp") + " " + PARALLAX_EXECUTABLE +
+                                " render " + quoted(files.ply) +
+                                " --budget 30000 --width 64 --height 48 --no-cache -o " +
+                                quoted(dir / "none.png") + " 2>" + quoted(dir / "none.log")),
             0)
       << readText(dir / "none.log");
   EXPECT_TRUE(std::filesystem::exists(dir / "none.png"));
@@ -466,12 +469,13 @@ TEST(RenderCommandLod, TextFileOverTheBudgetGoesThroughTheOctree) {
   TempDir dir;
   const LodFiles files = generatedCloud(dir);
   const auto xyz = dir / "scan.xyz";
-  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " convert -q " + quoted(files.ply) + " -o " +
-                quoted(xyz)),
+  ASSERT_EQ(runWithoutLeakCheck(std::string(PARALLAX_EXECUTABLE) + " convert -q " +
+                                quoted(files.ply) + " -o " + quoted(xyz)),
             0);
-  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(xyz) +
-                " --budget 30000 --width 64 --height 48 --cache-dir " + quoted(dir / "cache") +
-                " -o " + quoted(dir / "text.png") + " 2>" + quoted(dir / "text.log")),
+  ASSERT_EQ(runWithoutLeakCheck(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(xyz) +
+                                " --budget 30000 --width 64 --height 48 --cache-dir " +
+                                quoted(dir / "cache") + " -o " + quoted(dir / "text.png") + " 2>" +
+                                quoted(dir / "text.log")),
             0)
       << readText(dir / "text.log");
   const std::string log = readText(dir / "text.log");
@@ -488,13 +492,13 @@ TEST(RenderCommandLod, TextFileOverTheBudgetGoesThroughTheOctree) {
 TEST(RenderCommandLod, PreviewDrawsASampleOfTheBudget) {
   TempDir dir;
   const auto ply = dir / "scan.ply";
-  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " generate --points 60000 -o " + quoted(ply) +
-                " > /dev/null 2>&1"),
+  ASSERT_EQ(runWithoutLeakCheck(std::string(PARALLAX_EXECUTABLE) + " generate --points 60000 -o " +
+                                quoted(ply) + " > /dev/null 2>&1"),
             0);
-  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(ply) +
-                " --preview --budget 6000 --cache-dir " + quoted(dir / "cache") +
-                " --width 128 --height 96 -o " + quoted(dir / "preview.png") + " 2>" +
-                quoted(dir / "log")),
+  ASSERT_EQ(runWithoutLeakCheck(std::string(PARALLAX_EXECUTABLE) + " render " + quoted(ply) +
+                                " --preview --budget 6000 --cache-dir " + quoted(dir / "cache") +
+                                " --width 128 --height 96 -o " + quoted(dir / "preview.png") +
+                                " 2>" + quoted(dir / "log")),
             0)
       << readText(dir / "log");
   const std::string log = readText(dir / "log");
@@ -519,7 +523,7 @@ TEST(RenderCommandLod, HierarchyPointingPastOctreeBinIsAClearError) {
   const std::string command = std::string(PARALLAX_EXECUTABLE) + " render " + quoted(files.octree) +
                               " --min-node-size 0 -o " + quoted(dir / "out.png") + " 2>" +
                               quoted(dir / "log");
-  EXPECT_EQ(run(command), 2);
+  EXPECT_EQ(runWithoutLeakCheck(command), 2);
   const std::string log = readText(dir / "log");
   EXPECT_NE(log.find("hierarchy.bin: byte offset 22, element 'node r0': expected a byte range "
                      "inside"),

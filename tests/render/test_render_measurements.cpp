@@ -14,27 +14,17 @@
 #include "render/camera.h"
 #include "render/image_file.h"
 #include "support/reference_projection.h"
+#include "support/run_parallax.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
 namespace {
 
+using test::readText;
+using test::runWithoutLeakCheck;
+
 constexpr double kEast = 432100.0, kNorth = 5123400.0, kUp = 250.0;
 constexpr int kWidth = 320, kHeight = 240;
-
-int run(const std::string& command) {
-  const std::string quiet_mesa =
-      "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" " + command;
-  const int status = std::system(quiet_mesa.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string readText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // A flat grey ground grid (every 0.5 units over 10 x 10) and one red point 10 units above the
 // ground at (5, 5): nearer the camera than the ground under it.
@@ -106,7 +96,7 @@ TEST(RenderMeasurements, DistanceLineOnTheProjectedPixelsFadedBehindANearerPoint
       std::string(PARALLAX_EXECUTABLE) + " render " + ply.string() + " -o " + png.string() +
       " --width " + std::to_string(kWidth) + " --height " + std::to_string(kHeight) +
       " --point-size 9 --measurements " + json.string() + " 2> " + (dir / "log").string();
-  ASSERT_EQ(run(command), 0) << readText(dir / "log");
+  ASSERT_EQ(runWithoutLeakCheck(command), 0) << readText(dir / "log");
   EXPECT_NE(readText(dir / "log").find("drew 1 measurements and 0 annotations"), std::string::npos)
       << readText(dir / "log");
   const RgbaImage image = readPng(png);
@@ -140,7 +130,7 @@ TEST(RenderMeasurements, CameraOptionsWinOverTheFilesCamera) {
                               std::to_string(kUp + 20) + " --target " + std::to_string(kEast + 10) +
                               "," + std::to_string(kNorth + 10) + "," + std::to_string(kUp) +
                               " --measurements " + json.string() + " 2> " + (dir / "log").string();
-  ASSERT_EQ(run(command), 0) << readText(dir / "log");
+  ASSERT_EQ(runWithoutLeakCheck(command), 0) << readText(dir / "log");
   EXPECT_EQ(readText(dir / "log").find("from its camera"), std::string::npos);
   const RgbaImage image = readPng(png);
   const auto where = cpuPixel(kEast + 3, kNorth + 5, kUp);
@@ -156,7 +146,7 @@ TEST(RenderMeasurements, MalformedFileIsAnErrorNamingTheFileAndThePath) {
   const std::string command = std::string(PARALLAX_EXECUTABLE) + " render " + ply.string() +
                               " -o " + (dir / "out.png").string() + " --measurements " +
                               json.string() + " 2> " + (dir / "log").string();
-  EXPECT_EQ(run(command), 2);
+  EXPECT_EQ(runWithoutLeakCheck(command), 2);
   const std::string log = readText(dir / "log");
   EXPECT_NE(log.find("bad.json"), std::string::npos) << log;
   EXPECT_NE(log.find("measurements[0].points[1]"), std::string::npos) << log;
@@ -174,14 +164,14 @@ TEST(RenderMeasurements, ViewReadsTheFileBeforeOpeningAWindow) {
   const std::string command = "DISPLAY= " + std::string(PARALLAX_EXECUTABLE) + " view " +
                               ply.string() + " --measurements " + json.string() + " 2> " +
                               (dir / "log").string();
-  EXPECT_EQ(run(command), 2);
+  EXPECT_EQ(runWithoutLeakCheck(command), 2);
   const std::string log = readText(dir / "log");
   EXPECT_NE(log.find("bad.json"), std::string::npos) << log;
   EXPECT_NE(log.find("measurements[0].kind"), std::string::npos) << log;
   EXPECT_NE(log.find("'volume'"), std::string::npos) << log;
   // An unknown tool is an option error (status 1) naming the tools there are.
-  EXPECT_EQ(run("DISPLAY= " + std::string(PARALLAX_EXECUTABLE) + " view " + ply.string() +
-                " --tool ruler 2> " + (dir / "log").string()),
+  EXPECT_EQ(runWithoutLeakCheck("DISPLAY= " + std::string(PARALLAX_EXECUTABLE) + " view " +
+                                ply.string() + " --tool ruler 2> " + (dir / "log").string()),
             1);
   EXPECT_NE(readText(dir / "log").find("distance, height, area"), std::string::npos)
       << readText(dir / "log");

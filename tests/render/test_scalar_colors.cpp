@@ -18,10 +18,14 @@
 
 #include "render/image_file.h"
 #include "render/scalar_colors.h"
+#include "support/run_parallax.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
 namespace {
+
+using test::readText;
+using test::runWithoutLeakCheck;
 
 using Rgb = std::array<int, 3>;
 
@@ -150,20 +154,6 @@ TEST(PaintScalarField, GivenRangeClampsAndBadInputIsAnError) {
 
 // --- `parallax render --color distance`, end to end -----------------------------------------
 
-int run(const std::string& command) {
-  const std::string quiet_mesa =
-      "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" " + command;
-  const int status = std::system(quiet_mesa.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string readText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // The test cloud as a binary PLY (x y z double, distance float: NaN too).
 std::string distancePly() {
   std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex " +
@@ -215,7 +205,7 @@ RenderRun renderDistances(const TempDir& dir, const std::string& rasterizer,
       " --eye 4,0.1,10 --target 4,0.1,0 --up 0,1,0 --background 255,0,255 --rasterizer " +
       rasterizer + " " + color_options + " 2>'" + log.string() + "'";
   RenderRun result;
-  result.rc = run(command);
+  result.rc = runWithoutLeakCheck(command);
   result.log = readText(log);
   if (result.rc == 0) result.runs = runsAlongRow(readPng(png), 20);
   return result;

@@ -21,10 +21,14 @@
 #include "render/overlay_font.h"
 #include "render/scalar_colors.h"
 #include "render/scalar_legend.h"
+#include "support/run_parallax.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
 namespace {
+
+using test::readText;
+using test::runWithoutLeakCheck;
 
 using Rgb = std::array<int, 3>;
 
@@ -143,20 +147,6 @@ const std::vector<float> kSigned{
 constexpr int kWidth = 400, kHeight = 160;  // 20 pixels a unit (the ortho height: 8)
 const Rgb kMagenta{255, 0, 255};
 
-int run(const std::string& command) {
-  const std::string quiet_mesa =
-      "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" " + command;
-  const int status = std::system(quiet_mesa.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::string readText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 std::string signedPly() {
   std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex " +
                     std::to_string(kSigned.size()) +
@@ -196,7 +186,7 @@ Rendered renderSigned(const TempDir& dir, const std::string& options) {
                               "0,1,0 --background 255,0,255 --rasterizer points " +
                               options + " 2>'" + log.string() + "'";
   Rendered r;
-  r.rc = run(command);
+  r.rc = runWithoutLeakCheck(command);
   r.log = readText(log);
   if (r.rc == 0) r.image = readPng(png);
   return r;

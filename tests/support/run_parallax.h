@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
@@ -29,10 +30,17 @@ inline std::string quoted(const std::string& text) {
 }
 
 inline std::string readText(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return fileBytes(path);
+}
+
+// Runs a shell command line (a `parallax` command with its redirections) and returns its exit
+// code. In sanitizer builds the child would report Mesa's own allocations at exit (llvmpipe's,
+// outside this project) as leaks: leak checking is off for the child only.
+inline int runWithoutLeakCheck(const std::string& command) {
+  const std::string quiet_mesa =
+      "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" " + command;
+  const int status = std::system(quiet_mesa.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 // `parallax ARGS` (ARGS as the shell reads them: quote paths with quoted()).

@@ -11,15 +11,13 @@
 #include <string>
 
 #include "io/ply_reader.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax::synth {
 namespace {
 
-std::string readBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using parallax::test::fileBytes;
 
 std::filesystem::path generate(const test::TempDir& dir, const std::string& name,
                                std::uint64_t points, std::uint64_t seed, int threads,
@@ -43,9 +41,9 @@ constexpr std::uint64_t kPoints = 3 * SceneGenerator::kBlockPoints + 1234;
 
 TEST(SceneGenerator, SameSeedGivesSameBytesWhateverTheThreadCount) {
   test::TempDir dir;
-  auto one = readBytes(generate(dir, "one.ply", kPoints, 7, 1));
-  auto two = readBytes(generate(dir, "two.ply", kPoints, 7, 2));
-  auto other = readBytes(generate(dir, "other.ply", kPoints, 8, 2));
+  auto one = fileBytes(generate(dir, "one.ply", kPoints, 7, 1));
+  auto two = fileBytes(generate(dir, "two.ply", kPoints, 7, 2));
+  auto other = fileBytes(generate(dir, "other.ply", kPoints, 8, 2));
   EXPECT_EQ(one.size(), two.size());
   EXPECT_TRUE(one == two);
   EXPECT_EQ(one.size(), other.size());
@@ -54,7 +52,7 @@ TEST(SceneGenerator, SameSeedGivesSameBytesWhateverTheThreadCount) {
 
 TEST(SceneGenerator, WritesExactlyTheLayoutOfPhotogrammetryExports) {
   test::TempDir dir;
-  auto bytes = readBytes(generate(dir, "scan.ply", 1000, 1, 0));
+  auto bytes = fileBytes(generate(dir, "scan.ply", 1000, 1, 0));
   const std::string expected_header =
       "ply\n"
       "format binary_little_endian 1.0\n"
@@ -73,10 +71,10 @@ TEST(SceneGenerator, WritesExactlyTheLayoutOfPhotogrammetryExports) {
 
 TEST(SceneGenerator, AsciiAndBigEndianHaveTheSamePointCount) {
   test::TempDir dir;
-  auto ascii = readBytes(generate(dir, "a.ply", 500, 3, 0, PlyFormat::Ascii));
+  auto ascii = fileBytes(generate(dir, "a.ply", 500, 3, 0, PlyFormat::Ascii));
   auto body = ascii.substr(ascii.find("end_header\n") + 11);
   EXPECT_EQ(std::count(body.begin(), body.end(), '\n'), 500);
-  auto be = readBytes(generate(dir, "be.ply", 500, 3, 0, PlyFormat::BinaryBigEndian));
+  auto be = fileBytes(generate(dir, "be.ply", 500, 3, 0, PlyFormat::BinaryBigEndian));
   auto header_end = be.find("end_header\n") + 11;
   EXPECT_EQ(be.size(), header_end + 27 * 500);
 }
