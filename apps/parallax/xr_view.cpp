@@ -35,13 +35,8 @@ const OverlayColor kLaserColor{1.0f, 0.2f, 0.2f, 0.9f};
 View laserView(const StagePlacement& placement, const StagePose& aim) {
   View view;
   view.viewport = {0, 0, kLaserPixels, kLaserPixels};
-  Camera& camera = view.camera;
-  camera.projection = Projection::Perspective;
-  camera.world_up = glm::dvec3(0, 0, 1);
-  camera.position = stageToFile(placement, aim.position);
-  camera.orientation = glm::normalize(stageToFileRotation(placement) * aim.orientation);
-  camera.pivot = camera.position + camera.forward();
-  camera.fov_y_deg = kLaserConeDeg;
+  view.camera = cameraAtStagePose(placement, aim);
+  view.camera.fov_y_deg = kLaserConeDeg;
   return view;
 }
 

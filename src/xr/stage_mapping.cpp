@@ -55,6 +55,16 @@ glm::dquat stageToFileRotation(const StagePlacement& p) {
   return kStageToFile * glm::angleAxis(-p.yaw, glm::dvec3(0, 1, 0));
 }
 
+Camera cameraAtStagePose(const StagePlacement& placement, const StagePose& pose) {
+  Camera camera;
+  camera.projection = Projection::Perspective;
+  camera.world_up = glm::dvec3(0, 0, 1);
+  camera.position = stageToFile(placement, pose.position);
+  camera.orientation = glm::normalize(stageToFileRotation(placement) * pose.orientation);
+  camera.pivot = camera.position + camera.forward();
+  return camera;
+}
+
 EyeView eyeView(const StagePlacement& placement, const EyeFov& fov, const StagePose& eye, int x,
                 int width, int height) {
   assert(fov.left < fov.right && fov.down < fov.up && "eyeView: an empty field of view");
@@ -80,12 +90,8 @@ EyeView eyeView(const StagePlacement& placement, const EyeFov& fov, const StageP
   }
   View& view = out.view;
   view.viewport = {x, 0, width, rows};
+  view.camera = cameraAtStagePose(placement, eye);
   Camera& camera = view.camera;
-  camera.projection = Projection::Perspective;
-  camera.world_up = glm::dvec3(0, 0, 1);
-  camera.position = stageToFile(placement, eye.position);
-  camera.orientation = glm::normalize(stageToFileRotation(placement) * eye.orientation);
-  camera.pivot = camera.position + camera.forward();
   const double half_tan_y = rows / (2.0 * k);
   camera.fov_y_deg = glm::degrees(2.0 * std::atan(half_tan_y));
   // A symmetric frustum of half-tangent (tr - tl) / 2 sheared to its centre (tr + tl) / 2:

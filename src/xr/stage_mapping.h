@@ -50,6 +50,10 @@ struct StagePose {
   glm::dquat orientation{1.0, 0.0, 0.0, 0.0};  // w, x, y, z
 };
 
+// A perspective camera at a stage pose (an eye's, a controller's aim), looking along the pose's
+// -z in file coordinates, z up; its field of view is the caller's.
+Camera cameraAtStagePose(const StagePlacement& placement, const StagePose& pose);
+
 // The eye as a view of the renderer. Its frusta are symmetric vertically (render's Camera has a
 // horizontal off-axis skew, for desktop stereo, and no vertical one), so the eye is drawn into a
 // taller viewport `view.viewport` (x, 0, width, canvas rows) whose vertical centre is the eye's
