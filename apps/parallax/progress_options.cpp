@@ -6,6 +6,7 @@
 #include <mutex>
 #include <system_error>
 
+#include "core/throttled_progress.h"
 #include "io/point_file.h"
 #include "progress_observer.h"
 
@@ -22,34 +23,21 @@ std::shared_ptr<const ProgressObserver> observer() {
 }
 
 // A stage's progress reported to the observer (progress_observer.h says how often).
-class ObservedStage final : public Progress {
+class ObservedStage final : public ThrottledProgress {
  public:
   ObservedStage(std::shared_ptr<const ProgressObserver> observer, std::string label,
                 std::uint64_t total)
-      : observer_(std::move(observer)),
-        label_(std::move(label)),
-        total_(total),
-        step_(total ? std::max<std::uint64_t>(1, total / 200) : (1u << 20)),
-        next_(step_) {}
+      : ThrottledProgress(total), observer_(std::move(observer)), label_(std::move(label)) {}
   ~ObservedStage() override {
-    const std::lock_guard lock(mutex_);
-    (*observer_)(label_, done_.load(), total_);
-  }
-  void advance(std::uint64_t amount) override {
-    const std::uint64_t done = done_.fetch_add(amount) + amount;
-    if (done < next_.load()) return;
-    const std::lock_guard lock(mutex_);
-    if (done < next_.load()) return;
-    next_ = done + step_;
-    (*observer_)(label_, done, total_);
+    const std::lock_guard lock(report_mutex_);
+    (*observer_)(label_, done(), total());
   }
 
  private:
+  void report(std::uint64_t done) override { (*observer_)(label_, done, total()); }
+
   std::shared_ptr<const ProgressObserver> observer_;
   std::string label_;
-  std::uint64_t total_, step_;
-  std::atomic<std::uint64_t> done_{0}, next_;
-  std::mutex mutex_;
 };
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "core/progress.h"
+#include "core/throttled_progress.h"
 #include "io/coordinate_system.h"
 #include "io/las_header.h"
 #include "io/point_file.h"
@@ -77,51 +78,34 @@ void keepOnlyColumns(PointCloud& cloud, const std::vector<std::string>& wanted) 
   std::erase_if(cloud.scalars, [&](const ScalarColumn& c) { return !keep.count(c.name); });
 }
 
-// A Progress that calls a Python callable with (done, total) from whichever thread advances it:
-// at most every 1/200 of the total (every 2^20 units when the total is unknown), one call at a
-// time, with the GIL taken for it. An exception the callable raises is kept and raised again by
-// finish(), once the work is done (the readers cannot be interrupted mid-file).
-class PythonProgress final : public Progress {
+// A Progress that calls a Python callable with (done, total) from whichever thread advances it,
+// as often as ThrottledProgress reports, with the GIL taken for each call. An exception the
+// callable raises is kept and raised again by finish(), once the work is done (the readers
+// cannot be interrupted mid-file).
+class PythonProgress final : public ThrottledProgress {
  public:
   PythonProgress(py::object callback, std::uint64_t total)
-      : callback_(std::move(callback)),
-        total_(total),
-        step_(total ? std::max<std::uint64_t>(1, total / 200) : (1u << 20)),
-        next_(step_) {}
-
-  void advance(std::uint64_t amount) override {
-    const std::uint64_t done = done_.fetch_add(amount) + amount;
-    if (done < next_.load()) return;
-    const std::lock_guard lock(mutex_);
-    if (done < next_.load()) return;
-    next_ = done + step_;
-    call(done);
-  }
+      : ThrottledProgress(total), callback_(std::move(callback)) {}
 
   // The last call, (total, total) when the total was known; raises what the callable raised.
   // Needs the GIL.
   void finish() {
-    call(std::max(done_.load(), total_));
+    report(std::max(done(), total()));
     if (error_) throw std::move(*error_);
   }
 
  private:
-  void call(std::uint64_t done) {
+  void report(std::uint64_t done) override {
     if (error_) return;
     py::gil_scoped_acquire gil;
     try {
-      callback_(done, total_ ? py::object(py::int_(total_)) : py::object(py::none()));
+      callback_(done, total() ? py::object(py::int_(total())) : py::object(py::none()));
     } catch (py::error_already_set& error) {
       error_ = std::make_unique<py::error_already_set>(std::move(error));
     }
   }
 
   py::object callback_;
-  const std::uint64_t total_;
-  const std::uint64_t step_;
-  std::atomic<std::uint64_t> done_{0};
-  std::atomic<std::uint64_t> next_;
-  std::mutex mutex_;
   std::unique_ptr<py::error_already_set> error_;
 };
 
