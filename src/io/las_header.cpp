@@ -243,6 +243,41 @@ std::optional<std::size_t> lasUndescribedByteOffset(const std::string& name) {
   return offset;
 }
 
+int lasNormalComponentAxis(std::string_view name) {
+  std::string key;
+  for (char c : name) {
+    if (c == '_' || c == '-' || c == ' ') continue;
+    key += (c >= 'A' && c <= 'Z') ? char(c - 'A' + 'a') : c;
+  }
+  if (key.size() < 2) return -1;
+  const std::string_view stem = std::string_view(key).substr(0, key.size() - 1);
+  if (stem != "n" && stem != "norm" && stem != "normal") return -1;
+  switch (key.back()) {
+    case 'x':
+      return 0;
+    case 'y':
+      return 1;
+    case 'z':
+      return 2;
+    default:
+      return -1;
+  }
+}
+
+std::optional<std::array<std::size_t, 3>> lasNormalExtraBytes(
+    const std::vector<LasExtraBytes>& extra_bytes) {
+  std::array<std::optional<std::size_t>, 3> found;
+  for (std::size_t i = 0; i < extra_bytes.size(); ++i) {
+    const LasExtraBytes& extra = extra_bytes[i];
+    const int axis = lasNormalComponentAxis(extra.name);
+    if (axis < 0 || found[std::size_t(axis)]) continue;
+    if (extra.scaled || (extra.data_type != 9 && extra.data_type != 10)) return std::nullopt;
+    found[std::size_t(axis)] = i;
+  }
+  if (!found[0] || !found[1] || !found[2]) return std::nullopt;
+  return std::array<std::size_t, 3>{*found[0], *found[1], *found[2]};
+}
+
 std::size_t lasDescribedRecordEnd(const LasHeader& header) {
   std::size_t end = lasPointFormatSize(header.point_format);
   for (const LasExtraBytes& extra : header.extra_bytes) {

@@ -15,6 +15,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/bounds.h"
@@ -85,6 +86,20 @@ inline std::string lasUndescribedByteName(std::size_t record_offset) {
   return "undescribed_extra_byte_" + std::to_string(record_offset);
 }
 std::optional<std::size_t> lasUndescribedByteOffset(const std::string& name);
+// The points' normals as extra bytes. LAS has no normal field; CloudCompare and PDAL write them
+// as three float extra bytes named NormalX NormalY NormalZ (PDAL's dimension names, which its
+// LAS reader maps back to its normals), others as nx ny nz or normal_x... A name is a normal's
+// component when, in lower case and without '_', '-' and spaces, it is nx, normx or normalx (y,
+// z alike): the axis 0-2, or -1.
+int lasNormalComponentAxis(std::string_view name);
+// The names the LAS writer gives the normals' extra bytes (CloudCompare's and PDAL's).
+inline constexpr const char* kLasNormalExtraBytesNames[3] = {"NormalX", "NormalY", "NormalZ"};
+// Indices in `extra_bytes` of the x, y and z components of the normals (the first of each name),
+// where all three are present, unscaled float or double (data type 9 or 10); nullopt otherwise,
+// and the reader keeps such columns as scalars under their names.
+std::optional<std::array<std::size_t, 3>> lasNormalExtraBytes(
+    const std::vector<LasExtraBytes>& extra_bytes);
+
 // Where the described extra bytes end (the format's size when there are none).
 struct LasHeader;
 std::size_t lasDescribedRecordEnd(const LasHeader& header);

@@ -26,7 +26,11 @@
 //     wave packets: wave_packet_descriptor_index (uint8), wave_packet_offset (double: a uint64
 //                   byte offset, exact below 2^53), wave_packet_size (uint32),
 //                   return_point_waveform_location, waveform_dx, waveform_dy, waveform_dz (float)
-//     extra bytes: under their VLR names in their types; scaled ones (options bits 3/4) as the
+//     extra bytes: three float or double ones named as a normal's components (NormalX NormalY
+//                   NormalZ as CloudCompare and PDAL write them, nx ny nz, normal_x ...:
+//                   las_header.h lasNormalExtraBytes) -> normals (float; source.normal Float64
+//                   when all three are doubles); the others
+//                   under their VLR names in their types; scaled ones (options bits 3/4) as the
 //                   double raw * scale + offset, 64-bit integers as doubles, undocumented bytes
 //                   as uint8 columns "<name>_<i>", deprecated arrays as "<name>[i]".
 //   classification_flags uses the LAS 1.4 bit layout for every format: bit 0 synthetic, bit 1

@@ -101,7 +101,23 @@ LasDecodePlan makePlanImpl(const LasHeader& header, const AttributeSelection& se
     add.copy("waveform_dy", w, ScalarType::Float32, end + 21);
     add.copy("waveform_dz", w, ScalarType::Float32, end + 25);
   }
-  for (const LasExtraBytes& extra : header.extra_bytes) {
+  const std::optional<std::array<std::size_t, 3>> normal_extras =
+      lasNormalExtraBytes(header.extra_bytes);
+  if (normal_extras && add.wants(column_names::kNx, f::kExtraBytes)) {
+    LasDecodePlan::NormalFields normals;
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      const LasExtraBytes& extra = header.extra_bytes[(*normal_extras)[axis]];
+      normals.offset[axis] = extra.record_offset;
+      normals.is_double[axis] = extra.data_type == 10;
+    }
+    plan.normals = normals;
+  }
+  for (std::size_t index = 0; index < header.extra_bytes.size(); ++index) {
+    const LasExtraBytes& extra = header.extra_bytes[index];
+    if (normal_extras &&
+        std::find(normal_extras->begin(), normal_extras->end(), index) != normal_extras->end()) {
+      continue;  // the normals, above
+    }
     int base = extra.data_type <= 10 ? extra.data_type : (extra.data_type - 1) % 10 + 1;
     const std::uint32_t e = f::kExtraBytes;
     if (extra.scaled) {
@@ -227,6 +243,19 @@ void decodeLasRecords(const std::byte* records, std::size_t n, const LasDecodePl
       storeColors(c, stride, m, plan.colors_8bit, out.colors.data() + o);
       copyField<6>(c, stride, m, reinterpret_cast<std::byte*>(out.stored_colors.data() + o));
     }
+    if (plan.normals) {
+      float* normals = &out.normals[o].x;
+      for (std::size_t axis = 0; axis < 3; ++axis) {
+        const std::byte* src = r + plan.normals->offset[axis];
+        if (plan.normals->is_double[axis]) {
+          for (std::size_t i = 0; i < m; ++i)
+            normals[3 * i + axis] = float(loadLE<double>(src + i * stride));
+        } else {
+          for (std::size_t i = 0; i < m; ++i)
+            normals[3 * i + axis] = loadLE<float>(src + i * stride);
+        }
+      }
+    }
     for (std::size_t f = 0; f < plan.fields.size(); ++f) {
       const LasFieldDecoder& field = plan.fields[f];
       ScalarColumn& column = out.scalars[f];
@@ -310,6 +339,13 @@ PointCloud allocateLasCloud(const LasHeader& header, const LasDecodePlan& plan, 
   if (plan.color_offset) {
     cloud.colors = Column<Rgba8>(count);
     cloud.stored_colors = Column<Rgb16>(count);
+  }
+  if (plan.normals) {
+    cloud.normals = Column<Float3>(count);
+    const bool all_double =
+        std::all_of(plan.normals->is_double.begin(), plan.normals->is_double.end(),
+                    [](bool is_double) { return is_double; });
+    cloud.source.normal = all_double ? ScalarType::Float64 : ScalarType::Float32;
   }
   for (const auto& [name, type] : plan.columns) {
     cloud.scalars.push_back({name, type, ByteBuffer(count * scalarSize(type))});

@@ -4,6 +4,7 @@
 // columns.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -36,6 +37,14 @@ struct LasDecodePlan {
   // The 8-bit rule (las_reader.h): colours below 256 everywhere are kept as they are, otherwise
   // scaled from 16 bits. Decided by the reader before the decode (and checked by it).
   bool colors_8bit = true;
+  // The extra bytes read into PointCloud::normals (las_header.h lasNormalExtraBytes): each
+  // component's offset in the record and whether it is a double (else a float); none when the
+  // file names no normals or they were not asked for.
+  struct NormalFields {
+    std::array<std::size_t, 3> offset{};
+    std::array<bool, 3> is_double{};
+  };
+  std::optional<NormalFields> normals;
   std::vector<LasFieldDecoder> fields;  // one per scalar column, in order
   std::vector<std::pair<std::string, ScalarType>> columns;
   // The LAZ field groups (laz::fields::k*) the columns come from: what a layered LAZ decoder

@@ -94,7 +94,14 @@ Field fieldFor(std::string_view name) {
 struct Source {
   const std::byte* data = nullptr;
   ScalarType type = ScalarType::UInt8;
+  std::size_t stride = 0;  // bytes from one value to the next; 0: the type's size (a column)
 };
+
+// Component `axis` of the cloud's normals (interleaved Float3) as a Source.
+Source normalComponentSource(const PointCloud& cloud, int axis) {
+  return {reinterpret_cast<const std::byte*>(cloud.normals.data()) + 4 * axis, ScalarType::Float32,
+          sizeof(Float3)};
+}
 
 Source sourceOf(const ScalarColumn& column) {
   return {column.data.data(), column.type};
@@ -133,6 +140,11 @@ void withType(ScalarType type, F f) {
 void gather(const Source& source, std::size_t first, std::size_t n, double* out) {
   withType(source.type, [&](auto zero) {
     using T = decltype(zero);
+    if (source.stride != 0) {
+      const std::byte* at = source.data + first * source.stride;
+      for (std::size_t i = 0; i < n; ++i) out[i] = double(loadLE<T>(at + i * source.stride));
+      return;
+    }
     const T* values = reinterpret_cast<const T*>(source.data) + first;
     for (std::size_t i = 0; i < n; ++i) out[i] = double(values[i]);
   });
@@ -448,20 +460,31 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options,
 
   // The source's extra bytes, at their offsets after the fixed fields, from the columns the
   // reader made of them (matched by name).
+  bool normals_placed = false;  // in the source's own normals' extra bytes
   const auto undescribed = [](const ScalarColumn* column) {
     return lasUndescribedByteOffset(column->name).has_value();
   };
   if (src &&
       (!src->extra_bytes.empty() || std::any_of(extras.begin(), extras.end(), undescribed))) {
     const std::size_t src_fixed = lasPointFormatSize(src->point_format);
-    for (const LasExtraBytes& described : src->extra_bytes) {
+    // The source's normals' extra bytes, which its reader gave as the cloud's normals: filled
+    // from them again, at their places and in their types.
+    const std::optional<std::array<std::size_t, 3>> src_normals =
+        lasNormalExtraBytes(src->extra_bytes);
+    for (std::size_t index = 0; index < src->extra_bytes.size(); ++index) {
+      const LasExtraBytes& described = src->extra_bytes[index];
       auto it = std::find_if(extras.begin(), extras.end(), [&](const ScalarColumn* column) {
         return column->name == described.name;
       });
+      const auto axis = src_normals ? std::find(src_normals->begin(), src_normals->end(), index)
+                                    : std::array<std::size_t, 3>::const_iterator{};
       Source source;
       if (it != extras.end()) {
         source = sourceOf(**it);
         extras.erase(it);
+      } else if (src_normals && axis != src_normals->end() && cloud.hasNormals()) {
+        source = normalComponentSource(cloud, int(axis - src_normals->begin()));
+        normals_placed = true;
       } else {
         plan.losses.push_back("extra bytes '" + described.name +
                               "' written as zeros (the points have no such column)");
@@ -503,12 +526,11 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options,
     if (name.size() > 32) plan.losses.push_back("name '" + name + "' cut to 32 characters");
     record += size;
   };
-  if (cloud.hasNormals()) {
-    const auto* n = reinterpret_cast<const std::byte*>(cloud.normals.data());
-    // Normals are interleaved Float3: gathered per component below through a stride-aware copy.
+  if (cloud.hasNormals() && !normals_placed) {
+    // Named as CloudCompare and PDAL name them, so that they read them back as normals.
     for (int axis = 0; axis < 3; ++axis) {
-      layout.raws.push_back({{n + 4 * axis, ScalarType::Float32}, record, 0});  // size 0: normal
-      std::string name = std::string("n") + "xyz"[axis];
+      layout.raws.push_back({normalComponentSource(cloud, axis), record, 0});  // size 0: normal
+      const std::string name = kLasNormalExtraBytesNames[axis];
       layout.extra_types.emplace_back(name, ScalarType::Float32);
       plan.extra_bytes.push_back(name);
       record += 4;

@@ -23,8 +23,10 @@
 // ignoring '_' and a "scalar_" prefix (so PDAL's ReturnNumber and CloudCompare's
 // scalar_Return_Number match too), fill the LAS fields; synthetic, key_point, withheld and overlap
 // columns fill the classification flags; the wave packet columns fill formats 4, 5, 9 and 10.
-// Everything else, normals (nx ny nz, float) included, is written as extra bytes with a LASF_Spec
-// record 4 description, in its own type; names are cut to 32 characters.
+// Everything else is written as extra bytes with a LASF_Spec record 4 description, in its own
+// type; names are cut to 32 characters. Normals first, as float NormalX NormalY NormalZ, the
+// names CloudCompare and PDAL write and read back as normals (as the LAS reader does); from a
+// source that held its normals as extra bytes, in its own bytes' places, names and types.
 // Colours: stored_colors when the cloud has them (a LAS source's values, whatever their range),
 // else the 8-bit colours scaled to 16 bits as c * 257 (255 -> 65535), as LAS 1.4 R15 asks
 // ("normalized to 16 bits"): a PLY's uchar colours, which a LAS reader scales back. Colour is

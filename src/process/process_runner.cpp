@@ -559,8 +559,9 @@ ProcessReport runProcess(const ProcessOptions& given) {
   // format the first batch did not foresee). An octree is built from a point file of the
   // result in the work folder, read by the builder as any input: LAS when every input is LAS or
   // LAZ (their CRS and the positions' scale and offset carried exactly, what the steps added as
-  // extra bytes, normals as nx ny nz, which the LAS reader gives back as normals), PLY otherwise
-  // (a LAS file would add LAS's fixed fields, zeros, to a cloud that never had them).
+  // extra bytes, normals as NormalX NormalY NormalZ, which the LAS reader gives back as normals),
+  // PLY otherwise (a LAS file would add LAS's fixed fields, zeros, to a cloud that never had
+  // them).
   check();
   report.output_points = tiles.keptPoints();
   const OutputKind kind = outputKind(options.output);

@@ -154,6 +154,93 @@ TEST(LasReader, ExtraBytesBecomeNamedColumns) {
   EXPECT_EQ(scalarAt<std::uint8_t>(cloud, "raw_2", 0), 7);
 }
 
+TEST(LasReader, NormalComponentNamesOfEveryConvention) {
+  EXPECT_EQ(lasNormalComponentAxis("NormalX"), 0);  // CloudCompare's and PDAL's
+  EXPECT_EQ(lasNormalComponentAxis("NormalY"), 1);
+  EXPECT_EQ(lasNormalComponentAxis("nz"), 2);
+  EXPECT_EQ(lasNormalComponentAxis("normal_y"), 1);
+  EXPECT_EQ(lasNormalComponentAxis("Norm Z"), 2);
+  EXPECT_EQ(lasNormalComponentAxis("NORMAL-X"), 0);
+  for (const char* other : {"normal", "x", "nxx", "snx", "normalw", "intensity", ""}) {
+    EXPECT_EQ(lasNormalComponentAxis(other), -1) << other;
+  }
+}
+
+// Three float or double extra bytes named as a normal's components (any order, any of the
+// conventions) are the cloud's normals; anything less stays scalars under its names.
+TEST(LasReader, NormalExtraBytesAreReadAsNormals) {
+  {
+    // CloudCompare's and PDAL's layout: float NormalX NormalY NormalZ, here after another column.
+    LasTestFile file{.minor = 4, .format = 6, .extra_bytes = 2 + 12};
+    file.vlrs.push_back(
+        {"LASF_Spec", 4,
+         test::extraBytesDescriptor(3, "amplitude") + test::extraBytesDescriptor(9, "NormalX") +
+             test::extraBytesDescriptor(9, "NormalY") + test::extraBytesDescriptor(9, "NormalZ")});
+    LasTestPoint p;
+    std::string extra(14, '\0');
+    test::putAt(extra, 0, std::uint16_t(4321));
+    test::putAt(extra, 2, 0.6f);
+    test::putAt(extra, 6, -0.8f);
+    test::putAt(extra, 10, 0.0f);
+    p.extra.assign(extra.begin(), extra.end());
+    file.points = {p, p};
+    PointCloud cloud = readBytes(makeLas(file));
+    ASSERT_TRUE(cloud.hasNormals());
+    EXPECT_EQ(cloud.normals[1].x, 0.6f);
+    EXPECT_EQ(cloud.normals[1].y, -0.8f);
+    EXPECT_EQ(cloud.normals[1].z, 0.0f);
+    EXPECT_EQ(cloud.source.normal, ScalarType::Float32);
+    EXPECT_EQ(scalarAt<std::uint16_t>(cloud, "amplitude", 1), 4321);
+    for (const char* name : {"NormalX", "NormalY", "NormalZ"}) {
+      EXPECT_EQ(cloud.findScalar(name), nullptr) << name;
+    }
+  }
+  {
+    // Doubles named normal_z, normal_x, normal_y, in that order: placed by name.
+    LasTestFile file{.minor = 4, .format = 0, .extra_bytes = 24};
+    file.vlrs.push_back({"LASF_Spec", 4,
+                         test::extraBytesDescriptor(10, "normal_z") +
+                             test::extraBytesDescriptor(10, "normal_x") +
+                             test::extraBytesDescriptor(10, "normal_y")});
+    LasTestPoint p;
+    std::string extra(24, '\0');
+    test::putAt(extra, 0, 0.25);
+    test::putAt(extra, 8, -0.5);
+    test::putAt(extra, 16, 0.125);
+    p.extra.assign(extra.begin(), extra.end());
+    file.points = {p};
+    PointCloud cloud = readBytes(makeLas(file));
+    ASSERT_TRUE(cloud.hasNormals());
+    EXPECT_EQ(cloud.normals[0], (Float3{-0.5f, 0.125f, 0.25f}));
+    EXPECT_EQ(cloud.source.normal, ScalarType::Float64);
+    EXPECT_EQ(cloud.findScalar("normal_x"), nullptr);
+  }
+  {
+    // Two components only, or one stored as a scaled integer: no normals, the scalars kept.
+    for (const bool scaled : {false, true}) {
+      SCOPED_TRACE(scaled);
+      LasTestFile file{.minor = 4, .format = 0, .extra_bytes = scaled ? 10 : 8};
+      std::string descriptors =
+          test::extraBytesDescriptor(9, "nx") + test::extraBytesDescriptor(9, "ny");
+      if (scaled) descriptors += test::extraBytesDescriptor(4, "nz", 0.001);
+      file.vlrs.push_back({"LASF_Spec", 4, descriptors});
+      LasTestPoint p;
+      std::string extra(std::size_t(file.extra_bytes), '\0');
+      test::putAt(extra, 0, 1.0f);
+      if (scaled) test::putAt(extra, 8, std::int16_t(-1000));
+      p.extra.assign(extra.begin(), extra.end());
+      file.points = {p};
+      PointCloud cloud = readBytes(makeLas(file));
+      EXPECT_FALSE(cloud.hasNormals());
+      EXPECT_EQ(scalarAt<float>(cloud, "nx", 0), 1.0f);
+      EXPECT_EQ(scalarAt<float>(cloud, "ny", 0), 0.0f);
+      if (scaled) {
+        EXPECT_DOUBLE_EQ(scalarAt<double>(cloud, "nz", 0), -1.0);
+      }
+    }
+  }
+}
+
 TEST(LasReader, ReportsGeoTiffAndWktCrs) {
   LasTestFile file{.format = 0, .points = samplePoints(false)};
   std::string keys;

@@ -134,12 +134,67 @@ TEST(LasWriter, NormalsAndOtherScalarsBecomeExtraBytes) {
   LasHeader header = readLasHeader(path);
   EXPECT_EQ(header.versionString(), "1.2");
   ASSERT_EQ(header.extra_bytes.size(), 4u);
+  // The normals as CloudCompare and PDAL write them, which they read back as normals: float
+  // extra bytes (data type 9) named NormalX NormalY NormalZ, first.
+  for (int axis = 0; axis < 3; ++axis) {
+    EXPECT_EQ(header.extra_bytes[std::size_t(axis)].name, kLasNormalExtraBytesNames[axis]);
+    EXPECT_EQ(header.extra_bytes[std::size_t(axis)].data_type, 9);
+    EXPECT_EQ(header.extra_bytes[std::size_t(axis)].record_offset, std::size_t(20 + 4 * axis));
+  }
+  EXPECT_EQ(header.extra_bytes[3].name, "confidence");
   PointCloud back = readLas(path);
-  EXPECT_EQ(back.findScalar("nx")->as<float>()[2], 1.0f);
-  EXPECT_EQ(back.findScalar("ny")->as<float>()[0], -1.0f);
+  ASSERT_TRUE(back.hasNormals());
+  EXPECT_EQ(back.findScalar("NormalX"), nullptr);
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(back.normals[i], cloud.normals[i]) << i;
   EXPECT_EQ(back.findScalar("confidence")->as<std::uint16_t>()[1], 1001);
   EXPECT_EQ(back.findScalar("return_number")->as<std::uint8_t>()[2], 3);
   EXPECT_EQ(back.positions[2], (Int3{2, 4, 6}));
+}
+
+// A LAS file whose normals are double extra bytes of its own names, between other extra bytes:
+// read as normals, written back (convert keeps the source's layout) at the same places in the
+// same type, so the records are the same bytes.
+TEST(LasWriter, ASourcesNormalExtraBytesAreWrittenBackInPlace) {
+  test::TempDir dir;
+  test::LasTestFile file{.minor = 4, .format = 6, .extra_bytes = 2 + 24 + 1};
+  file.vlrs.push_back(
+      {"LASF_Spec", 4,
+       test::extraBytesDescriptor(3, "amplitude") + test::extraBytesDescriptor(10, "nx") +
+           test::extraBytesDescriptor(10, "ny") + test::extraBytesDescriptor(10, "nz") +
+           test::extraBytesDescriptor(1, "flag")});
+  for (int i = 0; i < 3; ++i) {
+    test::LasTestPoint p;
+    p.x = i, p.y = 10 * i, p.z = -i;
+    std::string extra(27, '\0');
+    test::putAt(extra, 0, std::uint16_t(100 + i));
+    test::putAt(extra, 2, 0.5 * i);
+    test::putAt(extra, 10, -0.25);
+    test::putAt(extra, 18, 0.75 - i);
+    extra[26] = char(7 + i);
+    p.extra.assign(extra.begin(), extra.end());
+    file.points.push_back(p);
+  }
+  const std::string bytes = test::makeLas(file);
+  const auto in = dir / "in.las";
+  { std::ofstream(in, std::ios::binary) << bytes; }
+  PointCloud cloud = readLas(in);
+  ASSERT_TRUE(cloud.hasNormals());
+  EXPECT_EQ(cloud.normals[2], (Float3{1.0f, -0.25f, -1.25f}));
+  LasWriteOptions options;
+  options.source = std::make_shared<LasHeader>(readLasHeaderWithRecords(in));
+  const auto out = dir / "out.las";
+  const LasWritePlan plan = planLasWrite(cloud, options);
+  EXPECT_TRUE(plan.losses.empty()) << plan.losses.front();
+  writeLas(cloud, out, options);
+  const LasHeader source = readLasHeader(in), written = readLasHeader(out);
+  ASSERT_EQ(written.extra_bytes.size(), 5u);
+  EXPECT_EQ(written.extra_bytes[1].name, "nx");
+  EXPECT_EQ(written.extra_bytes[3].data_type, 10);
+  EXPECT_EQ(written.record_length, source.record_length);
+  const std::string got = test::fileBytes(out);
+  const std::size_t records = std::size_t(source.record_length) * 3;
+  ASSERT_EQ(got.size(), written.point_data_offset + records);
+  EXPECT_EQ(got.substr(written.point_data_offset), bytes.substr(source.point_data_offset, records));
 }
 
 TEST(LasWriter, ChoosesLas14WhenTheValuesNeedIt) {

@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "core/point_gather.h"
 #include "io/e57/e57_writer.h"
+#include "io/las_header.h"
 #include "io/las_writer.h"
 #include "io/laz_writer.h"
 #include "io/ply_writer.h"
@@ -792,8 +793,8 @@ TEST(ProcessOutput, LasAndLazAreStreamedWithTheBytesOfTheWholeOutput) {
   }
 }
 
-// Each point of a file or octree by its id: x y z, the normal (the normals column, or nx ny nz
-// scalars where a LAS record held them) and the distance.
+// Each point of a file or octree by its id: x y z, the normal (the normals column) and the
+// distance.
 std::map<std::uint32_t, std::array<double, 7>> pointsById(const std::filesystem::path& path) {
   std::map<std::uint32_t, std::array<double, 7>> out;
   PointStream stream(path, {});
@@ -801,15 +802,11 @@ std::map<std::uint32_t, std::array<double, 7>> pointsById(const std::filesystem:
   while (stream.next(batch, 1 << 20)) {
     const ScalarColumn* id = batch.findScalar("id");
     const ScalarColumn* distance = batch.findScalar("distance");
-    const ScalarColumn* n[3] = {batch.findScalar("nx"), batch.findScalar("ny"),
-                                batch.findScalar("nz")};
-    EXPECT_TRUE(id && distance && (batch.hasNormals() || (n[0] && n[1] && n[2]))) << path;
-    if (!id || !distance) return out;
+    EXPECT_TRUE(id && distance && batch.hasNormals()) << path;
+    if (!id || !distance || !batch.hasNormals()) return out;
     for (std::size_t i = 0; i < batch.count; ++i) {
       std::array<double, 7> v = {batch.worldX(i), batch.worldY(i), batch.worldZ(i)};
-      for (int a = 0; a < 3; ++a) {
-        v[3 + a] = batch.hasNormals() ? (&batch.normals[i].x)[a] : n[a]->valueAsDouble(i);
-      }
+      for (int a = 0; a < 3; ++a) v[3 + a] = (&batch.normals[i].x)[a];
       v[6] = distance->valueAsDouble(i);
       EXPECT_TRUE(out.emplace(std::uint32_t(id->valueAsDouble(i)), v).second) << path;
     }
@@ -865,6 +862,57 @@ TEST(ProcessOutput, PotreeAndCopcOctreesHoldEveryProcessedPoint) {
   for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
     EXPECT_NE(entry.path().filename().string().front(), '.') << entry.path();
   }
+}
+
+// Each point's normal by its id, from a file or octree that holds the normals as normals (not
+// as scalars: what lighting reads).
+std::map<std::uint32_t, Float3> normalsById(const std::filesystem::path& path) {
+  std::map<std::uint32_t, Float3> out;
+  PointStream stream(path, {});
+  PointCloud batch;
+  while (stream.next(batch, 1 << 20)) {
+    const ScalarColumn* id = batch.findScalar("id");
+    EXPECT_TRUE(id && batch.hasNormals()) << path;
+    for (const char* name : {"nx", "NormalX", "normal_x"}) {
+      EXPECT_EQ(batch.findScalar(name), nullptr) << path << ": " << name;
+    }
+    if (!id || !batch.hasNormals()) return out;
+    for (std::size_t i = 0; i < batch.count; ++i) {
+      EXPECT_TRUE(out.emplace(std::uint32_t(id->valueAsDouble(i)), batch.normals[i]).second);
+    }
+  }
+  return out;
+}
+
+// The normals of a LAS input travel as normals: `process --normals` writes them as the extra
+// bytes CloudCompare and PDAL read as normals (NormalX NormalY NormalZ, float), the LAS reader
+// gives them back as normals, and the Potree and COPC octrees built from such a file hold them as
+// normals; the values are those of the same points processed from PLY, bit for bit.
+TEST(ProcessOutput, LasNormalsTravelAsNormalsIntoOctrees) {
+  TempDir dir;
+  const auto ply = writeCloud(dir, "in.ply", terrainWithNoise(2000, 4));
+  const auto las = dir / "in.las";
+  writeLas(readPointFile(ply), las);
+  NormalsStep normals;
+  normals.k = 8;
+  run(ply, dir / "expected.ply", {normals});
+  run(las, dir / "out.las", {normals});
+  const LasHeader header = readLasHeader(dir / "out.las");
+  ASSERT_EQ(header.extra_bytes.size(), 4u);  // the normals, then id
+  for (int axis = 0; axis < 3; ++axis) {
+    const LasExtraBytes& extra = header.extra_bytes[std::size_t(axis)];
+    EXPECT_EQ(extra.name, kLasNormalExtraBytesNames[axis]);
+    EXPECT_EQ(extra.data_type, 9);  // float
+  }
+  EXPECT_EQ(header.extra_bytes[3].name, "id");
+  const auto expected = normalsById(dir / "expected.ply");
+  ASSERT_EQ(expected.size(), 2000u);
+  EXPECT_EQ(normalsById(dir / "out.las"), expected);
+  // The octrees that process builds from its LAS result (lod's converters read it back).
+  run(las, dir / "octree/", {normals});
+  run(las, dir / "out.copc.laz", {normals});
+  EXPECT_EQ(normalsById(dir / "octree"), expected);
+  EXPECT_EQ(normalsById(dir / "out.copc.laz"), expected);
 }
 
 template <class Parse>
