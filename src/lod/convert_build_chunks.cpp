@@ -214,6 +214,7 @@ class ChunkScheduler {
 
   void buildAndWrite(std::size_t step) {
     try {
+      throwIfBuildCancelled(options_.cancel);
       BuiltChunk chunk = buildOneChunk(plan_, chunkAt(step), source_, options_, sampler_);
       std::unique_lock lock(mutex_);
       if (failed_) return;

@@ -80,6 +80,7 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
   }
   // A first guess of the record size for the batch size (the layout is known after the scan).
   plan.batch_points = std::clamp<std::uint64_t>(options.memory_bytes / 8 / 128, 4096, 4u << 20);
+  plan.cancel = options.cancel;
   std::unique_ptr<Progress> bar = progress ? progress("scanning", total) : nullptr;
   // Half the budget for the decoded points kept in memory, all inputs together: the scan, count
   // and distribute passes use the batch's quarter and the count grid besides, and the chunks'
@@ -100,6 +101,7 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
     PointCloud batch;
     bool first = true;
     while (stream->next(batch, plan.batch_points)) {
+      throwIfBuildCancelled(plan.cancel);
       if (first) {
         PotreeLayout layout = PotreeLayout::fromCloud(batch);
         if (!have_layout) {
@@ -182,6 +184,7 @@ void countStream(const ConvertPlan& plan, PointStream& stream, std::vector<std::
   };
   PointCloud batch;
   while (stream.next(batch, plan.batch_points)) {
+    throwIfBuildCancelled(plan.cancel);
     if (unsummed + batch.count > std::numeric_limits<std::uint32_t>::max()) sumLocal();
     unsummed += batch.count;
     // Positions in the output quantization, as the chunks will see them.

@@ -95,6 +95,7 @@ class Distributor {
     try {
       PointCloud batch;
       while (stream.next(batch, plan_.batch_points)) {
+        throwIfBuildCancelled(plan_.cancel);
         GroupedBatch& out = grouped[slot];
         group(batch, input, out);
         writer.wait();  // the other slot's batch is written (rethrows its error)

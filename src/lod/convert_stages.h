@@ -127,6 +127,8 @@ struct ConvertPlan {
   // the input is read again (its format rereads cheaply, or the scan was given no scratch
   // directory). Dropped after the distribute pass (releaseSpills).
   std::vector<std::shared_ptr<PointSpill>> spills;
+  // OctreeBuildOptions::cancel, which the passes that get only the plan check once a batch.
+  const std::atomic<bool>* cancel = nullptr;
 
   // The count grid cell of a quantized position (clamped into the grid). Inline: called per
   // point in two passes.

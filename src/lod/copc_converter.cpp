@@ -100,6 +100,7 @@ CopcConvertResult convertToCopc(const std::vector<ConvertInput>& inputs,
   write.page_levels = options.page_levels;
   write.batch_points = copcBatchPoints(options.potree.build.memory_bytes);
   write.progress = progress.get();
+  write.cancel = options.potree.build.cancel;
   result.copc = writeCopc(*octree, target, write);
   result.seconds_write = secondsSince(mark);
   result.seconds_total = secondsSince(start);

@@ -16,6 +16,7 @@
 #include "io/laz_writer.h"
 #include "io/point_file.h"
 #include "lod/copc_format.h"
+#include "lod/octree_build_options.h"
 #include "lod/octree_node_batches.h"
 
 namespace parallax {
@@ -226,6 +227,7 @@ CopcWriteResult writeCopc(Octree& octree, const std::filesystem::path& path,
         encoders.local()->encode(records.data(), slot.points, slot.chunk);
       },
       [&](std::int32_t n, EncodedNode& slot) {
+        throwIfBuildCancelled(options.cancel);
         if (slot.points == 0) return;
         out.write(slot.chunk.data(), slot.chunk.size());
         chunks.push_back({.offset = at,

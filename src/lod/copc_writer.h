@@ -19,6 +19,7 @@
 // written under a temporary name and renamed at the end (io/point_file.h OutputFile).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -40,6 +41,9 @@ struct CopcWriteOptions {
   int page_levels = 4;                    // levels a hierarchy page covers (>= 1)
   std::uint64_t batch_points = 1u << 20;  // points encoded at once (memory: ~150 bytes each)
   Progress* progress = nullptr;           // advanced by points written
+  // Checked once a node written (OctreeBuildOptions::cancel): throws OctreeBuildCancelled, the
+  // unfinished file removed. Null: not cancellable.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 struct CopcWriteResult {

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 
@@ -44,7 +46,22 @@ struct OctreeBuildOptions {
   // which measures what rereading costs (lod/NOTES.md "Each point decoded once").
   bool keep_all_decoded = false;
   Progress* progress = nullptr;  // advanced by points (each stage reports its own share)
+  // Set by another thread to stop the conversion: checked once a batch of the scan, count and
+  // distribute passes, once a chunk of the build and once a node of the COPC write (never per
+  // point); the conversion then throws OctreeBuildCancelled and leaves no output and no work
+  // files (the temporary directory is removed as on any error). Null: not cancellable.
+  const std::atomic<bool>* cancel = nullptr;
 };
+
+// What a conversion whose OctreeBuildOptions::cancel was set throws.
+struct OctreeBuildCancelled : std::runtime_error {
+  OctreeBuildCancelled() : std::runtime_error("octree build: cancelled") {}
+};
+
+// Throws OctreeBuildCancelled when `cancel` is set; null never is.
+inline void throwIfBuildCancelled(const std::atomic<bool>* cancel) {
+  if (cancel && cancel->load(std::memory_order_relaxed)) throw OctreeBuildCancelled();
+}
 
 // The root cube of a cloud: its bounds' minimum corner and the largest extent as edge (a point
 // on the maximum face still falls inside: octant tests clamp). Never zero-sized: a single point

@@ -149,6 +149,7 @@ PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
   std::vector<PotreeNodeEntry> entries;
   std::vector<ChunkRoot> roots =
       buildChunks(plan, chunk_dir, options.build, *sampler, octree, entries, options.progress);
+  throwIfBuildCancelled(options.build.cancel);
   buildTopLevels(plan, roots, *sampler, octree, entries);
   if (entries.empty()) entries.push_back({.name = "r"});  // an empty input: a root, no points
   octree.close();
@@ -156,6 +157,7 @@ PotreeConvertResult convertToPotree(const std::vector<ConvertInput>& inputs,
   result.seconds_build = secondsSince(mark);
 
   const std::string name = options.name.empty() ? target.filename().string() : options.name;
+  throwIfBuildCancelled(options.build.cancel);
   const EncodedHierarchy hierarchy =
       writePotreeIndex(plan, entries, name, potreeProjection(plan.crs.description), temp, target);
   result.points = plan.points;

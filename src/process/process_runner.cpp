@@ -585,13 +585,19 @@ ProcessReport runProcess(const ProcessOptions& given) {
   PotreeConvertOptions build;
   build.build.memory_bytes = options.memory_mb << 20;
   // Not the cancellable sinks: the builders report from their own threads and pipelines, which
-  // are not made to be left by an exception; a cancel is checked before the build.
+  // are not made to be left by an exception. They check the same flag themselves, once a batch,
+  // a chunk or a node (lod/octree_build_options.h), and leave nothing behind.
   build.progress = given.progress;
+  build.build.cancel = given.cancel;
   const std::vector<ConvertInput> processed = {ConvertInput{.path = pass.output}};
-  if (kind == OutputKind::kPotree) {
-    convertToPotree(processed, options.output, build);
-  } else {
-    convertToCopc(processed, options.output, {.potree = build});
+  try {
+    if (kind == OutputKind::kPotree) {
+      convertToPotree(processed, options.output, build);
+    } else {
+      convertToCopc(processed, options.output, {.potree = build});
+    }
+  } catch (const OctreeBuildCancelled&) {
+    throw ProcessCancelled();
   }
   return report;
 }

@@ -33,7 +33,8 @@ struct ProcessOptions {
   PointWriteOptions write;         // its progress is set by the run
   ProgressFactory progress;        // one sink per stage ("reading", "tiling", a step, "writing")
   // Set (from another thread) to stop the run: it is checked at every tile of every step and
-  // every batch read or written (where the stages report progress), and the run then throws
+  // every batch read or written (where the stages report progress), and inside an octree build
+  // at every batch, chunk or node (lod/octree_build_options.h); the run then throws
   // ProcessCancelled, its work folder and unfinished output removed. Null: not cancellable.
   const std::atomic<bool>* cancel = nullptr;
 };

@@ -978,6 +978,46 @@ TEST(ProcessSteps, CancelledBetweenTilesLeavesNoOutputAndNoWorkFiles) {
   EXPECT_EQ(runProcess(options).output_points, 20000u);
 }
 
+// The flag set when an octree builder's stage starts (its progress bar is made): the builder
+// stops at its next batch, chunk or node, and nothing is left, neither the octree nor its
+// temporary directory, the work folder or the processed point file.
+TEST(ProcessSteps, CancelledInsideTheOctreeBuildLeavesNoOutputAndNoWorkFiles) {
+  TempDir dir;
+  const auto in = writeCloud(dir, "in.ply", terrainWithNoise(1000, 4));
+  NormalsStep normals;
+  normals.k = 8;
+  const std::vector<std::string> potree_stages = {"scanning", "counting", "distributing",
+                                                  "indexing"};
+  for (const char* name : {"octree/", "out.copc.laz"}) {
+    std::vector<std::string> cancel_at = potree_stages;
+    if (std::string(name) == "out.copc.laz") cancel_at.push_back("writing COPC");
+    for (const std::string& at : cancel_at) {
+      SCOPED_TRACE(std::string(name) + " at " + at);
+      std::atomic<bool> cancel = false;
+      std::vector<std::string> stages;
+      ProcessOptions options;
+      options.inputs = {ConvertInput{.path = in}};
+      options.output = dir / name;
+      options.steps = {normals};
+      options.memory_mb = 16;  // the builder's buffers sized for 1 000 points, not 2 GB
+      options.cancel = &cancel;
+      options.progress = [&](const std::string& stage, std::uint64_t) -> std::unique_ptr<Progress> {
+        stages.push_back(stage);
+        if (stage == at) cancel = true;
+        return nullptr;
+      };
+      EXPECT_THROW(runProcess(options), ProcessCancelled);
+      ASSERT_FALSE(stages.empty());
+      EXPECT_EQ(stages.back(), at);  // no stage after it started
+      std::vector<std::string> left;
+      for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
+        left.push_back(entry.path().filename().string());
+      }
+      EXPECT_EQ(left, std::vector<std::string>{"in.ply"});
+    }
+  }
+}
+
 TEST(ProcessSteps, BadParametersAreErrorsNamingTheStep) {
   EXPECT_EQ(messageOf([] { parseNormalsK("2"); }),
             "--normals 2: K must be a whole number from 3 to 1000, got '2'");
