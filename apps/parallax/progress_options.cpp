@@ -32,6 +32,8 @@ class ObservedStage final : public ThrottledProgress {
     const std::lock_guard lock(report_mutex_);
     (*observer_)(label_, done(), total());
   }
+  ObservedStage(const ObservedStage&) = delete;
+  ObservedStage& operator=(const ObservedStage&) = delete;
 
  private:
   void report(std::uint64_t done) override { (*observer_)(label_, done, total()); }
@@ -52,21 +54,36 @@ void addQuietFlag(CLI::App& command, bool& quiet) {
   command.add_flag("-q,--quiet", quiet, "No progress bar and no report on stderr (errors only)");
 }
 
-std::unique_ptr<TerminalProgress> progressBar(bool quiet, const std::string& label,
-                                              std::uint64_t total, const std::string& unit) {
-  if (quiet) return nullptr;
-  return std::make_unique<TerminalProgress>(label, total, unit);
+CommandProgress::CommandProgress(std::unique_ptr<TerminalProgress> bar)
+    : bar_(std::move(bar)), target_(bar_.get()) {}
+CommandProgress::CommandProgress(std::unique_ptr<Progress> observed)
+    : observed_(std::move(observed)), target_(observed_.get()) {}
+CommandProgress::~CommandProgress() {
+  finish();
 }
 
-std::unique_ptr<TerminalProgress> readingBar(bool quiet, const std::string& label,
-                                             const std::filesystem::path& path) {
-  if (quiet) return nullptr;
-  if (const auto points = headerPointCount(path)) {
-    return std::make_unique<TerminalProgress>(label, *points, "points");
+void CommandProgress::finish() {
+  if (bar_) bar_->finish();
+  observed_.reset();  // its destructor reports the final count
+}
+
+std::unique_ptr<CommandProgress> progressBar(bool quiet, const std::string& label,
+                                             std::uint64_t total, const std::string& unit) {
+  if (auto observing = observer()) {
+    return std::make_unique<CommandProgress>(
+        std::unique_ptr<Progress>(std::make_unique<ObservedStage>(observing, label, total)));
   }
+  if (quiet) return nullptr;
+  return std::make_unique<CommandProgress>(std::make_unique<TerminalProgress>(label, total, unit));
+}
+
+std::unique_ptr<CommandProgress> readingBar(bool quiet, const std::string& label,
+                                            const std::filesystem::path& path) {
+  if (quiet && !observer()) return nullptr;
+  if (const auto points = headerPointCount(path)) return progressBar(quiet, label, *points);
   std::error_code error;
   const std::uint64_t bytes = std::filesystem::file_size(path, error);
-  return std::make_unique<TerminalProgress>(label, error ? 0 : bytes, "bytes");
+  return progressBar(quiet, observer() ? label + " bytes" : label, error ? 0 : bytes, "bytes");
 }
 
 ProgressFactory stageBars(bool quiet) {

@@ -154,7 +154,8 @@ src: a path or URL, or a sequence of them (read as one cloud). dst: a point file
 picks the format), a .copc.laz file, or a Potree 2.0 directory (format="potree", or a name
 ending in "/"). Keyword arguments are the command's options with _ for -: sampling=,
 classes=, clip_box=, las_version=, point_format=, memory=, ... (True for a switch).
-progress: callable(done, total, stage=NAME) for each stage of an octree build, in points.
+progress: callable(done, total, stage=NAME) for each stage of an octree build, in points; a
+file to a file reports stage="reading" (in points, or "reading bytes" for text) and "writing".
 Raises parallax.InputError for a bad input, ValueError for a refused option.)doc");
   m.def("process", &process, py::arg("src"), py::arg("dst"), py::kw_only(),
         py::arg("steps") = py::list(), py::arg("progress") = py::none(),

@@ -27,14 +27,6 @@ bool isUrl(const std::string& path) {
   return path.rfind("http://", 0) == 0 || path.rfind("https://", 0) == 0;
 }
 
-void refuseUrl(const std::string& path) {
-  if (isUrl(path)) {
-    throw py::value_error(path +
-                          ": read_chunks reads local files; parallax.read reads a URL whole, and "
-                          "parallax.open_octree streams a COPC file or Potree directory by range");
-  }
-}
-
 CloudMetadata metadataOf(const std::filesystem::path& path, const CoordinateSystem* crs) {
   CloudMetadata metadata;
   metadata.path = path.string();
@@ -43,9 +35,9 @@ CloudMetadata metadataOf(const std::filesystem::path& path, const CoordinateSyst
   const CoordinateSystem stated = crs ? *crs : readPointFileHeader(path).crs;
   metadata.crs_wkt = stated.description.wkt;
   metadata.crs_summary = stated.summary();
-  // A URL's LAS header is not read a second time (the reader has it, the format table keeps it
-  // to itself): its point format, version and VLRs are left unset.
-  if ((format == PointFormat::Las || format == PointFormat::Laz) && !isUrl(metadata.path)) {
+  // Read again here (the reader had it, but the format table keeps it to itself): for a URL one
+  // more request, of the first kLasHeadBytes, which hold the header and nearly always every VLR.
+  if (format == PointFormat::Las || format == PointFormat::Laz) {
     const LasHeader header = readLasHeaderWithRecords(path);
     metadata.las_point_format = header.point_format;
     metadata.las_version = header.versionString();
@@ -183,7 +175,6 @@ class ChunkReader {
   ChunkReader(const std::string& path, std::size_t points,
               const std::vector<std::string>& text_columns)
       : points_(points) {
-    refuseUrl(path);
     if (points == 0) throw py::value_error("points: expected a positive number of points a chunk");
     py::gil_scoped_release release;
     source_ = openPointChunks(path, {.text_columns = text_columns});
@@ -334,8 +325,9 @@ Raises parallax.InputError (a ValueError) for a malformed or unreadable file.)do
       },
       py::arg("path"), py::kw_only(), py::arg("points") = 1'000'000,
       py::arg("text_columns") = std::vector<std::string>{},
-      "The points of a file of any size in PointClouds of at most `points` points, in file order "
-      "(the format table's chunk source: memory stays bounded by the chunk)");
+      "The points of a file or URL of any size in PointClouds of at most `points` points, in file "
+      "order (the format table's chunk source: memory stays bounded by the chunk; a URL's LAS or "
+      "LAZ is read by range, other formats fetched whole)");
 
   m.def(
       "write", &write, py::arg("path"), py::arg("points"), py::kw_only(), py::arg("ascii") = false,

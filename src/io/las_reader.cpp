@@ -26,6 +26,10 @@ namespace {
 // Records read at a time into a thread's buffer: about 1-2 MB, small enough to stay in L2/L3
 // while decoded, large enough that the read() calls cost nothing.
 constexpr std::uint64_t kBlockRecords = 1 << 15;
+// A local file's blocks are smaller: read() costs little there, and a buffer of 128-256 KiB
+// leaves L2 room for the lines of the twenty-odd columns being written (20 M records of 38 bytes,
+// load 14 on 2 cores: 0-10 % less CPU a read than with 1.2 MB blocks, within the noise).
+constexpr std::uint64_t kLocalBlockRecords = 1 << 12;
 constexpr std::uint64_t kColorSamples = 4096;
 
 // Blocks of a remote file hinted ahead of the decode (io/read_ahead.h): 8 blocks of 1-2 MB.
@@ -111,8 +115,8 @@ void forEachBlock(const ByteSource& in, const LasHeader& header, std::uint64_t f
     return;
   }
   auto body = [&](const tbb::blocked_range<std::uint64_t>& range) {
-    for (std::uint64_t b = range.begin(); b < range.end(); b += kBlockRecords) {
-      readBlock(b, std::size_t(std::min(kBlockRecords, range.end() - b)), [] {});
+    for (std::uint64_t b = range.begin(); b < range.end(); b += kLocalBlockRecords) {
+      readBlock(b, std::size_t(std::min(kLocalBlockRecords, range.end() - b)), [] {});
     }
   };
   const tbb::blocked_range<std::uint64_t> all(first, first + count, kBlockRecords);

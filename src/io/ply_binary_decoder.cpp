@@ -173,16 +173,49 @@ std::size_t locatePointElement(const DecodeContext& context, int point_element, 
   return pos;
 }
 
-// x, y and z of fixed-size records in one pass: load, track bounds, quantize.
-void decodeFixedPositions(const DecodeContext& context, const RecordRange& range, std::size_t n,
-                          bool swap, PointCloud& cloud, std::uint64_t first_index,
-                          RangeStats& stats) {
+// x, y and z of one type, in one pass: load, track bounds, quantize. Everything the loop reads
+// or writes is a local or a restrict pointer, so nothing is reloaded or stored back per record
+// (bounds and the finite flag through references were spilled to memory every iteration).
+template <class T, bool kSwap>
+bool quantizeSameTypePositions(const std::byte* __restrict base, std::size_t stride,
+                               const std::size_t (&at)[3], std::size_t n, const double (&offset)[3],
+                               const double (&inverse)[3], Int3* __restrict dst, double (&lo)[3],
+                               double (&hi)[3]) {
+  const std::size_t at_x = at[0], at_y = at[1], at_z = at[2];
+  const double offset_x = offset[0], offset_y = offset[1], offset_z = offset[2];
+  const double inverse_x = inverse[0], inverse_y = inverse[1], inverse_z = inverse[2];
+  double lo_x = lo[0], lo_y = lo[1], lo_z = lo[2];
+  double hi_x = hi[0], hi_y = hi[1], hi_z = hi[2];
+  bool finite = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::byte* record = base + i * stride;
+    const double x = double(load<T, kSwap>(record + at_x));
+    const double y = double(load<T, kSwap>(record + at_y));
+    const double z = double(load<T, kSwap>(record + at_z));
+    // false for NaN and infinity; a bitwise and keeps the loop free of branches
+    finite &= (std::abs(x) <= 1.7976931348623157e308) & (std::abs(y) <= 1.7976931348623157e308) &
+              (std::abs(z) <= 1.7976931348623157e308);
+    lo_x = x < lo_x ? x : lo_x, hi_x = x > hi_x ? x : hi_x;
+    lo_y = y < lo_y ? y : lo_y, hi_y = y > hi_y ? y : hi_y;
+    lo_z = z < lo_z ? z : lo_z, hi_z = z > hi_z ? z : hi_z;
+    dst[i] = Int3{quantizeClamped(x, offset_x, inverse_x), quantizeClamped(y, offset_y, inverse_y),
+                  quantizeClamped(z, offset_z, inverse_z)};
+  }
+  lo[0] = lo_x, lo[1] = lo_y, lo[2] = lo_z;
+  hi[0] = hi_x, hi[1] = hi_y, hi[2] = hi_z;
+  return finite;
+}
+
+// x, y and z of fixed-size records in one pass: load, track bounds, quantize. `base` holds the
+// `n` records of `range` (the mapped file, or a copy read into a buffer).
+void decodeFixedPositions(const DecodeContext& context, const std::byte* base,
+                          const RecordRange& range, std::size_t n, bool swap, PointCloud& cloud,
+                          std::uint64_t first_index, RangeStats& stats) {
   const PointLayout& layout = context.layout;
   const PropertyPlan* plans[3];
   for (int axis = 0; axis < 3; ++axis) {
     plans[axis] = &layout.properties[std::size_t(layout.position_index[axis])];
   }
-  const std::byte* base = context.bytes.data() + range.begin;
   const std::size_t stride = layout.record_size;
   const Quantization& q = cloud.quantization;
   const double offset[3] = {q.offset[0], q.offset[1], q.offset[2]};
@@ -192,27 +225,13 @@ void decodeFixedPositions(const DecodeContext& context, const RecordRange& range
   double lo[3] = {stats.raw_bounds.min[0], stats.raw_bounds.min[1], stats.raw_bounds.min[2]};
   double hi[3] = {stats.raw_bounds.max[0], stats.raw_bounds.max[1], stats.raw_bounds.max[2]};
   bool finite = true;
-  auto loop = [&]<class TX, class TY, class TZ, bool kSwap>() {
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::byte* record = base + i * stride;
-      double v[3] = {double(load<TX, kSwap>(record + at[0])),
-                     double(load<TY, kSwap>(record + at[1])),
-                     double(load<TZ, kSwap>(record + at[2]))};
-      std::int32_t out[3];
-      for (int axis = 0; axis < 3; ++axis) {
-        finite &= std::abs(v[axis]) <= 1.7976931348623157e308;  // false for NaN and infinity
-        lo[axis] = v[axis] < lo[axis] ? v[axis] : lo[axis];
-        hi[axis] = v[axis] > hi[axis] ? v[axis] : hi[axis];
-        out[axis] = quantizeClamped(v[axis], offset[axis], inverse[axis]);
-      }
-      dst[i] = Int3{out[0], out[1], out[2]};
-    }
-  };
   ScalarType type = plans[0]->type;
   if (plans[1]->type == type && plans[2]->type == type) {
     // The common case: one type for all three; the loop is specialised for it.
-    dispatch(type, swap,
-             [&]<class T, bool kSwap>() { loop.template operator()<T, T, T, kSwap>(); });
+    dispatch(type, swap, [&]<class T, bool kSwap>() {
+      finite =
+          quantizeSameTypePositions<T, kSwap>(base, stride, at, n, offset, inverse, dst, lo, hi);
+    });
   } else {
     // Mixed types (rare): through double, one value at a time.
     for (std::size_t i = 0; i < n; ++i) {
@@ -233,7 +252,7 @@ void decodeFixedPositions(const DecodeContext& context, const RecordRange& range
       for (int axis = 0; axis < 3; ++axis) {
         const std::byte* value = base + i * stride + at[axis];
         if (!std::isfinite(loadAsDouble(plans[axis]->type, swap, value))) {
-          failNonFinite(context, *plans[axis], std::size_t(value - context.bytes.data()),
+          failNonFinite(context, *plans[axis], range.begin + std::size_t(value - base),
                         range.first_record + i);
         }
       }
@@ -345,10 +364,21 @@ RangeStats decodeBinaryRange(const DecodeContext& context, const RecordRange& ra
     return stats;
   }
 
+  return decodeFixedRecords(context, base, range, count, cloud, first_index);
+}
+
+RangeStats decodeFixedRecords(const DecodeContext& context, const std::byte* records,
+                              const RecordRange& range, std::uint64_t count, PointCloud& cloud,
+                              std::uint64_t first_index) {
+  const PointLayout& layout = context.layout;
+  const bool swap = needsSwap(context.header.format);
+  const std::byte* base = records;
+  RangeStats stats;
   const std::size_t stride = layout.record_size;
   const std::size_t n = count;
   stats.end = range.begin + n * stride;
-  decodeFixedPositions(context, range, n, swap, cloud, first_index, stats);
+  decodeFixedPositions(context, base, range, n, swap, cloud, first_index, stats);
+  fillMissingChannels(layout, cloud, first_index, n);
   for (const auto& plan : layout.properties) {
     const std::byte* src = base + plan.byte_offset;
     switch (plan.target) {
@@ -393,13 +423,26 @@ RangeStats decodeBinaryRange(const DecodeContext& context, const RecordRange& ra
         });
         break;
       }
-      case Target::Intensity:
-      case Target::Classification:
-        for (std::size_t i = 0; i < n; ++i) {
-          storeAttribute(cloud, plan, first_index + i,
-                         loadAsDouble(plan.type, swap, src + i * stride));
-        }
+      case Target::Intensity: {
+        float* dst = cloud.intensity.data() + first_index;
+        dispatch(plan.type, swap, [=]<class T, bool kSwap>() {
+          for (std::size_t i = 0; i < n; ++i) {
+            dst[i] = narrowToFloat(double(load<T, kSwap>(src + i * stride)));
+          }
+        });
         break;
+      }
+      case Target::Classification: {
+        std::uint8_t* dst = cloud.classification.data() + first_index;
+        dispatch(plan.type, swap, [=]<class T, bool kSwap>() {
+          for (std::size_t i = 0; i < n; ++i) {
+            // storeAttribute's rule, typed: rounded, clamped to 0..255
+            const double value = double(load<T, kSwap>(src + i * stride));
+            dst[i] = value > 0.0 ? std::uint8_t(std::min(value + 0.5, 255.0)) : 0;
+          }
+        });
+        break;
+      }
       case Target::Skip:
         break;
     }

@@ -79,15 +79,24 @@ std::vector<RecordRange> planAsciiRanges(const DecodeContext& context, std::size
                                          bool parallel);
 RangeStats decodeBinaryRange(const DecodeContext& context, const RecordRange& range,
                              std::uint64_t count, PointCloud& cloud, std::uint64_t first_index);
+// The fixed-size binary decode (layout.fixed_size) of `count` records of `range` whose bytes are
+// at `records` (the mapped file at range.begin, or a copy of them read into a buffer); offsets in
+// errors are the file's. Writes the defaults of the channels the file lacks for these points.
+RangeStats decodeFixedRecords(const DecodeContext& context, const std::byte* records,
+                              const RecordRange& range, std::uint64_t count, PointCloud& cloud,
+                              std::uint64_t first_index);
 RangeStats decodeAsciiRange(const DecodeContext& context, const RecordRange& range,
                             std::uint64_t count, PointCloud& cloud, std::uint64_t first_index);
 
 // Rounds to the nearest integer (ties to even) and clamps to int32 without undefined behaviour;
-// NaN gives INT32_MIN. The magic-number form avoids a libm call in the hot loops.
+// NaN gives INT32_MIN. The magic-number form avoids a libm call in the hot loops, and the clamps
+// are selects (maxsd, minsd), not branches, so the loops that call it stay branch-free.
 inline std::int32_t quantizeClamped(double world, double offset, double inverse_scale) {
   double q = (world - offset) * inverse_scale;
-  if (!(q >= -2147483648.0)) return INT32_MIN;
-  if (q > 2147483647.0) return INT32_MAX;
+  // Written as x86's maxsd and minsd compare (strict, the constant when q is NaN), so that the
+  // compiler may use them: with >= or <= it must keep branches for the sign of zero.
+  q = q > -2147483648.0 ? q : -2147483648.0;  // NaN too
+  q = q < 2147483647.0 ? q : 2147483647.0;
   constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52
   return std::int32_t((q + kRound) - kRound);
 }

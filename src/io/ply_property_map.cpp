@@ -168,31 +168,48 @@ PointLayout skippingLayout(const PlyElement& element) {
   return layout;
 }
 
+namespace {
+
+bool layoutHasTarget(const PointLayout& layout, Target target) {
+  return std::any_of(layout.properties.begin(), layout.properties.end(),
+                     [target](const PropertyPlan& p) { return p.target == target; });
+}
+
+}  // namespace
+
+void fillMissingChannels(const PointLayout& layout, PointCloud& cloud, std::uint64_t first,
+                         std::size_t n) {
+  if (n == 0) return;
+  if (layout.has_color) {
+    constexpr Target kChannels[4] = {Target::Red, Target::Green, Target::Blue, Target::Alpha};
+    for (int c = 0; c < 4; ++c) {
+      if (layoutHasTarget(layout, kChannels[c])) continue;
+      const std::uint8_t value = c == 3 ? 255 : 0;
+      std::uint8_t* dst = &cloud.colors[first].r + c;
+      for (std::size_t i = 0; i < n; ++i) dst[i * 4] = value;
+    }
+  }
+  if (layout.has_normals) {
+    constexpr Target kAxes[3] = {Target::NormalX, Target::NormalY, Target::NormalZ};
+    for (int c = 0; c < 3; ++c) {
+      if (layoutHasTarget(layout, kAxes[c])) continue;
+      float* dst = &cloud.normals[first].x + c;
+      for (std::size_t i = 0; i < n; ++i) dst[i * 3] = 0.0f;
+    }
+  }
+}
+
 PointCloud allocatePointCloud(const PointLayout& layout, std::uint64_t count,
-                              const Quantization& quantization) {
+                              const Quantization& quantization, ChannelDefaults defaults) {
   PointCloud cloud;
   cloud.count = count;
   cloud.quantization = quantization;
   cloud.source = layout.source;
   cloud.positions = Column<Int3>(count);
-  // Columns a file has only partly (e.g. red but no green) start from a defined value.
-  if (layout.has_color) {
-    cloud.colors = Column<Rgba8>(count);
-    bool all_channels = true;
-    for (Target t : {Target::Red, Target::Green, Target::Blue, Target::Alpha}) {
-      all_channels = all_channels && std::any_of(layout.properties.begin(), layout.properties.end(),
-                                                 [t](const auto& p) { return p.target == t; });
-    }
-    if (!all_channels) std::fill(cloud.colors.begin(), cloud.colors.end(), Rgba8{0, 0, 0, 255});
-  }
-  if (layout.has_normals) {
-    cloud.normals = Column<Float3>(count);
-    bool all_axes = true;
-    for (Target t : {Target::NormalX, Target::NormalY, Target::NormalZ}) {
-      all_axes = all_axes && std::any_of(layout.properties.begin(), layout.properties.end(),
-                                         [t](const auto& p) { return p.target == t; });
-    }
-    if (!all_axes) std::fill(cloud.normals.begin(), cloud.normals.end(), Float3{0, 0, 0});
+  if (layout.has_color) cloud.colors = Column<Rgba8>(count);
+  if (layout.has_normals) cloud.normals = Column<Float3>(count);
+  if (defaults == ChannelDefaults::FilledAtAllocation && count > 0) {
+    fillMissingChannels(layout, cloud, 0, std::size_t(count));
   }
   if (layout.has_intensity) cloud.intensity = Column<float>(count);
   if (layout.has_classification) cloud.classification = Column<std::uint8_t>(count);

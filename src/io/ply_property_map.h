@@ -63,9 +63,22 @@ PointLayout planPointLayout(const PlyElement& element, const std::string& file);
 // elements before the point element in an ascii body.
 PointLayout skippingLayout(const PlyElement& element);
 
-// A cloud with every column the layout needs allocated (uninitialised) for `count` points.
+// Who gives the colour channels and normal axes a file lacks (a PLY without alpha: most) their
+// default (0, alpha 255): allocatePointCloud, a fill of the whole column on one thread before the
+// decode, or the decoder, range by range as it writes the channels it has (fillMissingChannels;
+// the fixed-size binary decoder does), which saves a pass over a column about to be written.
+enum class ChannelDefaults : std::uint8_t { FilledAtAllocation, FilledByDecoder };
+
+// A cloud with every column the layout needs allocated (uninitialised) for `count` points; the
+// channels the file lacks hold their default unless `defaults` leaves them to the decoder.
 PointCloud allocatePointCloud(const PointLayout& layout, std::uint64_t count,
-                              const Quantization& quantization);
+                              const Quantization& quantization,
+                              ChannelDefaults defaults = ChannelDefaults::FilledAtAllocation);
+
+// Writes the default of every colour channel and normal axis the layout lacks, for points
+// [first, first + n) (their other channels untouched).
+void fillMissingChannels(const PointLayout& layout, PointCloud& cloud, std::uint64_t first,
+                         std::size_t n);
 
 // Colour conversions to 8 bits. 16-bit values are scaled by 255/65535 with rounding (so 257 * k
 // gives k); floating-point values are taken as 0..1 and rounded; out-of-range values clamp.

@@ -52,6 +52,26 @@ def test_convert_progress_counts_each_stage(generated, tmp_path):
         assert last[1] is None or last[0] == last[1], (stage, last)
 
 
+@pytest.mark.parametrize("source, target", [("ply-binary", "scan.las"), ("las", "scan.ply")])
+def test_single_file_convert_reports_reading_and_writing(source, target, generated, tmp_path):
+    # A file to a file: no octree stages, but the read and the write report to the callback
+    # (they drew terminal bars only), each ending at its total, the cloud's 3000 points.
+    calls = []
+    parallax.convert(
+        generated[source], tmp_path / target,
+        progress=lambda done, total, stage: calls.append((stage, done, total)),
+    )
+    stages = [stage for stage, _, _ in calls]
+    assert set(stages) == {"reading", "writing"}, calls
+    assert stages.index("writing") > max(i for i, s in enumerate(stages) if s == "reading")
+    for stage in ("reading", "writing"):
+        done = [(d, t) for s, d, t in calls if s == stage]
+        assert all(t == 3000 for _, t in done), (stage, done)
+        assert [d for d, _ in done] == sorted(d for d, _ in done), (stage, done)
+        assert done[-1] == (3000, 3000), (stage, done)
+    assert len(parallax.read(str(tmp_path / target))) == 3000
+
+
 PROCESSING = [
     ([("normals", 12)], {}, ["--normals", "12"]),
     ([("normals", 8), ("curvature", True), ("subsample", "voxel:0.5")], {}, ["--normals", "8", "--curvature", "--subsample", "voxel:0.5"]),

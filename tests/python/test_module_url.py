@@ -62,3 +62,45 @@ def test_a_missing_url_is_an_input_error(served):
         parallax.read(f"{base}/missing.ply")
     with pytest.raises(parallax.InputError, match="missing.copc.laz"):
         parallax.open_octree(f"{base}/missing.copc.laz")
+
+
+def _vlr_tuples(vlrs):
+    return [(v.user_id, v.record_id, v.data) for v in vlrs]
+
+
+def test_las_header_metadata_of_a_url_equals_the_local_one(served, data_dir):
+    # A file with a CRS in GeoTIFF records: point format, version and every VLR (their bytes too),
+    # from parallax.read and parallax.read_header, as the local file gives them.
+    root, base, _ = served
+    shutil.copy(data_dir / "laz/point-color-time.las", root / "crs.las")
+    local = parallax.read(str(root / "crs.las"))
+    remote = parallax.read(f"{base}/crs.las")
+    assert (remote.point_format, remote.las_version) == (3, "1.2")
+    assert (remote.point_format, remote.las_version) == (local.point_format, local.las_version)
+    assert ("LASF_Projection", 34735) in [(v.user_id, v.record_id) for v in remote.vlrs]
+    assert _vlr_tuples(remote.vlrs) == _vlr_tuples(local.vlrs)
+    assert remote.crs == local.crs and "EPSG:26910" in remote.crs
+    header = parallax.read_header(f"{base}/crs.las")
+    assert (header["point_format"], header["las_version"]) == (3, "1.2")
+    assert _vlr_tuples(header["vlrs"]) == _vlr_tuples(local.vlrs)
+
+
+@pytest.mark.parametrize("name", ["scan.ply", "scan.las"])
+def test_read_chunks_of_a_url_equal_the_local_chunks(name, served):
+    root, base, _ = served
+    local = list(parallax.read_chunks(str(root / name), points=700))
+    chunks = parallax.read_chunks(f"{base}/{name}", points=700)
+    assert chunks.point_count == 3000
+    remote = list(chunks)
+    assert [len(part) for part in remote] == [700, 700, 700, 700, 200]
+    assert all(part.path == f"{base}/{name}" for part in remote)
+    assert remote[0].columns == local[0].columns
+    for ours, theirs in zip(remote, local):
+        for column in theirs.columns:
+            np.testing.assert_array_equal(ours[column], theirs[column], err_msg=column)
+    whole = parallax.read(str(root / name))
+    np.testing.assert_allclose(np.concatenate([part["x"] for part in remote]), whole["x"],
+                               rtol=1e-12, atol=0)
+    if name.endswith(".las"):
+        assert remote[0].point_format == whole.point_format == 2
+        assert remote[0].raw("x").tolist() == local[0].raw("x").tolist()
