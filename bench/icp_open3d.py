@@ -19,6 +19,14 @@ import numpy as np
 import open3d as o3d
 
 
+def peak_kb():
+    with open("/proc/self/status") as status:
+        for line in status:
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1])
+    return None
+
+
 def main():
     source_path, target_path, max_distance = sys.argv[1], sys.argv[2], float(sys.argv[3])
     start = time.perf_counter()
@@ -44,7 +52,8 @@ def main():
     print(json.dumps({"transform": transform.tolist(), "rms": result.inlier_rmse,
                       "overlap": result.fitness,
                       "seconds": {"read": read - start, "normals": normals - read,
-                                  "icp": done - normals}}))
+                                  "icp": done - normals},
+                      "peak_kb": peak_kb()}))
 
 
 if __name__ == "__main__":

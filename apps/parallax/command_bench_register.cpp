@@ -4,10 +4,11 @@
 //
 // The peer (bench/icp_open3d.py: Open3D's registration_icp) runs through /bin/sh with {source},
 // {target} and {distance} replaced, after Parallax, and prints one JSON line with its
-// "transform" (SOURCE -> TARGET, 4 rows of 4), "rms" and "overlap". Printed: wall and CPU time
-// (user + system; the peer's from its process, start included), peak memory, RMS, overlap, the
-// ratios peer / Parallax, and how far apart the two transforms put the corners of the source's
-// bounds (the results must agree for the times to compare). The load average before and after.
+// "transform" (SOURCE -> TARGET, 4 rows of 4), "rms" and "overlap" (and its "peak_kb"). Printed:
+// wall and CPU time (user + system; the peer's from its process, start included), peak memory,
+// RMS, overlap, the ratios peer / Parallax, and how far apart the two transforms put the corners
+// of the source's bounds (the results must agree for the times to compare). The load average
+// before and after.
 #include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
@@ -61,9 +62,9 @@ std::string runPeerCommand(const std::string& command) {
   return out;
 }
 
-double peakMegabytes(int who) {
+double peakMegabytesOfThisProcess() {
   rusage usage{};
-  getrusage(who, &usage);
+  getrusage(RUSAGE_SELF, &usage);
   return double(usage.ru_maxrss) / 1024.0;
 }
 
@@ -78,7 +79,7 @@ int runBenchRegister(const BenchRegisterOptions& options) {
   const IcpResult ours = registerClouds(source, target, icp, options.source, options.target);
   const double wall = secondsSince(start);
   const double cpu = rusageCpuSeconds(RUSAGE_SELF) - cpu_start;
-  const double peak = peakMegabytes(RUSAGE_SELF);
+  const double peak = peakMegabytesOfThisProcess();
   std::printf(
       "bench register: %s (%llu points) onto %s (%llu points), max distance %.6g, load average "
       "%.1f %.1f %.1f before\n",
@@ -123,9 +124,14 @@ int runBenchRegister(const BenchRegisterOptions& options) {
       apart = std::max(apart, std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]));
     }
     const double peer_rms = theirs.at("rms");
-    std::printf("peer      wall %.2f s, cpu %.2f s, peak %.0f MB, rms %.9g, overlap %.6f\n",
-                peer_wall, peer_cpu, peakMegabytes(RUSAGE_CHILDREN), peer_rms,
-                double(theirs.at("overlap")));
+    // The peer's peak as it reports it ("peak_kb"): getrusage's figure for a child started
+    // from this process would include this process's own peak (Linux keeps it across exec).
+    std::string peer_peak = "not reported";
+    if (theirs.contains("peak_kb") && theirs["peak_kb"].is_number()) {
+      peer_peak = std::to_string(std::llround(double(theirs["peak_kb"]) / 1024.0)) + " MB";
+    }
+    std::printf("peer      wall %.2f s, cpu %.2f s, peak %s, rms %.9g, overlap %.6f\n", peer_wall,
+                peer_cpu, peer_peak.c_str(), peer_rms, double(theirs.at("overlap")));
     std::printf(
         "ratio     peer / parallax: wall %.2f, cpu %.2f; rms differ by %.3g (relative); the two "
         "transforms put the source's corners at most %.3g apart\n",
