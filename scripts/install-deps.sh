@@ -45,6 +45,9 @@ packages=(
   python3-open3d
   # rasters (src/raster): GeoTIFF through GDAL; gdal_grid, gdalinfo, gdaldem as test oracles
   libgdal-dev gdal-bin
+  # rasters' second oracle in tests (tests/raster/compare_cloudcompare.py): CloudCompare's
+  # command line -RASTERIZE, never used by the product
+  cloudcompare
 )
 
 # npm packages of the tests, from their package-lock.json (`npm ci`), only when missing or older

@@ -275,6 +275,7 @@ Command addBenchCommand(CLI::App& app) {
       addBenchRenderCommand(*command.subcommand),
       addBenchConvertCommand(*command.subcommand),
       addBenchLazCommand(*command.subcommand),
+      addBenchRegisterCommand(*command.subcommand),
       addBenchXrCommand(*command.subcommand),
   });
   command.run = [modes] {

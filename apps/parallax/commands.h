@@ -42,5 +42,7 @@ Command addBenchRenderCommand(CLI::App& bench);
 Command addBenchConvertCommand(CLI::App& bench);
 // `bench laz` (command_bench_laz.cpp), registered by addBenchCommand.
 Command addBenchLazCommand(CLI::App& bench);
+// `bench register` (command_bench_register.cpp), registered by addBenchCommand.
+Command addBenchRegisterCommand(CLI::App& bench);
 
 }  // namespace parallax::cli
