@@ -471,12 +471,14 @@ TEST(ComputeRasterizer, AHeadsetsAsymmetricEyesShareTheirDepthAndDrawWhatEachDra
   GpuPointCloud gpu(cloud, smallChunks());
   const std::vector<View> views = headsetEyes(centre);
   const int width = 192, height = 112;
+  // One renderer each way, so that each compiles its programs once.
+  ComputeRasterizerOptions alone_options;
+  alone_options.share_depth = false;
+  Renderer sharing, projecting_alone(alone_options);
+  RenderTarget target(width, height);
   const auto drawn = [&](const std::vector<View>& eyes, RenderSettings settings, bool share,
                          bool* shared) {
-    ComputeRasterizerOptions options;
-    options.share_depth = share;
-    Renderer renderer(options);
-    RenderTarget target(width, height);
+    Renderer& renderer = share ? sharing : projecting_alone;
     settings.rasterizer = RasterizerKind::Compute;
     const FrameStats stats =
         renderer.render(gpu.drawSet(), eyes, settings, target.framebuffer(), width, height);
