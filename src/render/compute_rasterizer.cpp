@@ -133,17 +133,18 @@ struct Eye {
 // an affine function of view 0's clip x, z and w (y alike with e, f, t_y). Its three terms cost
 // what view v's own row of the model-view-projection costs (four), so the shader takes that row:
 // the same arithmetic as a view projected alone, so both ways give the same pixels, bit for bit.
-// The condition is tested on the eyes, not on S = P_v W_v (P_0 W_0)^-1 (as until 2026-11-27, with
-// row 0 limited to x_0 plus z and w terms, which lost eyes of unequal widths): S's entries that carry a depth
-// offset are divided by B, about the near plane, which is tiny where the eye stands inside the
-// cloud (a millionth of the far plane), so the rounding of a UTM eye position or of a runtime's
-// float poses would fail any fixed tolerance on S. Here: the eyes look the same way (forwards
-// within kSharedDepthAngle radians), stand in one plane across it (depth offset within
-// kSharedDepthOffset of their distance), and have the same near and far planes (relative
+// The condition is tested on the eyes, not on S = P_v W_v (P_0 W_0)^-1 (as until 2026-11-27,
+// with row 0 limited to x_0 plus z and w terms, which lost eyes of unequal widths): S's entries
+// that carry a depth offset are divided by B, about the near plane, which is tiny where the eye
+// stands inside the cloud (a millionth of the far plane), so the rounding of a UTM eye position
+// or of a runtime's float poses would fail any fixed tolerance on S. Here: the eyes look the same
+// way (forwards within kSharedDepthAngle radians), stand in one plane across it (depth offset
+// within kSharedDepthOffset of their distance), and have the same near and far planes (relative
 // kSharedDepthRange). Within those, eye v is drawn as if moved by at most 1e-5 of the baseline
 // along its view (0.6 um for a 64 mm baseline; a runtime's float poses round to 0.1 um) and
-// turned by a microradian: about a thousandth of a pixel for points a few baselines away. View v's world-to-clip rows 2 and 3 are then made view 0's, so that the floats
-// sent for them are equal and both eyes' depth keys are the same numbers.
+// turned by a microradian: about a thousandth of a pixel for points a few baselines away. View
+// v's world-to-clip rows 2 and 3 are then made view 0's, so that the floats sent for them are
+// equal and both eyes' depth keys are the same numbers.
 constexpr double kSharedDepthAngle = 1e-6;
 constexpr double kSharedDepthOffset = 1e-5;
 constexpr double kSharedDepthRange = 1e-6;
