@@ -76,7 +76,7 @@ struct Variant {
   int color = 5, size = 0;
   bool lighting = false, orthographic = false, round = false, splat = false;
   bool hq = false, reset = false;
-  bool view_shift = false;    // every view's clip x from view 0's clip (viewShifts)
+  bool shared_depth = false;  // every view's clip z and w are view 0's (shareDepth)
   bool list_large = false;    // both passes list splats wider than inline_splat (LargeSplats)
   bool large = false;         // the large splats' program
   bool node_spacing = false;  // adaptive sizes from every item's node spacing (NODE_SPACING)
@@ -89,7 +89,7 @@ struct Variant {
            std::uint32_t(color) << 6 | std::uint32_t(size) << 9 | std::uint32_t(lighting) << 11 |
            std::uint32_t(orthographic) << 12 | std::uint32_t(round) << 13 |
            std::uint32_t(splat) << 14 | std::uint32_t(hq) << 15 | std::uint32_t(reset) << 16 |
-           std::uint32_t(view_shift) << 17 | std::uint32_t(list_large) << 18 |
+           std::uint32_t(shared_depth) << 17 | std::uint32_t(list_large) << 18 |
            std::uint32_t(large) << 19 | std::uint32_t(filter) << 21 |
            std::uint32_t(node_spacing) << 29;
   }
@@ -100,7 +100,7 @@ struct Variant {
     return define("PASS", pass) + define("ATOMIC64", atomic64) + define("VIEWS", views) +
            define("COLOR_MODE", color) + define("SIZE_MODE", size) + define("LIGHTING", lighting) +
            define("ORTHOGRAPHIC", orthographic) + define("ROUND", round) + define("SPLAT", splat) +
-           define("HQ", hq) + define("RESET", reset) + define("VIEW_SHIFT", view_shift) +
+           define("HQ", hq) + define("RESET", reset) + define("SHARED_DEPTH", shared_depth) +
            define("LIST_LARGE", list_large) + define("LARGE", large) +
            define("NODE_SPACING", node_spacing) + filterDefines(filter) + "#define BATCH_POINTS " +
            std::to_string(kBatchPoints) + "u\n#define MAX_SPLAT " + std::to_string(max_splat) +
@@ -114,37 +114,74 @@ struct Variant {
 struct Eye {
   glm::dmat4 world_to_eye;
   glm::dmat4 projection;
+  glm::dmat4 world_to_clip;  // projection * world_to_eye (rows 2, 3 shared: shareDepth)
   Frustum frustum;
   float pixels_per_unit;
   Viewport viewport;
 };
 
-// Off-axis stereo pairs (and any views whose eyes differ by a move along the camera's x and a
-// frustum shear) share y, z and w of the clip position: view v's clip x is view 0's plus
-// shift.x * z + shift.y * w. With every view so, the shader projects a point once, not once per
-// view (VIEW_SHIFT). The relation is found from the matrices, S = P_v W_v (P_0 W_0)^-1, in
-// double; std::nullopt where some view is not such a shift of view 0.
-std::optional<std::vector<glm::vec2>> viewShifts(const std::vector<Eye>& eyes) {
-  if (eyes.size() < 2) return std::nullopt;
-  std::vector<glm::vec2> shifts{glm::vec2(0.0f)};
-  const glm::dmat4 from_first_eye = glm::inverse(eyes[0].world_to_eye);
-  const glm::dmat4 first_unprojection = glm::inverse(eyes[0].projection);
+// Views whose eyes are parallel and differ by a move in their image plane (an off-axis stereo
+// pair; a headset's two eyes, whatever their four fov angles) have the same clip z and w: the
+// shader then projects a point's depth once for all views and computes only each view's clip x
+// and y (SHARED_DEPTH). Why z and w, and not more: with P_v the asymmetric frustum
+//   [a_v 0 c_v 0; 0 e_v f_v 0; 0 0 A B; 0 0 -1 0]
+// (A, B from the near and far planes, equal for both eyes: the eyes' depths are equal) and eye v
+// at (t_x, t_y, 0) in eye 0's frame, eye v's point is (x - t_x, y - t_y, z, 1), so
+//   w_v = -z = w_0, z_v = A z + B = z_0, and, since 1 = (z_0 + A w_0) / B,
+//   x_v = a_v (x - t_x) + c_v z = (a_v / a_0) x_0 + (c_v - a_v c_0 / a_0) (-w_0)
+//         - (a_v t_x / B) (z_0 + A w_0),
+// an affine function of view 0's clip x, z and w (y alike with e, f, t_y). Its three terms cost
+// what view v's own row of the model-view-projection costs (four), so the shader takes that row:
+// the same arithmetic as a view projected alone, so both ways give the same pixels, bit for bit.
+// The condition is tested on the eyes, not on S = P_v W_v (P_0 W_0)^-1 (as until 2026-11-27,
+// with row 0 limited to x_0 plus z and w terms, which lost eyes of unequal widths): S's entries
+// that carry a depth offset are divided by B, about the near plane, which is tiny where the eye
+// stands inside the cloud (a millionth of the far plane), so the rounding of a UTM eye position
+// or of a runtime's float poses would fail any fixed tolerance on S. Here: the eyes look the same
+// way (forwards within kSharedDepthAngle radians), stand in one plane across it (depth offset
+// within kSharedDepthOffset of their distance), and have the same near and far planes (relative
+// kSharedDepthRange). Within those, eye v is drawn as if moved by at most 1e-5 of the baseline
+// along its view (0.6 um for a 64 mm baseline; a runtime's float poses round to 0.1 um) and
+// turned by a microradian: about a thousandth of a pixel for points a few baselines away. View
+// v's world-to-clip rows 2 and 3 are then made view 0's, so that the floats sent for them are
+// equal and both eyes' depth keys are the same numbers.
+constexpr double kSharedDepthAngle = 1e-6;
+constexpr double kSharedDepthOffset = 1e-5;
+constexpr double kSharedDepthRange = 1e-6;
+
+bool sameDepthAs(const Eye& first, const Eye& eye) {
+  const glm::dvec3 first_forward(first.world_to_eye[0][2], first.world_to_eye[1][2],
+                                 first.world_to_eye[2][2]);
+  const glm::dvec3 forward(eye.world_to_eye[0][2], eye.world_to_eye[1][2], eye.world_to_eye[2][2]);
+  if (glm::length(forward - first_forward) > kSharedDepthAngle) return false;
+  // Eye v's position in eye 0's frame: its depth offset against the baseline.
+  const glm::dvec3 position =
+      -glm::transpose(glm::dmat3(eye.world_to_eye)) * glm::dvec3(eye.world_to_eye[3]);
+  const glm::dvec3 offset = glm::dvec3(first.world_to_eye * glm::dvec4(position, 1.0));
+  if (std::abs(offset.z) > kSharedDepthOffset * glm::length(offset)) return false;
+  // Rows 2 and 3 of the projections: z = A z_eye + B, w = C z_eye + D, nothing from x or y.
+  const auto close = [](double a, double b) {
+    return std::abs(a - b) <= kSharedDepthRange * std::max(std::abs(a), std::abs(b));
+  };
+  const glm::dmat4& p = eye.projection;
+  const glm::dmat4& q = first.projection;
+  return p[0][2] == 0.0 && p[1][2] == 0.0 && p[0][3] == 0.0 && p[1][3] == 0.0 &&
+         close(p[2][2], q[2][2]) && close(p[3][2], q[3][2]) && p[2][3] == q[2][3] &&
+         p[3][3] == q[3][3];
+}
+
+bool shareDepth(std::vector<Eye>& eyes) {
+  if (eyes.size() < 2) return false;
   for (std::size_t v = 1; v < eyes.size(); ++v) {
-    // Eye 0 to eye v is rigid (small numbers even at UTM coordinates), then the projections.
-    const glm::dmat4 s =
-        eyes[v].projection * (eyes[v].world_to_eye * from_first_eye) * first_unprojection;
-    constexpr double kTolerance = 1e-9;
-    for (int col = 0; col < 4; ++col) {
-      for (int row = 1; row < 4; ++row) {
-        if (std::abs(s[col][row] - (col == row ? 1.0 : 0.0)) > kTolerance) return std::nullopt;
-      }
-    }
-    if (std::abs(s[0][0] - 1.0) > kTolerance || std::abs(s[1][0]) > kTolerance) {
-      return std::nullopt;
-    }
-    shifts.emplace_back(float(s[2][0]), float(s[3][0]));
+    if (!sameDepthAs(eyes[0], eyes[v])) return false;
   }
-  return shifts;
+  for (std::size_t v = 1; v < eyes.size(); ++v) {
+    for (int col = 0; col < 4; ++col) {
+      eyes[v].world_to_clip[col][2] = eyes[0].world_to_clip[col][2];
+      eyes[v].world_to_clip[col][3] = eyes[0].world_to_clip[col][3];
+    }
+  }
+  return true;
 }
 
 // The largest size (pixels) a point of `item` may have in any view that sees it, for the
@@ -412,8 +449,8 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
         camera.projection == Projection::Orthographic
             ? height / camera.ortho_height
             : height / (2.0 * std::tan(glm::radians(camera.fov_y_deg) / 2));
-    eyes.push_back({world_to_eye, projection, Frustum(projection * world_to_eye),
-                    float(pixels_per_unit), views[v].viewport});
+    eyes.push_back({world_to_eye, projection, projection * world_to_eye,
+                    Frustum(projection * world_to_eye), float(pixels_per_unit), views[v].viewport});
   }
   const Camera& camera = views.front().camera;
 
@@ -439,8 +476,8 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   variant.hq = hq;
   variant.reset = frame.accumulate && !atomic64_;
   variant.filter = filterParts(settings.filter, draw_set);
-  const std::optional<std::vector<glm::vec2>> view_shifts = viewShifts(eyes);
-  variant.view_shift = view_shifts.has_value();
+  variant.shared_depth = options_.share_depth && shareDepth(eyes);
+  shared_depth_ = variant.shared_depth;
   // Octree nodes size adaptive points by their node's spacing: no per-point spacing to read.
   variant.node_spacing = settings.size_mode == PointSizeMode::Adaptive && !draw_set.items.empty() &&
                          std::all_of(draw_set.items.begin(), draw_set.items.end(),
@@ -636,10 +673,6 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     glUniform4fv(shader.uniform("u_viewport"), view_count, viewports);
     glUniform1fv(shader.uniform("u_pixels_per_unit"), view_count, pixels_per_unit);
     glUniform4fv(shader.uniform("u_depth_coeffs"), view_count, coeffs);
-    if (view_shifts) {
-      glUniform2fv(shader.uniform("u_view_shift"), view_count,
-                   glm::value_ptr(view_shifts->front()));
-    }
     const GLint mvp_location = shader.uniform("u_mvp");
     const GLint model_view_location = shader.uniform("u_model_view");
     const GLint view_mask_location = shader.uniform("u_view_mask");
@@ -668,7 +701,10 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
         // The chunk origin is folded in in double: the GPU only sees chunk-sized numbers.
         const glm::dmat4 chunk_to_eye = glm::translate(eyes[v].world_to_eye, chunk.origin);
         model_view[v] = glm::mat4(chunk_to_eye);
-        mvp[v] = glm::mat4(eyes[v].projection * chunk_to_eye);
+        // Shared depth: every view's rows 2 and 3 from the same double rows, so equal floats.
+        mvp[v] = variant.shared_depth
+                     ? glm::mat4(glm::translate(eyes[v].world_to_clip, chunk.origin))
+                     : glm::mat4(eyes[v].projection * chunk_to_eye);
       }
       glUniformMatrix4fv(mvp_location, view_count, GL_FALSE, glm::value_ptr(mvp[0]));
       glUniformMatrix4fv(model_view_location, view_count, GL_FALSE, glm::value_ptr(model_view[0]));

@@ -55,6 +55,10 @@ struct ComputeRasterizerOptions {
   // binding, and at least a batch of points in kMaxViews views). A frame's ranges are grouped so
   // that a group's points in all views fit; tests lower it to exercise several groups.
   std::uint32_t large_splats_per_group = 1u << 20;
+  // True: views whose clip depth and w are view 0's (an off-axis pair, a headset's parallel
+  // eyes) are projected in depth once for all (see shareDepth). False: each view projected
+  // alone (the reference the tests compare the shared path with).
+  bool share_depth = true;
 };
 
 // A point found in the visibility buffer.
@@ -94,6 +98,10 @@ class ComputeRasterizer final : public Rasterizer {
   // Splats the last frame drew a workgroup each (wider than an inline splat). Reads the count
   // back from the GPU (a sync): for tests, benchmarks and reports, not for every frame.
   std::uint64_t largeSplatsOfLastFrame() const;
+
+  // Whether the last frame's views shared one projection of depth (share_depth, and the views
+  // allow it). For tests and benchmarks: a stereo frame that silently lost it costs more.
+  bool sharedDepthOfLastFrame() const { return shared_depth_; }
 
   // True where the 64-bit path runs (the context has the extensions and the options allow it).
   bool uses64BitAtomics() const { return atomic64_; }
@@ -136,7 +144,9 @@ class ComputeRasterizer final : public Rasterizer {
   static constexpr GLintptr kLargeArgsOffset = 16;
   GLuint large_ = 0;
   std::uint32_t large_capacity_ = 0;
-  bool listed_large_splats_ = false;  // the last frame listed (largeSplatsOfLastFrame)
+  bool listed_large_splats_ = false;
+  bool shared_depth_ =
+      false;  // the last frame (sharedDepthOfLastFrame)  // the last frame listed (largeSplatsOfLastFrame)
   std::optional<ShaderProgram> large_args_program_;  // the count into the dispatch's size
   float max_point_px_ = 1.0f;
   int width_ = 0, height_ = 0;

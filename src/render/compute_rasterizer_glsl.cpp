@@ -21,8 +21,9 @@ namespace parallax::glsl {
 //   RESET       1: progressive drawing on top of an earlier part: a point that brings a pixel
 //               nearer clears what the pixel held (32-bit path: its id, colour and sums)
 //   NODE_SPACING 1: adaptive sizes from u_node_spacing alone (every item is an octree node)
-//   VIEW_SHIFT  1: the views are shifts of view 0 (off-axis stereo): a point is projected once,
-//               each view's clip x derived from view 0's (u_view_shift)
+//   SHARED_DEPTH 1: every view's clip z and w are view 0's (parallel eyes: off-axis stereo, a
+//               headset): a point's depth, its depth key and its near and far tests are computed
+//               once, and each view projects only its clip x and y (its own rows of u_mvp)
 // No run-time branches on modes: llvmpipe executes both sides of a branch under a mask.
 const char* const kComputeRasterizer = R"glsl(#version 450 core
 #if ATOMIC64
@@ -137,9 +138,6 @@ layout(std430, binding = 6) coherent buffer SumW { uint sum_w[]; };
 #endif
 
 uniform mat4 u_mvp[VIEWS];         // chunk-relative to clip (chunk origin folded in in double)
-#if VIEW_SHIFT
-uniform vec2 u_view_shift[VIEWS];  // clip x of view v = view 0's + dot(shift, clip.zw)
-#endif
 uniform mat4 u_model_view[VIEWS];  // chunk-relative to eye
 uniform vec4 u_viewport[VIEWS];    // x, y, width, height in canvas pixels
 uniform float u_pixels_per_unit[VIEWS];
@@ -355,24 +353,40 @@ bool insideSplat(int x, int y, vec2 window, float size) {
 }
 
 #if !LARGE
-void drawInView(uint i, uint id, vec3 p, int v, vec4 first_clip) {
-#if VIEW_SHIFT
-  vec4 clip = vec4(first_clip.x + dot(u_view_shift[v], first_clip.zw), first_clip.yzw);
+// A point is clipped by its centre, as GL_POINTS are: here by depth (w > 0, 0 <= z <= w).
+bool insideDepth(vec4 clip) {
+  return clip.w > 0.0 && clip.z >= 0.0 && clip.z <= clip.w;
+}
+
+// The depth key: ~bits of the window depth z / w (inv_w = 1 / w, as the viewport transform
+// takes it).
+uint depthKey(vec4 clip, float inv_w) {
+  return ~(floatBitsToUint(clip.z * inv_w) & 0x7fffffffu);
+}
+
+// `first_clip`, `first_inv_w` and `first_key`: view 0's clip position, 1 / w and depth key
+// (SHARED_DEPTH only, where every view has them; the point is inside the views' depth range).
+void drawInView(uint i, uint id, vec3 p, int v, vec4 first_clip, float first_inv_w,
+                uint first_key) {
+#if SHARED_DEPTH
+  // x and y as the whole product computes them (the rest is left unused), so the pixels are
+  // those of the view projected alone; z and w are view 0's, the same floats.
+  vec4 clip = vec4((u_mvp[v] * vec4(p, 1.0)).xy, first_clip.zw);
+  if (!(abs(clip.x) <= clip.w && abs(clip.y) <= clip.w)) return;
+  float inv_w = first_inv_w;
+  uint key = first_key;
 #else
   vec4 clip = u_mvp[v] * vec4(p, 1.0);
-#endif
-  // A point is clipped by its centre, as GL_POINTS are.
-  if (!(clip.w > 0.0 && abs(clip.x) <= clip.w && abs(clip.y) <= clip.w && clip.z >= 0.0 &&
-        clip.z <= clip.w)) {
-    return;
-  }
+  if (!(insideDepth(clip) && abs(clip.x) <= clip.w && abs(clip.y) <= clip.w)) return;
   // The viewport transform as the GL pipeline does it (a reciprocal of w, then scale and
-  // translate), snapped to llvmpipe's 1/256 pixel, so that both rasterizers light the same pixel.
+  // translate).
   float inv_w = 1.0 / clip.w;
+  uint key = depthKey(clip, inv_w);
+#endif
+  // Snapped to llvmpipe's 1/256 pixel, so that both rasterizers light the same pixel.
   vec4 vp = u_viewport[v];
   vec2 window = clip.xy * inv_w * (0.5 * vp.zw) + (vp.xy + 0.5 * vp.zw);
   window = floor(window * 256.0 + 0.5) / 256.0;
-  uint key = ~(floatBitsToUint(clip.z * inv_w) & 0x7fffffffu);
 #if HQ
   vec4 eye = u_model_view[v] * vec4(p, 1.0);
   float eye_depth = -eye.z;
@@ -437,14 +451,22 @@ bool drawPoint(uint i, uint views) {
   if (!keepPoint(p, word, gps)) return false;
 #endif
   may_win = false;
-  // Read once, drawn into every view (stereo in one pass); with VIEW_SHIFT projected once too.
-#if VIEW_SHIFT
+  // Read once, drawn into every view (stereo in one pass); with SHARED_DEPTH its depth
+  // projected once too.
+#if SHARED_DEPTH
   vec4 first_clip = u_mvp[0] * vec4(p, 1.0);
+  if (!insideDepth(first_clip)) return false;
+  float first_inv_w = 1.0 / first_clip.w;
+  uint first_key = depthKey(first_clip, first_inv_w);
 #else
   vec4 first_clip = vec4(0.0);
+  float first_inv_w = 0.0;
+  uint first_key = 0u;
 #endif
   for (int v = 0; v < VIEWS; ++v) {
-    if (((views >> v) & 1u) != 0u) drawInView(i, u_id_base + i, p, v, first_clip);
+    if (((views >> v) & 1u) != 0u) {
+      drawInView(i, u_id_base + i, p, v, first_clip, first_inv_w, first_key);
+    }
   }
   return may_win;
 }

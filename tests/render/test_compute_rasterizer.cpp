@@ -428,6 +428,89 @@ TEST(ComputeRasterizer, PickingNamesTheFrontMostPointInEitherEye) {
   EXPECT_FALSE(renderer.pickPoint(1, 1).has_value());
 }
 
+// Two eyes as a headset gives them: parallel, 64 mm apart, each frustum asymmetric with its own
+// angles (unequal widths and heights, as a calibrated headset's are, so neither is the other's
+// mirror image), a rolled head, at UTM coordinates, in viewports of unequal heights.
+std::vector<View> headsetEyes(const glm::dvec3& centre) {
+  Camera head;
+  head.lookAt(centre + glm::dvec3(1.2, -1.9, 1.1), centre, {0, 0, 1});
+  head.orientation = head.orientation * glm::angleAxis(0.2, glm::dvec3(0, 0, 1));  // roll
+  const struct {
+    double side, skew, fov_y_deg, aspect;
+    Viewport viewport;
+  } eyes[2] = {{-0.032, 0.13, 56.0, 0.92, {0, 0, 96, 112}},
+               {0.032, -0.09, 52.0, 0.97, {96, 4, 96, 104}}};
+  std::vector<View> views;
+  for (const auto& eye : eyes) {
+    View view;
+    view.camera = head;
+    view.camera.position = head.position + head.right() * eye.side;
+    view.camera.off_axis_skew = eye.skew;
+    view.camera.fov_y_deg = eye.fov_y_deg;
+    view.projection_aspect = eye.aspect;
+    view.viewport = eye.viewport;
+    views.push_back(view);
+  }
+  return views;
+}
+
+// The headset's eyes share one projection of depth (SHARED_DEPTH) and each eye's picture is
+// exactly what the eye projected alone gives (share_depth off), pixel for pixel, with splats of
+// several sizes too; turned apart by a milliradian, the eyes are projected each alone.
+TEST(ComputeRasterizer, AHeadsetsAsymmetricEyesShareTheirDepthAndDrawWhatEachDrawsAlone) {
+  headlessContext();
+  const glm::dvec3 centre(512345.5, 5412345.25, 300.0);
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<std::array<double, 3>> world;
+  for (int i = 0; i < 40000; ++i) {
+    world.push_back(
+        {centre.x + unit(random), centre.y + unit(random), centre.z + 0.5 * unit(random)});
+  }
+  const PointCloud cloud = makeCloud(world, {centre.x, centre.y, centre.z}, 1e-4);
+  GpuPointCloud gpu(cloud, smallChunks());
+  const std::vector<View> views = headsetEyes(centre);
+  const int width = 192, height = 112;
+  // One renderer each way, so that each compiles its programs once.
+  ComputeRasterizerOptions alone_options;
+  alone_options.share_depth = false;
+  Renderer sharing, projecting_alone(alone_options);
+  RenderTarget target(width, height);
+  const auto drawn = [&](const std::vector<View>& eyes, RenderSettings settings, bool share,
+                         bool* shared) {
+    Renderer& renderer = share ? sharing : projecting_alone;
+    settings.rasterizer = RasterizerKind::Compute;
+    const FrameStats stats =
+        renderer.render(gpu.drawSet(), eyes, settings, target.framebuffer(), width, height);
+    EXPECT_EQ(stats.rasterizer, RasterizerKind::Compute) << stats.fallback_reason;
+    *shared = renderer.computeRasterizer().sharedDepthOfLastFrame();
+    return RgbaImage{width, height, target.readRgba()};
+  };
+  RenderSettings round_splats;
+  round_splats.shape = PointShape::Round;
+  round_splats.size_mode = PointSizeMode::Attenuated;
+  round_splats.world_size = 0.02f;
+  round_splats.lighting = true;
+  for (const RenderSettings& settings : {onePixel(ColorMode::Rgb), round_splats}) {
+    bool shared = false, alone = true;
+    const RgbaImage together = drawn(views, settings, true, &shared);
+    const RgbaImage apart = drawn(views, settings, false, &alone);
+    EXPECT_TRUE(shared) << "a headset's eyes lost the shared projection";
+    EXPECT_FALSE(alone);
+    // Tolerance 0: every lit pixel the same colour in both.
+    const Agreement agreement = compare(together, apart, settings.background, 0);
+    EXPECT_GT(agreement.lit, std::size_t(width * height / 4)) << "nearly empty";
+    EXPECT_EQ(agreement.same, agreement.lit);
+  }
+  // Eyes not parallel (a milliradian of toe-in): each projected alone, and still drawn.
+  std::vector<View> toed = views;
+  toed[1].camera.orientation =
+      toed[1].camera.orientation * glm::angleAxis(1e-3, glm::dvec3(0, 1, 0));
+  bool shared = true;
+  drawn(toed, onePixel(ColorMode::Rgb), true, &shared);
+  EXPECT_FALSE(shared);
+}
+
 TEST(ComputeRasterizer, RangesPartsAndTiesGiveTheSamePicture) {
   headlessContext();
   const PointCloud cloud = denseCloud(30000);
