@@ -68,6 +68,11 @@ bool readIntoCloud(Session& s, const AttributeSelection& wanted) {
     std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
     return false;
   }
+  // A name the header listed that the read did not give is not asked for again every frame.
+  const std::vector<std::string> held = s.cloud_points->attributeNames();
+  std::erase_if(s.cloud_file_attributes, [&](const std::string& name) {
+    return wanted.wants(name) && std::find(held.begin(), held.end(), name) == held.end();
+  });
   if (added.empty()) return false;
   uploadShownCloud(s);
   updateFilterRanges(s);
