@@ -186,7 +186,9 @@ PointFileHeader lasHeader(const std::filesystem::path& path) {
   PointFileHeader out;
   out.point_count = header.point_count;
   if (!header.bounds.empty()) out.bounds = header.bounds;
-  out.attributes = allocateLasCloud(header, makeLasDecodePlan(header), 0).attributeNames();
+  // A cloud of one point: attributeNames() lists a colour, intensity or classification column
+  // only when it holds values (a cloud of 0 points listed the scalars alone).
+  out.attributes = allocateLasCloud(header, makeLasDecodePlan(header), 1).attributeNames();
   out.crs = coordinateSystemOf(header);
   return out;
 }

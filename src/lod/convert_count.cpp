@@ -212,7 +212,7 @@ void countChunks(ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
   std::vector<std::uint64_t> counts(ConvertPlan::kGridCells, 0);
   std::unique_ptr<Progress> bar = progress ? progress("counting", plan.points) : nullptr;
   for (std::size_t input = 0; input < inputs.size(); ++input) {
-    PointStream stream = openPassStream(plan, inputs, input, false);
+    PointStream stream = openPassStream(plan, inputs, input, false, true);  // (positions only)
     countStream(plan, stream, counts, bar.get());
   }
   planChunks(plan, std::move(counts));

@@ -205,8 +205,10 @@ ConvertPlan scanInputs(const std::vector<ConvertInput>& inputs, const OctreeBuil
                        const std::filesystem::path& scratch_dir = {});
 // The stream a pass after the scan reads input `index` from: its spill, or the file again.
 // `last_pass`: the spill's batches in memory are handed over and freed (distribute).
+// `positions_only` (count): a spill hands out the positions alone; a file read again gives
+// what its reader gives.
 PointStream openPassStream(const ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
-                           std::size_t index, bool last_pass);
+                           std::size_t index, bool last_pass, bool positions_only = false);
 // What scanInputs derives once the points, bounds, layout and input quantizations are known:
 // the cube, spacing, output quantization, empty stats, batch and chunk sizes.
 void finishScan(ConvertPlan& plan, const OctreeBuildOptions& options);

@@ -8,7 +8,10 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <string>
+#include <vector>
 
+#include "core/attribute_selection.h"
 #include "core/point_cloud.h"
 
 namespace parallax {
@@ -32,5 +35,20 @@ DrawingInput planDrawing(const std::filesystem::path& input, std::uint64_t budge
 // kPreviewPoints) points, or std::nullopt where the format has no sample reader (text).
 std::optional<PointCloud> readDrawingPreview(const std::filesystem::path& input,
                                              std::uint64_t budget);
+
+// A file drawn whole is read with the attributes its first picture needs (PointReadOptions::
+// attributes: a LAZ of formats 6-10 then decodes only those layers; other readers may fill every
+// column anyway), and the others when first asked for (a colour mode, a filter, a pick):
+//
+// Reads from `path` (the file `cloud` was read from, with fewer attributes) those of `wanted`
+// that the file holds (`file_attributes`: readPointFileHeader's names) and `cloud` lacks, and
+// adds their columns to `cloud`. Its positions and the columns it has stay as they are; its
+// scalar columns end in the order of `file_attributes`, as a full read gives them. The reader
+// still decodes the positions (every other LAZ layer takes its contexts from them) but they are
+// not copied into `cloud`. Returns the names added, empty when nothing was missing (no read).
+// Throws InputError as readPointFile does, and when the file no longer holds `cloud.count` points.
+std::vector<std::string> readMissingAttributes(const std::filesystem::path& path,
+                                               const std::vector<std::string>& file_attributes,
+                                               const AttributeSelection& wanted, PointCloud& cloud);
 
 }  // namespace parallax

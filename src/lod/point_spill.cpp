@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <cassert>
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
@@ -86,7 +87,8 @@ std::uint64_t pointCloudBytes(const PointCloud& cloud) {
 // handed out in slices).
 class SpillReader final : public PointChunkSource {
  public:
-  SpillReader(PointSpill& spill, bool last_pass) : spill_(spill), last_pass_(last_pass) {
+  SpillReader(PointSpill& spill, bool last_pass, bool positions_only)
+      : spill_(spill), last_pass_(last_pass), positions_only_(positions_only) {
     if (spill.fd_ >= 0) {
       fd_ = ::open(spill.file_.c_str(), O_RDONLY | O_CLOEXEC);
       if (fd_ < 0) fail(spill.file_, "cannot open");
@@ -123,6 +125,7 @@ class SpillReader final : public PointChunkSource {
 
  private:
   PointCloud load(PointSpill::Batch& entry) {
+    if (positions_only_) return loadPositions(entry);
     if (!entry.in_file) {
       if (!last_pass_) return entry.cloud.clone();
       spill_.memory_used_ -= pointCloudBytes(entry.cloud);
@@ -146,8 +149,27 @@ class SpillReader final : public PointChunkSource {
     return cloud;
   }
 
+  // The batch with its positions alone (the first column in the file).
+  PointCloud loadPositions(const PointSpill::Batch& entry) {
+    PointCloud cloud;
+    cloud.count = entry.cloud.count;
+    cloud.quantization = entry.cloud.quantization;
+    cloud.source = entry.cloud.source;
+    cloud.bounds = entry.cloud.bounds;
+    if (!entry.in_file) {
+      cloud.positions = entry.cloud.positions.clone();
+      return cloud;
+    }
+    const std::size_t n = std::size_t(cloud.count);
+    cloud.positions = Column<Int3>(n);
+    readAll(fd_, spill_.file_, entry.offset, reinterpret_cast<std::byte*>(cloud.positions.data()),
+            n * sizeof(Int3));
+    return cloud;
+  }
+
   PointSpill& spill_;
   bool last_pass_ = false;
+  bool positions_only_ = false;
   int fd_ = -1;
   std::size_t next_batch_ = 0;
   PointCloud current_;
@@ -203,8 +225,9 @@ void PointSpill::writeToFile(Batch& entry, const PointCloud& batch) {
   });
 }
 
-std::unique_ptr<PointChunkSource> PointSpill::read(bool last_pass) {
-  return std::make_unique<SpillReader>(*this, last_pass);
+std::unique_ptr<PointChunkSource> PointSpill::read(bool last_pass, bool positions_only) {
+  assert(!(last_pass && positions_only) && "PointSpill::read: the last pass takes every column");
+  return std::make_unique<SpillReader>(*this, last_pass, positions_only);
 }
 
 }  // namespace parallax

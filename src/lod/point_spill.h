@@ -34,7 +34,10 @@ class PointSpill {
 
   // The kept points from the first, in the order they were added. With `last_pass` the batches
   // held in memory are handed over (moved) and freed as they go: no later read may follow.
-  std::unique_ptr<PointChunkSource> read(bool last_pass);
+  // With `positions_only` (the count pass) the batches hold their positions alone: the other
+  // columns are neither copied nor read back (for 20 M points of format 3, 640 MB of copies
+  // and fresh pages less). Not with `last_pass`.
+  std::unique_ptr<PointChunkSource> read(bool last_pass, bool positions_only = false);
 
   std::uint64_t points() const { return points_; }
   std::uint64_t memoryBytes() const { return memory_used_; }

@@ -110,9 +110,9 @@ PointStream::PointStream(std::unique_ptr<PointChunkSource> source)
 PointStream::~PointStream() = default;
 
 PointStream openPassStream(const ConvertPlan& plan, const std::vector<ConvertInput>& inputs,
-                           std::size_t index, bool last_pass) {
+                           std::size_t index, bool last_pass, bool positions_only) {
   if (index < plan.spills.size() && plan.spills[index]) {
-    return PointStream(plan.spills[index]->read(last_pass));
+    return PointStream(plan.spills[index]->read(last_pass, positions_only));
   }
   return PointStream(inputs[index].path, inputs[index].text_columns,
                      &plan.input_quantizations[index], &inputs[index].filter,

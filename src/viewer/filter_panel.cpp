@@ -233,6 +233,38 @@ void prepareRange(Session::FilterEditor::Range& range, ValueRange data,
 
 }  // namespace
 
+namespace {
+
+// The data's range is now `data` (a column read after the cloud opened): the sliders span it,
+// and a range still at the old data's (untouched, or enabled before the column was there) takes
+// the new one.
+void widenRange(Session::FilterEditor::Range& range, ValueRange data,
+                std::optional<ValueRange>& target) {
+  if (data == range.data) return;
+  if (range.value == range.data) range.value = data;
+  range.data = data;
+  if (range.enabled) {
+    ValueRange value = range.value;
+    if (value.min > value.max) std::swap(value.min, value.max);
+    target = value;
+  }
+}
+
+}  // namespace
+
+void updateFilterRanges(Session& s) {
+  if (!s.cloud_points || s.cloud_points->count == 0) return;
+  const PointCloud& points = *s.cloud_points;
+  Session::FilterEditor& e = s.filter_editor;
+  if (points.hasIntensity()) {
+    const auto [lo, hi] = std::minmax_element(points.intensity.begin(), points.intensity.end());
+    widenRange(e.intensity, {double(*lo), double(*hi)}, s.settings.filter.intensity);
+  }
+  if (const ScalarColumn* gps = points.findScalar(filter_names::kGpsTime)) {
+    widenRange(e.gps_time, columnRange(gps, points.count), s.settings.filter.gps_time);
+  }
+}
+
 void prepareFilters(Session& s, const PointCloud* points, bool whole, bool has_classification,
                     bool first) {
   Session::FilterEditor& e = s.filter_editor;

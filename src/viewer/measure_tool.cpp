@@ -303,6 +303,7 @@ const MeasureSession::Profile* selectedProfile(Session& s) {
   profile.of = measurement;
   try {
     if (s.cloud_points) {
+      completeCloud(s);  // (the profile's points carry every attribute, as an octree's do)
       profile.profile =
           extractProfile(*s.cloud_points, measurement.points, measurement.profile_width);
       profile.source = s.build ? "the preview (a sample of the file)" : "every point of the file";

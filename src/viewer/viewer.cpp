@@ -134,7 +134,9 @@ void uploadShownCloud(Session& s) {
 
 // Uploads a whole cloud (a file, or a large file's preview: `whole` false) as what is shown.
 void showCloud(Session& s, PointCloud cloud_points, bool whole, bool place_camera, bool first) {
-  s.cloud_points = std::make_unique<const PointCloud>(std::move(cloud_points));
+  s.cloud_points = std::make_unique<PointCloud>(std::move(cloud_points));
+  s.cloud_file.clear();  // (openCloudFile sets it again where the file holds more)
+  s.cloud_file_attributes.clear();
   const PointCloud& cloud = *s.cloud_points;
   s.picked.reset();
   s.previous_lod.reset();
@@ -307,8 +309,7 @@ void openFile(Session& s, const std::filesystem::path& path, bool first) {
       openLargeFile(s, path, drawing.points, first);
       setTitle(s, path);
     } else {
-      PointCloud cloud = readPointFile(path);
-      showCloud(s, std::move(cloud), true, true, first);
+      openCloudFile(s, path, first);
       s.status =
           "opened " + path.string() + " (" + std::to_string(s.cloud->pointCount()) + " points)";
       setTitle(s, path);
@@ -328,6 +329,7 @@ void openFile(Session& s, const std::filesystem::path& path, bool first) {
 // octree's last selection.
 std::optional<PickResult> pickAt(Session& s, int x, int y, int width, int height) {
   if (!s.cloud && !s.lod) return std::nullopt;
+  completeCloud(s);  // a picked point reports every attribute of the file
   const void* scene = s.cloud ? static_cast<const void*>(s.cloud.get()) : s.lod.get();
   if (s.pick_scene != scene || !s.pick_source) {
     s.pick_source = s.cloud ? std::make_unique<PickSource>(*s.cloud_points)
@@ -562,6 +564,7 @@ int runViewer(const ViewerOptions& options) {
     pollOpeningUrl(s);
     if (updateMeasureFlight(s)) busy = true;
     updateOverlay(s);
+    updateCloudAttributes(s);
     refreshScalarColors(s);
     updateLodAttributes(s);
     updateProcessing(s);

@@ -106,7 +106,7 @@ void drawRampLegend(ColorRamp ramp, const ScalarRange& range) {
 
 void drawScalarFieldPanel(Session& s) {
   if (!s.cloud || !s.cloud_points) return;  // octrees carry no scalar attributes to the renderer
-  const std::vector<std::string> fields = scalarFieldNames(*s.cloud_points);
+  const std::vector<std::string> fields = cloudScalarFields(s);
   if (fields.empty()) return;
   ScalarColoring& scalar = s.settings.scalar;
   const std::string current = scalar.field.empty() ? "(none)" : scalar.field;

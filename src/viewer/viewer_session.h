@@ -43,7 +43,12 @@ struct Session {
   DrawSet draw_set;                      // all of `cloud`'s chunks
   // The points `cloud` was uploaded from: picking reads the picked point back from them (the GPU
   // holds chunk-relative floats, not the file's values).
-  std::unique_ptr<const PointCloud> cloud_points;
+  std::unique_ptr<PointCloud> cloud_points;
+  // A whole file shown with fewer attributes than it holds (cloud_attributes.cpp): the file and
+  // every attribute it holds; the others are read into `cloud_points` when first asked for.
+  // Empty path: `cloud_points` holds all its source has (a preview, a processing result, ...).
+  std::filesystem::path cloud_file;
+  std::vector<std::string> cloud_file_attributes;
   // The scalar colouring `cloud`'s colours show (settings.scalar when it was uploaded), the range
   // it used (the attribute's own when none was asked), and why the asked one could not be shown.
   ScalarColoring shown_scalar;
@@ -300,6 +305,20 @@ void updateLodAttributes(Session& s);
 // once the new scene draws as many points or all it selected (the previous one is then dropped
 // and `changed` set: the picture starts again).
 const DrawSet* previousLodPicture(Session& s, const RenderSettings*& look, bool& changed);
+
+// A file drawn whole, read with what the first picture needs (cloud_attributes.cpp).
+// openCloudFile reads it (the look on the command line, colour or else intensity,
+// classification, normals) and shows it; once a frame, updateCloudAttributes reads into the
+// cloud what the look now needs (colour mode, scalar field, lighting, filters) and the file
+// holds, and uploads it again; completeCloud reads every attribute (picking, profiles);
+// cloudScalarFields lists the file's scalar attributes, read or not, for the panel.
+void openCloudFile(Session& s, const std::filesystem::path& path, bool first);
+void updateCloudAttributes(Session& s);
+void completeCloud(Session& s);
+std::vector<std::string> cloudScalarFields(const Session& s);
+// The filter panel's intensity and GPS-time sliders over the data's range once the cloud has
+// the column (read after the cloud opened); ranges the user set are kept.
+void updateFilterRanges(Session& s);
 
 // Opens a file, an octree or a URL as what is shown (viewer.cpp): `first` for the command line's
 // (its camera options). Failures are reported in the panel and on stderr.

@@ -2,7 +2,9 @@
 // load of an RGB picture decodes no intensity, and switching the colour mode (the C key: rgb,
 // elevation, intensity, normal, classification) reads the nodes again with what the new mode
 // shows, so that the picture after each switch is the one `parallax render` draws with the same
-// settings. On copc.js's ellipsoid.copc.laz (format 7, 100 000 points), in a real window under
+// settings. A plain LAZ of format 7 drawn whole is read the same way (cloud_attributes.cpp):
+// first with what the picture draws, then the layers a colour mode or a pick asks for. On
+// copc.js's ellipsoid.copc.laz (format 7, 100 000 points), in a real window under
 // Xvfb driven with xdotool as in test_viewer_window.cpp; skipped (with the reason) without the
 // Debian packages xvfb and xdotool.
 #include <gtest/gtest.h>
@@ -125,6 +127,74 @@ TEST(ViewerAttributes, ColourSwitchesReadTheNodesAgainAndDrawWhatRenderDraws) {
   lines = readLines(viewer.log());
   ASSERT_EQ(lines.size(), 3u) << viewer.log();
   EXPECT_EQ(lines[2].substr(0, lines[2].find(';')), "x y z classification");
+  EXPECT_EQ(viewer.quit(), 0) << viewer.log();
+}
+
+// The value the "read with A; read when asked for: B" line gives for `part` (0: A, 1: B).
+std::string wholeFileRead(const std::string& log, int part) {
+  const std::string prefix = "e7.laz read with ";
+  const std::size_t at = log.find(prefix);
+  if (at == std::string::npos) return "";
+  const std::string line = log.substr(at + prefix.size(), log.find('\n', at) - at - prefix.size());
+  const std::size_t split = line.find("; read when asked for: ");
+  if (split == std::string::npos) return part == 0 ? line : "";
+  return part == 0 ? line.substr(0, split) : line.substr(split + 23);
+}
+
+TEST(ViewerAttributes, AWholeLayeredLazReadsItsOtherLayersWhenAskedFor) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  // The same points as ellipsoid.copc.laz, as a plain layered LAZ (format 7, one chunk).
+  const std::filesystem::path laz = dir / "e7.laz";
+  const std::string convert = std::string(PARALLAX_EXECUTABLE) + " convert " +
+                              testDataFile("laz/ellipsoid.laz").string() + " -o " + laz.string() +
+                              " --point-format 7 --quiet";
+  ASSERT_EQ(run(convert), 0) << convert;
+  const RgbaImage rgb = renderWith(dir, laz, "rgb");
+  const RgbaImage intensity = renderWith(dir, laz, "intensity");
+  ASSERT_GT(cloudPixels(rgb), 15000u) << "the camera does not see the cloud";
+  EXPECT_LT(sameFraction(rgb, intensity), 0.8);
+
+  const auto shots = dir.path() / "shots";
+  std::filesystem::create_directories(shots);
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  std::vector<std::string> args = {laz.string(), "--screenshot-dir", shots.string(), "--no-vsync"};
+  for (const std::string& option : sharedOptions()) args.push_back(option);
+  ViewerProcess viewer(dir, display.name(), args, "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+  viewer.key("g");  // hide the panel
+
+  // The first read: positions, colour and classes; intensity and GPS time are left for later.
+  EXPECT_EQ(wholeFileRead(viewer.log(), 0), "x y z red green blue classification") << viewer.log();
+  const std::string unread = wholeFileRead(viewer.log(), 1);
+  EXPECT_NE((" " + unread + " ").find(" intensity "), std::string::npos) << viewer.log();
+  EXPECT_NE((" " + unread + " ").find(" gps_time "), std::string::npos) << viewer.log();
+  const auto matches = [](const RgbaImage& expected) {
+    return [&expected](const RgbaImage& image) { return sameFraction(image, expected) > 0.98; };
+  };
+  EXPECT_GT(sameFraction(viewer.settledScreenshot(shots, matches(rgb)), rgb), 0.98);
+
+  viewer.key("c");  // elevation: nothing to read
+  viewer.key("c");  // intensity: its layer is read now, and drawn as `render` draws it
+  EXPECT_TRUE(viewer.logged("parallax view: read later from e7.laz: intensity\n")) << viewer.log();
+  EXPECT_GT(sameFraction(viewer.settledScreenshot(shots, matches(intensity)), intensity), 0.98)
+      << viewer.log();
+
+  // A pick reports every attribute: the rest is read then.
+  viewer.ctrlClick(240, 180);
+  EXPECT_TRUE(viewer.logged("parallax view: picked ")) << viewer.log();
+  const std::string log = viewer.log();
+  const std::size_t later = log.rfind("parallax view: read later from e7.laz: ");
+  ASSERT_NE(later, std::string::npos) << log;
+  EXPECT_NE(log.substr(later, log.find('\n', later) - later).find(" gps_time"), std::string::npos);
+  const std::size_t picked = log.find("parallax view: picked ");
+  const std::string line = log.substr(picked, log.find('\n', picked) - picked);
+  EXPECT_NE(line.find(" gps_time="), std::string::npos) << line;
+  EXPECT_NE(line.find(" intensity="), std::string::npos) << line;
   EXPECT_EQ(viewer.quit(), 0) << viewer.log();
 }
 
