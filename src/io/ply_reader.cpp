@@ -124,9 +124,6 @@ using ply::RecordRange;
 // About 512 KiB of input a range: small enough to stay in L2 while its properties are decoded
 // one after another, large enough that scheduling costs nothing.
 constexpr std::size_t kRangeBytes = 512 << 10;
-constexpr std::size_t kSamples = 4096;
-// The sampled bounds are widened this much so that points the sample missed still fit.
-constexpr double kSampleMargin = 16.0;
 
 int requirePointElement(const PlyHeader& header, const std::string& file) {
   int index = header.pointElement();
@@ -198,7 +195,8 @@ PointCloud readPlyBytes(std::span<const std::byte> bytes, const std::string& nam
 
   std::vector<RecordRange> ranges = ply::planRanges(context, kRangeBytes, options.parallel);
   Quantization quantization =
-      chooseQuantization(ply::sampleBounds(context, ranges, kSamples), kSampleMargin);
+      chooseQuantization(ply::sampleBounds(context, ranges, ply::kQuantizationSamples),
+                         ply::kQuantizationSampleMargin);
   PointCloud cloud = ply::allocatePointCloud(layout, element.count, quantization);
   DecodeResult result = decodeAll(context, ranges, cloud, options);
   if (header.format == PlyFormat::Ascii) {
@@ -241,7 +239,8 @@ struct PlyChunkReader::State {
         context{file.bytes(), file.path(), header, layout, &file},
         ranges(ply::planRanges(context, kRangeBytes, true)),
         quantization(
-            chooseQuantization(ply::sampleBounds(context, ranges, kSamples), kSampleMargin)) {
+            chooseQuantization(ply::sampleBounds(context, ranges, ply::kQuantizationSamples),
+                               ply::kQuantizationSampleMargin)) {
     if (!ranges.empty()) cursor_byte = ranges.front().begin;
   }
 

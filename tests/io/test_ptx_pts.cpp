@@ -37,7 +37,7 @@ TEST(PtxReader, TwoScansWithTransformsAndZeroPointsSkipped) {
   std::vector<PtxScan> scans;
   const PointCloud cloud = readPtxFromMemory(bytesOf(kTwoScans), "t.ptx", {.scans = &scans});
   ASSERT_EQ(cloud.count, 5u);  // 2 + 4 - 1 zero point
-  const ScalarColumn* scan = cloud.findScalar(kScanIndexColumn);
+  const ScalarColumn* scan = cloud.findScalar(column_names::kScanIndex);
   ASSERT_NE(scan, nullptr);
   // Scan 0 as written.
   EXPECT_NEAR(cloud.worldX(0), 1.5, 1e-9);

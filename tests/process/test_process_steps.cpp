@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <random>
 #include <set>
@@ -29,7 +30,6 @@ namespace {
 
 using test::TempDir;
 using Xyz = std::array<double, 3>;
-constexpr double kPi = 3.14159265358979323846;
 
 // A PLY of double positions and an "id" column (each point's index), so outputs can be matched
 // to inputs.
@@ -118,7 +118,7 @@ double angleDegrees(const Float3& n, const Xyz& expected) {
   const double len =
       std::sqrt(expected[0] * expected[0] + expected[1] * expected[1] + expected[2] * expected[2]);
   const double dot = (n.x * expected[0] + n.y * expected[1] + n.z * expected[2]) / len;
-  return std::acos(std::min(1.0, std::abs(dot))) * 180.0 / kPi;
+  return std::acos(std::min(1.0, std::abs(dot))) * 180.0 / std::numbers::pi;
 }
 
 struct Surface {
@@ -164,7 +164,7 @@ std::vector<Surface> surfaces(double noise_sigma) {
   Surface cylinder{"cylinder", {}, {}, {}};
   for (int i = 0; i < 160; ++i) {
     for (int j = 0; j < 120; ++j) {
-      const double a = (j + 0.5 * (i % 2)) * 2.0 * kPi / 120.0;
+      const double a = (j + 0.5 * (i % 2)) * 2.0 * std::numbers::pi / 120.0;
       const double radius = 4.0 + jitter();
       cylinder.points.push_back({radius * std::cos(a), radius * std::sin(a), i * 0.2});
       cylinder.normals.push_back({std::cos(a), std::sin(a), 0.0});
@@ -288,7 +288,7 @@ TEST(ProcessNormals, PropagationCrossesTileBordersOnAFoldedSheet) {
       expected.push_back({0, 0, 1});
     }
     for (int ia = 1; ia < 31; ++ia) {
-      const double a = kPi * ia / 31.0;  // from the bottom (a = 0) to the top (a = pi)
+      const double a = std::numbers::pi * ia / 31.0;  // from the bottom (a = 0) to the top (a = pi)
       points.push_back({10.0 + 0.5 * std::sin(a), y, 0.5 - 0.5 * std::cos(a)});
       expected.push_back({std::sin(a), 0.0, -std::cos(a)});
     }
