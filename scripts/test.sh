@@ -1,18 +1,20 @@
 #!/usr/bin/env bash
 # Builds and tests everything CI checks: the formatting of every C++ file, then three trees:
-#   1. build/       Release: every test (ctest), benchmarks built
-#   2. build-asan/  RelWithDebInfo with AddressSanitizer + UndefinedBehaviorSanitizer: every test
-#                   (LeakSanitizer too; system GL/X11 libraries' leaks: scripts/lsan.supp)
-#   3. build-fuzz/  clang + libFuzzer: the fuzz targets built, the rest of the product checked by
-#                   clang's front end (scripts/syntax_check.py, for clang's warnings); each
-#                   fuzz target runs for a fixed time from a copy of its seed corpus
-#                   fuzz/corpus/<format>/ and the real files fuzz/CMakeLists.txt lists from
+#   1. build/       Release: the product, the Python module and the benchmarks, and the tests
+#                   the sanitizer tree cannot run (label `unsanitized`: the Python module, the
+#                   Debian package); with --quick, every test instead (and nothing else runs)
+#   2. build-asan/  clang, RelWithDebInfo with AddressSanitizer + UndefinedBehaviorSanitizer:
+#                   everything else, every other test (LeakSanitizer too; system GL/X11
+#                   libraries' leaks: scripts/lsan.supp)
+#   3. build-fuzz/  clang + libFuzzer: the fuzz targets built; each runs for a fixed time from
+#                   a copy of its seed corpus fuzz/corpus/<format>/ and the real files fuzz/CMakeLists.txt lists from
 #                   PARALLAX_TEST_DATA (with fuzz/<format>.dict when present), as many at a
 #                   time as there are build jobs
 # Every tree is built with PARALLAX_WERROR=ON (a compiler warning fails the build) and its build
 # log is searched for any other warning (CMake, linker), which fails the stage too.
-# Every tree compiles the command line in unity batches (PARALLAX_UNITY_BUILD) and links with LLD
-# where it is installed: CI's time is mostly compiling and linking, three times over.
+# Every tree compiles in unity batches (PARALLAX_UNITY_BUILD) and links with LLD where it is
+# installed: CI's time is mostly compiling and linking. Every file is compiled by clang (tree 2)
+# and the product's also by GCC (tree 1), each with its warnings as errors.
 # A skipped test is not a passed one: every skip is listed in the summary with its reason, and a
 # skip fails the run unless its test's name matches a pattern of PARALLAX_ALLOWED_SKIPS (empty in
 # CI, where Xvfb, xdotool and Mesa are installed and nothing has a reason to skip).
@@ -20,8 +22,8 @@
 # exits non-zero when any stage failed and ends with a summary and a
 # "N passed, N failed, N skipped" line.
 #
-#   scripts/test.sh            everything (about 15-25 minutes on 2 cores from scratch)
-#   scripts/test.sh --quick    stage 1 only
+#   scripts/test.sh            everything (about 40 minutes on 2 cores from scratch)
+#   scripts/test.sh --quick    the Release tree with every test, nothing else
 # Environment: PARALLAX_JOBS (build and test parallelism, default: nproc),
 #              PARALLAX_FUZZ_SECONDS (per fuzz target, default 15),
 #              PARALLAX_BUILD_DIR (default build; the other trees are its name + -asan, -fuzz),
@@ -76,15 +78,16 @@ record() {
   [[ "$2" == ok ]] || failed_stages=$((failed_stages + 1))
 }
 
-# configure_and_build NAME DIR TARGET -- CMAKE_ARGS...
+# configure_and_build NAME DIR "TARGETS..." -- CMAKE_ARGS...
 configure_and_build() {
-  local name=$1 dir=$2 target=$3 log="$logs/build-$1.log"
+  local name=$1 dir=$2 targets log="$logs/build-$1.log"
+  read -r -a targets <<<"$3"
   shift 4
-  banner "$name: configure and build ($dir)"
+  banner "$name: configure and build ($dir: ${targets[*]})"
   local start rc warnings
   start=$(now)
   { cmake -S "$root" -B "$dir" -DPARALLAX_WERROR=ON -DPARALLAX_UNITY_BUILD=ON "$@" &&
-    cmake --build "$dir" -j "$jobs" --target "$target"; } 2>&1 | tee "$log"
+    cmake --build "$dir" -j "$jobs" --target "${targets[@]}"; } 2>&1 | tee "$log"
   rc=${PIPESTATUS[0]}
   # -Werror stops on a compiler warning; this catches the rest (CMake's, the linker's).
   warnings=$(grep -Eic '(^|[^a-z])warning([: ]|$)' "$log")
@@ -143,13 +146,15 @@ count_skips() {
   [[ $unexpected -eq 0 ]]
 }
 
-# run_ctest NAME DIR: runs every test, adds the counts to the totals.
+# run_ctest NAME DIR [CTEST_ARGS...]: runs every test (or those CTEST_ARGS select), adds the
+# counts to the totals.
 run_ctest() {
   local name=$1 dir=$2 start rc log="$logs/ctest-$1.log" junit="$logs/ctest-$1.xml"
-  banner "$name: ctest ($dir)"
+  shift 2
+  banner "$name: ctest ($dir${*:+ $*})"
   start=$(now)
   ctest --test-dir "$dir" --output-on-failure --no-tests=error -j "$jobs" --timeout 600 \
-    --output-junit "$junit" 2>&1 | tee "$log"
+    --output-junit "$junit" "$@" 2>&1 | tee "$log"
   rc=${PIPESTATUS[0]}
   # "100% tests passed, 0 tests failed out of 42"
   # ctest counts a skipped test as passed; the skips are taken back out of that count.
@@ -295,37 +300,49 @@ else
   record "format" FAILED $(($(now) - start))
 fi
 
-# 1. Release: all tests; benchmarks are built (so they keep compiling) but not run.
-if configure_and_build release "$release_dir" all -- -DCMAKE_BUILD_TYPE=Release; then
-  run_ctest release "$release_dir"
+# 1. Release. With --quick: everything, every test. In the full run every test runs once, under
+#    the sanitizers (stage 2): this tree builds what a user builds (the product, the Python
+#    module, the benchmarks: they keep compiling, at -O3, warnings included) and runs only the
+#    tests the sanitizer tree cannot (ctest label `unsanitized`: the Python module's, the Debian
+#    package's). Running every test in both trees cost CI a Release build of every test and a
+#    second pass of the suite.
+#    The install target does not depend on `all` (CMAKE_SKIP_INSTALL_ALL_DEPENDENCY), so that the
+#    package test installs what was built instead of building the tests first.
+release_args=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_SKIP_INSTALL_ALL_DEPENDENCY=ON)
+if [[ $quick -eq 1 ]]; then
+  if configure_and_build release "$release_dir" all -- "${release_args[@]}"; then
+    run_ctest release "$release_dir"
+  fi
+elif configure_and_build release "$release_dir" parallax_product -- "${release_args[@]}"; then
+  run_ctest release "$release_dir" -L unsanitized
 fi
 
+# use_clang DIR: a tree configured with another compiler cannot be switched in place.
+use_clang() {
+  if [[ -f "$1/CMakeCache.txt" ]] &&
+     ! grep -q '^CMAKE_CXX_COMPILER:[A-Z]*=.*clang++' "$1/CMakeCache.txt"; then
+    rm -rf "$1"
+  fi
+}
+
 if [[ $quick -eq 0 ]]; then
-  # 2. Sanitizers: every test under ASan + UBSan; no benchmarks (they would only slow the build).
+  # 2. Sanitizers: every test under ASan + UBSan, built by clang; no benchmarks (the Release
+  #    tree builds them). Clang, not GCC: with the sanitizers it compiled a unit in 0.55-0.8 of
+  #    GCC's CPU time, and this tree is the largest build of the run; so every file goes through
+  #    clang (warnings as errors) here and the product's through GCC in the Release tree.
+  use_clang "$asan_dir"
   if configure_and_build asan "$asan_dir" all -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-       "${asan_flags[@]}" -DPARALLAX_SANITIZE=ON -DPARALLAX_BUILD_BENCH=OFF; then
+       "${asan_flags[@]}" -DCMAKE_CXX_COMPILER=clang++ -DPARALLAX_SANITIZE=ON \
+       -DPARALLAX_BUILD_BENCH=OFF; then
     run_ctest asan "$asan_dir"
   fi
 
-  # 3. Fuzzing: clang. Only the fuzz targets are built (the modules they link, instrumented);
-  # the rest of the product (renderer, viewer, command line) goes through clang's front end only
-  # (scripts/syntax_check.py, -fsyntax-only with the tree's flags), so that clang's warnings are
-  # seen in all of the product's code at a fraction of a full instrumented build's time.
-  # A tree configured with another compiler cannot be switched in place.
-  if [[ -f "$fuzz_dir/CMakeCache.txt" ]] &&
-     ! grep -q '^CMAKE_CXX_COMPILER:[A-Z]*=.*clang++' "$fuzz_dir/CMakeCache.txt"; then
-    rm -rf "$fuzz_dir"
-  fi
+  # 3. Fuzzing: clang. Only the fuzz targets are built (the modules they link, instrumented for
+  #    coverage).
+  use_clang "$fuzz_dir"
   if configure_and_build fuzz "$fuzz_dir" parallax_fuzzers -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
        "${debug_info[@]}" -DCMAKE_CXX_COMPILER=clang++ -DPARALLAX_BUILD_FUZZ=ON \
-       -DPARALLAX_BUILD_TESTS=OFF -DPARALLAX_BUILD_BENCH=OFF -DCMAKE_EXPORT_COMPILE_COMMANDS=ON; then
-    banner "clang: syntax check of the units the fuzz build did not compile"
-    start=$(now)
-    if "$root/scripts/syntax_check.py" "$fuzz_dir" --jobs "$jobs"; then
-      record "clang syntax check" ok $(($(now) - start))
-    else
-      record "clang syntax check" FAILED $(($(now) - start))
-    fi
+       -DPARALLAX_BUILD_TESTS=OFF -DPARALLAX_BUILD_BENCH=OFF; then
     fuzzers=()
     while read -r target; do
       [[ -n "$target" ]] && fuzzers+=("$fuzz_dir/fuzz/$target")

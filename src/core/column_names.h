@@ -42,4 +42,7 @@ inline constexpr const char* kPointSourceId = "point_source_id";
 inline constexpr const char* kGpsTime = "gps_time";
 inline constexpr const char* kNir = "nir";
 
+// The scan a point came from, in files of several scans (E57, PTX): its index in file order.
+inline constexpr const char* kScanIndex = "scan_index";
+
 }  // namespace parallax::column_names

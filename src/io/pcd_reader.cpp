@@ -22,7 +22,6 @@ namespace parallax {
 namespace {
 
 using pcd::DataView;
-using pcd::Layout;
 using pcd::PositionScan;
 
 constexpr std::uint64_t kRangeRecords = 1 << 14;
@@ -53,7 +52,7 @@ constexpr std::uint64_t kAsciiChunkRecords = 1 << 16;
 // The data of a PCD file: the view over it, and what holds the bytes the view points into.
 struct PcdSource {
   PcdHeader header;
-  Layout layout;
+  pcd::Layout layout;
   std::vector<std::byte> decompressed;  // binary_compressed
   pcd::AsciiTable ascii;                // ascii, parsed whole (readPcd) or a chunk at a time
   DataView view;

@@ -66,6 +66,10 @@ RangeStats decodeRange(const DecodeContext& context, const RecordRange& range, s
 // records are skipped here: the full decode reports them with their position).
 Bounds3 sampleBounds(const DecodeContext& context, const std::vector<RecordRange>& ranges,
                      std::size_t max_samples);
+// What the readers sample (the whole read and the preview choose the same quantization): 4096
+// records, the bounds widened 16-fold so that points the sample missed still fit.
+inline constexpr std::size_t kQuantizationSamples = 4096;
+inline constexpr double kQuantizationSampleMargin = 16.0;
 
 // Checks what follows the point element of an ascii body, from byte `end` (just after its last
 // record) and line `line`: every record of the elements after it, then nothing but blanks.

@@ -19,8 +19,6 @@ namespace {
 // records at the same step would cost one each, and neighbouring records of a scan give the
 // adaptive point size a local spacing to work with.
 constexpr std::uint64_t kRunRecords = 64;
-constexpr std::size_t kSamples = 4096;
-constexpr double kSampleMargin = 16.0;
 
 }  // namespace
 
@@ -48,7 +46,8 @@ PointCloud readPlyPreview(const std::filesystem::path& path, std::uint64_t max_p
     first_index[i + 1] = first_index[i] + std::min(kRunRecords, ranges[i].count);
   }
   Quantization quantization =
-      chooseQuantization(ply::sampleBounds(context, ranges, kSamples), kSampleMargin);
+      chooseQuantization(ply::sampleBounds(context, ranges, ply::kQuantizationSamples),
+                         ply::kQuantizationSampleMargin);
   PointCloud cloud = ply::allocatePointCloud(layout, first_index.back(), quantization);
 
   auto decodeAll = [&] {

@@ -131,9 +131,6 @@ constexpr std::size_t kRangeBytes = 512 << 10;
 // other hyper-thread (20 M points of 27 bytes, same run: 0.52 s of CPU a read with blocks of
 // 512 KiB, 0.41-0.46 s with 64 or 128 KiB).
 constexpr std::size_t kReadBlockBytes = 128 << 10;
-constexpr std::size_t kSamples = 4096;
-// The sampled bounds are widened this much so that points the sample missed still fit.
-constexpr double kSampleMargin = 16.0;
 
 int requirePointElement(const PlyHeader& header, const std::string& file) {
   int index = header.pointElement();
@@ -242,7 +239,8 @@ PointCloud readPlyBytes(std::span<const std::byte> bytes, const std::string& nam
 
   std::vector<RecordRange> ranges = ply::planRanges(context, kRangeBytes, options.parallel);
   Quantization quantization =
-      chooseQuantization(ply::sampleBounds(context, ranges, kSamples), kSampleMargin);
+      chooseQuantization(ply::sampleBounds(context, ranges, ply::kQuantizationSamples),
+                         ply::kQuantizationSampleMargin);
   std::unique_ptr<ByteSource> records;
   if (path != nullptr && readsRecordsByRange(context) && std::filesystem::is_regular_file(*path)) {
     records = openFileSource(*path);
@@ -293,7 +291,8 @@ struct PlyChunkReader::State {
         context{file.bytes(), file.path(), header, layout, &file},
         ranges(ply::planRanges(context, kRangeBytes, true)),
         quantization(
-            chooseQuantization(ply::sampleBounds(context, ranges, kSamples), kSampleMargin)) {
+            chooseQuantization(ply::sampleBounds(context, ranges, ply::kQuantizationSamples),
+                               ply::kQuantizationSampleMargin)) {
     if (!ranges.empty()) cursor_byte = ranges.front().begin;
   }
 

@@ -535,7 +535,7 @@ PointFormatEntry ptxFormat() {
       if (name == column_names::kX || name == column_names::kY || name == column_names::kZ ||
           name == column_names::kRed || name == column_names::kGreen ||
           name == column_names::kBlue || name == column_names::kIntensity ||
-          name == kScanIndexColumn) {
+          name == column_names::kScanIndex) {
         continue;
       }
       losses.push_back(name + " (PTX holds x y z intensity r g b)");

@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "io/bytes_as_text.h"
 #include "io/mapped_file.h"
 #include "io/text_reader.h"
 
@@ -29,10 +30,6 @@ Line lineAt(std::string_view text, std::size_t& pos) {
   }
   line.integer = line.words == 1 && digits;
   return line;
-}
-
-std::string_view asText(std::span<const std::byte> bytes) {
-  return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
 }
 
 }  // namespace
@@ -87,7 +84,7 @@ std::uint64_t checkPtsCounts(std::string_view text, const std::string& name) {
 
 PointCloud readPtsFromMemory(std::span<const std::byte> bytes, const std::string& name,
                              const PtsReadOptions& options) {
-  checkPtsCounts(asText(bytes), name);
+  checkPtsCounts(bytesAsText(bytes), name);
   return readTextFromMemory(
       bytes, name, {.progress = options.progress, .parallel = options.parallel, .pts = true});
 }
@@ -95,13 +92,13 @@ PointCloud readPtsFromMemory(std::span<const std::byte> bytes, const std::string
 PointCloud readPts(const std::filesystem::path& path, const PtsReadOptions& options) {
   {
     const MappedFile file(path);
-    checkPtsCounts(asText(file.bytes()), path.string());
+    checkPtsCounts(bytesAsText(file.bytes()), path.string());
   }
   return readText(path, {.progress = options.progress, .parallel = options.parallel, .pts = true});
 }
 
 bool looksLikePts(std::span<const std::byte> bytes) {
-  const std::string_view text = asText(bytes.first(std::min<std::size_t>(bytes.size(), 4096)));
+  const std::string_view text = bytesAsText(bytes.first(std::min<std::size_t>(bytes.size(), 4096)));
   std::size_t pos = 0;
   Line first{}, second{};
   while (pos < text.size() && first.words == 0) first = lineAt(text, pos);

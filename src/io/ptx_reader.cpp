@@ -14,6 +14,7 @@
 #include "core/column_names.h"
 #include "core/error.h"
 #include "core/quantization.h"
+#include "io/bytes_as_text.h"
 #include "io/mapped_file.h"
 #include "io/text_decoder.h"  // decimal-exact quantization of text positions
 
@@ -264,7 +265,7 @@ PointCloud allocate(const PtxSurvey& s, std::uint64_t count, const Quantization&
   cloud.positions = Column<Int3>(count);
   cloud.intensity = Column<float>(count);
   if (s.color) cloud.colors = Column<Rgba8>(count);
-  cloud.scalars.push_back({.name = kScanIndexColumn,
+  cloud.scalars.push_back({.name = column_names::kScanIndex,
                            .type = ScalarType::UInt16,
                            .data = ByteBuffer(count * sizeof(std::uint16_t))});
   cloud.source.position = ScalarType::Float64;
@@ -273,7 +274,7 @@ PointCloud allocate(const PtxSurvey& s, std::uint64_t count, const Quantization&
   if (s.color)
     cloud.source.order.insert(cloud.source.order.end(),
                               {column_names::kRed, column_names::kGreen, column_names::kBlue});
-  cloud.source.order.push_back(kScanIndexColumn);
+  cloud.source.order.push_back(column_names::kScanIndex);
   return cloud;
 }
 
@@ -306,25 +307,21 @@ PointCloud readPtxText(std::string_view text, const std::string& name,
   return cloud;
 }
 
-std::string_view asText(std::span<const std::byte> bytes) {
-  return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
-}
-
 }  // namespace
 
 PointCloud readPtx(const std::filesystem::path& path, const PtxReadOptions& options) {
   const MappedFile file(path);
-  return readPtxText(asText(file.bytes()), path.string(), options);
+  return readPtxText(bytesAsText(file.bytes()), path.string(), options);
 }
 
 PointCloud readPtxFromMemory(std::span<const std::byte> bytes, const std::string& name,
                              const PtxReadOptions& options) {
-  return readPtxText(asText(bytes), name, options);
+  return readPtxText(bytesAsText(bytes), name, options);
 }
 
 std::vector<PtxScan> readPtxScans(const std::filesystem::path& path) {
   const MappedFile file(path);
-  return survey(asText(file.bytes()), path.string()).scans;
+  return survey(bytesAsText(file.bytes()), path.string()).scans;
 }
 
 struct PtxChunkReader::State {
@@ -339,9 +336,9 @@ struct PtxChunkReader::State {
 PtxChunkReader::PtxChunkReader(const std::filesystem::path& path, const Quantization* quantization)
     : state_(std::make_unique<State>(path)) {
   State& s = *state_;
-  s.survey = survey(asText(s.file.bytes()), path.string());
+  s.survey = survey(bytesAsText(s.file.bytes()), path.string());
   s.quantization = quantization ? *quantization : s.survey.quantization();
-  s.cursor.emplace(asText(s.file.bytes()), path.string());
+  s.cursor.emplace(bytesAsText(s.file.bytes()), path.string());
 }
 
 PtxChunkReader::~PtxChunkReader() = default;
@@ -385,7 +382,7 @@ bool PtxChunkReader::next(PointCloud& chunk, std::size_t max_points) {
 }
 
 bool looksLikePtx(std::span<const std::byte> bytes) {
-  const std::string_view text = asText(bytes.first(std::min<std::size_t>(bytes.size(), 4096)));
+  const std::string_view text = bytesAsText(bytes.first(std::min<std::size_t>(bytes.size(), 4096)));
   std::size_t pos = 0;
   static constexpr std::size_t kWords[] = {1, 1, 3, 3, 3, 3, 4, 4, 4, 4};
   for (std::size_t expected : kWords) {

@@ -29,13 +29,12 @@
 #include <string>
 #include <vector>
 
+#include "core/column_names.h"
 #include "core/point_cloud.h"
 #include "core/progress.h"
 #include "io/point_chunk_source.h"
 
 namespace parallax {
-
-inline constexpr const char* kScanIndexColumn = "scan_index";
 
 struct PtxScan {
   std::uint64_t columns = 0, rows = 0;

@@ -32,7 +32,7 @@ void appendNumbers(std::string& out, std::initializer_list<double> values) {
 
 void writePtx(const PointCloud& cloud, const std::filesystem::path& path,
               const PtxWriteOptions& options) {
-  const ScalarColumn* scan_column = cloud.findScalar(kScanIndexColumn);
+  const ScalarColumn* scan_column = cloud.findScalar(column_names::kScanIndex);
   // The points of each scan, in file order.
   std::map<std::uint64_t, std::vector<std::size_t>> scans;
   for (std::size_t i = 0; i < cloud.count; ++i) {

@@ -22,6 +22,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "io/bytes_as_text.h"
 #include "io/mapped_file.h"
 #include "io/text_decoder.h"
 #include "io/text_layout.h"
@@ -31,13 +32,8 @@ namespace {
 
 using text::Block;
 using text::BodyPlan;
-using text::Layout;
 using text::ParseResult;
 using text::PositionStats;
-
-std::string_view asText(std::span<const std::byte> bytes) {
-  return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
-}
 
 template <class F>
 void forEachBlock(bool parallel, std::size_t count, F&& body) {
@@ -63,7 +59,7 @@ void checkBlockCount(const ParseResult& result, const Block& block) {
 
 // Parses every block into `cloud` (positions in cloud.quantization) and returns the positions'
 // stats; the first bad line in the file is thrown.
-PositionStats decodeBlocks(std::string_view bytes, const BodyPlan& plan, const Layout& layout,
+PositionStats decodeBlocks(std::string_view bytes, const BodyPlan& plan, const text::Layout& layout,
                            const std::string& file, PointCloud& cloud, bool positions_only,
                            const MappedFile* mapping, bool parallel, Progress* progress) {
   std::vector<PositionStats> stats(plan.blocks.size());
@@ -101,7 +97,7 @@ text::SampledQuantization firstQuantization(const BodyPlan& plan) {
 
 PointCloud readAll(std::string_view bytes, const std::string& file, const TextReadOptions& options,
                    const MappedFile* mapping) {
-  const Layout layout = text::detectLayout(bytes, file, options.columns, options.pts);
+  const text::Layout layout = text::detectLayout(bytes, file, options.columns, options.pts);
   // Progress is by bytes: the header's count too, so that the whole file adds up to its size.
   if (options.progress) options.progress->advance(std::min(layout.body_offset, bytes.size()));
   const BodyPlan plan = text::planBody(bytes, layout, file, mapping, options.parallel);
@@ -131,24 +127,24 @@ PointCloud readAll(std::string_view bytes, const std::string& file, const TextRe
 PointCloud readText(const std::filesystem::path& path, const TextReadOptions& options) {
   MappedFile file(path);
   file.adviseSequential(0, file.size());
-  return readAll(asText(file.bytes()), file.path(), options, &file);
+  return readAll(bytesAsText(file.bytes()), file.path(), options, &file);
 }
 
 PointCloud readTextFromMemory(std::span<const std::byte> bytes, const std::string& name,
                               const TextReadOptions& options) {
-  return readAll(asText(bytes), name, options, nullptr);
+  return readAll(bytesAsText(bytes), name, options, nullptr);
 }
 
 std::uint64_t countTextPoints(const std::filesystem::path& path, const TextReadOptions& options) {
   MappedFile file(path);
   file.adviseSequential(0, file.size());
-  const std::string_view bytes = asText(file.bytes());
-  const Layout layout = text::detectLayout(bytes, file.path(), options.columns, options.pts);
+  const std::string_view bytes = bytesAsText(file.bytes());
+  const text::Layout layout = text::detectLayout(bytes, file.path(), options.columns, options.pts);
   return text::planBody(bytes, layout, file.path(), &file, options.parallel).points;
 }
 
 bool looksLikeTextPoints(std::span<const std::byte> bytes) {
-  const std::string_view head = asText(bytes).substr(0, 64 << 10);
+  const std::string_view head = bytesAsText(bytes).substr(0, 64 << 10);
   return text::looksLikeTextPoints(head, bytes.size() > head.size());
 }
 
@@ -159,7 +155,7 @@ struct TextChunkReader::State {
   State(const std::filesystem::path& path, const TextReadOptions& options,
         const Quantization* given)
       : file(path),
-        bytes(asText(file.bytes())),
+        bytes(bytesAsText(file.bytes())),
         layout(text::detectLayout(bytes, file.path(), options.columns, options.pts)),
         plan(text::planBody(bytes, layout, file.path(), &file, true)) {
     if (given != nullptr) {
@@ -188,7 +184,7 @@ struct TextChunkReader::State {
 
   MappedFile file;
   std::string_view bytes;
-  Layout layout;
+  text::Layout layout;
   BodyPlan plan;
   Quantization quantization;
   // Where the next chunk starts: inside plan.blocks[next_block], after `done_in_block` points,

@@ -16,8 +16,6 @@
 namespace parallax {
 namespace {
 
-constexpr int kGrid = 1 << ConvertPlan::kGridLevel;
-
 // The inputs' quantization when they agree and it covers the cube; otherwise per axis the finest
 // input scale (coarsened by powers of two until the cube fits in int32) about the cube's centre.
 Quantization chooseOutputQuantization(const std::vector<Quantization>& inputs,
@@ -167,7 +165,7 @@ std::uint64_t chunkBuildBytesPerPoint(std::size_t record_size) {
 
 void countStream(const ConvertPlan& plan, PointStream& stream, std::vector<std::uint64_t>& counts,
                  Progress* bar) {
-  const std::size_t cells = std::size_t(kGrid) * kGrid * kGrid;
+  const std::size_t cells = ConvertPlan::kGridCells;
   assert(counts.size() == cells && "countStream: counts has one entry per count grid cell");
   // Per-thread counts kept over the batches and summed into `counts` only before they could
   // wrap (summed per batch, the 8 MB per thread were allocated, zeroed and added up 30 times
@@ -250,7 +248,7 @@ void planChunks(ConvertPlan& plan, std::vector<std::uint64_t> counts) {
       for (std::size_t cx = x * span; cx < (x + 1) * span; ++cx)
         for (std::size_t cy = y * span; cy < (y + 1) * span; ++cy)
           for (std::size_t cz = z * span; cz < (z + 1) * span; ++cz)
-            plan.cell_chunk[(cx * kGrid + cy) * kGrid + cz] = id;
+            plan.cell_chunk[ConvertPlan::cellIndex(cx, cy, cz)] = id;
       return;
     }
     for (int octant = 0; octant < 8; ++octant) {

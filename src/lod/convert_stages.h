@@ -120,6 +120,7 @@ struct ConvertPlan {
   std::uint64_t batch_points = 0;       // points read at a time
   std::uint64_t max_chunk_points = 0;   // chunk size the memory budget allows
   static constexpr int kGridLevel = 7;  // the count grid is 2^7 cells a side
+  static constexpr int kGridSide = 1 << kGridLevel;
   static constexpr std::size_t kGridCells = std::size_t(1) << (3 * kGridLevel);
   std::vector<std::int32_t> cell_chunk;  // count grid cell -> index into chunks, -1: empty
   std::vector<ChunkPlan> chunks;
@@ -133,13 +134,16 @@ struct ConvertPlan {
   // The count grid cell of a quantized position (clamped into the grid). Inline: called per
   // point in two passes.
   std::size_t cellOf(const Int3& p) const {
-    constexpr int kGrid = 1 << kGridLevel;
-    const double factor = double(kGrid) / (cube.max[0] - cube.min[0]);
+    const double factor = double(kGridSide) / (cube.max[0] - cube.min[0]);
     auto cell = [&](int axis, std::int32_t value) {
       const double c = std::floor((quantization.toWorld(axis, value) - cube.min[axis]) * factor);
-      return std::size_t(std::clamp(c, 0.0, double(kGrid - 1)));
+      return std::size_t(std::clamp(c, 0.0, double(kGridSide - 1)));
     };
-    return (cell(0, p.x) * kGrid + cell(1, p.y)) * kGrid + cell(2, p.z);
+    return cellIndex(cell(0, p.x), cell(1, p.y), cell(2, p.z));
+  }
+  // The count grid cell at column x, row y, layer z.
+  static std::size_t cellIndex(std::size_t x, std::size_t y, std::size_t z) {
+    return (x * kGridSide + y) * kGridSide + z;
   }
 };
 

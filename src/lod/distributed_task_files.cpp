@@ -343,7 +343,6 @@ ConvertPlan loadConvertState(const DistributedPlan& plan, bool with_chunks) {
 
   state.chunks = readChunkGroups(chunksFilePath(plan)).chunks;
   // The cells under each chunk, as planChunks marked them (convert_count.cpp).
-  constexpr std::size_t kGrid = std::size_t(1) << ConvertPlan::kGridLevel;
   state.cell_chunk.assign(ConvertPlan::kGridCells, -1);
   for (std::size_t id = 0; id < state.chunks.size(); ++id) {
     const std::string& name = state.chunks[id].name;
@@ -359,7 +358,7 @@ ConvertPlan loadConvertState(const DistributedPlan& plan, bool with_chunks) {
     for (std::size_t cx = x * span; cx < (x + 1) * span; ++cx)
       for (std::size_t cy = y * span; cy < (y + 1) * span; ++cy)
         for (std::size_t cz = z * span; cz < (z + 1) * span; ++cz)
-          state.cell_chunk[(cx * kGrid + cy) * kGrid + cz] = std::int32_t(id);
+          state.cell_chunk[ConvertPlan::cellIndex(cx, cy, cz)] = std::int32_t(id);
   }
   return state;
 }

@@ -22,8 +22,6 @@ namespace {
 constexpr std::size_t kChunkPoints = 1 << 20;
 // Bands are whole rows of the GeoTIFF's 256 x 256 tiles, so each tile is written once.
 constexpr std::int64_t kTileRows = 256;
-// --fill without --fill-radius: ten cells.
-constexpr double kDefaultFillCells = 10.0;
 
 void checkOptions(const RasterOptions& options) {
   if (!(options.resolution > 0.0) || !std::isfinite(options.resolution)) {

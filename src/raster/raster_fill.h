@@ -12,6 +12,9 @@
 
 namespace parallax {
 
+// The fill radius when none is given (--fill without --fill-radius), in cells.
+inline constexpr double kDefaultFillCells = 10.0;
+
 // Returns the number of cells filled. `radius` must be positive.
 std::uint64_t fillNodata(RasterImage& image, double radius);
 

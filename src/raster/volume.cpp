@@ -15,8 +15,6 @@ namespace parallax {
 
 namespace {
 
-constexpr double kDefaultFillCells = 10.0;
-
 // The surface at the centres of the cells the ring crosses, each cell once.
 std::vector<std::array<double, 3>> boundarySamples(const RasterImage& surface,
                                                    const Polygon2& ring) {

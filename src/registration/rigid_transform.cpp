@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 
 #include "core/error.h"
@@ -13,8 +14,6 @@
 namespace parallax {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 bool parseNumber(const std::string& word, double& value) {
   const auto [end, error] = std::from_chars(word.data(), word.data() + word.size(), value);
@@ -36,7 +35,8 @@ RigidTransform RigidTransform::rotation(double x, double y, double z, double deg
   x /= len;
   y /= len;
   z /= len;
-  const double a = degrees * kPi / 180.0, c = std::cos(a), s = std::sin(a), k = 1.0 - c;
+  const double a = degrees * std::numbers::pi / 180.0, c = std::cos(a), s = std::sin(a),
+               k = 1.0 - c;
   RigidTransform r;
   r.m[0] = {c + x * x * k, x * y * k - z * s, x * z * k + y * s, 0};
   r.m[1] = {y * x * k + z * s, c + y * y * k, y * z * k - x * s, 0};
@@ -97,7 +97,7 @@ double RigidTransform::angleDegrees() const {
   // acos loses digits near 0; the skew part gives the sine there.
   const double sx = m[2][1] - m[1][2], sy = m[0][2] - m[2][0], sz = m[1][0] - m[0][1];
   const double s = 0.5 * std::sqrt(sx * sx + sy * sy + sz * sz);
-  return std::atan2(s, c) * 180.0 / kPi;
+  return std::atan2(s, c) * 180.0 / std::numbers::pi;
 }
 
 double RigidTransform::translationLength() const {

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <stdexcept>
 
 #include "core/error.h"
@@ -13,8 +14,6 @@
 namespace parallax {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 glm::dvec3 anyPerpendicular(const glm::dvec3& v) {
   const glm::dvec3 axis = std::abs(v.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
@@ -57,7 +56,8 @@ void Camera::orbit(double yaw, double pitch, OrbitMode mode) {
   if (mode == OrbitMode::Turntable) {
     // Clamp the elevation so that the camera reaches the poles but never rolls over them.
     const double elevation = std::asin(std::clamp(glm::dot(forward(), world_up), -1.0, 1.0));
-    const double target = std::clamp(elevation + pitch, -kPi / 2, kPi / 2);
+    const double target =
+        std::clamp(elevation + pitch, -std::numbers::pi / 2, std::numbers::pi / 2);
     pitch = target - elevation;
     const glm::dquat yaw_rotation = glm::angleAxis(yaw, world_up);
     const glm::dvec3 right_after_yaw = yaw_rotation * right();

@@ -17,7 +17,6 @@
 namespace parallax::synth {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kStationRange = 150.0;  // metres; a mid-range phase-shift scanner
 constexpr double kAerialAltitude = 250.0;
 constexpr double kAerialHalfAngle = 0.38;  // radians across track (about +-22 degrees)
@@ -103,7 +102,7 @@ struct SceneGenerator::Impl {
         if (distance > r + 0.01) {
           double centre = std::atan2(dy, dx);
           double half = std::asin(r / distance);
-          double bin_width = 2 * kPi / kAzimuthBins;
+          double bin_width = 2 * std::numbers::pi / kAzimuthBins;
           first = int(std::floor((centre - half) / bin_width));
           last = int(std::floor((centre + half) / bin_width));
         }
@@ -128,7 +127,8 @@ struct SceneGenerator::Impl {
   }
 
   std::size_t binIndex(std::size_t station, double azimuth) const {
-    int bin = std::clamp(int(azimuth * (kAzimuthBins / (2 * kPi))), 0, kAzimuthBins - 1);
+    int bin =
+        std::clamp(int(azimuth * (kAzimuthBins / (2 * std::numbers::pi))), 0, kAzimuthBins - 1);
     return station * kAzimuthBins + std::size_t(bin);
   }
   std::span<const std::uint16_t> objectsInBin(std::size_t index) const {
@@ -211,7 +211,7 @@ PointCloud SceneGenerator::generateBlock(std::uint64_t block, std::size_t count)
     double max_range, ground_hint;
     if (impl.kind == SceneKind::Scan) {
       origin = site.stations[station];
-      double azimuth = random.uniform(0, 2 * kPi);
+      double azimuth = random.uniform(0, 2 * std::numbers::pi);
       double elevation = random.uniform(kMinElevation, kMaxElevation);
       std::size_t bin = impl.binIndex(station, azimuth);
       if (elevation > impl.bin_max_elevation[bin]) continue;  // into the sky: no return

@@ -7,7 +7,6 @@
 namespace parallax::synth {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kNoHit = std::numeric_limits<double>::infinity();
 
 // Ray against the terrain by safeguarded Newton iteration inside the bracket where the ray's
@@ -207,25 +206,25 @@ Site buildSite(std::uint64_t seed, int station_count) {
   const std::array<double, Terrain::kWaves> amplitudes = {2.4, 1.0, 0.3, 0.06};
   Terrain& terrain = site.terrain;
   for (int i = 0; i < Terrain::kWaves; ++i) {
-    double angle = random.uniform(0, 2 * kPi);
-    double k = 2 * kPi / wavelengths[i];
+    double angle = random.uniform(0, 2 * std::numbers::pi);
+    double k = 2 * std::numbers::pi / wavelengths[i];
     terrain.kx[i] = k * std::cos(angle);
     terrain.ky[i] = k * std::sin(angle);
-    terrain.phase[i] = random.uniform(0, 2 * kPi);
+    terrain.phase[i] = random.uniform(0, 2 * std::numbers::pi);
     terrain.amplitude[i] = amplitudes[i] * random.uniform(0.8, 1.2);
     terrain.max_height += terrain.amplitude[i];
   }
   terrain.min_height = -terrain.max_height;
-  double road_angle = random.uniform(0, kPi);
+  double road_angle = random.uniform(0, std::numbers::pi);
   terrain.road_nx = std::cos(road_angle), terrain.road_ny = std::sin(road_angle);
   terrain.road_c = random.uniform(-15, 15);
 
   // Stations: one near the centre, the others on a ring, as a survey crew would set them up.
   for (int i = 0; i < station_count; ++i) {
     double r = i == 0 ? random.uniform(0, 8) : random.uniform(45, 65);
-    double angle =
-        (i == 0 ? random.uniform(0, 2 * kPi) : 2 * kPi * (i - 1) / std::max(1, station_count - 1)) +
-        random.uniform(-0.3, 0.3);
+    double angle = (i == 0 ? random.uniform(0, 2 * std::numbers::pi)
+                           : 2 * std::numbers::pi * (i - 1) / std::max(1, station_count - 1)) +
+                   random.uniform(-0.3, 0.3);
     double x = r * std::cos(angle), y = r * std::sin(angle);
     site.stations.push_back({x, y, terrain.height(x, y) + kStationHeight});
   }
@@ -249,7 +248,7 @@ Site buildSite(std::uint64_t seed, int station_count) {
   for (int attempt = 0; attempt < 400 && site.buildings.size() < 12; ++attempt) {
     Building b;
     b.cx = random.uniform(-88, 88), b.cy = random.uniform(-88, 88);
-    double angle = random.uniform(0, kPi);
+    double angle = random.uniform(0, std::numbers::pi);
     b.cos_a = std::cos(angle), b.sin_a = std::sin(angle);
     b.half_x = random.uniform(4, 8), b.half_y = random.uniform(5, 13);
     b.radius = std::hypot(b.half_x, b.half_y);

@@ -27,7 +27,7 @@ void setText(std::array<char, 1024>& field, const std::string& value) {
   value.copy(field.data(), field.size() - 1);
 }
 
-void report(Session& s, const std::string& message) {
+void reportRegistration(Session& s, const std::string& message) {
   s.registration.message = message;
   std::fprintf(stderr, "parallax view: %s\n", message.c_str());
 }
@@ -38,12 +38,13 @@ void startRegistration(Session& s) {
   RegistrationSession& r = s.registration;
   if (r.run.valid()) return;
   if (!s.cloud_points) {
-    report(s, "registration: needs a whole cloud shown (an octree's nodes are not registered)");
+    reportRegistration(
+        s, "registration: needs a whole cloud shown (an octree's nodes are not registered)");
     return;
   }
   const std::string target_path = text(r.target_text);
   if (target_path.empty()) {
-    report(s, "registration: give the target file");
+    reportRegistration(s, "registration: give the target file");
     return;
   }
   auto source = std::make_shared<const PointCloud>(s.cloud_points->clone());
@@ -85,10 +86,10 @@ void updateRegistration(Session& s) {
     char line[160];
     std::snprintf(line, sizeof line, "registered: rms %.6g, overlap %.4f, %u iterations",
                   r.result->rms, r.result->overlap, r.result->iterations);
-    report(s, line);
+    reportRegistration(s, line);
   } catch (const std::exception& e) {
     r.result.reset();
-    report(s, e.what());
+    reportRegistration(s, e.what());
   }
 }
 
@@ -103,15 +104,15 @@ bool acceptRegistration(Session& s) {
   if (!r.result) return false;
   const std::string path = text(r.output_text);
   if (path.empty()) {
-    report(s, "registration: give the file to write the transform to");
+    reportRegistration(s, "registration: give the file to write the transform to");
     return false;
   }
   try {
     writeRigidTransform(r.result->transform, path);
-    report(s, "wrote the transform to " + path);
+    reportRegistration(s, "wrote the transform to " + path);
     return true;
   } catch (const std::exception& e) {
-    report(s, e.what());
+    reportRegistration(s, e.what());
     return false;
   }
 }

@@ -28,6 +28,7 @@
 #include "core/scalar_type.h"
 #include "io/ply_header.h"
 #include "io/ply_reader.h"
+#include "support/file_bytes.h"
 
 namespace parallax::test {
 
@@ -140,10 +141,6 @@ class PlyBody {
   std::string bytes_;
   bool at_line_start_ = true;
 };
-
-inline std::span<const std::byte> asBytes(const std::string& text) {
-  return {reinterpret_cast<const std::byte*>(text.data()), text.size()};
-}
 
 // What a call threw. `thrown` is false (and a failure is recorded) when it threw no InputError.
 struct CaughtInputError {

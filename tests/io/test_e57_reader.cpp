@@ -26,7 +26,7 @@ void expectPoints(const PointCloud& cloud, const std::vector<Expected>& expected
   ASSERT_EQ(cloud.count, expected.size());
   ASSERT_TRUE(cloud.hasColors());
   ASSERT_TRUE(cloud.hasIntensity());
-  const ScalarColumn* scan = cloud.findScalar(kScanIndexColumn);
+  const ScalarColumn* scan = cloud.findScalar(column_names::kScanIndex);
   ASSERT_NE(scan, nullptr);
   for (std::size_t i = 0; i < expected.size(); ++i) {
     SCOPED_TRACE("point " + std::to_string(i));
@@ -130,7 +130,7 @@ TEST(E57Reader, ChunksEqualTheWholeRead) {
 TEST(E57Reader, PreviewTakesTheFirstPointsOfEachScan) {
   const PointCloud preview = readPointFilePreview(test::e57DataFile("A_B.e57"), 2);
   ASSERT_EQ(preview.count, 2u);
-  const ScalarColumn* scan = preview.findScalar(kScanIndexColumn);
+  const ScalarColumn* scan = preview.findScalar(column_names::kScanIndex);
   EXPECT_EQ(scan->as<std::uint32_t>()[0], 0u);
   EXPECT_EQ(scan->as<std::uint32_t>()[1], 1u);
   EXPECT_NEAR(preview.worldX(1), kAB[2].x, 1e-8);

@@ -135,7 +135,7 @@ std::vector<Point> expectedPoints() {
 }
 
 void expectGenerated(const PointCloud& cloud, std::size_t first, const std::vector<Point>& all) {
-  const ScalarColumn* scan = cloud.findScalar(kScanIndexColumn);
+  const ScalarColumn* scan = cloud.findScalar(column_names::kScanIndex);
   const ScalarColumn* row = cloud.findScalar("rowIndex");
   ASSERT_NE(scan, nullptr);
   ASSERT_NE(row, nullptr);

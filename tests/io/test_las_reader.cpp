@@ -8,18 +8,16 @@
 #include "io/point_file.h"
 #include "io/test_las_builder.h"
 #include "support/allocation_counter.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
 namespace {
 
+using test::asBytes;
 using test::LasTestFile;
 using test::LasTestPoint;
 using test::makeLas;
-
-std::span<const std::byte> asBytes(const std::string& s) {
-  return {reinterpret_cast<const std::byte*>(s.data()), s.size()};
-}
 
 PointCloud readBytes(const std::string& s) {
   return readLasFromMemory(asBytes(s), "t.las");
@@ -278,7 +276,7 @@ TEST(LasReader, LazBitWithoutTheLaszipVlrIsAnError) {
 }
 
 // Runs the reader on `bytes` and returns the error, failing the test when there is none.
-InputErrorInfo errorOf(const std::string& bytes) {
+InputErrorInfo lasErrorOf(const std::string& bytes) {
   try {
     readBytes(bytes);
   } catch (const InputError& e) {
@@ -293,21 +291,21 @@ TEST(LasReader, BadInputIsNamedPrecisely) {
   const std::string good = makeLas({.minor = 2, .format = 3, .points = samplePoints(false)});
   std::string bytes = good;
   bytes[0] = 'X';
-  EXPECT_EQ(errorOf(bytes).property, "file signature");
+  EXPECT_EQ(lasErrorOf(bytes).property, "file signature");
 
-  EXPECT_EQ(errorOf(good.substr(0, 100)).property, "header");
+  EXPECT_EQ(lasErrorOf(good.substr(0, 100)).property, "header");
 
   bytes = good;
   test::putAt(bytes, 25, std::uint8_t(7));
-  EXPECT_EQ(errorOf(bytes).property, "version");
+  EXPECT_EQ(lasErrorOf(bytes).property, "version");
 
   bytes = good;
   test::putAt(bytes, 94, std::uint16_t(60000));
-  EXPECT_EQ(errorOf(bytes).property, "header size");
+  EXPECT_EQ(lasErrorOf(bytes).property, "header size");
 
   bytes = good;
   test::putAt(bytes, 96, std::uint32_t(1u << 30));
-  auto info = errorOf(bytes);
+  auto info = lasErrorOf(bytes);
   EXPECT_EQ(info.property, "offset to point data");
   EXPECT_EQ(info.byte_offset, 96u);
 
@@ -318,39 +316,39 @@ TEST(LasReader, BadInputIsNamedPrecisely) {
     bytes = good;
     test::putAt(bytes, 107, count);
     test::AllocationScope allocations;
-    info = errorOf(bytes);
+    info = lasErrorOf(bytes);
     EXPECT_LT(allocations.bytes(), 1u << 20) << count;
     EXPECT_EQ(info.property, "number of point records");
     EXPECT_NE(info.found.find(std::to_string(count)), std::string::npos);
   }
 
-  EXPECT_EQ(errorOf(good.substr(0, good.size() - 1)).property, "number of point records");
+  EXPECT_EQ(lasErrorOf(good.substr(0, good.size() - 1)).property, "number of point records");
 
   bytes = good;
   test::putAt(bytes, 104, std::uint8_t(11));
-  EXPECT_EQ(errorOf(bytes).property, "point data format");
+  EXPECT_EQ(lasErrorOf(bytes).property, "point data format");
 
   bytes = good;
   test::putAt(bytes, 105, std::uint16_t(20));  // below format 3's 34 bytes
-  EXPECT_EQ(errorOf(bytes).property, "point data record length");
+  EXPECT_EQ(lasErrorOf(bytes).property, "point data record length");
 
   bytes = good;
   test::putAt(bytes, 100, std::uint32_t(3));  // VLRs that are not there
-  EXPECT_NE(errorOf(bytes).property.find("VLR"), std::string::npos);
+  EXPECT_NE(lasErrorOf(bytes).property.find("VLR"), std::string::npos);
 
   bytes = good;
   test::putAt(bytes, 131, 0.0);
-  EXPECT_EQ(errorOf(bytes).property, "x scale factor");
+  EXPECT_EQ(lasErrorOf(bytes).property, "x scale factor");
 
   LasTestFile vlr_file{.format = 0, .points = samplePoints(false)};
   vlr_file.vlrs.push_back({"test", 1, "payload"});
   bytes = makeLas(vlr_file);
   test::putAt(bytes, 227 + 20, std::uint16_t(5000));  // payload past the point data
-  EXPECT_EQ(errorOf(bytes).property, "VLR 1 record length");
+  EXPECT_EQ(lasErrorOf(bytes).property, "VLR 1 record length");
 
   LasTestFile extra{.minor = 4, .format = 6, .extra_bytes = 2};
   extra.vlrs.push_back({"LASF_Spec", 4, test::extraBytesDescriptor(10, "too_big")});
-  EXPECT_EQ(errorOf(makeLas(extra)).property, "extra bytes VLR");
+  EXPECT_EQ(lasErrorOf(makeLas(extra)).property, "extra bytes VLR");
 }
 
 TEST(LasReader, HeaderOfEveryTruncationIsAnErrorNotACrash) {

@@ -23,14 +23,11 @@
 namespace parallax {
 namespace {
 
+using test::asBytes;
 using test::fileBytes;
 
 using test::LasTestFile;
 using test::LasTestPoint;
-
-std::span<const std::byte> asBytes(const std::string& s) {
-  return {reinterpret_cast<const std::byte*>(s.data()), s.size()};
-}
 
 LasTestFile manyPoints(int minor, int format) {
   LasTestFile file{.minor = minor, .format = format};

@@ -18,7 +18,7 @@
 namespace parallax {
 namespace {
 
-const std::filesystem::path kData = PARALLAX_SHARED_DATA "/formats";
+const std::filesystem::path kFormatsData = PARALLAX_SHARED_DATA "/formats";
 
 PointCloud readString(const std::string& text) {
   return readPcdFromMemory({reinterpret_cast<const std::byte*>(text.data()), text.size()}, "t.pcd",
@@ -314,8 +314,8 @@ TEST(PcdReaderErrors, BadCompressedSizesAndLzf) {
 }
 
 TEST(PcdPdalFiles, AutzenEqualsItsLasTwin) {
-  const PointCloud pcd = readPointFile(kData / "pcd/autzen-utm.pcd");
-  const PointCloud las = readLas(kData / "pcd/autzen-utm.las");
+  const PointCloud pcd = readPointFile(kFormatsData / "pcd/autzen-utm.pcd");
+  const PointCloud las = readLas(kFormatsData / "pcd/autzen-utm.las");
   ASSERT_EQ(pcd.count, 1065u);
   ASSERT_EQ(las.count, 1065u);
   const ScalarColumn& pcd_time = scalar(pcd, "GpsTime");
@@ -331,8 +331,8 @@ TEST(PcdPdalFiles, AutzenEqualsItsLasTwin) {
 }
 
 TEST(PcdPdalFiles, Utm17AsciiEqualsItsLasTwinAtFloatPrecisionAndMissingHeaderIsRefused) {
-  const PointCloud pcd = readPointFile(kData / "pcd/utm17_space.pcd");
-  const PointCloud las = readLas(kData / "pcd/utm17.las");
+  const PointCloud pcd = readPointFile(kFormatsData / "pcd/utm17_space.pcd");
+  const PointCloud las = readLas(kFormatsData / "pcd/utm17.las");
   ASSERT_EQ(pcd.count, 10u);
   ASSERT_EQ(las.count, 10u);
   for (std::size_t i = 0; i < pcd.count; ++i) {
@@ -341,9 +341,9 @@ TEST(PcdPdalFiles, Utm17AsciiEqualsItsLasTwinAtFloatPrecisionAndMissingHeaderIsR
     EXPECT_EQ(pcd.worldY(i), double(float(las.worldY(i))));
     EXPECT_EQ(pcd.worldZ(i), double(float(las.worldZ(i))));
   }
-  EXPECT_EQ(detectPointFormat(kData / "pcd/missingheader.pcd"), PointFormat("pcd"));
+  EXPECT_EQ(detectPointFormat(kFormatsData / "pcd/missingheader.pcd"), PointFormat("pcd"));
   try {
-    readPointFile(kData / "pcd/missingheader.pcd");
+    readPointFile(kFormatsData / "pcd/missingheader.pcd");
     ADD_FAILURE() << "missingheader.pcd read";
   } catch (const InputError& e) {
     EXPECT_EQ(e.info().line, 1u);

@@ -19,7 +19,7 @@
 namespace parallax {
 namespace {
 
-const std::filesystem::path kData = PARALLAX_SHARED_DATA "/formats";
+const std::filesystem::path kFormatsData = PARALLAX_SHARED_DATA "/formats";
 
 void run(const std::string& command) {
   const int rc = std::system((command + " > /dev/null 2>&1").c_str());
@@ -79,12 +79,12 @@ TEST(PclOracle, PclConversionsOfPdalFilesReadToTheSameValues) {
   test::TempDir dir;
   for (const char* name : {"pcd/autzen-utm.pcd", "pcd/utm17_space.pcd"}) {
     SCOPED_TRACE(name);
-    const PointCloud original = readPointFile(kData / name);
+    const PointCloud original = readPointFile(kFormatsData / name);
     for (int format = 0; format < 3; ++format) {
       SCOPED_TRACE(format);
       const auto out = dir / ("pcl_" + std::to_string(format) + ".pcd");
-      run("pcl_convert_pcd_ascii_binary '" + (kData / name).string() + "' '" + out.string() + "' " +
-          std::to_string(format));
+      run("pcl_convert_pcd_ascii_binary '" + (kFormatsData / name).string() + "' '" + out.string() +
+          "' " + std::to_string(format));
       const PcdData expected_data = format == 0   ? PcdData::Ascii
                                     : format == 1 ? PcdData::Binary
                                                   : PcdData::BinaryCompressed;

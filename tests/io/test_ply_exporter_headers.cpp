@@ -131,7 +131,7 @@ TEST(PlyExporterHeaders, ChunkReaderStartsTheBinaryBodyAfterTheRealLineEnd) {
   EXPECT_EQ(xs, (std::vector<float>{1.5f, 0.125f, 6.0f}));
 }
 
-CaughtInputError headerError(const std::string& text) {
+CaughtInputError exporterHeaderError(const std::string& text) {
   return catchInputError([&] { parsePlyHeader(asBytes(text), "broken.ply"); });
 }
 
@@ -139,7 +139,7 @@ TEST(PlyExporterHeaders, OtherWordsOnThePlyLineAreReportedOnLineOne) {
   const std::string text = "ply binary\nformat ascii 1.0\nelement vertex 0\nend_header\n";
   // Detected as PLY, so that the parser (not "unknown format") says what is wrong.
   EXPECT_EQ(detectPointFormatFromMemory(asBytes(text)), PointFormat::Ply);
-  const CaughtInputError caught = headerError(text);
+  const CaughtInputError caught = exporterHeaderError(text);
   expectMessageHas(caught, {"broken.ply", "line 1", "ply binary"});
   EXPECT_EQ(caught.info.line, 1u);
   EXPECT_NE(caught.info.expected.find("'ply'"), std::string::npos) << caught.message;
@@ -147,7 +147,7 @@ TEST(PlyExporterHeaders, OtherWordsOnThePlyLineAreReportedOnLineOne) {
 
 TEST(PlyExporterHeaders, OtherWordsAfterEndHeaderAreReportedWithTheirLine) {
   const CaughtInputError caught =
-      headerError("ply\nformat ascii 1.0\nelement vertex 0\nend_header vertex\n");
+      exporterHeaderError("ply\nformat ascii 1.0\nelement vertex 0\nend_header vertex\n");
   expectMessageHas(caught, {"line 4", "end_header vertex"});
   EXPECT_EQ(caught.info.line, 4u);
   EXPECT_NE(caught.info.expected.find("'end_header' alone"), std::string::npos) << caught.message;
@@ -155,7 +155,7 @@ TEST(PlyExporterHeaders, OtherWordsAfterEndHeaderAreReportedWithTheirLine) {
 
 TEST(PlyExporterHeaders, BlanksInsideAWordAreStillAnError) {
   const CaughtInputError caught =
-      headerError("ply \r\nformat ascii 1.0 \r\nelement vertex 1 2\r\nend_header\r\n");
+      exporterHeaderError("ply \r\nformat ascii 1.0 \r\nelement vertex 1 2\r\nend_header\r\n");
   expectMessageHas(caught, {"line 3", "element vertex 1 2"});
   EXPECT_EQ(caught.info.line, 3u);
   EXPECT_EQ(caught.info.expected, "'element <name> <count>'");
@@ -164,7 +164,7 @@ TEST(PlyExporterHeaders, BlanksInsideAWordAreStillAnError) {
 TEST(PlyExporterHeaders, LinesEndingInCrAloneAreNamedAsSuch) {
   const std::string text = "ply\rformat ascii 1.0\relement vertex 0\rend_header\r";
   EXPECT_EQ(detectPointFormatFromMemory(asBytes(text)), PointFormat::Ply);
-  const CaughtInputError caught = headerError(text);
+  const CaughtInputError caught = exporterHeaderError(text);
   expectMessageHas(caught, {"broken.ply", "line 1", "CR alone"});
 }
 

@@ -9,16 +9,13 @@
 #include "io/pts_reader.h"
 #include "io/ptx_reader.h"
 #include "io/ptx_writer.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
 namespace {
 
-const std::filesystem::path kData = PARALLAX_SHARED_DATA "/formats";
-
-std::span<const std::byte> bytesOf(const std::string& text) {
-  return {reinterpret_cast<const std::byte*>(text.data()), text.size()};
-}
+const std::filesystem::path kPtxData = PARALLAX_SHARED_DATA "/formats";
 
 // Scan 0: identity pose, 2 x 1 grid. Scan 1: a quarter turn about z (x -> y, y -> -x) and a
 // translation of (100, 200, 10), written as PTX writes it (translation in the last row), 2 x 2
@@ -35,9 +32,9 @@ const std::string kTwoScans =
 
 TEST(PtxReader, TwoScansWithTransformsAndZeroPointsSkipped) {
   std::vector<PtxScan> scans;
-  const PointCloud cloud = readPtxFromMemory(bytesOf(kTwoScans), "t.ptx", {.scans = &scans});
+  const PointCloud cloud = readPtxFromMemory(test::asBytes(kTwoScans), "t.ptx", {.scans = &scans});
   ASSERT_EQ(cloud.count, 5u);  // 2 + 4 - 1 zero point
-  const ScalarColumn* scan = cloud.findScalar(kScanIndexColumn);
+  const ScalarColumn* scan = cloud.findScalar(column_names::kScanIndex);
   ASSERT_NE(scan, nullptr);
   // Scan 0 as written.
   EXPECT_NEAR(cloud.worldX(0), 1.5, 1e-9);
@@ -104,7 +101,7 @@ TEST(PtxReader, ChunksEqualTheWholeReadAndTheWriterRoundTrips) {
 
 InputErrorInfo ptxError(const std::string& text) {
   try {
-    readPtxFromMemory(bytesOf(text), "t.ptx");
+    readPtxFromMemory(test::asBytes(text), "t.ptx");
   } catch (const InputError& e) {
     EXPECT_EQ(e.info().file, "t.ptx");
     return e.info();
@@ -142,7 +139,7 @@ TEST(PtxReaderErrors, NameLineScanAndValue) {
 }
 
 TEST(PtxPdalFiles, CountsAndFirstPoint) {
-  const PointCloud color = readPointFile(kData / "ptx/1.2-with-color.ptx");
+  const PointCloud color = readPointFile(kPtxData / "ptx/1.2-with-color.ptx");
   EXPECT_EQ(color.count, 1065u);
   ASSERT_TRUE(color.hasColors());
   EXPECT_EQ(color.colors[0], (Rgba8{68, 77, 88, 255}));
@@ -150,39 +147,39 @@ TEST(PtxPdalFiles, CountsAndFirstPoint) {
   EXPECT_NEAR(color.worldY(0), 849028.31, 1e-6);
   EXPECT_NEAR(color.worldZ(0), 431.66, 1e-6);
   EXPECT_EQ(color.intensity[0], 0.034912f);
-  const PointCloud plain = readPointFile(kData / "ptx/no-color.ptx");
+  const PointCloud plain = readPointFile(kPtxData / "ptx/no-color.ptx");
   EXPECT_EQ(plain.count, 15u);
   EXPECT_FALSE(plain.hasColors());
 }
 
 TEST(PtsReader, CountLinesWithAndWithoutColourAndTheirErrors) {
   const std::string with = "2\n1 2 3 -5 10 20 30\n4 5 6 7 40 50 60\n";
-  PointCloud cloud = readPtsFromMemory(bytesOf(with), "t.pts");
+  PointCloud cloud = readPtsFromMemory(test::asBytes(with), "t.pts");
   ASSERT_EQ(cloud.count, 2u);
   EXPECT_EQ(cloud.intensity[0], -5.0f);
   EXPECT_EQ(cloud.colors[1], (Rgba8{40, 50, 60, 255}));
   const std::string without = "1\n1.25 2 3 9\n2\n4 5 6 7\n7 8 9 1\n";  // two scans
-  cloud = readPtsFromMemory(bytesOf(without), "t.pts");
+  cloud = readPtsFromMemory(test::asBytes(without), "t.pts");
   ASSERT_EQ(cloud.count, 3u);
   EXPECT_FALSE(cloud.hasColors());
   EXPECT_EQ(cloud.worldX(0), 1.25);
   EXPECT_EQ(cloud.intensity[2], 1.0f);
 
   try {
-    readPtsFromMemory(bytesOf("3\n1 2 3 4\n1 2 3 4\n"), "t.pts");
+    readPtsFromMemory(test::asBytes("3\n1 2 3 4\n1 2 3 4\n"), "t.pts");
     ADD_FAILURE();
   } catch (const InputError& e) {
     EXPECT_EQ(e.info().line, 1u);
     EXPECT_EQ(e.info().expected, "3 point lines after it");
   }
   try {
-    readPtsFromMemory(bytesOf("1 2 3 4\n"), "t.pts");
+    readPtsFromMemory(test::asBytes("1 2 3 4\n"), "t.pts");
     ADD_FAILURE();
   } catch (const InputError& e) {
     EXPECT_EQ(e.info().line, 1u);
   }
   try {
-    readPtsFromMemory(bytesOf("2\n1 2 3 4\n1 2 y 4\n"), "t.pts");
+    readPtsFromMemory(test::asBytes("2\n1 2 3 4\n1 2 y 4\n"), "t.pts");
     ADD_FAILURE();
   } catch (const InputError& e) {
     EXPECT_EQ(e.info().line, 3u);  // the text reader's message
@@ -191,8 +188,8 @@ TEST(PtsReader, CountLinesWithAndWithoutColourAndTheirErrors) {
 
 TEST(PtsPdalFiles, TestPtsValuesAndAWrittenPtsReadsBack) {
   test::TempDir dir;
-  const PointCloud cloud = readPointFile(kData / "pts/test.pts");
-  EXPECT_EQ(detectPointFormat(kData / "pts/test.pts"), PointFormat("pts"));
+  const PointCloud cloud = readPointFile(kPtxData / "pts/test.pts");
+  EXPECT_EQ(detectPointFormat(kPtxData / "pts/test.pts"), PointFormat("pts"));
   ASSERT_EQ(cloud.count, 19u);
   EXPECT_EQ(cloud.worldX(0), 3.980972);
   EXPECT_EQ(cloud.worldY(0), -2.006119);
@@ -206,7 +203,7 @@ TEST(PtsPdalFiles, TestPtsValuesAndAWrittenPtsReadsBack) {
     EXPECT_EQ(back.colors[i], cloud.colors[i]);
     EXPECT_EQ(back.intensity[i], cloud.intensity[i]);
   }
-  EXPECT_EQ(readPointFile(kData / "pts/autzen.pts").count, 10u);
+  EXPECT_EQ(readPointFile(kPtxData / "pts/autzen.pts").count, 10u);
 }
 
 }  // namespace

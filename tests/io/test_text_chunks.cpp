@@ -48,7 +48,7 @@ Written writeLines(int decimals, Special special) {
   return out;
 }
 
-PointCloud readString(const std::string& text, bool parallel = true) {
+PointCloud readXyzText(const std::string& text, bool parallel = true) {
   return readTextFromMemory({reinterpret_cast<const std::byte*>(text.data()), text.size()}, "t.xyz",
                             {.parallel = parallel});
 }
@@ -67,7 +67,7 @@ void expectExact(const PointCloud& cloud, const Written& written) {
 TEST(TextQuantization, SampledDecimalFileIsReadExactlyAtItsResolution) {
   const Written written = writeLines(3, [](int, std::string&, std::string&, std::string&) {});
   for (bool parallel : {true, false}) {
-    const PointCloud cloud = readString(written.text, parallel);
+    const PointCloud cloud = readXyzText(written.text, parallel);
     EXPECT_EQ(cloud.quantization.scale, (std::array<double, 3>{0.001, 0.001, 0.001}));
     // The values fit int32 at 1 mm with offset 0 on x and z; y (5.4e9 mm) needs its centre.
     EXPECT_EQ(cloud.quantization.offset[0], 0.0);
@@ -84,7 +84,7 @@ TEST(TextQuantization, ALongerDecimalTheSampleMissedIsStillExact) {
   const Written written = writeLines(2, [](int i, std::string& x, std::string&, std::string&) {
     if (i == 66'666) x = "512001.23456";
   });
-  const PointCloud cloud = readString(written.text);
+  const PointCloud cloud = readXyzText(written.text);
   EXPECT_EQ(cloud.quantization.scale[0], 1e-5);
   EXPECT_EQ(cloud.quantization.scale[1], 0.01);
   expectExact(cloud, written);
@@ -94,7 +94,7 @@ TEST(TextQuantization, AFarOutlierTheSampleMissedIsStillExact) {
   const Written written = writeLines(3, [](int i, std::string&, std::string&, std::string& z) {
     if (i == 44'444) z = "3000000.125";  // beyond int32 at 1 mm from offset 0
   });
-  const PointCloud cloud = readString(written.text);
+  const PointCloud cloud = readXyzText(written.text);
   expectExact(cloud, written);
   EXPECT_EQ(cloud.bounds.max[2], 3000000.125);
   EXPECT_EQ(cloud.quantization.scale[2], 0.001);
@@ -104,7 +104,7 @@ TEST(TextQuantization, ExponentsGiveABinaryScaleThatHoldsEveryPoint) {
   const Written written = writeLines(3, [](int i, std::string& x, std::string&, std::string&) {
     if (i % 5 == 0) x = std::to_string(512 + i % 997) + "e3";
   });
-  const PointCloud cloud = readString(written.text);
+  const PointCloud cloud = readXyzText(written.text);
   const double scale = cloud.quantization.scale[0];
   EXPECT_EQ(std::exp2(std::round(std::log2(scale))), scale) << "not a power of two: " << scale;
   // Every point within half a step of what was written.

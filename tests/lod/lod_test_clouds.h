@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "core/point_cloud.h"
+#include "lod/potree_converter.h"
 #include "support/file_bytes.h"
 
 namespace parallax::test {
@@ -96,6 +97,16 @@ inline PointCloud makeLasLikeCloud(std::uint64_t count, int classes) {
   cloud.scalars.push_back(std::move(returns));
   cloud.scalars.push_back(std::move(gps));
   return cloud;
+}
+
+// Conversion options that split a small cloud into several chunks and many nodes: what the
+// twin-file tests (a LAZ and its LAS, a selection and the whole) build both octrees with.
+inline PotreeConvertOptions smallChunks() {
+  PotreeConvertOptions options;
+  options.build.max_node_points = 300;
+  options.build.max_chunk_points = 3000;
+  options.name = "twin";
+  return options;
 }
 
 // The three files of two Potree octrees, byte for byte.

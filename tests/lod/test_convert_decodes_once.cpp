@@ -29,14 +29,6 @@ std::vector<std::string> namesIn(const std::filesystem::path& dir) {
   return names;
 }
 
-PotreeConvertOptions smallChunks() {
-  PotreeConvertOptions options;
-  options.build.max_node_points = 300;
-  options.build.max_chunk_points = 3000;
-  options.name = "twin";
-  return options;
-}
-
 TEST(ConvertDecodesOnce, LazGivesTheOctreeOfItsLasTwin) {
   TempDir dir;
   const PointCloud cloud = makeLasLikeCloud(30'000, 19);

@@ -23,13 +23,7 @@
 namespace parallax::test {
 namespace {
 
-PotreeConvertOptions smallChunks() {
-  PotreeConvertOptions options;
-  options.build.max_node_points = 300;
-  options.build.max_chunk_points = 3000;
-  options.name = "twin";
-  return options;
-}
+using test::smallChunks;
 
 ConvertInput input(const std::filesystem::path& path, const AttributeSelection& attributes,
                    const PointFilter& filter = {}) {

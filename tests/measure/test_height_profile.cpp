@@ -15,7 +15,7 @@
 namespace parallax {
 namespace {
 
-constexpr double kEast = 500000.0, kNorth = 5000000.0;
+constexpr double kProfileEast = 500000.0, kProfileNorth = 5000000.0;
 // A power-of-two scale: every grid coordinate below is exact in the quantized cloud.
 constexpr double kScale = 1.0 / 1024.0;
 
@@ -33,7 +33,7 @@ PointCloud slope() {
   PointCloud cloud;
   cloud.count = positions.size();
   cloud.quantization.scale = {kScale, kScale, kScale};
-  cloud.quantization.offset = {kEast, kNorth, 0.0};
+  cloud.quantization.offset = {kProfileEast, kProfileNorth, 0.0};
   cloud.positions = Column<Int3>(positions.size());
   std::copy(positions.begin(), positions.end(), cloud.positions.begin());
   cloud.intensity = Column<float>(positions.size());
@@ -42,7 +42,7 @@ PointCloud slope() {
   return cloud;
 }
 
-std::filesystem::path tempDir() {
+std::filesystem::path profileDir() {
   const std::filesystem::path dir = std::filesystem::path(PARALLAX_TEST_TMP) / "profile";
   std::filesystem::create_directories(dir);
   return dir;
@@ -52,14 +52,15 @@ TEST(HeightProfile, StraightLineOverASlope) {
   const PointCloud cloud = slope();
   // From x 2 to 12 along y 0; 1.1 wide: the rows y -0.5 .. 0.5 (five of them), every column
   // from x 2 to x 12 inclusive (41): 205 points.
-  const std::vector<glm::dvec3> line{{kEast + 2, kNorth, 0}, {kEast + 12, kNorth, 50}};
+  const std::vector<glm::dvec3> line{{kProfileEast + 2, kProfileNorth, 0},
+                                     {kProfileEast + 12, kProfileNorth, 50}};
   const HeightProfile profile = extractProfile(cloud, line, 1.1);
   ASSERT_EQ(profile.samples.size(), 205u);
   ASSERT_EQ(profile.points.count, 205u);
   double previous = -1;
   for (std::size_t i = 0; i < profile.samples.size(); ++i) {
     const ProfileSample& s = profile.samples[i];
-    const double x = s.position.x - kEast, y = s.position.y - kNorth;
+    const double x = s.position.x - kProfileEast, y = s.position.y - kProfileNorth;
     EXPECT_EQ(s.station, x - 2.0);
     EXPECT_EQ(s.offset, y);
     EXPECT_LE(std::abs(y), 0.5);
@@ -78,8 +79,9 @@ TEST(HeightProfile, StraightLineOverASlope) {
 TEST(HeightProfile, BendGivesEachPointToTheNearerSegmentOnce) {
   const PointCloud cloud = slope();
   // An L: east 10 units, then north 4 units. Width 2.
-  const std::vector<glm::dvec3> line{
-      {kEast + 5, kNorth - 2, 0}, {kEast + 15, kNorth - 2, 0}, {kEast + 15, kNorth + 2, 0}};
+  const std::vector<glm::dvec3> line{{kProfileEast + 5, kProfileNorth - 2, 0},
+                                     {kProfileEast + 15, kProfileNorth - 2, 0},
+                                     {kProfileEast + 15, kProfileNorth + 2, 0}};
   const HeightProfile profile = extractProfile(cloud, line, 2.0);
   std::vector<glm::dvec3> seen;
   for (const ProfileSample& s : profile.samples) seen.push_back(s.position);
@@ -91,7 +93,7 @@ TEST(HeightProfile, BendGivesEachPointToTheNearerSegmentOnce) {
   // (14.75, -1.25) is 0.75 from the first, 0.25 from the second: the second's station, 10 + 0.75.
   bool found = false;
   for (const ProfileSample& s : profile.samples) {
-    if (s.position.x == kEast + 14.75 && s.position.y == kNorth - 1.25) {
+    if (s.position.x == kProfileEast + 14.75 && s.position.y == kProfileNorth - 1.25) {
       found = true;
       EXPECT_EQ(s.station, 10.75);
       EXPECT_EQ(s.offset, 0.25);  // left of the northward segment is west: 15 - 14.75
@@ -101,7 +103,7 @@ TEST(HeightProfile, BendGivesEachPointToTheNearerSegmentOnce) {
   // Every point within 1 of the L is there: count them by brute force.
   std::size_t expected = 0;
   for (std::size_t i = 0; i < cloud.count; ++i) {
-    const double x = cloud.worldX(i) - kEast, y = cloud.worldY(i) - kNorth;
+    const double x = cloud.worldX(i) - kProfileEast, y = cloud.worldY(i) - kProfileNorth;
     const bool first = x >= 5 && x <= 15 && std::abs(y + 2) <= 1;
     const bool second = y >= -2 && y <= 2 && std::abs(x - 15) <= 1;
     expected += first || second;
@@ -112,7 +114,8 @@ TEST(HeightProfile, BendGivesEachPointToTheNearerSegmentOnce) {
 TEST(HeightProfile, OctreeGivesTheSamePointsAtFullDetail) {
   const PointCloud cloud = slope();
   auto octree = buildOctree(cloud);
-  const std::vector<glm::dvec3> line{{kEast + 1, kNorth - 3, 0}, {kEast + 19, kNorth + 4, 0}};
+  const std::vector<glm::dvec3> line{{kProfileEast + 1, kProfileNorth - 3, 0},
+                                     {kProfileEast + 19, kProfileNorth + 4, 0}};
   const HeightProfile direct = extractProfile(cloud, line, 1.5);
   const HeightProfile streamed = extractProfile(*octree, line, 1.5);
   ASSERT_GT(direct.samples.size(), 50u);
@@ -144,8 +147,9 @@ TEST(HeightProfile, BothEndPointsOfTheLineAreInIt) {
     for (const glm::dvec3& vertex : {start, end}) {
       EXPECT_TRUE(std::any_of(profile.samples.begin(), profile.samples.end(),
                               [&](const ProfileSample& s) { return s.position == vertex; }))
-          << "from " << start.x - kEast << "," << start.y - kNorth << " to " << end.x - kEast << ","
-          << end.y - kNorth << ": " << vertex.x - kEast << "," << vertex.y - kNorth << " left out";
+          << "from " << start.x - kProfileEast << "," << start.y - kProfileNorth << " to "
+          << end.x - kProfileEast << "," << end.y - kProfileNorth << ": " << vertex.x - kProfileEast
+          << "," << vertex.y - kProfileNorth << " left out";
     }
     ++lines;
   }
@@ -154,19 +158,24 @@ TEST(HeightProfile, BothEndPointsOfTheLineAreInIt) {
 
 TEST(HeightProfile, DegenerateLinesGiveNothing) {
   const PointCloud cloud = slope();
-  EXPECT_TRUE(extractProfile(cloud, {{kEast + 1, kNorth, 0}}, 1.0).samples.empty());
+  EXPECT_TRUE(extractProfile(cloud, {{kProfileEast + 1, kProfileNorth, 0}}, 1.0).samples.empty());
   // The same XY twice (a vertical line) has no direction on the ground.
   EXPECT_TRUE(
-      extractProfile(cloud, {{kEast + 1, kNorth, 0}, {kEast + 1, kNorth, 9}}, 1.0).samples.empty());
+      extractProfile(
+          cloud, {{kProfileEast + 1, kProfileNorth, 0}, {kProfileEast + 1, kProfileNorth, 9}}, 1.0)
+          .samples.empty());
   EXPECT_TRUE(
-      extractProfile(cloud, {{kEast, kNorth, 0}, {kEast + 5, kNorth, 0}}, 0.0).samples.empty());
+      extractProfile(cloud,
+                     {{kProfileEast, kProfileNorth, 0}, {kProfileEast + 5, kProfileNorth, 0}}, 0.0)
+          .samples.empty());
 }
 
 TEST(HeightProfile, CsvAndLasExportsReadBack) {
   const PointCloud cloud = slope();
-  const std::vector<glm::dvec3> line{{kEast + 2, kNorth, 0}, {kEast + 12, kNorth, 0}};
+  const std::vector<glm::dvec3> line{{kProfileEast + 2, kProfileNorth, 0},
+                                     {kProfileEast + 12, kProfileNorth, 0}};
   const HeightProfile profile = extractProfile(cloud, line, 1.1);
-  const auto dir = tempDir();
+  const auto dir = profileDir();
 
   writeProfileCsv(profile, dir / "profile.csv");
   EXPECT_FALSE(std::filesystem::exists(dir / "profile.csv.partial"));

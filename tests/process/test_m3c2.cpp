@@ -15,39 +15,16 @@
 #include "io/ply_writer.h"
 #include "io/point_file.h"
 #include "process/process_runner.h"
+#include "process_test_clouds.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
 namespace {
 
+using test::readPositions;
 using test::TempDir;
-using Xyz = std::array<double, 3>;
-
-std::filesystem::path writeCloud(const TempDir& dir, const std::string& name,
-                                 const std::vector<Xyz>& points) {
-  PointCloud cloud;
-  cloud.count = points.size();
-  cloud.quantization.scale = {1e-6, 1e-6, 1e-6};
-  cloud.positions = Column<Int3>(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    cloud.positions[i] = {cloud.quantization.toQuantized(0, points[i][0]),
-                          cloud.quantization.toQuantized(1, points[i][1]),
-                          cloud.quantization.toQuantized(2, points[i][2])};
-  }
-  cloud.source.position = ScalarType::Float64;
-  cloud.computeBounds();
-  const std::filesystem::path path = dir / name;
-  writePly(cloud, path);
-  return path;
-}
-
-std::vector<Xyz> readPositions(const std::filesystem::path& path) {
-  const PointCloud cloud = readPointFile(path);
-  std::vector<Xyz> out;
-  for (std::size_t i = 0; i < cloud.count; ++i)
-    out.push_back({cloud.worldX(i), cloud.worldY(i), cloud.worldZ(i)});
-  return out;
-}
+using test::writeCloud;
+using test::Xyz;
 
 ProcessReport run(const std::filesystem::path& in, const std::filesystem::path& out,
                   const M3c2Step& step, std::uint64_t memory_mb = 2048) {
@@ -324,7 +301,7 @@ TEST(ProcessM3c2, SameBytesAtAnyMemoryBudget) {
   EXPECT_EQ(bytesOf(dir / "cores_small.las"), bytesOf(dir / "cores_large.las"));
 }
 
-std::string messageOf(const std::function<void()>& f) {
+std::string thrownMessage(const std::function<void()>& f) {
   try {
     f();
   } catch (const std::exception& e) {
@@ -337,22 +314,22 @@ TEST(ProcessM3c2, BadParametersAreErrorsNamingTheStep) {
   M3c2Step step = stepWith("e2.ply", 1.0, 0.5, 1.0);
   EXPECT_NO_THROW(checkM3c2(step));
   step.cylinder_radius = 0.0;
-  EXPECT_EQ(messageOf([&] { checkM3c2(step); }),
+  EXPECT_EQ(thrownMessage([&] { checkM3c2(step); }),
             "--m3c2 e2.ply: --cylinder-radius R must be a positive number, got 0");
   step = stepWith("e2.ply", -1.0, 0.5, 1.0);
-  EXPECT_EQ(messageOf([&] { checkM3c2(step); }),
+  EXPECT_EQ(thrownMessage([&] { checkM3c2(step); }),
             "--m3c2 e2.ply: --normal-radius D (the normal scale, a diameter) must be a positive "
             "number, got -1");
   step = stepWith("e2.ply", 1.0, 0.5, NAN);
-  EXPECT_EQ(messageOf([&] { checkM3c2(step); }),
+  EXPECT_EQ(thrownMessage([&] { checkM3c2(step); }),
             "--m3c2 e2.ply: --cylinder-half-length H must be a positive number, got nan");
   step = stepWith("e2.ply", 1.0, 0.5, 1.0);
   step.registration_error = -0.1;
-  EXPECT_EQ(messageOf([&] { checkM3c2(step); }),
+  EXPECT_EQ(thrownMessage([&] { checkM3c2(step); }),
             "--m3c2 e2.ply: --registration-error must be a number of at least 0, got -0.1");
   step.registration_error = 0.0;
   step.orientation = NormalOrientation::kSensor;
-  EXPECT_EQ(messageOf([&] { checkM3c2(step); }),
+  EXPECT_EQ(thrownMessage([&] { checkM3c2(step); }),
             "--m3c2 e2.ply: the normals' orientation must be up or X,Y,Z (sensor and propagate "
             "are for --normals)");
 
@@ -360,7 +337,7 @@ TEST(ProcessM3c2, BadParametersAreErrorsNamingTheStep) {
   const auto in =
       writeCloud(dir, "e1.ply", surface(100, 5.0, 5.0, 0.0, 9, [](double, double) { return 0.0; }));
   const M3c2Step missing = stepWith(dir / "missing.ply", 1.0, 0.5, 1.0);
-  const std::string message = messageOf([&] { run(in, dir / "out.ply", missing); });
+  const std::string message = thrownMessage([&] { run(in, dir / "out.ply", missing); });
   EXPECT_NE(message.find("missing.ply"), std::string::npos) << message;
   EXPECT_FALSE(std::filesystem::exists(dir / "out.ply"));
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <random>
 #include <set>
@@ -23,49 +24,16 @@
 #include "io/point_file.h"
 #include "lod/octree_open.h"
 #include "process/process_runner.h"
+#include "process_test_clouds.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
 namespace {
 
+using test::readPositions;
 using test::TempDir;
-using Xyz = std::array<double, 3>;
-constexpr double kPi = 3.14159265358979323846;
-
-// A PLY of double positions and an "id" column (each point's index), so outputs can be matched
-// to inputs.
-std::filesystem::path writeCloud(const TempDir& dir, const std::string& name,
-                                 const std::vector<Xyz>& points) {
-  PointCloud cloud;
-  cloud.count = points.size();
-  cloud.quantization.scale = {1e-6, 1e-6, 1e-6};
-  cloud.positions = Column<Int3>(points.size());
-  ScalarColumn id{"id", ScalarType::UInt32, ByteBuffer(points.size() * 4)};
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    cloud.positions[i] = {cloud.quantization.toQuantized(0, points[i][0]),
-                          cloud.quantization.toQuantized(1, points[i][1]),
-                          cloud.quantization.toQuantized(2, points[i][2])};
-    id.as<std::uint32_t>()[i] = std::uint32_t(i);
-  }
-  cloud.scalars.push_back(std::move(id));
-  cloud.source.position = ScalarType::Float64;
-  cloud.computeBounds();
-  const std::filesystem::path path = dir / name;
-  writePly(cloud, path);
-  return path;
-}
-
-// The positions exactly as the process reads them (the same stream).
-std::vector<Xyz> readPositions(const std::filesystem::path& path) {
-  PointStream stream(path, {});
-  std::vector<Xyz> out;
-  PointCloud batch;
-  while (stream.next(batch, 1 << 20)) {
-    for (std::size_t i = 0; i < batch.count; ++i)
-      out.push_back({batch.worldX(i), batch.worldY(i), batch.worldZ(i)});
-  }
-  return out;
-}
+using test::writeCloud;
+using test::Xyz;
 
 ProcessReport run(const std::filesystem::path& in, const std::filesystem::path& out,
                   std::vector<ProcessStep> steps, std::uint64_t memory_mb = 2048) {
@@ -119,7 +87,7 @@ double angleDegrees(const Float3& n, const Xyz& expected) {
   const double len =
       std::sqrt(expected[0] * expected[0] + expected[1] * expected[1] + expected[2] * expected[2]);
   const double dot = (n.x * expected[0] + n.y * expected[1] + n.z * expected[2]) / len;
-  return std::acos(std::min(1.0, std::abs(dot))) * 180.0 / kPi;
+  return std::acos(std::min(1.0, std::abs(dot))) * 180.0 / std::numbers::pi;
 }
 
 struct Surface {
@@ -165,7 +133,7 @@ std::vector<Surface> surfaces(double noise_sigma) {
   Surface cylinder{"cylinder", {}, {}, {}};
   for (int i = 0; i < 160; ++i) {
     for (int j = 0; j < 120; ++j) {
-      const double a = (j + 0.5 * (i % 2)) * 2.0 * kPi / 120.0;
+      const double a = (j + 0.5 * (i % 2)) * 2.0 * std::numbers::pi / 120.0;
       const double radius = 4.0 + jitter();
       cylinder.points.push_back({radius * std::cos(a), radius * std::sin(a), i * 0.2});
       cylinder.normals.push_back({std::cos(a), std::sin(a), 0.0});
@@ -289,7 +257,7 @@ TEST(ProcessNormals, PropagationCrossesTileBordersOnAFoldedSheet) {
       expected.push_back({0, 0, 1});
     }
     for (int ia = 1; ia < 31; ++ia) {
-      const double a = kPi * ia / 31.0;  // from the bottom (a = 0) to the top (a = pi)
+      const double a = std::numbers::pi * ia / 31.0;  // from the bottom (a = 0) to the top (a = pi)
       points.push_back({10.0 + 0.5 * std::sin(a), y, 0.5 - 0.5 * std::cos(a)});
       expected.push_back({std::sin(a), 0.0, -std::cos(a)});
     }

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 #include <string>
 
@@ -26,7 +27,6 @@ namespace {
 using test::readText;
 using test::runWithoutLeakCheck;
 
-constexpr double kPi = 3.14159265358979323846;
 // The plane z = 0.5 x + 0.25 y over 20 x 10 cells of 1 unit from (0, 0).
 constexpr double kDzDx = 0.5, kDzDy = 0.25;
 constexpr int kColumns = 20, kRows = 10;
@@ -52,7 +52,7 @@ RasterImage planeRaster() {
 // gdaldem's hillshade of the plane (light from the north-west, 45 degrees up): 1 + 254 times the
 // cosine between the light and the plane's normal (-dz/dx, -dz/dy, 1).
 double planeShade() {
-  const double altitude = kPi / 4, azimuth = 315.0 * kPi / 180.0;
+  const double altitude = std::numbers::pi / 4, azimuth = 315.0 * std::numbers::pi / 180.0;
   const std::array<double, 3> light{std::cos(altitude) * std::sin(azimuth),
                                     std::cos(altitude) * std::cos(azimuth), std::sin(altitude)};
   const double norm = std::sqrt(kDzDx * kDzDx + kDzDy * kDzDy + 1.0);
@@ -118,7 +118,7 @@ TEST(RenderRasterLayer, EachCellsColourAtItsProjectedCentre) {
   ASSERT_EQ(runWithoutLeakCheck(command), 0) << readText(log);
   const RgbaImage image = readPng(png);
   ASSERT_EQ(image.width, kSize);
-  const double flat = 1.0 + 254.0 * std::sin(kPi / 4);
+  const double flat = 1.0 + 254.0 * std::sin(std::numbers::pi / 4);
   int checked = 0;
   for (int row = 0; row < kRows; ++row) {
     for (int column = 0; column < kColumns; ++column) {

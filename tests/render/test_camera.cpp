@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <random>
 #include <vector>
 
@@ -16,8 +17,6 @@
 
 namespace parallax::test {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 void expectNear(const glm::dvec3& a, const glm::dvec3& b, double tolerance) {
   EXPECT_NEAR(a.x, b.x, tolerance);
@@ -48,14 +47,15 @@ TEST(Camera, TurntableOrbitReachesThePoleWithoutGimbalLock) {
   expectNear(camera.position, {0, 0, 10}, 1e-9);
   // At the pole, yaw still turns the view about the vertical: nothing is locked.
   const glm::dvec3 right_before = camera.right();
-  camera.orbit(kPi / 2, 0.0, OrbitMode::Turntable);
+  camera.orbit(std::numbers::pi / 2, 0.0, OrbitMode::Turntable);
   expectNear(camera.forward(), {0, 0, -1}, 1e-9);
   EXPECT_NEAR(glm::dot(right_before, camera.right()), 0.0, 1e-9);
   // And pitching back leaves the pole on the side the yaw chose.
-  camera.orbit(0.0, kPi / 4, OrbitMode::Turntable);
+  camera.orbit(0.0, std::numbers::pi / 4, OrbitMode::Turntable);
   EXPECT_TRUE(finite(camera.position));
   EXPECT_NEAR(glm::length(camera.position), 10.0, 1e-9);
-  EXPECT_NEAR(glm::dot(camera.forward(), glm::dvec3(0, 0, 1)), -std::sin(kPi / 4), 1e-9);
+  EXPECT_NEAR(glm::dot(camera.forward(), glm::dvec3(0, 0, 1)), -std::sin(std::numbers::pi / 4),
+              1e-9);
   EXPECT_NEAR(glm::length(camera.orientation), 1.0, 1e-12);
 }
 
@@ -72,7 +72,8 @@ TEST(Camera, LookAtStraightDownStillOrbits) {
 TEST(Camera, FreeOrbitPassesOverThePole) {
   Camera camera;
   camera.lookAt({0, -10, 0}, {0, 0, 0}, {0, 0, 1});
-  for (int i = 0; i < 8; ++i) camera.orbit(0.0, -kPi / 8, OrbitMode::Free);  // half a turn
+  for (int i = 0; i < 8; ++i)
+    camera.orbit(0.0, -std::numbers::pi / 8, OrbitMode::Free);  // half a turn
   expectNear(camera.position, {0, 10, 0}, 1e-9);
   expectNear(camera.forward(), {0, -1, 0}, 1e-9);
   expectNear(camera.up(), {0, 0, -1}, 1e-9);  // upside down: free rotation has no limits
@@ -168,7 +169,7 @@ std::vector<glm::dvec3> scanLikePoints(std::mt19937_64& random) {
   const double radius = 20 + 200 * unit(random);
   std::vector<glm::dvec3> points;
   for (int i = 0; i < 3000; ++i) {
-    const double r = radius * std::sqrt(unit(random)), a = 2 * kPi * unit(random);
+    const double r = radius * std::sqrt(unit(random)), a = 2 * std::numbers::pi * unit(random);
     points.push_back(
         origin + glm::dvec3(r * std::cos(a), 0.6 * r * std::sin(a), 0.02 * radius * std::sin(r)));
   }
@@ -358,7 +359,7 @@ TEST(CameraPath, PassesThroughKeyframesAndIsSmooth) {
   std::vector<CameraKeyframe> keys;
   for (int i = 0; i < 4; ++i) {
     Camera camera;
-    const double angle = i * kPi / 4;
+    const double angle = i * std::numbers::pi / 4;
     camera.lookAt({10 * std::cos(angle), 10 * std::sin(angle), 3}, {0, 0, 0}, {0, 0, 1});
     keys.push_back({double(i), camera});
   }

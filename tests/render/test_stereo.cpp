@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <set>
 
 #include "render/stereo.h"
@@ -17,8 +18,6 @@
 
 namespace parallax::test {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct Pixel {
   int column, row;  // row 0 is the top
@@ -84,7 +83,7 @@ struct ParallaxScene {
 };
 
 ParallaxScene parallaxScene(int viewport_width, int viewport_height, double projection_aspect) {
-  const double tan_y = std::tan(60.0 * kPi / 360.0), tan_x = tan_y * projection_aspect;
+  const double tan_y = std::tan(60.0 * std::numbers::pi / 360.0), tan_x = tan_y * projection_aspect;
   const double e = kSeparation / 2;
   auto column = [&](double x, double d, double offset) {
     const double ndc = ((x - offset) / d + offset / kConvergence) / tan_x;
@@ -143,7 +142,7 @@ TEST(StereoGeometry, PointsLandWhereTheOffAxisFormulaPutsThemInBothEyes) {
 
   // The formula's parallax, f * s * (1/C - 1/d) pixels (f the focal length in pixels), is what
   // the columns differ by; on the convergence plane it is zero: the same pixel in both eyes.
-  const double f = kHeight / (2.0 * std::tan(60.0 * kPi / 360.0));
+  const double f = kHeight / (2.0 * std::tan(60.0 * std::numbers::pi / 360.0));
   for (std::size_t i = 0; i < scene.depths.size(); ++i) {
     const double d = scene.depths[i];
     EXPECT_NEAR(scene.columns[i].second - scene.columns[i].first,
@@ -337,7 +336,8 @@ TEST(StereoPicking, APickInEitherEyeFindsThePointDrawnThere) {
   headlessContext();
   Renderer renderer;
   RenderTarget target(kWidth, kHeight);
-  const double f = kHeight / (2.0 * std::tan(60.0 * kPi / 360.0));  // pixels per unit at depth 1
+  const double f =
+      kHeight / (2.0 * std::tan(60.0 * std::numbers::pi / 360.0));  // pixels per unit at depth 1
   // Side by side: both eyes' halves. Anaglyph: the left eye's picture is the one picked.
   for (const StereoMode mode : {StereoMode::SideBySide, StereoMode::Anaglyph}) {
     const bool halves = mode == StereoMode::SideBySide;

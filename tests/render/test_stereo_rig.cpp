@@ -4,14 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "render/frustum.h"
 #include "render/stereo.h"
 
 namespace parallax::test {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 Camera testCamera() {
   Camera camera;
@@ -81,7 +80,7 @@ TEST(StereoRig, ParallaxIsTheOffAxisFormulaAndNeverVertical) {
   const int viewport_width = 300, viewport_height = 200;
   const StereoEyes eyes = stereoEyes(camera, separation, convergence, false);
   // Focal length in pixels.
-  const double f = viewport_height / (2.0 * std::tan(camera.fov_y_deg * kPi / 360.0));
+  const double f = viewport_height / (2.0 * std::tan(camera.fov_y_deg * std::numbers::pi / 360.0));
   for (const double depth : {2.0, 5.0, 8.0, 12.0, 50.0, 1000.0}) {
     const glm::dvec3 p = atDepth(camera, depth, 0.3, -0.2);
     const glm::dvec2 left = ndc(eyes.left, p, aspect), right = ndc(eyes.right, p, aspect);

@@ -76,7 +76,7 @@ std::optional<std::string> attribute(const Element& element, const char* name) {
   return text;
 }
 
-std::string text(const Element& element) {
+std::string elementText(const Element& element) {
   xmlChar* value = xmlNodeGetContent(element.node);
   if (!value) return {};
   std::string content(reinterpret_cast<const char*>(value));
@@ -135,7 +135,7 @@ double doubleAttribute(const Context& context, const Element& element, const cha
 // The value of an Integer, ScaledInteger or Float element (E2807 9.3-9.5: an empty element is 0).
 double numberValue(const Context& context, const Element& element) {
   const std::string type = typeOf(element);
-  const std::string content = text(element);
+  const std::string content = elementText(element);
   const bool empty = trim(content).empty();
   if (type == "Integer") {
     return empty ? 0.0 : double(parseInteger(context, element, "value", content));
@@ -247,8 +247,8 @@ E57Pose parsePose(const Context& context, const Element& scan) {
 
 E57Scan parseScan(const Context& context, const Element& scan_element) {
   E57Scan scan;
-  if (const auto name = child(scan_element, "name")) scan.name = text(*name);
-  if (const auto guid = child(scan_element, "guid")) scan.guid = text(*guid);
+  if (const auto name = child(scan_element, "name")) scan.name = elementText(*name);
+  if (const auto guid = child(scan_element, "guid")) scan.guid = elementText(*guid);
   const Element points = requireChild(context, scan_element, "points");
   if (typeOf(points) != "CompressedVector") {
     fail(context, points, "type", "CompressedVector", quoteInput(typeOf(points)));
@@ -323,7 +323,7 @@ void parseImages(const Context& context, const Element& images, std::vector<E57I
                                    "cylindricalRepresentation", "visualReferenceRepresentation"};
   for (const Element& image_element : elementChildren(images)) {
     E57Image image;
-    if (const auto name = child(image_element, "name")) image.name = text(*name);
+    if (const auto name = child(image_element, "name")) image.name = elementText(*name);
     for (const char* representation : representations) {
       const auto r = child(image_element, representation);
       if (!r) continue;
@@ -338,10 +338,10 @@ void parseImages(const Context& context, const Element& images, std::vector<E57I
         }
       }
       if (const auto width = child(*r, "imageWidth")) {
-        image.width = parseInteger(context, *width, "value", text(*width));
+        image.width = parseInteger(context, *width, "value", elementText(*width));
       }
       if (const auto height = child(*r, "imageHeight")) {
-        image.height = parseInteger(context, *height, "value", text(*height));
+        image.height = parseInteger(context, *height, "value", elementText(*height));
       }
       break;
     }
@@ -429,9 +429,9 @@ E57Document parseE57Document(std::string_view xml, const std::string& file,
          root.node ? std::string(localName(root.node)) : "none");
   }
   E57Document document;
-  if (const auto guid = child(root, "guid")) document.guid = text(*guid);
+  if (const auto guid = child(root, "guid")) document.guid = elementText(*guid);
   if (const auto crs = child(root, "coordinateMetadata")) {
-    document.coordinate_metadata = std::string(trim(text(*crs)));
+    document.coordinate_metadata = std::string(trim(elementText(*crs)));
   }
   const Element data3d = requireChild(context, root, "data3D");
   for (const Element& scan : elementChildren(data3d)) {

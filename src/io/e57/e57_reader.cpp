@@ -249,7 +249,7 @@ void E57ChunkReader::State::buildLayouts() {
   probe.colors = Column<Rgba8>(header.has_colors ? 1 : 0);
   probe.intensity = Column<float>(header.has_intensity ? 1 : 0);
   probe.count = 1;
-  probe.scalars.push_back({kScanIndexColumn, ScalarType::UInt32, {}});
+  probe.scalars.push_back({column_names::kScanIndex, ScalarType::UInt32, {}});
   for (const ExtraColumn& extra : extras) probe.scalars.push_back({extra.name, extra.type, {}});
   header.attributes = probe.attributeNames();
   (void)wide_color;
@@ -579,7 +579,7 @@ bool E57ChunkReader::next(PointCloud& chunk, std::size_t max_points) {
   if (header.has_colors) chunk.colors = cut(std::move(colors), count);
   if (header.has_intensity) chunk.intensity = cut(std::move(intensity), count);
   chunk.scalars.push_back(
-      {kScanIndexColumn, ScalarType::UInt32, cut(std::move(scan_index), count * 4)});
+      {column_names::kScanIndex, ScalarType::UInt32, cut(std::move(scan_index), count * 4)});
   for (ScalarColumn& column : extra) {
     column.data = cut(std::move(column.data), count * scalarSize(column.type));
     chunk.scalars.push_back(std::move(column));

@@ -31,14 +31,13 @@
 #include <string>
 #include <vector>
 
+#include "core/column_names.h"
 #include "core/point_cloud.h"
 #include "core/progress.h"
 #include "io/e57/e57_document.h"
 #include "io/point_chunk_source.h"
 
 namespace parallax {
-
-inline constexpr const char* kScanIndexColumn = "scan_index";
 
 struct E57Header {
   std::uint32_t version_major = 1;

@@ -7,17 +7,6 @@
 
 namespace parallax::laz::layered {
 
-namespace {
-
-std::int32_t wrappingAdd(std::int32_t a, std::int32_t b) {
-  return std::int32_t(std::uint32_t(a) + std::uint32_t(b));
-}
-std::int32_t wrappingMul(std::int32_t a, std::int32_t b) {
-  return std::int32_t(std::uint32_t(a) * std::uint32_t(b));
-}
-
-}  // namespace
-
 void Point14Decoder::startChannel(unsigned channel, const Point14& seed) {
   if (!channels_[channel]) channels_[channel] = std::make_unique<Channel>();
   Channel& c = *channels_[channel];

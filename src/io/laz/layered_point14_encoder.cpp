@@ -14,13 +14,6 @@ namespace parallax::laz::layered {
 
 namespace {
 
-std::int32_t wrappingSub(std::int32_t a, std::int32_t b) {
-  return std::int32_t(std::uint32_t(a) - std::uint32_t(b));
-}
-std::int32_t wrappingMul(std::int32_t a, std::int32_t b) {
-  return std::int32_t(std::uint32_t(a) * std::uint32_t(b));
-}
-
 // LASzip rounds the ratio of two time differences as (int)(ratio ± 0.5) on x86-64, where a
 // double beyond the int range converts to INT_MIN (cvttsd2si). Only a ratio of exactly 2^31 gets
 // there; reproducing it keeps the bytes LASzip's.

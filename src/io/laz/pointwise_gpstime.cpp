@@ -22,8 +22,9 @@
 
 namespace parallax::laz::pointwise {
 
-using namespace gpstime;
-
+// The coders live in the item's namespace (not a using-directive: in a unity batch one would
+// reach the other items' sources too).
+namespace gpstime {
 namespace {
 
 class GpsTimeEncoderV2 final : public ItemEncoder {
@@ -254,17 +255,18 @@ class GpsTimeEncoderV1 final : public ItemEncoder {
 };
 
 }  // namespace
+}  // namespace gpstime
 
 std::unique_ptr<ItemDecoder> makeGpsTimeDecoder(int version) {
   assert((version == 1 || version == 2) && "GPSTIME11 has versions 1 and 2");
-  if (version == 1) return std::make_unique<GpsTimeDecoderV1>();
-  return std::make_unique<GpsTimeDecoderV2>();
+  if (version == 1) return std::make_unique<gpstime::GpsTimeDecoderV1>();
+  return std::make_unique<gpstime::GpsTimeDecoderV2>();
 }
 
 std::unique_ptr<ItemEncoder> makeGpsTimeEncoder(int version) {
   assert((version == 1 || version == 2) && "GPSTIME11 has versions 1 and 2");
-  if (version == 1) return std::make_unique<GpsTimeEncoderV1>();
-  return std::make_unique<GpsTimeEncoderV2>();
+  if (version == 1) return std::make_unique<gpstime::GpsTimeEncoderV1>();
+  return std::make_unique<gpstime::GpsTimeEncoderV2>();
 }
 
 }  // namespace parallax::laz::pointwise

@@ -20,8 +20,9 @@
 
 namespace parallax::laz::pointwise {
 
-using namespace point10;
-
+// The coders live in the item's namespace (not a using-directive: in a unity batch one would
+// reach the other items' sources too).
+namespace point10 {
 namespace {
 
 class Point10EncoderV2 final : public ItemEncoder {
@@ -193,17 +194,18 @@ class Point10EncoderV1 final : public ItemEncoder {
 };
 
 }  // namespace
+}  // namespace point10
 
 std::unique_ptr<ItemDecoder> makePoint10Decoder(int version) {
   assert((version == 1 || version == 2) && "POINT10 has versions 1 and 2");
-  if (version == 1) return std::make_unique<Point10DecoderV1>();
-  return std::make_unique<Point10DecoderV2>();
+  if (version == 1) return std::make_unique<point10::Point10DecoderV1>();
+  return std::make_unique<point10::Point10DecoderV2>();
 }
 
 std::unique_ptr<ItemEncoder> makePoint10Encoder(int version) {
   assert((version == 1 || version == 2) && "POINT10 has versions 1 and 2");
-  if (version == 1) return std::make_unique<Point10EncoderV1>();
-  return std::make_unique<Point10EncoderV2>();
+  if (version == 1) return std::make_unique<point10::Point10EncoderV1>();
+  return std::make_unique<point10::Point10EncoderV2>();
 }
 
 }  // namespace parallax::laz::pointwise

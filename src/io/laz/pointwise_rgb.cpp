@@ -16,8 +16,9 @@
 
 namespace parallax::laz::pointwise {
 
-using namespace rgb;
-
+// The coders live in the item's namespace (not a using-directive: in a unity batch one would
+// reach the other items' sources too).
+namespace rgb {
 namespace {
 
 class RgbEncoderV2 final : public ItemEncoder {
@@ -130,17 +131,18 @@ class RgbEncoderV1 final : public ItemEncoder {
 };
 
 }  // namespace
+}  // namespace rgb
 
 std::unique_ptr<ItemDecoder> makeRgbDecoder(int version) {
   assert((version == 1 || version == 2) && "RGB12 has versions 1 and 2");
-  if (version == 1) return std::make_unique<RgbDecoderV1>();
-  return std::make_unique<RgbDecoderV2>();
+  if (version == 1) return std::make_unique<rgb::RgbDecoderV1>();
+  return std::make_unique<rgb::RgbDecoderV2>();
 }
 
 std::unique_ptr<ItemEncoder> makeRgbEncoder(int version) {
   assert((version == 1 || version == 2) && "RGB12 has versions 1 and 2");
-  if (version == 1) return std::make_unique<RgbEncoderV1>();
-  return std::make_unique<RgbEncoderV2>();
+  if (version == 1) return std::make_unique<rgb::RgbEncoderV1>();
+  return std::make_unique<rgb::RgbEncoderV2>();
 }
 
 }  // namespace parallax::laz::pointwise
