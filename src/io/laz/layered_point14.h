@@ -17,6 +17,7 @@
 
 #include "io/laz/integer_codec.h"
 #include "io/laz/layered_items.h"
+#include "io/laz/wrapping_int32.h"
 
 namespace parallax::laz::layered {
 
@@ -127,18 +128,6 @@ inline constexpr std::uint32_t kGpsMulti = 500;          // largest multiplier c
 inline constexpr std::int32_t kGpsMultiMinus = -10;      // smallest (negative) multiplier
 inline constexpr std::uint32_t kGpsMultiCodeFull = 511;  // kGpsMulti - kGpsMultiMinus + 1
 inline constexpr std::uint32_t kGpsMultiSymbols = 515;   // + 3 sequence switches + 1
-
-// The GPS-time differences are 32-bit integers that wrap (LASzip computes them so); written
-// through unsigned arithmetic, since signed overflow is undefined in C++.
-inline std::int32_t wrappingAdd(std::int32_t a, std::int32_t b) {
-  return std::int32_t(std::uint32_t(a) + std::uint32_t(b));
-}
-inline std::int32_t wrappingSub(std::int32_t a, std::int32_t b) {
-  return std::int32_t(std::uint32_t(a) - std::uint32_t(b));
-}
-inline std::int32_t wrappingMul(std::int32_t a, std::int32_t b) {
-  return std::int32_t(std::uint32_t(a) * std::uint32_t(b));
-}
 
 // What a channel remembers between points (besides its models).
 struct Point14History {

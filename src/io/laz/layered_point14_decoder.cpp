@@ -107,12 +107,12 @@ unsigned Point14Decoder::decode(std::byte* record) {
   // X and Y: differences from the last point, predicted by a running median per return kind;
   // Y's context is X's corrector size.
   std::int32_t diff = m.dx->decode(dec, h.median_x[median_index].get(), single);
-  last->x = wrappingAdd(last->x, diff);
+  last->x = wrapAdd(last->x, diff);
   h.median_x[median_index].add(diff);
   std::uint32_t k_bits = m.dx->lastK();
   diff = m.dy->decode(dec, h.median_y[median_index].get(),
                       single + (k_bits < 20 ? (k_bits & ~1u) : 20u));
-  last->y = wrappingAdd(last->y, diff);
+  last->y = wrapAdd(last->y, diff);
   h.median_y[median_index].add(diff);
 
   if (present_[kLayerZ]) {
@@ -212,16 +212,16 @@ void Point14Decoder::decodeGpsTime(Channel& c) {
         d = m.gps->decode(dec, 0, 7);
         extreme = true;
       } else if (multi < kGpsMulti) {
-        d = m.gps->decode(dec, wrappingMul(std::int32_t(multi), last_diff), multi < 10 ? 2 : 3);
+        d = m.gps->decode(dec, wrapMul(std::int32_t(multi), last_diff), multi < 10 ? 2 : 3);
       } else if (multi == kGpsMulti) {
-        d = m.gps->decode(dec, wrappingMul(std::int32_t(kGpsMulti), last_diff), 4);
+        d = m.gps->decode(dec, wrapMul(std::int32_t(kGpsMulti), last_diff), 4);
         extreme = true;
       } else {
         const std::int32_t negative = std::int32_t(kGpsMulti) - std::int32_t(multi);
         if (negative > kGpsMultiMinus) {
-          d = m.gps->decode(dec, wrappingMul(negative, last_diff), 5);
+          d = m.gps->decode(dec, wrapMul(negative, last_diff), 5);
         } else {
-          d = m.gps->decode(dec, wrappingMul(kGpsMultiMinus, last_diff), 6);
+          d = m.gps->decode(dec, wrapMul(kGpsMultiMinus, last_diff), 6);
           extreme = true;
         }
       }

@@ -123,11 +123,11 @@ unsigned Point14Encoder::encode(const std::byte* record) {
   const std::uint32_t single = n == 1 ? 1u : 0u;
   const std::uint32_t median_index = (map << 1) | (gps_time_change ? 1u : 0u);
 
-  std::int32_t diff = wrappingSub(p.x, last->x);
+  std::int32_t diff = wrapSub(p.x, last->x);
   m.dx->encode(enc, h.median_x[median_index].get(), diff, single);
   h.median_x[median_index].add(diff);
   std::uint32_t k_bits = m.dx->lastK();
-  diff = wrappingSub(p.y, last->y);
+  diff = wrapSub(p.y, last->y);
   m.dy->encode(enc, h.median_y[median_index].get(), diff,
                single + (k_bits < 20 ? (k_bits & ~1u) : 20u));
   h.median_y[median_index].add(diff);
@@ -232,19 +232,19 @@ void Point14Encoder::encodeGpsTime(Channel& c, std::uint64_t time) {
       } else if (multi > 0) {
         if (multi < std::int32_t(kGpsMulti)) {
           enc.encodeSymbol(*m.gps_multi, std::uint32_t(multi));
-          m.gps->encode(enc, wrappingMul(multi, last_diff), d, multi < 10 ? 2 : 3);
+          m.gps->encode(enc, wrapMul(multi, last_diff), d, multi < 10 ? 2 : 3);
         } else {
           enc.encodeSymbol(*m.gps_multi, kGpsMulti);
-          m.gps->encode(enc, wrappingMul(std::int32_t(kGpsMulti), last_diff), d, 4);
+          m.gps->encode(enc, wrapMul(std::int32_t(kGpsMulti), last_diff), d, 4);
           extreme = true;
         }
       } else if (multi < 0) {
         if (multi > kGpsMultiMinus) {
           enc.encodeSymbol(*m.gps_multi, std::uint32_t(std::int32_t(kGpsMulti) - multi));
-          m.gps->encode(enc, wrappingMul(multi, last_diff), d, 5);
+          m.gps->encode(enc, wrapMul(multi, last_diff), d, 5);
         } else {
           enc.encodeSymbol(*m.gps_multi, std::uint32_t(std::int32_t(kGpsMulti) - kGpsMultiMinus));
-          m.gps->encode(enc, wrappingMul(kGpsMultiMinus, last_diff), d, 6);
+          m.gps->encode(enc, wrapMul(kGpsMultiMinus, last_diff), d, 6);
           extreme = true;
         }
       } else {

@@ -19,6 +19,7 @@
 #include "io/laz/arithmetic_decoder.h"
 #include "io/laz/arithmetic_encoder.h"
 #include "io/laz/arithmetic_models.h"
+#include "io/laz/wrapping_int32.h"
 
 namespace parallax::laz::pointwise {
 
@@ -51,18 +52,7 @@ std::unique_ptr<ItemDecoder> makeWavepacketDecoder();
 std::unique_ptr<ItemEncoder> makeWavepacketEncoder();
 
 // ---------------------------------------------------------------------------------------------
-// Helpers shared by the items.
-
-// Two's-complement arithmetic without signed overflow (LASzip relies on 32-bit wrap-around).
-inline std::int32_t wrapAdd(std::int32_t a, std::int32_t b) {
-  return std::int32_t(std::uint32_t(a) + std::uint32_t(b));
-}
-inline std::int32_t wrapSub(std::int32_t a, std::int32_t b) {
-  return std::int32_t(std::uint32_t(a) - std::uint32_t(b));
-}
-inline std::int32_t wrapMul(std::int32_t a, std::int32_t b) {
-  return std::int32_t(std::uint32_t(a) * std::uint32_t(b));
-}
+// Helpers shared by the items (and wrapping_int32.h).
 
 // A 256-symbol model per value of a context byte (the last class, user data or flag byte),
 // created the first time its context occurs: most files use a handful of them. A model's reset
