@@ -472,7 +472,7 @@ bool E57ChunkReader::next(PointCloud& chunk, std::size_t max_points) {
     for (auto& w : world) w.resize(n);
     std::vector<std::uint8_t> valid(n);
     for (std::size_t i = 0; i < n; ++i) {
-      double p[3];
+      double p[3] = {0.0, 0.0, 0.0};  // what position() leaves of an invalid point is not read
       valid[i] = s.position(layout, i, p);
       world[0][i] = p[0], world[1][i] = p[1], world[2][i] = p[2];
     }
