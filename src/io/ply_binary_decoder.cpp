@@ -186,15 +186,16 @@ bool quantizeSameTypePositions(const std::byte* __restrict base, std::size_t str
   const double inverse_x = inverse[0], inverse_y = inverse[1], inverse_z = inverse[2];
   double lo_x = lo[0], lo_y = lo[1], lo_z = lo[2];
   double hi_x = hi[0], hi_y = hi[1], hi_z = hi[2];
-  bool finite = true;
+  int finite = 1;  // an int: combined with & below, which keeps the loop free of branches
   for (std::size_t i = 0; i < n; ++i) {
     const std::byte* record = base + i * stride;
     const double x = double(load<T, kSwap>(record + at_x));
     const double y = double(load<T, kSwap>(record + at_y));
     const double z = double(load<T, kSwap>(record + at_z));
-    // false for NaN and infinity; a bitwise and keeps the loop free of branches
-    finite &= (std::abs(x) <= 1.7976931348623157e308) & (std::abs(y) <= 1.7976931348623157e308) &
-              (std::abs(z) <= 1.7976931348623157e308);
+    // 0 for NaN and infinity
+    finite &= int(std::abs(x) <= 1.7976931348623157e308) &
+              int(std::abs(y) <= 1.7976931348623157e308) &
+              int(std::abs(z) <= 1.7976931348623157e308);
     lo_x = x < lo_x ? x : lo_x, hi_x = x > hi_x ? x : hi_x;
     lo_y = y < lo_y ? y : lo_y, hi_y = y > hi_y ? y : hi_y;
     lo_z = z < lo_z ? z : lo_z, hi_z = z > hi_z ? z : hi_z;
@@ -203,7 +204,7 @@ bool quantizeSameTypePositions(const std::byte* __restrict base, std::size_t str
   }
   lo[0] = lo_x, lo[1] = lo_y, lo[2] = lo_z;
   hi[0] = hi_x, hi[1] = hi_y, hi[2] = hi_z;
-  return finite;
+  return finite != 0;
 }
 
 // x, y and z of fixed-size records in one pass: load, track bounds, quantize. `base` holds the
