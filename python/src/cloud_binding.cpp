@@ -21,10 +21,6 @@ py::array arrayOf(const py::object& self, const std::string& name, bool raw) {
   return array;
 }
 
-py::tuple triple(const std::array<double, 3>& values) {
-  return py::make_tuple(values[0], values[1], values[2]);
-}
-
 std::string reprOf(const CloudHandle& handle) {
   std::string text = "<parallax.PointCloud " + std::to_string(handle.cloud.count) + " points";
   if (!handle.metadata.format.empty()) text += ", " + handle.metadata.format;

@@ -21,10 +21,6 @@ namespace parallax::python {
 
 namespace {
 
-py::tuple triple(const std::array<double, 3>& values) {
-  return py::make_tuple(values[0], values[1], values[2]);
-}
-
 py::tuple boundsTuple(const Bounds3& bounds) {
   return py::make_tuple(triple(bounds.min), triple(bounds.max));
 }

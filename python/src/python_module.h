@@ -93,4 +93,9 @@ void bindOctree(pybind11::module_& m);
 void bindRender(pybind11::module_& m);
 void bindCommands(pybind11::module_& m);
 
+// (x, y, z) as a Python tuple: what bounds, scales and offsets are given as.
+inline pybind11::tuple triple(const std::array<double, 3>& values) {
+  return pybind11::make_tuple(values[0], values[1], values[2]);
+}
+
 }  // namespace parallax::python
