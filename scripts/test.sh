@@ -275,13 +275,11 @@ run_fuzzers() {
 }
 
 total_start=$(now)
-# The sanitizer and fuzz trees: line tables only (-g1) instead of full debug information, which
-# is all a sanitizer's stack trace reads and costs a good part of the compile time.
-debug_info=(-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG")
-# The sanitizer tree at -O1 (ASan's own advice for usable speed): its build is a large part of
-# CI's time and -O2 adds to it far more than it takes off the tests. The fuzz tree keeps -O2:
-# there, speed is executions a second.
-asan_flags=(-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG")
+# The sanitizer and fuzz trees: -O1 (ASan's own advice for usable speed, and what OSS-Fuzz builds
+# its fuzzers with): their builds are a large part of CI's time, and -O2 adds to them more than
+# it gives back in test time or executions a second; line tables only (-g1) instead of full debug
+# information, which is all a sanitizer's stack trace reads.
+sanitizer_flags=(-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG")
 
 banner "dependencies"
 start=$(now)
@@ -332,7 +330,7 @@ if [[ $quick -eq 0 ]]; then
   #    clang (warnings as errors) here and the product's through GCC in the Release tree.
   use_clang "$asan_dir"
   if configure_and_build asan "$asan_dir" all -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-       "${asan_flags[@]}" -DCMAKE_CXX_COMPILER=clang++ -DPARALLAX_SANITIZE=ON \
+       "${sanitizer_flags[@]}" -DCMAKE_CXX_COMPILER=clang++ -DPARALLAX_SANITIZE=ON \
        -DPARALLAX_BUILD_BENCH=OFF; then
     run_ctest asan "$asan_dir"
   fi
@@ -341,7 +339,7 @@ if [[ $quick -eq 0 ]]; then
   #    coverage).
   use_clang "$fuzz_dir"
   if configure_and_build fuzz "$fuzz_dir" parallax_fuzzers -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-       "${debug_info[@]}" -DCMAKE_CXX_COMPILER=clang++ -DPARALLAX_BUILD_FUZZ=ON \
+       "${sanitizer_flags[@]}" -DCMAKE_CXX_COMPILER=clang++ -DPARALLAX_BUILD_FUZZ=ON \
        -DPARALLAX_BUILD_TESTS=OFF -DPARALLAX_BUILD_BENCH=OFF; then
     fuzzers=()
     while read -r target; do
