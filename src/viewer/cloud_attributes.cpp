@@ -23,6 +23,7 @@
 #include "lod/drawing_input.h"
 #include "render/render_settings.h"
 #include "render/scalar_colors.h"
+#include "viewer/joined_names.h"
 #include "viewer/viewer_session.h"
 
 namespace parallax::viewer_internal {
@@ -43,15 +44,6 @@ constexpr std::array<const char*, 11> kNotScalarFields{column_names::kX,
 
 bool fileHolds(const std::vector<std::string>& names, const char* name) {
   return std::find(names.begin(), names.end(), name) != names.end();
-}
-
-std::string joinedNames(const std::vector<std::string>& names) {
-  std::string text;
-  for (const std::string& name : names) {
-    if (!text.empty()) text += ' ';  // (appended: GCC 12's -Wrestrict, bug 105329)
-    text += name;
-  }
-  return text;
 }
 
 // Reads what `wanted` asks that the cloud lacks; on success uploads the cloud again and tells

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "render/render_settings.h"
+#include "viewer/joined_names.h"
 #include "viewer/viewer_session.h"
 
 namespace parallax::viewer_internal {
@@ -37,15 +38,6 @@ std::vector<std::string> attributesNeeded(const Session& s) {
   return needed;
 }
 
-std::string joined(const std::vector<std::string>& names) {
-  std::string text;
-  for (const std::string& name : names) {
-    if (!text.empty()) text += ' ';  // (appended: GCC 12's -Wrestrict, bug 105329)
-    text += name;
-  }
-  return text;
-}
-
 // Selects `needed` on the octree (no loader may be reading it) and starts a scene on it.
 void loadWith(Session& s, const std::vector<std::string>& needed) {
   s.octree->selectAttributes(AttributeSelection::only(needed));
@@ -61,8 +53,8 @@ void loadWith(Session& s, const std::vector<std::string>& needed) {
   }
   // Tests and users read what was decoded here: the counterpart of `render`'s selection.
   std::fprintf(stderr, "parallax view: octree nodes read with %s%s%s\n",
-               joined(s.octree_read).c_str(),
-               skipped.empty() ? "" : "; not read: ", joined(skipped).c_str());
+               joinedNames(s.octree_read).c_str(),
+               skipped.empty() ? "" : "; not read: ", joinedNames(skipped).c_str());
 }
 
 }  // namespace
