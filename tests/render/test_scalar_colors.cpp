@@ -18,6 +18,7 @@
 
 #include "render/image_file.h"
 #include "render/scalar_colors.h"
+#include "scalar_test_cloud.h"
 #include "support/run_parallax.h"
 #include "support/temp_dir.h"
 
@@ -107,19 +108,7 @@ const std::vector<float> kDistances{0, 1, 2, 3, 4, 6, 7, std::numeric_limits<flo
                                     20};
 
 PointCloud cloudWithDistance() {
-  PointCloud cloud;
-  cloud.count = kDistances.size();
-  cloud.positions = Column<Int3>(cloud.count);
-  ScalarColumn distance{.name = "distance",
-                        .type = ScalarType::Float32,
-                        .data = ByteBuffer(cloud.count * sizeof(float))};
-  for (std::size_t i = 0; i < cloud.count; ++i) {
-    cloud.positions[i] = {std::int32_t(i), 0, 0};
-    distance.as<float>()[i] = kDistances[i];
-  }
-  cloud.scalars.push_back(std::move(distance));
-  cloud.computeBounds();
-  return cloud;
+  return cloudWithFloatScalar("distance", kDistances);
 }
 
 TEST(PaintScalarField, AutoRangeSkipsNaNAndNaNIsGrey) {

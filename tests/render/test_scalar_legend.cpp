@@ -21,6 +21,7 @@
 #include "render/overlay_font.h"
 #include "render/scalar_colors.h"
 #include "render/scalar_legend.h"
+#include "scalar_test_cloud.h"
 #include "support/run_parallax.h"
 #include "support/temp_dir.h"
 
@@ -71,21 +72,9 @@ TEST(CoolWarmRamp, MorelandsColoursAtTheEndsAndTheMiddleAndLinearBetween) {
   EXPECT_FALSE(isDiverging(ColorRamp::Viridis));
 }
 
-// A cloud whose "m3c2_distance" holds `values` (float), one point each at x = 0, 1, 2, ...
+// A cloud whose "m3c2_distance" holds `values`, one point each at x = 0, 1, 2, ...
 PointCloud cloudWith(const std::vector<float>& values) {
-  PointCloud cloud;
-  cloud.count = values.size();
-  cloud.positions = Column<Int3>(cloud.count);
-  ScalarColumn column{.name = "m3c2_distance",
-                      .type = ScalarType::Float32,
-                      .data = ByteBuffer(cloud.count * sizeof(float))};
-  for (std::size_t i = 0; i < cloud.count; ++i) {
-    cloud.positions[i] = {std::int32_t(i), 0, 0};
-    column.as<float>()[i] = values[i];
-  }
-  cloud.scalars.push_back(std::move(column));
-  cloud.computeBounds();
-  return cloud;
+  return cloudWithFloatScalar("m3c2_distance", values);
 }
 
 TEST(ScalarPercentiles, NearestRankOverTheFiniteValues) {
