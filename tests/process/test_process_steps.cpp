@@ -35,14 +35,20 @@ using test::TempDir;
 using test::writeCloud;
 using test::Xyz;
 
-ProcessReport run(const std::filesystem::path& in, const std::filesystem::path& out,
-                  std::vector<ProcessStep> steps, std::uint64_t memory_mb = 2048) {
+// The options of a run of `steps` from `in` to `out` within `memory_mb`.
+ProcessOptions runOptions(const std::filesystem::path& in, const std::filesystem::path& out,
+                          std::vector<ProcessStep> steps, std::uint64_t memory_mb = 2048) {
   ProcessOptions options;
   options.inputs = {ConvertInput{.path = in}};
   options.output = out;
   options.steps = std::move(steps);
   options.memory_mb = memory_mb;
-  return runProcess(options);
+  return options;
+}
+
+ProcessReport run(const std::filesystem::path& in, const std::filesystem::path& out,
+                  std::vector<ProcessStep> steps, std::uint64_t memory_mb = 2048) {
+  return runProcess(runOptions(in, out, std::move(steps), memory_mb));
 }
 
 std::vector<std::uint32_t> ids(const PointCloud& cloud) {
@@ -904,6 +910,16 @@ class CancelAtFirstTile final : public Progress {
   std::atomic<bool>& cancel_;
 };
 
+// The names of what `dir` holds, sorted: what a cancelled run left behind.
+std::vector<std::string> namesIn(const std::filesystem::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    names.push_back(entry.path().filename().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
 TEST(ProcessSteps, CancelledBetweenTilesLeavesNoOutputAndNoWorkFiles) {
   TempDir dir;
   const auto in = writeCloud(dir, "in.ply", terrainWithNoise(20000, 4));
@@ -913,11 +929,8 @@ TEST(ProcessSteps, CancelledBetweenTilesLeavesNoOutputAndNoWorkFiles) {
     SCOPED_TRACE(name);
     std::atomic<bool> cancel = false;
     std::vector<std::string> stages;
-    ProcessOptions options;
-    options.inputs = {ConvertInput{.path = in}};
-    options.output = dir / name;
-    options.steps = {normals};
-    options.memory_mb = 1;  // 4 096-point tiles: 5 of them
+    // 1 MB: 4 096-point tiles, 5 of them
+    ProcessOptions options = runOptions(in, dir / name, {normals}, 1);
     options.cancel = &cancel;
     options.progress = [&](const std::string& stage, std::uint64_t) -> std::unique_ptr<Progress> {
       stages.push_back(stage);
@@ -929,19 +942,11 @@ TEST(ProcessSteps, CancelledBetweenTilesLeavesNoOutputAndNoWorkFiles) {
     ASSERT_FALSE(stages.empty());
     EXPECT_TRUE(stages.back().starts_with("--normals"));  // stopped there: nothing written
     // Only the input is left: no output, no partial file, no work folder.
-    std::vector<std::string> left;
-    for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
-      left.push_back(entry.path().filename().string());
-    }
-    EXPECT_EQ(left, std::vector<std::string>{"in.ply"});
+    EXPECT_EQ(namesIn(dir.path()), std::vector<std::string>{"in.ply"});
   }
   // Not cancelled: the same options run to the end.
   std::atomic<bool> never = false;
-  ProcessOptions options;
-  options.inputs = {ConvertInput{.path = in}};
-  options.output = dir / "out.ply";
-  options.steps = {normals};
-  options.memory_mb = 1;
+  ProcessOptions options = runOptions(in, dir / "out.ply", {normals}, 1);
   options.cancel = &never;
   EXPECT_EQ(runProcess(options).output_points, 20000u);
 }
@@ -963,11 +968,8 @@ TEST(ProcessSteps, CancelledInsideTheOctreeBuildLeavesNoOutputAndNoWorkFiles) {
       SCOPED_TRACE(std::string(name) + " at " + at);
       std::atomic<bool> cancel = false;
       std::vector<std::string> stages;
-      ProcessOptions options;
-      options.inputs = {ConvertInput{.path = in}};
-      options.output = dir / name;
-      options.steps = {normals};
-      options.memory_mb = 16;  // the builder's buffers sized for 1 000 points, not 2 GB
+      // 16 MB: the builder's buffers sized for 1 000 points, not 2 GB
+      ProcessOptions options = runOptions(in, dir / name, {normals}, 16);
       options.cancel = &cancel;
       options.progress = [&](const std::string& stage, std::uint64_t) -> std::unique_ptr<Progress> {
         stages.push_back(stage);
@@ -977,11 +979,7 @@ TEST(ProcessSteps, CancelledInsideTheOctreeBuildLeavesNoOutputAndNoWorkFiles) {
       EXPECT_THROW(runProcess(options), ProcessCancelled);
       ASSERT_FALSE(stages.empty());
       EXPECT_EQ(stages.back(), at);  // no stage after it started
-      std::vector<std::string> left;
-      for (const auto& entry : std::filesystem::directory_iterator(dir.path())) {
-        left.push_back(entry.path().filename().string());
-      }
-      EXPECT_EQ(left, std::vector<std::string>{"in.ply"});
+      EXPECT_EQ(namesIn(dir.path()), std::vector<std::string>{"in.ply"});
     }
   }
 }
