@@ -11,6 +11,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -44,7 +45,7 @@ RgbaImage renderWith(const TempDir& dir, const std::filesystem::path& input,
   return readPng(out);
 }
 
-// The fraction of the cloud's pixels of the same colour in both pictures (of one size).
+// The pixels the cloud covers: those not of the background colour (255, 0, 255).
 std::size_t cloudPixels(const RgbaImage& image) {
   std::size_t count = 0;
   for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
@@ -63,6 +64,28 @@ std::vector<std::string> readLines(const std::string& log) {
   return lines;
 }
 
+// The window's arguments: `input` in the shared look, P screenshots written into `shots`.
+std::vector<std::string> viewerArgs(const std::filesystem::path& input,
+                                    const std::filesystem::path& shots) {
+  std::filesystem::create_directories(shots);
+  std::vector<std::string> args = {input.string(), "--screenshot-dir", shots.string(),
+                                   "--no-vsync"};
+  for (const std::string& option : sharedOptions()) args.push_back(option);
+  return args;
+}
+
+// Whether a screenshot shows `expected`: 98 % of its pixels the same (edges may differ).
+std::function<bool(const RgbaImage&)> showing(const RgbaImage& expected) {
+  return [&expected](const RgbaImage& image) { return sameFraction(image, expected) > 0.98; };
+}
+
+// The "parallax view: picked ..." line of the log, or "" when there is none.
+std::string pickedLine(const std::string& log) {
+  const std::size_t picked = log.find("parallax view: picked ");
+  if (picked == std::string::npos) return "";
+  return log.substr(picked, log.find('\n', picked) - picked);
+}
+
 TEST(ViewerAttributes, ColourSwitchesReadTheNodesAgainAndDrawWhatRenderDraws) {
   if (!onPath("Xvfb") || !onPath("xdotool")) {
     GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
@@ -78,12 +101,9 @@ TEST(ViewerAttributes, ColourSwitchesReadTheNodesAgainAndDrawWhatRenderDraws) {
   EXPECT_LT(sameFraction(intensity, classification), 0.8);
 
   const auto shots = dir.path() / "shots";
-  std::filesystem::create_directories(shots);
   Display display(dir);
   ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
-  std::vector<std::string> args = {copc.string(), "--screenshot-dir", shots.string(), "--no-vsync"};
-  for (const std::string& option : sharedOptions()) args.push_back(option);
-  ViewerProcess viewer(dir, display.name(), args, "viewer.log");
+  ViewerProcess viewer(dir, display.name(), viewerArgs(copc, shots), "viewer.log");
   ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
   EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
   viewer.key("g");  // hide the panel
@@ -94,25 +114,19 @@ TEST(ViewerAttributes, ColourSwitchesReadTheNodesAgainAndDrawWhatRenderDraws) {
   EXPECT_EQ(first.substr(0, first.find(';')), "x y z red green blue") << viewer.log();
   EXPECT_NE(first.find("not read: "), std::string::npos);
   EXPECT_NE(first.find(" intensity"), std::string::npos) << "intensity is among those not read";
-  const auto matches = [](const RgbaImage& expected) {
-    return [&expected](const RgbaImage& image) { return sameFraction(image, expected) > 0.98; };
-  };
-  EXPECT_GT(sameFraction(viewer.settledScreenshot(shots, matches(rgb)), rgb), 0.98);
+  EXPECT_GT(sameFraction(viewer.settledScreenshot(shots, showing(rgb)), rgb), 0.98);
 
   // Picking reads the node whole: the point's intensity is reported though not drawn.
   viewer.ctrlClick(240, 180);
   EXPECT_TRUE(viewer.logged("parallax view: picked ")) << viewer.log();
-  const std::string log = viewer.log();
-  const std::size_t picked = log.find("parallax view: picked ");
-  ASSERT_NE(picked, std::string::npos);
-  const std::string line = log.substr(picked, log.find('\n', picked) - picked);
+  const std::string line = pickedLine(viewer.log());
   EXPECT_NE(line.find(" intensity="), std::string::npos) << line;
   EXPECT_NE(line.find(" gps_time="), std::string::npos) << line;
 
   viewer.key("c");  // elevation: positions only, nothing to read again
   viewer.key("c");  // intensity
   EXPECT_TRUE(viewer.logged("parallax view: colour intensity")) << viewer.log();
-  EXPECT_GT(sameFraction(viewer.settledScreenshot(shots, matches(intensity)), intensity), 0.98)
+  EXPECT_GT(sameFraction(viewer.settledScreenshot(shots, showing(intensity)), intensity), 0.98)
       << viewer.log();
   std::vector<std::string> lines = readLines(viewer.log());
   ASSERT_EQ(lines.size(), 2u) << viewer.log();
@@ -121,7 +135,7 @@ TEST(ViewerAttributes, ColourSwitchesReadTheNodesAgainAndDrawWhatRenderDraws) {
   viewer.key("c");  // normal: the file has none, nothing to read
   viewer.key("c");  // classification
   EXPECT_TRUE(viewer.logged("parallax view: colour classification")) << viewer.log();
-  EXPECT_GT(sameFraction(viewer.settledScreenshot(shots, matches(classification)), classification),
+  EXPECT_GT(sameFraction(viewer.settledScreenshot(shots, showing(classification)), classification),
             0.98)
       << viewer.log();
   lines = readLines(viewer.log());
@@ -158,12 +172,9 @@ TEST(ViewerAttributes, AWholeLayeredLazReadsItsOtherLayersWhenAskedFor) {
   EXPECT_LT(sameFraction(rgb, intensity), 0.8);
 
   const auto shots = dir.path() / "shots";
-  std::filesystem::create_directories(shots);
   Display display(dir);
   ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
-  std::vector<std::string> args = {laz.string(), "--screenshot-dir", shots.string(), "--no-vsync"};
-  for (const std::string& option : sharedOptions()) args.push_back(option);
-  ViewerProcess viewer(dir, display.name(), args, "viewer.log");
+  ViewerProcess viewer(dir, display.name(), viewerArgs(laz, shots), "viewer.log");
   ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
   EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
   viewer.key("g");  // hide the panel
@@ -173,15 +184,12 @@ TEST(ViewerAttributes, AWholeLayeredLazReadsItsOtherLayersWhenAskedFor) {
   const std::string unread = wholeFileRead(viewer.log(), 1);
   EXPECT_NE((" " + unread + " ").find(" intensity "), std::string::npos) << viewer.log();
   EXPECT_NE((" " + unread + " ").find(" gps_time "), std::string::npos) << viewer.log();
-  const auto matches = [](const RgbaImage& expected) {
-    return [&expected](const RgbaImage& image) { return sameFraction(image, expected) > 0.98; };
-  };
-  EXPECT_GT(sameFraction(viewer.settledScreenshot(shots, matches(rgb)), rgb), 0.98);
+  EXPECT_GT(sameFraction(viewer.settledScreenshot(shots, showing(rgb)), rgb), 0.98);
 
   viewer.key("c");  // elevation: nothing to read
   viewer.key("c");  // intensity: its layer is read now, and drawn as `render` draws it
   EXPECT_TRUE(viewer.logged("parallax view: read later from e7.laz: intensity\n")) << viewer.log();
-  EXPECT_GT(sameFraction(viewer.settledScreenshot(shots, matches(intensity)), intensity), 0.98)
+  EXPECT_GT(sameFraction(viewer.settledScreenshot(shots, showing(intensity)), intensity), 0.98)
       << viewer.log();
 
   // A pick reports every attribute: the rest is read then.
@@ -191,8 +199,7 @@ TEST(ViewerAttributes, AWholeLayeredLazReadsItsOtherLayersWhenAskedFor) {
   const std::size_t later = log.rfind("parallax view: read later from e7.laz: ");
   ASSERT_NE(later, std::string::npos) << log;
   EXPECT_NE(log.substr(later, log.find('\n', later) - later).find(" gps_time"), std::string::npos);
-  const std::size_t picked = log.find("parallax view: picked ");
-  const std::string line = log.substr(picked, log.find('\n', picked) - picked);
+  const std::string line = pickedLine(log);
   EXPECT_NE(line.find(" gps_time="), std::string::npos) << line;
   EXPECT_NE(line.find(" intensity="), std::string::npos) << line;
   EXPECT_EQ(viewer.quit(), 0) << viewer.log();
