@@ -13,8 +13,6 @@ query fetches what it reads. The load average is printed before and after."""
 
 import argparse
 import os
-import shutil
-import socket
 import statistics
 import subprocess
 import sys
@@ -25,33 +23,8 @@ os.environ["PARALLAX_HTTP_CACHE_MB"] = "0"  # before the module opens its first 
 
 import parallax  # noqa: E402
 
-
-def start_nginx(root, folder):
-    """nginx on a free loopback port serving `root`; returns (process, base URL)."""
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port = probe.getsockname()[1]
-    d = str(folder)
-    (folder / "nginx.conf").write_text(
-        "daemon off;\nmaster_process off;\nworker_processes 1;\n"
-        f"pid {d}/nginx.pid;\nerror_log {d}/error.log warn;\n"
-        "events { worker_connections 256; }\n"
-        f"http {{\n  access_log off;\n  client_body_temp_path {d}/client_body;\n"
-        f"  proxy_temp_path {d}/proxy;\n  fastcgi_temp_path {d}/fastcgi;\n"
-        f"  uwsgi_temp_path {d}/uwsgi;\n  scgi_temp_path {d}/scgi;\n"
-        "  default_type application/octet-stream;\n  keepalive_requests 100000;\n"
-        f"  server {{\n    listen 127.0.0.1:{port};\n    root {root};\n  }}\n}}\n"
-    )
-    server = subprocess.Popen([shutil.which("nginx") or "/usr/sbin/nginx", "-p", d, "-c",
-                               str(folder / "nginx.conf")], stderr=subprocess.DEVNULL)
-    for _ in range(100):
-        try:
-            socket.create_connection(("127.0.0.1", port), timeout=1).close()
-            return server, f"http://127.0.0.1:{port}"
-        except OSError:
-            time.sleep(0.05)
-    server.terminate()
-    raise SystemExit("nginx did not start")
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "net"))
+from loopback_nginx import start_nginx  # noqa: E402
 
 
 def timed_query(source, box, repeat):
@@ -82,7 +55,7 @@ def main():
                            check=True)
         subprocess.run([args.parallax, "convert", ply, "-o", copc, "-q"], check=True)
     print(f"load average before: {os.getloadavg()}")
-    server, base = start_nginx(work / "root", work)
+    server, base = start_nginx(work / "root", work / "nginx")
     try:
         octree = parallax.open_octree(str(copc))
         (x0, y0, z0), (x1, y1, z1) = octree.bounds

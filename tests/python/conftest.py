@@ -6,10 +6,14 @@ the run: nothing here may pass by not running."""
 
 import os
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "net"))
+from loopback_nginx import start_nginx  # noqa: E402
 
 _skipped = []
 
@@ -83,51 +87,16 @@ def cli_text(cli, path, out_dir):
 
 @pytest.fixture(scope="session")
 def nginx(tmp_path_factory):
-    """A real nginx on a free loopback port serving a folder (as tests/net/loopback_servers.h
-    starts it): yields (root folder, base URL, access log path). HTTP's range cache is off, so
-    that what a read fetches is what the server sends. A missing nginx fails, never skips."""
-    import shutil
-    import socket
-    import time
-
-    program = shutil.which("nginx") or "/usr/sbin/nginx"
-    assert Path(program).exists(), "nginx not found: install the Debian package 'nginx-light'"
+    """A real nginx on a free loopback port serving a folder (tests/net/loopback_nginx.py): yields
+    (root folder, base URL, access log path). HTTP's range cache is off, so that what a read
+    fetches is what the server sends. A missing nginx fails, never skips."""
     os.environ["PARALLAX_HTTP_CACHE_MB"] = "0"
     prefix = tmp_path_factory.mktemp("nginx")
     root = prefix / "root"
     root.mkdir()
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        port = probe.getsockname()[1]
-    d = str(prefix)
-    (prefix / "nginx.conf").write_text(
-        "daemon off;\nmaster_process off;\nworker_processes 1;\n"
-        f"pid {d}/nginx.pid;\nerror_log {d}/error.log warn;\n"
-        "events { worker_connections 256; }\n"
-        "http {\n"
-        "  log_format parallax '$request_method $uri $status $body_bytes_sent \"$http_range\"';\n"
-        f"  access_log {d}/access.log parallax;\n"
-        f"  client_body_temp_path {d}/client_body;\n  proxy_temp_path {d}/proxy;\n"
-        f"  fastcgi_temp_path {d}/fastcgi;\n  uwsgi_temp_path {d}/uwsgi;\n  scgi_temp_path {d}/scgi;\n"
-        "  default_type application/octet-stream;\n"
-        f"  server {{\n    listen 127.0.0.1:{port};\n    root {root};\n  }}\n}}\n"
-    )
-    server = subprocess.Popen(
-        [program, "-p", d, "-c", str(prefix / "nginx.conf")],
-        stdout=subprocess.DEVNULL,
-        stderr=open(prefix / "stderr.log", "w"),
-    )
+    server, base = start_nginx(root, prefix, access_log=True)
     try:
-        for _ in range(100):
-            try:
-                socket.create_connection(("127.0.0.1", port), timeout=1).close()
-                break
-            except OSError:
-                assert server.poll() is None, (prefix / "stderr.log").read_text()
-                time.sleep(0.05)
-        else:
-            raise AssertionError("nginx did not accept connections within 5 s")
-        yield root, f"http://127.0.0.1:{port}", prefix / "access.log"
+        yield root, base, prefix / "access.log"
     finally:
         server.terminate()
         server.wait(timeout=10)
