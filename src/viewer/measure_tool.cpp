@@ -287,6 +287,7 @@ void updateOverlay(Session& s) {
   options.selected = s.measure.selected;
   appendMeasurementOverlay(s.measure.document, options, scene);
   appendClipBoxOutline(s, scene);
+  appendPairOverlay(s, scene);
   s.renderer->setOverlay(std::move(scene));
 }
 

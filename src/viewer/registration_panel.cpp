@@ -34,7 +34,19 @@ void reportRegistration(Session& s, const std::string& message) {
 
 }  // namespace
 
-void startRegistration(Session& s) {
+void logRegistrationTransform(const char* what, const RigidTransform& transform) {
+  std::string rows = std::string("parallax view: ") + what + ":";
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      char number[40];
+      std::snprintf(number, sizeof number, " %.17g", transform.m[std::size_t(r)][std::size_t(c)]);
+      rows += number;
+    }
+  }
+  std::fprintf(stderr, "%s\n", rows.c_str());
+}
+
+void startRegistration(Session& s, const RigidTransform& init) {
   RegistrationSession& r = s.registration;
   if (r.run.valid()) return;
   if (!s.cloud_points) {
@@ -50,14 +62,23 @@ void startRegistration(Session& s) {
   auto source = std::make_shared<const PointCloud>(s.cloud_points->clone());
   IcpOptions options;
   options.max_distance = r.max_distance;
+  options.init = init;
+  // The target the point pairs were picked on, when it is this one: not read again.
+  std::shared_ptr<const PointCloud> loaded_target;
+  if (r.pairs.target && r.pairs.target_path == std::filesystem::path(target_path)) {
+    loaded_target = r.pairs.target;
+  }
   const std::string source_name = s.loaded_name;
   r.result.reset();
   r.message = "registering " + source_name + " to " + target_path + " ...";
-  r.run = std::async(std::launch::async, [source, target_path, options, source_name] {
-    auto target = std::make_shared<const PointCloud>(readPointFile(target_path));
-    IcpResult result = registerClouds(*source, *target, options, source_name, target_path);
-    return RegistrationRun{source, std::move(target), result};
-  });
+  r.run =
+      std::async(std::launch::async, [source, target_path, options, source_name, loaded_target] {
+        auto target = loaded_target
+                          ? loaded_target
+                          : std::make_shared<const PointCloud>(readPointFile(target_path));
+        IcpResult result = registerClouds(*source, *target, options, source_name, target_path);
+        return RegistrationRun{source, std::move(target), result};
+      });
 }
 
 void updateRegistration(Session& s) {
@@ -66,6 +87,7 @@ void updateRegistration(Session& s) {
     r.start_requested = false;
     startRegistration(s);
   }
+  updatePairPicking(s);
   if (!r.run.valid() || r.run.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
     return;
   }
@@ -82,11 +104,13 @@ void updateRegistration(Session& s) {
     r.after_set = r.after->drawSet();
     r.shown = true;
     r.show_after = true;
+    stopPairPicking(s);  // ICP's result is what is previewed now
     s.drawn.reset();
     char line[160];
     std::snprintf(line, sizeof line, "registered: rms %.6g, overlap %.4f, %u iterations",
                   r.result->rms, r.result->overlap, r.result->iterations);
     reportRegistration(s, line);
+    logRegistrationTransform("registered transform", r.result->transform);
   } catch (const std::exception& e) {
     r.result.reset();
     reportRegistration(s, e.what());
@@ -94,6 +118,7 @@ void updateRegistration(Session& s) {
 }
 
 const DrawSet* registrationDrawSet(const Session& s) {
+  if (const DrawSet* pairs = pairPickingDrawSet(s)) return pairs;
   const RegistrationSession& r = s.registration;
   if (!r.shown || !r.before || !r.after) return nullptr;
   return r.show_after ? &r.after_set : &r.before_set;
@@ -118,10 +143,11 @@ bool acceptRegistration(Session& s) {
 }
 
 void prepareRegistration(Session& s, const std::filesystem::path& target,
-                         const std::filesystem::path& output) {
+                         const std::filesystem::path& output, bool pick_pairs) {
   setText(s.registration.target_text, target.string());
   setText(s.registration.output_text, output.string());
-  s.registration.start_requested = !target.empty();
+  s.registration.start_requested = !target.empty() && !pick_pairs;
+  s.registration.pairs_requested = !target.empty() && pick_pairs;
 }
 
 void drawRegistrationPanel(Session& s) {
@@ -136,6 +162,7 @@ void drawRegistrationPanel(Session& s) {
   } else if (ImGui::Button("Register the cloud to it")) {
     startRegistration(s);
   }
+  drawPairPickingPanel(s);
   if (r.result) {
     const IcpResult& result = *r.result;
     ImGui::Text("rms %.6g, overlap %.4f (%llu pairs)", result.rms, result.overlap,

@@ -1,0 +1,177 @@
+// The registration panel's point-pairs picking in a real window under Xvfb, driven with xdotool:
+// two copies of a scan, one moved by a known rigid transform; three pairs clicked at the pixels
+// the test's own projection (support/reference_projection.h) gives their points, in the viewer's
+// default look (adaptive round points). The viewer must name exactly the clicked points, fit the
+// known transform from them, refine it by ICP (Enter) and write it (Ctrl + T) as `register
+// --init` reads it.
+//
+// Needs the Debian packages xvfb and xdotool; skipped (with the reason) where they are missing.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "registration/rigid_transform.h"
+#include "support/reference_projection.h"
+#include "support/temp_dir.h"
+#include "viewer_window_support.h"
+
+namespace parallax::test {
+namespace {
+
+using namespace std::chrono_literals;
+
+constexpr int kRegWidth = 640, kRegHeight = 400;
+constexpr int kRegGrid = 25;  // points a side
+
+// The picked points: three survey targets standing 0.08 above the surface at grid (i, j), nearer
+// the camera than every neighbour (a click on one picks it, whatever its neighbours' splats
+// cover), and not on one line.
+constexpr std::array<std::array<int, 2>, 3> kSurveyTargets{{{4, 4}, {20, 6}, {12, 20}}};
+
+bool isSurveyTarget(int i, int j) {
+  for (const auto& t : kSurveyTargets) {
+    if (t[0] == i && t[1] == j) return true;
+  }
+  return false;
+}
+
+// A saddle over [-0.75, 0.75]² in steps of 1/16 (curved both ways: ICP has every direction
+// fixed), with the survey targets raised.
+std::array<double, 3> scanPoint(int i, int j) {
+  const double x = (i - kRegGrid / 2) / 16.0, y = (j - kRegGrid / 2) / 16.0;
+  return {x, y, 0.12 * (x * x - y * y) + (isSurveyTarget(i, j) ? 0.08 : 0.0)};
+}
+
+// The scan moved by `motion`, as a PLY of doubles (17 digits: the file holds the moved values).
+std::string scanPly(const RigidTransform& motion) {
+  std::ostringstream ply;
+  ply << "ply\nformat ascii 1.0\nelement vertex " << kRegGrid * kRegGrid
+      << "\nproperty double x\nproperty double y\nproperty double z\nend_header\n";
+  ply.precision(17);
+  for (int j = 0; j < kRegGrid; ++j) {
+    for (int i = 0; i < kRegGrid; ++i) {
+      const auto p = motion.apply(scanPoint(i, j));
+      ply << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+    }
+  }
+  return ply.str();
+}
+
+// The camera, as the command line gives it and as the reference projection reads it: from above,
+// 21 degrees off the vertical.
+ReferenceView registrationView() {
+  ReferenceView view;
+  view.eye = {0.3, -1.2, 3.2}, view.target = {0.0, 0.0, 0.0}, view.fov_y_deg = 40.0;
+  view.width = kRegWidth, view.height = kRegHeight;
+  return view;
+}
+
+std::vector<std::string> registrationCamera() {
+  return {"--width",      "640",      "--height", "400",   "--eye",
+          "0.3,-1.2,3.2", "--target", "0,0,0",    "--fov", "40"};
+}
+
+// The numbers after `prefix` on the first line of `log` that starts with it.
+std::vector<double> loggedNumbers(const std::string& log, const std::string& prefix) {
+  std::vector<double> numbers;
+  const auto at = log.find(prefix);
+  if (at == std::string::npos) return numbers;
+  std::istringstream line(log.substr(at + prefix.size(), log.find('\n', at) - at - prefix.size()));
+  for (double value = 0; line >> value;) numbers.push_back(value);
+  return numbers;
+}
+
+void expectTransformNear(const std::vector<double>& rows, const RigidTransform& expected,
+                         double tolerance, const std::string& what) {
+  ASSERT_EQ(rows.size(), 12u) << what;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      EXPECT_NEAR(rows[std::size_t(r * 4 + c)], expected.m[std::size_t(r)][std::size_t(c)],
+                  tolerance)
+          << what << " row " << r << " column " << c;
+    }
+  }
+}
+
+// Three pairs clicked on a scan and its copy moved by a known turn (12 degrees about a tilted
+// axis) and shift: the pairs' fit is that motion, ICP from it keeps it, Ctrl + T writes it.
+TEST(ViewerWindow, PointPairsPickedOnTwoCopiesGiveTheirMotionBack) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const RigidTransform motion =
+      RigidTransform::translation(0.25, -0.15, 0.05) * RigidTransform::rotation(0.2, 0.3, 1, 12);
+  const auto source = dir.write("source.ply", scanPly(RigidTransform{}));
+  const auto target = dir.write("target.ply", scanPly(motion));
+  const auto written = dir / "source-to-target.txt";
+
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  std::vector<std::string> args = {source.string(),  "--no-vsync",       "--register-with",
+                                   target.string(),  "--pick-pairs",     "--write-transform",
+                                   written.string(), "--screenshot-dir", dir.path().string()};
+  const auto camera = registrationCamera();
+  args.insert(args.end(), camera.begin(), camera.end());
+  ViewerProcess viewer(dir, display.name(), args, "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  ASSERT_TRUE(viewer.logged("parallax view: pick pairs: ")) << viewer.log();
+  viewer.key("g");  // the panel off the picture
+
+  const auto click = [&](const std::array<double, 3>& p) {
+    const auto projected = referenceProject(registrationView(), {p[0], p[1], p[2]});
+    ASSERT_TRUE(projected.has_value()) << p[0] << " " << p[1] << " " << p[2] << " out of view";
+    viewer.click(projected->column(), projected->row(kRegHeight));
+  };
+  for (std::size_t k = 0; k < kSurveyTargets.size(); ++k) {
+    const auto p = scanPoint(kSurveyTargets[k][0], kSurveyTargets[k][1]);
+    const auto q = motion.apply(p);
+    const std::string pair = "parallax view: pair " + std::to_string(k + 1);
+    ASSERT_NO_FATAL_FAILURE(click(p));
+    ASSERT_TRUE(viewer.logged(pair + " source point: ")) << viewer.log();
+    ASSERT_NO_FATAL_FAILURE(click(q));
+    ASSERT_TRUE(viewer.logged(pair + " target point: ")) << viewer.log();
+    // Exactly the clicked survey target on each side (the file's values, read as doubles).
+    const auto logged_p = loggedNumbers(viewer.log(), pair + " source point: ");
+    const auto logged_q = loggedNumbers(viewer.log(), pair + " target point: ");
+    ASSERT_EQ(logged_p.size(), 3u) << viewer.log();
+    ASSERT_EQ(logged_q.size(), 3u) << viewer.log();
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_NEAR(logged_p[std::size_t(a)], p[std::size_t(a)], 1e-9) << pair;
+      EXPECT_NEAR(logged_q[std::size_t(a)], q[std::size_t(a)], 1e-9) << pair;
+    }
+  }
+  // The fit from the three pairs at once: the motion, and an RMS of nothing over exact pairs.
+  ASSERT_TRUE(viewer.logged("parallax view: pairs transform: ")) << viewer.log();
+  expectTransformNear(loggedNumbers(viewer.log(), "parallax view: pairs transform: "), motion, 1e-9,
+                      "the pairs' fit");
+  const auto fit_rms = loggedNumbers(viewer.log(), "parallax view: pairs fit: rms ");
+  ASSERT_FALSE(fit_rms.empty()) << viewer.log();
+  EXPECT_LT(fit_rms[0], 1e-9) << viewer.log();
+
+  // Enter: ICP from the pairs' transform, over every point (the copies match exactly).
+  viewer.key("Return");
+  ASSERT_TRUE(viewer.logged("parallax view: registered transform: ")) << viewer.log();
+  expectTransformNear(loggedNumbers(viewer.log(), "parallax view: registered transform: "), motion,
+                      1e-6, "ICP from the pairs");
+  // Ctrl + T: written as `register --init` reads it.
+  viewer.key("ctrl+t");
+  ASSERT_TRUE(viewer.logged("parallax view: wrote the transform to ")) << viewer.log();
+  const RigidTransform read = readRigidTransform(written);
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      EXPECT_NEAR(read.m[std::size_t(r)][std::size_t(c)], motion.m[std::size_t(r)][std::size_t(c)],
+                  1e-6);
+    }
+  }
+  EXPECT_EQ(viewer.log().find("no point of the"), std::string::npos) << viewer.log();
+  EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
+}
+
+}  // namespace
+}  // namespace parallax::test
