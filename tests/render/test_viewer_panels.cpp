@@ -1,9 +1,13 @@
-// The registration panel's point-pairs picking in a real window under Xvfb, driven with xdotool:
-// two copies of a scan, one moved by a known rigid transform; three pairs clicked at the pixels
+// The terrain issue's panels in a real window under Xvfb, driven with xdotool.
+//
+// The registration panel's point-pairs picking: two copies of a scan, one moved by a known rigid transform; three pairs clicked at the pixels
 // the test's own projection (support/reference_projection.h) gives their points, in the viewer's
 // default look (adaptive round points). The viewer must name exactly the clicked points, fit the
 // known transform from them, refine it by ICP (Enter) and write it (Ctrl + T) as `register
 // --init` reads it.
+//
+// The raster layer (`view CLOUD --raster DEM.tif`): each cell's colour at its projected centre,
+// the same oracle as `render --raster`'s test (tests/raster/raster_plane_scene.h).
 //
 // Needs the Debian packages xvfb and xdotool; skipped (with the reason) where they are missing.
 #include <gtest/gtest.h>
@@ -15,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "raster/geotiff.h"
+#include "raster/raster_plane_scene.h"
 #include "registration/rigid_transform.h"
 #include "support/reference_projection.h"
 #include "support/temp_dir.h"
@@ -170,6 +176,30 @@ TEST(ViewerWindow, PointPairsPickedOnTwoCopiesGiveTheirMotionBack) {
     }
   }
   EXPECT_EQ(viewer.log().find("no point of the"), std::string::npos) << viewer.log();
+  EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
+}
+
+// `view CLOUD --raster DEM.tif`: the layer drawn with the cloud, each cell in the grey of its
+// height shaded by the plane's hillshade, the hole left empty, as `render --raster` draws it.
+TEST(ViewerWindow, ARasterLayerIsDrawnWithTheCloudCellByCell) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto tif = dir / "plane.tif";
+  writeGeoTiff(planeRaster(), tif);
+  const auto ply = dir.write("corners.ply", cornersPly());
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  std::vector<std::string> args = {ply.string(), "--no-vsync",       "--raster",
+                                   tif.string(), "--screenshot-dir", dir.path().string()};
+  std::istringstream look(kPlaneLayerLook);
+  for (std::string word; look >> word;) args.push_back(word);
+  ViewerProcess viewer(dir, display.name(), args, "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  ASSERT_TRUE(viewer.logged("parallax view: raster ")) << viewer.log();
+  EXPECT_TRUE(viewer.logged(" 199 cells shown")) << viewer.log();
+  expectPlaneLayerPicture(viewer.settledScreenshot(dir.path()));
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
 }
 
