@@ -6,6 +6,9 @@
 // known transform from them, refine it by ICP (Enter) and write it (Ctrl + T) as `register
 // --init` reads it.
 //
+// M3C2 distances through the diverging ramp, with the legend over the window: the same oracle as
+// `render --legend`'s test (signed_legend_scene.h).
+//
 // The raster layer (`view CLOUD --raster DEM.tif`): each cell's colour at its projected centre,
 // the same oracle as `render --raster`'s test (tests/raster/raster_plane_scene.h).
 //
@@ -22,6 +25,7 @@
 #include "raster/geotiff.h"
 #include "raster/raster_plane_scene.h"
 #include "registration/rigid_transform.h"
+#include "signed_legend_scene.h"
 #include "support/reference_projection.h"
 #include "support/temp_dir.h"
 #include "viewer_window_support.h"
@@ -200,6 +204,32 @@ TEST(ViewerWindow, ARasterLayerIsDrawnWithTheCloudCellByCell) {
   ASSERT_TRUE(viewer.logged("parallax view: raster ")) << viewer.log();
   EXPECT_TRUE(viewer.logged(" 199 cells shown")) << viewer.log();
   expectPlaneLayerPicture(viewer.settledScreenshot(dir.path()));
+  EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
+}
+
+// `view --color m3c2_distance --color-ramp coolwarm --color-percentiles 10,90`: each point in the
+// ramp's colour over the symmetric percentile range, and the legend at the window's right edge,
+// bar, box and labels, as `render --legend` paints them.
+TEST(ViewerWindow, M3c2DistancesThroughTheDivergingRampWithTheirLegend) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto ply = dir.write("signed.ply", signedPly());
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  std::vector<std::string> args = {
+      ply.string(), "--no-vsync",          "--color", "m3c2_distance",    "--color-ramp",
+      "coolwarm",   "--color-percentiles", "10,90",   "--screenshot-dir", dir.path().string()};
+  std::istringstream look(kSignedLook);
+  for (std::string word; look >> word;) args.push_back(word);
+  ViewerProcess viewer(dir, display.name(), args, "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+  viewer.key("g");  // the panel off; the legend stays
+  viewer.settledScreenshot(dir.path());
+  // Finite values' ranks 1 and 6 of 8 (-0.2 and 0.3), made symmetric: -0.3 .. 0.3 (floats).
+  expectSignedLegendPicture(viewer.windowShot(dir.path()), double(0.3f));
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
 }
 
