@@ -167,7 +167,8 @@ void pairPickingClick(Session& s, int x, int y, int width, int height) {
   if (!pairPickingTakesClicks(s)) return;
   const bool source_side = p.source_points.size() == p.target_points.size();
   PickSource source(source_side ? *p.source : *p.target);
-  const DrawSet side = source_side ? p.source_layer->drawSet() : p.target_layer->drawSet();
+  DrawSet side = source_side ? p.source_layer->drawSet() : p.target_layer->drawSet();
+  side.typical_spacing = p.shown_set.typical_spacing;  // the sizes drawn (the set's, the target's)
   const StereoFrame frame = stereoFrame(s.camera, s.stereo, width, height);
   PickRequest request;
   request.x = x, request.y = y;

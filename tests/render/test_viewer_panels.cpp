@@ -146,23 +146,24 @@ TEST(ViewerWindow, PointPairsPickedOnTwoCopiesGiveTheirMotionBack) {
     ASSERT_TRUE(viewer.logged(pair + " source point: ")) << viewer.log();
     ASSERT_NO_FATAL_FAILURE(click(q));
     ASSERT_TRUE(viewer.logged(pair + " target point: ")) << viewer.log();
-    // Exactly the clicked survey target on each side (the file's values, read as doubles).
+    // Exactly the clicked survey target on each side: the file's values, as the reader holds
+    // them (on a binary grid of about 1e-9 here; core/quantization.h), the grid's step 0.0625.
     const auto logged_p = loggedNumbers(viewer.log(), pair + " source point: ");
     const auto logged_q = loggedNumbers(viewer.log(), pair + " target point: ");
     ASSERT_EQ(logged_p.size(), 3u) << viewer.log();
     ASSERT_EQ(logged_q.size(), 3u) << viewer.log();
     for (int a = 0; a < 3; ++a) {
-      EXPECT_NEAR(logged_p[std::size_t(a)], p[std::size_t(a)], 1e-9) << pair;
-      EXPECT_NEAR(logged_q[std::size_t(a)], q[std::size_t(a)], 1e-9) << pair;
+      EXPECT_NEAR(logged_p[std::size_t(a)], p[std::size_t(a)], 1e-8) << pair;
+      EXPECT_NEAR(logged_q[std::size_t(a)], q[std::size_t(a)], 1e-8) << pair;
     }
   }
   // The fit from the three pairs at once: the motion, and an RMS of nothing over exact pairs.
   ASSERT_TRUE(viewer.logged("parallax view: pairs transform: ")) << viewer.log();
-  expectTransformNear(loggedNumbers(viewer.log(), "parallax view: pairs transform: "), motion, 1e-9,
+  expectTransformNear(loggedNumbers(viewer.log(), "parallax view: pairs transform: "), motion, 1e-7,
                       "the pairs' fit");
   const auto fit_rms = loggedNumbers(viewer.log(), "parallax view: pairs fit: rms ");
   ASSERT_FALSE(fit_rms.empty()) << viewer.log();
-  EXPECT_LT(fit_rms[0], 1e-9) << viewer.log();
+  EXPECT_LT(fit_rms[0], 1e-8) << viewer.log();
 
   // Enter: ICP from the pairs' transform, over every point (the copies match exactly).
   viewer.key("Return");
