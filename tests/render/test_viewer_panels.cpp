@@ -138,18 +138,29 @@ TEST(ViewerWindow, PointPairsPickedOnTwoCopiesGiveTheirMotionBack) {
     ASSERT_TRUE(projected.has_value()) << p[0] << " " << p[1] << " " << p[2] << " out of view";
     viewer.click(projected->column(), projected->row(kRegHeight));
   };
+  // A wrong first click (a point of the surface), taken back with Backspace: the next click is
+  // the source's again.
+  ASSERT_NO_FATAL_FAILURE(click(scanPoint(8, 14)));
+  ASSERT_TRUE(viewer.logged("parallax view: pair 1 source point: ")) << viewer.log();
+  viewer.key("BackSpace");
+  ASSERT_TRUE(viewer.logged("parallax view: pairs: removed the source point of pair 1"))
+      << viewer.log();
+  const std::size_t undone = viewer.log().size();
+  const auto logAfterUndo = [&] { return viewer.log().substr(undone); };
   for (std::size_t k = 0; k < kSurveyTargets.size(); ++k) {
     const auto p = scanPoint(kSurveyTargets[k][0], kSurveyTargets[k][1]);
     const auto q = motion.apply(p);
     const std::string pair = "parallax view: pair " + std::to_string(k + 1);
     ASSERT_NO_FATAL_FAILURE(click(p));
-    ASSERT_TRUE(viewer.logged(pair + " source point: ")) << viewer.log();
+    ASSERT_TRUE(waitFor(
+        [&] { return logAfterUndo().find(pair + " source point: ") != std::string::npos; }, 30s))
+        << viewer.log();
     ASSERT_NO_FATAL_FAILURE(click(q));
     ASSERT_TRUE(viewer.logged(pair + " target point: ")) << viewer.log();
     // Exactly the clicked survey target on each side: the file's values, as the reader holds
     // them (on a binary grid of about 1e-9 here; core/quantization.h), the grid's step 0.0625.
-    const auto logged_p = loggedNumbers(viewer.log(), pair + " source point: ");
-    const auto logged_q = loggedNumbers(viewer.log(), pair + " target point: ");
+    const auto logged_p = loggedNumbers(logAfterUndo(), pair + " source point: ");
+    const auto logged_q = loggedNumbers(logAfterUndo(), pair + " target point: ");
     ASSERT_EQ(logged_p.size(), 3u) << viewer.log();
     ASSERT_EQ(logged_q.size(), 3u) << viewer.log();
     for (int a = 0; a < 3; ++a) {
