@@ -374,6 +374,12 @@ void exportProfile(Session& s, bool las);
 // Save / Load of s.measure.file (the current camera saved with the measurements).
 void saveMeasurements(Session& s);
 void loadMeasurements(Session& s);
+// The Volume tool (volume_tool.cpp): cut, fill and net volume inside the selected area
+// measurement, over the file shown (raster/volume.h, as `parallax volume`), printed on stderr
+// ("parallax view: volume of measurement N: cut C fill F net N ...") and shown in the panel's
+// Volume part, drawn under the selected area.
+void computeSelectedVolume(Session& s);
+void drawVolumePanel(Session& s);
 // The panel's Measure section (measure_panel.cpp).
 void drawMeasurePanel(Session& s);
 

@@ -9,21 +9,28 @@
 // M3C2 distances through the diverging ramp, with the legend over the window: the same oracle as
 // `render --legend`'s test (signed_legend_scene.h).
 //
+// The Volume tool (measurement panel): an area drawn around a cone pile on a sloped base, Ctrl + V:
+// the cone's closed-form volume, and what `parallax volume` gives for the same polygon.
+//
 // The raster layer (`view CLOUD --raster DEM.tif`): each cell's colour at its projected centre,
 // the same oracle as `render --raster`'s test (tests/raster/raster_plane_scene.h).
 //
 // Needs the Debian packages xvfb and xdotool; skipped (with the reason) where they are missing.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "raster/geotiff.h"
 #include "raster/raster_plane_scene.h"
+#include "raster/volume_piles.h"
 #include "registration/rigid_transform.h"
 #include "signed_legend_scene.h"
 #include "support/reference_projection.h"
@@ -242,6 +249,72 @@ TEST(ViewerWindow, M3c2DistancesThroughTheDivergingRampWithTheirLegend) {
   viewer.settledScreenshot(dir.path());
   // Finite values' ranks 1 and 6 of 8 (-0.2 and 0.3), made symmetric: -0.3 .. 0.3 (floats).
   expectSignedLegendPicture(viewer.windowShot(dir.path()), double(0.3f));
+  EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
+}
+
+// An area drawn with four clicks around a cone (radius 8, height 4) on a sloped base, seen from
+// above; Ctrl + V: cut = the cone's pi r^2 h / 3 within 0.5 % (one point at each 0.5 cell's
+// centre, the panel's cell size: the midpoint rule), nothing filled, and exactly what `parallax
+// volume` prints for the polygon of the clicked points.
+TEST(ViewerWindow, TheVolumeToolGivesAConesVolumeInsideAnArea) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto cloud = writeCloud(dir, slopedBase, cone, 0.5, 1);
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  ViewerProcess viewer(dir, display.name(),
+                       {cloud.string(), "--no-vsync", "--tool", "area", "--width", "400",
+                        "--height", "400", "--ortho", "--eye", "10,10,100", "--target", "10,10,20",
+                        "--up", "0,1,0", "--point-size", "4", "--rasterizer", "points"},
+                       "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+  viewer.key("g");
+  // Orthographic from above, centred on (10, 10): the view's height the extent's largest side
+  // (22) over 400 pixels. Clicks near the corners of [0, 20]^2, well outside the cone.
+  const std::array<std::array<double, 2>, 4> corners{
+      {{0.25, 0.25}, {19.75, 0.25}, {19.75, 19.75}, {0.25, 19.75}}};
+  std::ostringstream polygon;
+  polygon.precision(17);
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    const double per_unit = 400.0 / 22.0;
+    viewer.click(int(std::floor(200 + (corners[i][0] - 10) * per_unit)),
+                 int(std::floor(200 - (corners[i][1] - 10) * per_unit)));
+    const std::string prefix = "parallax view: area point " + std::to_string(i + 1) + ": ";
+    ASSERT_TRUE(viewer.logged(prefix)) << viewer.log();
+    const auto p = loggedNumbers(viewer.log(), prefix);
+    ASSERT_EQ(p.size(), 3u) << viewer.log();
+    // A point of the cloud near the corner: the polygon holds the whole cone.
+    EXPECT_NEAR(p[0], corners[i][0], 1.0) << viewer.log();
+    EXPECT_NEAR(p[1], corners[i][1], 1.0) << viewer.log();
+    polygon << p[0] << ' ' << p[1] << '\n';
+  }
+  viewer.key("Return");
+  viewer.key("ctrl+v");
+  const std::string prefix = "parallax view: volume of measurement 1: cut ";
+  ASSERT_TRUE(viewer.logged(prefix)) << viewer.log();
+  const std::string log = viewer.log();
+  const std::string line =
+      log.substr(log.find(prefix), log.find('\n', log.find(prefix)) - log.find(prefix));
+  double cut = 0, fill = 0, net = 0;
+  ASSERT_EQ(std::sscanf(line.c_str() + prefix.size(), "%lf fill %lf net %lf", &cut, &fill, &net), 3)
+      << line;
+  const double cone_volume = std::numbers::pi * 64 * 4 / 3;
+  EXPECT_NEAR(cut, cone_volume, 0.005 * cone_volume) << line;
+  EXPECT_NEAR(fill, 0.0, 1e-3) << line;
+  EXPECT_NEAR(net, cut - fill, 2e-6) << line;
+
+  const auto polygon_file = dir.write("area.txt", polygon.str());
+  const auto json_file = dir / "volume.json";
+  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " volume " + cloud.string() + " --polygon " +
+                polygon_file.string() + " --resolution 0.5 --json > " + json_file.string()),
+            0);
+  const nlohmann::json expected = nlohmann::json::parse(readFile(json_file));
+  EXPECT_NEAR(cut, expected.at("cut").get<double>(), 1e-6) << expected.dump();
+  EXPECT_NEAR(fill, expected.at("fill").get<double>(), 1e-6) << expected.dump();
+  EXPECT_NEAR(net, expected.at("net").get<double>(), 1e-6) << expected.dump();
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
 }
 
