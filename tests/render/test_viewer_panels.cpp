@@ -1,10 +1,11 @@
 // The terrain issue's panels in a real window under Xvfb, driven with xdotool.
 //
-// The registration panel's point-pairs picking: two copies of a scan, one moved by a known rigid transform; three pairs clicked at the pixels
-// the test's own projection (support/reference_projection.h) gives their points, in the viewer's
-// default look (adaptive round points). The viewer must name exactly the clicked points, fit the
-// known transform from them, refine it by ICP (Enter) and write it (Ctrl + T) as `register
-// --init` reads it.
+// The registration panel's point-pairs picking: two copies of a scan, one moved by a known rigid
+// transform; a wrong click taken back (Backspace), then three pairs clicked at the pixels the
+// test's own projection (support/reference_projection.h) gives their points, in the viewer's
+// default look (adaptive round points). The viewer must name exactly the clicked points, label
+// the first pair on both clouds, fit the known transform from them, refine it by ICP (Enter) and
+// write it (Ctrl + T) as `register --init` reads it.
 //
 // M3C2 distances through the diverging ramp, with the legend over the window: the same oracle as
 // `render --legend`'s test (signed_legend_scene.h).
@@ -20,6 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -80,17 +82,18 @@ std::string scanPly(const RigidTransform& motion) {
 }
 
 // The camera, as the command line gives it and as the reference projection reads it: from above,
-// 21 degrees off the vertical.
+// about 20 degrees off the vertical, both clouds in view (the copy beside the scan and above it,
+// so that the first pair's labels are in plain view: a label behind points is drawn faded).
 ReferenceView registrationView() {
   ReferenceView view;
-  view.eye = {0.3, -1.2, 3.2}, view.target = {0.0, 0.0, 0.0}, view.fov_y_deg = 40.0;
+  view.eye = {0.75, -1.2, 3.35}, view.target = {0.45, 0.0, 0.15}, view.fov_y_deg = 40.0;
   view.width = kRegWidth, view.height = kRegHeight;
   return view;
 }
 
 std::vector<std::string> registrationCamera() {
-  return {"--width",      "640",      "--height", "400",   "--eye",
-          "0.3,-1.2,3.2", "--target", "0,0,0",    "--fov", "40"};
+  return {"--width",        "640",      "--height",    "400",   "--eye",
+          "0.75,-1.2,3.35", "--target", "0.45,0,0.15", "--fov", "40"};
 }
 
 // The numbers after `prefix` on the first line of `log` that starts with it.
@@ -116,14 +119,15 @@ void expectTransformNear(const std::vector<double>& rows, const RigidTransform& 
 }
 
 // Three pairs clicked on a scan and its copy moved by a known turn (12 degrees about a tilted
-// axis) and shift: the pairs' fit is that motion, ICP from it keeps it, Ctrl + T writes it.
+// axis) and shift (0.9 sideways, 0.3 up: they overlap in part, the copy in front): the pairs'
+// fit is that motion, ICP from it keeps it, Ctrl + T writes it.
 TEST(ViewerWindow, PointPairsPickedOnTwoCopiesGiveTheirMotionBack) {
   if (!onPath("Xvfb") || !onPath("xdotool")) {
     GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
   }
   TempDir dir;
   const RigidTransform motion =
-      RigidTransform::translation(0.25, -0.15, 0.05) * RigidTransform::rotation(0.2, 0.3, 1, 12);
+      RigidTransform::translation(0.9, 0.05, 0.3) * RigidTransform::rotation(0.2, 0.3, 1, 12);
   const auto source = dir.write("source.ply", scanPly(RigidTransform{}));
   const auto target = dir.write("target.ply", scanPly(motion));
   const auto written = dir / "source-to-target.txt";
@@ -140,11 +144,31 @@ TEST(ViewerWindow, PointPairsPickedOnTwoCopiesGiveTheirMotionBack) {
   ASSERT_TRUE(viewer.logged("parallax view: pick pairs: ")) << viewer.log();
   viewer.key("g");  // the panel off the picture
 
-  const auto click = [&](const std::array<double, 3>& p) {
+  const auto pixelOfPoint = [&](const std::array<double, 3>& p) {
     const auto projected = referenceProject(registrationView(), {p[0], p[1], p[2]});
-    ASSERT_TRUE(projected.has_value()) << p[0] << " " << p[1] << " " << p[2] << " out of view";
-    viewer.click(projected->column(), projected->row(kRegHeight));
+    EXPECT_TRUE(projected.has_value()) << p[0] << " " << p[1] << " " << p[2] << " out of view";
+    return projected ? std::array<int, 2>{projected->column(), projected->row(kRegHeight)}
+                     : std::array<int, 2>{0, 0};
   };
+  const auto click = [&](const std::array<double, 3>& p) {
+    const auto [column, row] = pixelOfPoint(p);
+    viewer.click(column, row);
+  };
+  // The labels' white (the clouds are orange and blue on black): near-white pixels in the box up
+  // and right of `at` where a label's text sits, or in the whole picture.
+  const auto whitePixels = [](const RgbaImage& image, std::array<int, 2> at, int reach) {
+    int count = 0;
+    for (int y = std::max(at[1] - reach, 0); y <= std::min(at[1] + 4, image.height - 1); ++y) {
+      for (int x = std::max(at[0] - 4, 0); x <= std::min(at[0] + reach, image.width - 1); ++x) {
+        const std::uint8_t* c = &image.pixels[(std::size_t(y) * image.width + x) * 4];
+        count += c[0] >= 230 && c[1] >= 230 && c[2] >= 230;
+      }
+    }
+    return count;
+  };
+  const std::array<int, 2> middle{kRegWidth / 2, kRegHeight / 2};
+  EXPECT_EQ(whitePixels(viewer.settledScreenshot(dir.path()), middle, kRegWidth), 0)
+      << "white before any label";
   // A wrong first click (a point of the surface), taken back with Backspace: the next click is
   // the source's again.
   ASSERT_NO_FATAL_FAILURE(click(scanPoint(8, 14)));
@@ -173,6 +197,11 @@ TEST(ViewerWindow, PointPairsPickedOnTwoCopiesGiveTheirMotionBack) {
     for (int a = 0; a < 3; ++a) {
       EXPECT_NEAR(logged_p[std::size_t(a)], p[std::size_t(a)], 1e-8) << pair;
       EXPECT_NEAR(logged_q[std::size_t(a)], q[std::size_t(a)], 1e-8) << pair;
+    }
+    if (k == 0) {  // S1 on the source's point and T1 on the target's, before any fit
+      const RgbaImage shot = viewer.settledScreenshot(dir.path());
+      EXPECT_GE(whitePixels(shot, pixelOfPoint(p), 30), 5) << "no label S1 by its point";
+      EXPECT_GE(whitePixels(shot, pixelOfPoint(q), 30), 5) << "no label T1 by its point";
     }
   }
   // The fit from the three pairs at once: the motion, and an RMS of nothing over exact pairs.
