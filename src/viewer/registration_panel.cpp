@@ -12,6 +12,7 @@
 
 #include "io/point_file.h"
 #include "registration/cloud_registration.h"
+#include "render/draw_set_layers.h"
 #include "viewer/viewer_session.h"
 
 namespace parallax::viewer_internal {
@@ -96,12 +97,16 @@ void updateRegistration(Session& s) {
     r.source = std::move(run.source);
     r.target = std::move(run.target);
     r.result = run.result;
-    const PointCloud before = registrationPreview(*r.source, *r.target, RigidTransform{});
-    const PointCloud after = registrationPreview(*r.source, *r.target, r.result->transform);
-    r.before = std::make_unique<GpuPointCloud>(before);
-    r.after = std::make_unique<GpuPointCloud>(after);
-    r.before_set = r.before->drawSet();
-    r.after_set = r.after->drawSet();
+    // Each side uploaded on its own and drawn together, the target first: the sizes are the
+    // target's spacing, where one cloud of both would halve it (or make it 0 for two copies).
+    r.target_layer = std::make_unique<GpuPointCloud>(
+        registrationPreviewSide(*r.target, RigidTransform{}, kPreviewTargetColor));
+    r.before = std::make_unique<GpuPointCloud>(
+        registrationPreviewSide(*r.source, RigidTransform{}, kPreviewSourceColor));
+    r.after = std::make_unique<GpuPointCloud>(
+        registrationPreviewSide(*r.source, r.result->transform, kPreviewSourceColor));
+    r.before_set = withLayer(r.target_layer->drawSet(), r.before->drawSet());
+    r.after_set = withLayer(r.target_layer->drawSet(), r.after->drawSet());
     r.shown = true;
     r.show_after = true;
     stopPairPicking(s);  // ICP's result is what is previewed now

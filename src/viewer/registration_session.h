@@ -54,9 +54,9 @@ struct RegistrationSession {
   std::future<RegistrationRun> run;
   std::shared_ptr<const PointCloud> source, target;  // what the last run registered
   std::optional<IcpResult> result;
-  // The two previews on the GPU (the source before and after the transform, the target with
-  // each), and which is shown; `shown` false: the cloud as it is.
-  std::unique_ptr<GpuPointCloud> before, after;
+  // The previews on the GPU (the target, the source before and after the transform; each drawn
+  // with the target), and which is shown; `shown` false: the cloud as it is.
+  std::unique_ptr<GpuPointCloud> target_layer, before, after;
   DrawSet before_set, after_set;
   bool shown = false, show_after = true;
   std::string message;           // the last outcome, or why it could not start
