@@ -217,6 +217,24 @@ TEST(ViewerWindow, PointPairsPickedOnTwoCopiesGiveTheirMotionBack) {
   ASSERT_TRUE(viewer.logged("parallax view: registered transform: ")) << viewer.log();
   expectTransformNear(loggedNumbers(viewer.log(), "parallax view: registered transform: "), motion,
                       1e-6, "ICP from the pairs");
+  // Its preview, after: the source drawn onto the target. Where the first pair's source point
+  // was (beside the copy) nothing is left; on the copy, the clouds' colours without holes.
+  {
+    const RgbaImage after = viewer.settledScreenshot(dir.path());
+    const auto pixel = [&](std::array<int, 2> at) {
+      const std::uint8_t* c = &after.pixels[(std::size_t(at[1]) * after.width + at[0]) * 4];
+      return std::array<int, 3>{c[0], c[1], c[2]};
+    };
+    const auto first = scanPoint(kSurveyTargets[0][0], kSurveyTargets[0][1]);
+    EXPECT_EQ(pixel(pixelOfPoint(first)), (std::array<int, 3>{0, 0, 0}));
+    int holes = 0;
+    for (int j = 2; j < kRegGrid - 2; j += 3) {
+      for (int i = 2; i < kRegGrid - 2; i += 3) {
+        holes += pixel(pixelOfPoint(motion.apply(scanPoint(i, j)))) == std::array<int, 3>{0, 0, 0};
+      }
+    }
+    EXPECT_EQ(holes, 0) << "background on the aligned clouds";
+  }
   // Ctrl + T: written as `register --init` reads it.
   viewer.key("ctrl+t");
   ASSERT_TRUE(viewer.logged("parallax view: wrote the transform to ")) << viewer.log();
