@@ -167,7 +167,8 @@ TEST(ViewerWindow, PointPairsPickedOnTwoCopiesGiveTheirMotionBack) {
     return count;
   };
   const std::array<int, 2> middle{kRegWidth / 2, kRegHeight / 2};
-  EXPECT_EQ(whitePixels(viewer.settledScreenshot(dir.path()), middle, kRegWidth), 0)
+  // (One screenshot each: the key that asks for it is taken after the frame of the last input.)
+  EXPECT_EQ(whitePixels(viewer.screenshot(dir.path()), middle, kRegWidth), 0)
       << "white before any label";
   // A wrong first click (a point of the surface), taken back with Backspace: the next click is
   // the source's again.
@@ -199,7 +200,7 @@ TEST(ViewerWindow, PointPairsPickedOnTwoCopiesGiveTheirMotionBack) {
       EXPECT_NEAR(logged_q[std::size_t(a)], q[std::size_t(a)], 1e-8) << pair;
     }
     if (k == 0) {  // S1 on the source's point and T1 on the target's, before any fit
-      const RgbaImage shot = viewer.settledScreenshot(dir.path());
+      const RgbaImage shot = viewer.screenshot(dir.path());
       EXPECT_GE(whitePixels(shot, pixelOfPoint(p), 30), 5) << "no label S1 by its point";
       EXPECT_GE(whitePixels(shot, pixelOfPoint(q), 30), 5) << "no label T1 by its point";
     }
