@@ -35,6 +35,7 @@ struct ViewCommandOptions {
   std::string process_output;
   std::string raster;
   std::string register_with, write_transform;
+  bool pick_pairs = false;
   std::string raster_ramp = "viridis";
   double profile_width = 1.0;
   RenderOptions render;
@@ -88,6 +89,10 @@ int runView(const ViewCommandOptions& o, const CLI::App& command,
   viewer.raster = o.raster;
   viewer.register_with = o.register_with;
   viewer.write_transform = o.write_transform;
+  viewer.pick_pairs = o.pick_pairs;
+  if (o.pick_pairs && o.register_with.empty()) {
+    throw std::invalid_argument("--pick-pairs: give the target with --register-with TARGET");
+  }
   if (!o.register_with.empty() && o.write_transform.empty()) {
     viewer.write_transform = std::filesystem::path(o.screenshot_dir) /
                              (std::filesystem::path(o.input).stem().string() + "-to-" +
@@ -169,6 +174,10 @@ Command addViewCommand(CLI::App& app) {
                   "Register the cloud to this target file (point-to-plane ICP, as parallax "
                   "register) and preview both, coloured apart, before and after; the panel's "
                   "Accept writes the transform");
+  sub->add_flag("--pick-pairs", options->pick_pairs,
+                "With --register-with: pick pairs of points (a click on the source, then its match "
+                "on the target; three or more) for the initial transform, previewed at once; "
+                "Enter then refines it by ICP");
   sub->add_option("--write-transform", options->write_transform,
                   "Where Accept writes the transform (default SOURCE-to-TARGET.txt in "
                   "--screenshot-dir), four lines of four numbers as register --init reads");

@@ -1,8 +1,11 @@
 #include "registration/cloud_registration.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
+#include <limits>
+#include <span>
 #include <stdexcept>
 #include <system_error>
 
@@ -49,22 +52,35 @@ IcpResult registerClouds(const PointCloud& source, const PointCloud& target,
   }
 }
 
-PointCloud registrationPreview(const PointCloud& source, const PointCloud& target,
-                               const RigidTransform& transform) {
-  std::vector<Point3> moved = positionsOf(source);
-  for (Point3& p : moved) p = transform.apply(p);
-  Bounds3 bounds;
-  for (std::size_t i = 0; i < target.count; ++i) {
-    bounds.extend(target.worldX(i), target.worldY(i), target.worldZ(i));
-  }
-  for (const Point3& p : moved) bounds.extend(p[0], p[1], p[2]);
+namespace {
 
+// One cloud of the preview's parts (each cloud moved by its transform, all of it in its colour),
+// positions and colours only, quantized at the finest of the parts' scales over the union of their
+// moved bounds.
+struct RegistrationPreviewPart {
+  const PointCloud* cloud = nullptr;
+  RigidTransform transform;
+  Rgba8 color;
+};
+
+PointCloud registrationPreviewOfParts(std::span<const RegistrationPreviewPart> parts) {
+  std::vector<std::vector<Point3>> moved;
+  Bounds3 bounds;
   PointCloud preview;
-  preview.count = target.count + source.count;
+  for (const RegistrationPreviewPart& part : parts) {
+    moved.push_back(positionsOf(*part.cloud));
+    for (Point3& p : moved.back()) {
+      p = part.transform.apply(p);
+      bounds.extend(p[0], p[1], p[2]);
+    }
+    preview.count += part.cloud->count;
+  }
   if (preview.count == 0) return preview;
   for (int axis = 0; axis < 3; ++axis) {
-    const double scale = std::min(source.quantization.scale[std::size_t(axis)],
-                                  target.quantization.scale[std::size_t(axis)]);
+    double scale = std::numeric_limits<double>::infinity();
+    for (const RegistrationPreviewPart& part : parts) {
+      scale = std::min(scale, part.cloud->quantization.scale[std::size_t(axis)]);
+    }
     preview.quantization.scale[std::size_t(axis)] = scale;
     // The offset at the bounds' centre, on a whole step: the integers reach half the span.
     const double centre = 0.5 * (bounds.min[std::size_t(axis)] + bounds.max[std::size_t(axis)]);
@@ -79,19 +95,34 @@ PointCloud registrationPreview(const PointCloud& source, const PointCloud& targe
   preview.positions = Column<Int3>(preview.count);
   preview.colors = Column<Rgba8>(preview.count);
   const Quantization& q = preview.quantization;
-  for (std::size_t i = 0; i < target.count; ++i) {
-    preview.positions[i] = {q.toQuantized(0, target.worldX(i)), q.toQuantized(1, target.worldY(i)),
-                            q.toQuantized(2, target.worldZ(i))};
-    preview.colors[i] = kPreviewTargetColor;
-  }
-  for (std::size_t i = 0; i < source.count; ++i) {
-    const Point3& p = moved[i];
-    preview.positions[target.count + i] = {q.toQuantized(0, p[0]), q.toQuantized(1, p[1]),
-                                           q.toQuantized(2, p[2])};
-    preview.colors[target.count + i] = kPreviewSourceColor;
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    for (const Point3& p : moved[k]) {
+      preview.positions[at] = {q.toQuantized(0, p[0]), q.toQuantized(1, p[1]),
+                               q.toQuantized(2, p[2])};
+      preview.colors[at] = parts[k].color;
+      ++at;
+    }
   }
   preview.computeBounds();
   return preview;
+}
+
+}  // namespace
+
+PointCloud registrationPreview(const PointCloud& source, const PointCloud& target,
+                               const RigidTransform& transform) {
+  const std::array<RegistrationPreviewPart, 2> parts{
+      RegistrationPreviewPart{&target, RigidTransform{}, kPreviewTargetColor},
+      RegistrationPreviewPart{&source, transform, kPreviewSourceColor}};
+  return registrationPreviewOfParts(parts);
+}
+
+PointCloud registrationPreviewSide(const PointCloud& cloud, const RigidTransform& transform,
+                                   Rgba8 color) {
+  const std::array<RegistrationPreviewPart, 1> parts{
+      RegistrationPreviewPart{&cloud, transform, color}};
+  return registrationPreviewOfParts(parts);
 }
 
 void writeRigidTransform(const RigidTransform& transform, const std::filesystem::path& path) {

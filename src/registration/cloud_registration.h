@@ -35,6 +35,13 @@ inline constexpr Rgba8 kPreviewTargetColor{30, 110, 255, 255};
 PointCloud registrationPreview(const PointCloud& source, const PointCloud& target,
                                const RigidTransform& transform);
 
+// One side of the preview alone: `cloud`'s points moved by `transform`, all in `color`, in the
+// cloud's order (index i is cloud point i), positions only, quantized at the cloud's scale over
+// its moved bounds. The viewer's point-pairs picking draws each side apart, so that a click picks
+// on the side it asks for even where the two overlap.
+PointCloud registrationPreviewSide(const PointCloud& cloud, const RigidTransform& transform,
+                                   Rgba8 color);
+
 // Writes the transform as `parallax register` prints it and --init reads it (four lines of four
 // numbers), to a temporary name beside `path` renamed at the end. Throws std::runtime_error
 // naming the path where it cannot be written.

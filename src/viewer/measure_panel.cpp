@@ -174,6 +174,7 @@ void drawMeasurePanel(Session& s) {
         }
       }
     }
+    drawVolumePanel(s);
     if (ImGui::Button("Edit points (Ctrl+E)")) editSelectedMeasurement(s);
     ImGui::SameLine();
     if (ImGui::Button("Delete measurement")) deleteSelectedMeasurement(s);

@@ -7,6 +7,7 @@
 
 #include "measure/height_profile.h"
 #include "measure/measurement_document.h"
+#include "raster/volume.h"
 #include "render/camera_path.h"
 #include "viewer/measure_tool.h"
 
@@ -36,6 +37,18 @@ struct MeasureSession {
     std::string error;
   };
   std::optional<Profile> profile;
+
+  // The volume inside the selected area measurement (volume_tool.cpp): the surface's cell size
+  // and the base asked for, and the last result, for the measurement it was computed for.
+  double volume_resolution = 0.5;
+  VolumeBase volume_base = VolumeBase::Plane;
+  struct Volume {
+    std::size_t measurement = 0;
+    Measurement of;
+    VolumeReport report;
+    std::string error;
+  };
+  std::optional<Volume> volume;
 
   // A flight to an annotation: the camera follows `path` from `start` (glfwGetTime seconds).
   std::optional<CameraPath> flight;

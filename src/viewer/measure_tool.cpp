@@ -229,6 +229,10 @@ bool measureKey(Session& s, int key, int mods) {
     editSelectedMeasurement(s);
     return true;
   }
+  if (key == GLFW_KEY_V && (mods & GLFW_MOD_CONTROL)) {
+    computeSelectedVolume(s);  // the Volume part's button (scripts and tests cannot find it)
+    return true;
+  }
   if (key == GLFW_KEY_X && (mods & GLFW_MOD_CONTROL)) {
     // The panel's Export buttons from the keyboard (and for scripts and tests, which cannot
     // find a button): the selected profile, CSV, or LAS with Shift.
@@ -287,6 +291,7 @@ void updateOverlay(Session& s) {
   options.selected = s.measure.selected;
   appendMeasurementOverlay(s.measure.document, options, scene);
   appendClipBoxOutline(s, scene);
+  appendPairOverlay(s, scene);
   s.renderer->setOverlay(std::move(scene));
 }
 

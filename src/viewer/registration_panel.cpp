@@ -12,6 +12,7 @@
 
 #include "io/point_file.h"
 #include "registration/cloud_registration.h"
+#include "render/draw_set_layers.h"
 #include "viewer/viewer_session.h"
 
 namespace parallax::viewer_internal {
@@ -34,7 +35,19 @@ void reportRegistration(Session& s, const std::string& message) {
 
 }  // namespace
 
-void startRegistration(Session& s) {
+void logRegistrationTransform(const char* what, const RigidTransform& transform) {
+  std::string rows = std::string("parallax view: ") + what + ":";
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      char number[40];
+      std::snprintf(number, sizeof number, " %.17g", transform.m[std::size_t(r)][std::size_t(c)]);
+      rows += number;
+    }
+  }
+  std::fprintf(stderr, "%s\n", rows.c_str());
+}
+
+void startRegistration(Session& s, const RigidTransform& init) {
   RegistrationSession& r = s.registration;
   if (r.run.valid()) return;
   if (!s.cloud_points) {
@@ -50,14 +63,23 @@ void startRegistration(Session& s) {
   auto source = std::make_shared<const PointCloud>(s.cloud_points->clone());
   IcpOptions options;
   options.max_distance = r.max_distance;
+  options.init = init;
+  // The target the point pairs were picked on, when it is this one: not read again.
+  std::shared_ptr<const PointCloud> loaded_target;
+  if (r.pairs.target && r.pairs.target_path == std::filesystem::path(target_path)) {
+    loaded_target = r.pairs.target;
+  }
   const std::string source_name = s.loaded_name;
   r.result.reset();
   r.message = "registering " + source_name + " to " + target_path + " ...";
-  r.run = std::async(std::launch::async, [source, target_path, options, source_name] {
-    auto target = std::make_shared<const PointCloud>(readPointFile(target_path));
-    IcpResult result = registerClouds(*source, *target, options, source_name, target_path);
-    return RegistrationRun{source, std::move(target), result};
-  });
+  r.run =
+      std::async(std::launch::async, [source, target_path, options, source_name, loaded_target] {
+        auto target = loaded_target
+                          ? loaded_target
+                          : std::make_shared<const PointCloud>(readPointFile(target_path));
+        IcpResult result = registerClouds(*source, *target, options, source_name, target_path);
+        return RegistrationRun{source, std::move(target), result};
+      });
 }
 
 void updateRegistration(Session& s) {
@@ -66,6 +88,7 @@ void updateRegistration(Session& s) {
     r.start_requested = false;
     startRegistration(s);
   }
+  updatePairPicking(s);
   if (!r.run.valid() || r.run.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
     return;
   }
@@ -74,19 +97,25 @@ void updateRegistration(Session& s) {
     r.source = std::move(run.source);
     r.target = std::move(run.target);
     r.result = run.result;
-    const PointCloud before = registrationPreview(*r.source, *r.target, RigidTransform{});
-    const PointCloud after = registrationPreview(*r.source, *r.target, r.result->transform);
-    r.before = std::make_unique<GpuPointCloud>(before);
-    r.after = std::make_unique<GpuPointCloud>(after);
-    r.before_set = r.before->drawSet();
-    r.after_set = r.after->drawSet();
+    // Each side uploaded on its own and drawn together, the target first: the sizes are the
+    // target's spacing, where one cloud of both would halve it (or make it 0 for two copies).
+    r.target_layer = std::make_unique<GpuPointCloud>(
+        registrationPreviewSide(*r.target, RigidTransform{}, kPreviewTargetColor));
+    r.before = std::make_unique<GpuPointCloud>(
+        registrationPreviewSide(*r.source, RigidTransform{}, kPreviewSourceColor));
+    r.after = std::make_unique<GpuPointCloud>(
+        registrationPreviewSide(*r.source, r.result->transform, kPreviewSourceColor));
+    r.before_set = withLayer(r.target_layer->drawSet(), r.before->drawSet());
+    r.after_set = withLayer(r.target_layer->drawSet(), r.after->drawSet());
     r.shown = true;
     r.show_after = true;
+    stopPairPicking(s);  // ICP's result is what is previewed now
     s.drawn.reset();
     char line[160];
     std::snprintf(line, sizeof line, "registered: rms %.6g, overlap %.4f, %u iterations",
                   r.result->rms, r.result->overlap, r.result->iterations);
     reportRegistration(s, line);
+    logRegistrationTransform("registered transform", r.result->transform);
   } catch (const std::exception& e) {
     r.result.reset();
     reportRegistration(s, e.what());
@@ -94,6 +123,7 @@ void updateRegistration(Session& s) {
 }
 
 const DrawSet* registrationDrawSet(const Session& s) {
+  if (const DrawSet* pairs = pairPickingDrawSet(s)) return pairs;
   const RegistrationSession& r = s.registration;
   if (!r.shown || !r.before || !r.after) return nullptr;
   return r.show_after ? &r.after_set : &r.before_set;
@@ -118,10 +148,11 @@ bool acceptRegistration(Session& s) {
 }
 
 void prepareRegistration(Session& s, const std::filesystem::path& target,
-                         const std::filesystem::path& output) {
+                         const std::filesystem::path& output, bool pick_pairs) {
   setText(s.registration.target_text, target.string());
   setText(s.registration.output_text, output.string());
-  s.registration.start_requested = !target.empty();
+  s.registration.start_requested = !target.empty() && !pick_pairs;
+  s.registration.pairs_requested = !target.empty() && pick_pairs;
 }
 
 void drawRegistrationPanel(Session& s) {
@@ -136,6 +167,7 @@ void drawRegistrationPanel(Session& s) {
   } else if (ImGui::Button("Register the cloud to it")) {
     startRegistration(s);
   }
+  drawPairPickingPanel(s);
   if (r.result) {
     const IcpResult& result = *r.result;
     ImGui::Text("rms %.6g, overlap %.4f (%llu pairs)", result.rms, result.overlap,

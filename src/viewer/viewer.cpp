@@ -502,7 +502,7 @@ int runViewer(const ViewerOptions& options) {
                context->renderer().c_str());
   if (!options.input.empty()) openFile(s, options.input, true);
   s.raster_ramp = options.raster_ramp;
-  prepareRegistration(s, options.register_with, options.write_transform);
+  prepareRegistration(s, options.register_with, options.write_transform, options.pick_pairs);
   if (!options.raster.empty()) {
     const std::string path = options.raster.string();
     path.copy(s.raster_path_text.data(), s.raster_path_text.size() - 1);
@@ -677,10 +677,13 @@ int runViewer(const ViewerOptions& options) {
     }
     if (s.measure.click_requested) {
       s.measure.click_requested = false;
-      const auto picked =
-          pickAt(s, int(s.measure.click_x), height - 1 - int(s.measure.click_y), width, height);
+      const int x = int(s.measure.click_x), y = height - 1 - int(s.measure.click_y);
+      if (pairPickingTakesClicks(s)) {
+        pairPickingClick(s, x, y, width, height);
+      } else if (const auto picked = pickAt(s, x, y, width, height)) {
+        measureClick(s, *picked);
+      }
       glBindFramebuffer(GL_FRAMEBUFFER, 0);
-      if (picked) measureClick(s, *picked);
       busy = true;  // the overlay changed: the next frame shows it
     }
     // P: the picture alone, read before the panel is drawn over it; Shift + P: the window.

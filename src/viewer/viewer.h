@@ -70,6 +70,9 @@ struct ViewerOptions {
   // panel's Accept writes the transform.
   std::filesystem::path register_with;
   std::filesystem::path write_transform;
+  // With register_with: pick pairs of points (source, then target) for the initial transform
+  // instead of running ICP at once; Enter (or the panel's Refine) then runs ICP from it.
+  bool pick_pairs = false;
   // The unit the legend of distances and heights shows (render/scalar_legend.h fieldUnit).
   std::string length_unit = "m";
   // When the command started: the time to the first picture is printed from here.

@@ -70,6 +70,7 @@ void onKey(GLFWwindow* window, int key, int, int action, int mods) {
   const bool adjust = key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET ||
                       key == GLFW_KEY_MINUS || key == GLFW_KEY_EQUAL;
   if (action == GLFW_REPEAT && !adjust) return;
+  if (registrationKey(s, key, mods)) return;
   if (measureKey(s, key, mods)) return;
   switch (key) {
     case GLFW_KEY_3:
@@ -177,9 +178,11 @@ void onMouseButton(GLFWwindow* window, int button, int action, int mods) {
   if (ImGui::GetIO().WantCaptureMouse || button != GLFW_MOUSE_BUTTON_LEFT) return;
   Session& s = sessionOf(window);
   MeasureSession& measure = s.measure;
-  if (measure.tool != MeasureTool::None && !(mods & GLFW_MOD_CONTROL)) {
-    // With a tool, a click (press and release within a few pixels) adds a point; a drag still
-    // orbits. No double-click pivot meanwhile: two quick clicks are two points.
+  if ((measure.tool != MeasureTool::None || pairPickingTakesClicks(s)) &&
+      !(mods & GLFW_MOD_CONTROL)) {
+    // With a tool (or while picking registration pairs), a click (press and release within a
+    // few pixels) adds a point; a drag still orbits. No double-click pivot meanwhile: two quick
+    // clicks are two points.
     double x = 0, y = 0;
     glfwGetCursorPos(window, &x, &y);
     if (action == GLFW_PRESS) {

@@ -248,13 +248,42 @@ void drawRasterPanel(Session& s);
 // registrationDrawSet is the preview to draw in place of the cloud (nullptr: the cloud);
 // acceptRegistration writes the transform found (false, with the reason in the panel, where
 // there is none or it cannot be written).
+// `init`: where ICP starts (the point pairs' transform for a refine; the identity otherwise).
+// With `pick_pairs`, the command line's target starts point-pairs picking instead of ICP.
 void prepareRegistration(Session& s, const std::filesystem::path& target,
-                         const std::filesystem::path& output);
-void startRegistration(Session& s);
+                         const std::filesystem::path& output, bool pick_pairs);
+void startRegistration(Session& s, const RigidTransform& init = {});
 void updateRegistration(Session& s);
 const DrawSet* registrationDrawSet(const Session& s);
 bool acceptRegistration(Session& s);
 void drawRegistrationPanel(Session& s);
+
+// Point-pairs picking (registration_pairs.cpp). startPairPicking reads the target of the panel's
+// field on a thread of its own; updatePairPicking, once a frame, starts what --pick-pairs asked
+// and, once the target is read, shows both clouds coloured apart and takes clicks:
+// pairPickingClick picks the next point (the source's, then its match on the target) at window
+// pixel (x, y) (bottom-left origin) and fits the transform from three pairs on; removePair and
+// removeLastPick take picks back; refinePairs runs ICP from the fit (startRegistration);
+// registrationKey handles Ctrl + T (Accept) and, while picking, Enter (refine) and Backspace
+// (undo) (true: taken);
+// appendPairOverlay marks and numbers the picks (S1, T1, ...) on both clouds.
+// Prints a transform's three rows on one line of stderr, in full precision ("parallax view:
+// WHAT: m00 m01 ... m23"), for scripts and tests.
+void logRegistrationTransform(const char* what, const RigidTransform& transform);
+void startPairPicking(Session& s);
+void stopPairPicking(Session& s);
+void updatePairPicking(Session& s);
+bool pairPickingTakesClicks(const Session& s);
+const DrawSet* pairPickingDrawSet(const Session& s);
+void pairPickingClick(Session& s, int x, int y, int width, int height);
+void removePair(Session& s, std::size_t index);
+void removeLastPick(Session& s);
+void refinePairs(Session& s);
+bool registrationKey(Session& s, int key, int mods);
+void appendPairOverlay(const Session& s, OverlayScene& scene);
+// The panel's part for the pairs: start, the next side, the pairs with their residuals and a
+// remove button each, the fit and Refine.
+void drawPairPickingPanel(Session& s);
 // The legend of the scalar colouring shown (legend_overlay.cpp), at the window's right edge,
 // while show_legend and an attribute colours the cloud.
 void drawScalarLegendOverlay(Session& s);
@@ -345,6 +374,12 @@ void exportProfile(Session& s, bool las);
 // Save / Load of s.measure.file (the current camera saved with the measurements).
 void saveMeasurements(Session& s);
 void loadMeasurements(Session& s);
+// The Volume tool (volume_tool.cpp): cut, fill and net volume inside the selected area
+// measurement, over the file shown (raster/volume.h, as `parallax volume`), printed on stderr
+// ("parallax view: volume of measurement N: cut C fill F net N ...") and shown in the panel's
+// Volume part, drawn under the selected area.
+void computeSelectedVolume(Session& s);
+void drawVolumePanel(Session& s);
 // The panel's Measure section (measure_panel.cpp).
 void drawMeasurePanel(Session& s);
 

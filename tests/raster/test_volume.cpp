@@ -11,50 +11,24 @@
 
 #include "raster/geotiff.h"
 #include "raster/volume.h"
+#include "raster/volume_piles.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
 namespace {
 
+using test::cone;
+using test::Height;
+using test::slopedBase;
 using test::TempDir;
-using Height = std::function<double(double, double)>;
+using test::writeCloud;
 
-double slopedBase(double x, double y) {
-  return 0.1 * x + 0.05 * y + 20.0;
-}
-
-double cone(double x, double y) {  // radius 8, height 4, at (10, 10)
-  const double r = std::hypot(x - 10, y - 10);
-  return r < 8 ? 4 * (1 - r / 8) : 0;
-}
 double paraboloid(double x, double y) {  // radius 7, height 3, at (10, 10)
   const double r2 = (x - 10) * (x - 10) + (y - 10) * (y - 10);
   return r2 < 49 ? 3 * (1 - r2 / 49) : 0;
 }
 double box(double x, double y) {  // 4 x 6, 2 high
   return x >= 6 && x < 10 && y >= 5 && y < 11 ? 2 : 0;
-}
-
-// Points on z = base + pile over [-1, 21]^2: `per_side` x `per_side` a cell of `resolution`,
-// symmetric about the cell's centre (one point: the centre).
-std::filesystem::path writeCloud(const TempDir& dir, const Height& base, const Height& pile,
-                                 double resolution, int per_side) {
-  std::ostringstream text;
-  text.precision(6);
-  text << std::fixed;
-  const int cells = int(std::lround(22 / resolution));
-  for (int row = 0; row < cells; ++row) {
-    for (int column = 0; column < cells; ++column) {
-      for (int i = 0; i < per_side; ++i) {
-        for (int j = 0; j < per_side; ++j) {
-          const double x = -1 + (column + (i + 0.5) / per_side) * resolution;
-          const double y = -1 + (row + (j + 0.5) / per_side) * resolution;
-          text << x << ' ' << y << ' ' << base(x, y) + pile(x, y) << '\n';
-        }
-      }
-    }
-  }
-  return dir.write("cloud.xyz", text.str());
 }
 
 VolumeOptions squareAround(const std::filesystem::path& cloud, double resolution) {

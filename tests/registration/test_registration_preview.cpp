@@ -2,7 +2,7 @@
 // recovers a known motion of a synthetic surface; the preview cloud puts the target in blue and
 // the source, moved by a transform, in orange; `parallax render` of the previews before and after
 // shows each colour where the test projects the clouds' points (an orthographic projection worked
-// out here).
+// out here). One side of the preview alone, as the viewer's point-pairs picking draws it.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -91,6 +91,30 @@ TEST(RegistrationPreview, TargetBlueThenSourceOrangeMovedByTheTransform) {
     // Moved back: onto the target's point i (the patch's own order).
     ASSERT_NEAR(preview.worldX(j), target.worldX(i), 2e-4);
     ASSERT_NEAR(preview.worldY(j), target.worldY(i), 2e-4);
+  }
+}
+
+// One side alone (the viewer's point-pairs picking draws each apart): the cloud's points in its
+// order, moved, all in the colour asked, on a scale no coarser than the cloud's.
+TEST(RegistrationPreview, OneSideAloneKeepsItsOrderMovedAndInItsColour) {
+  const PointCloud target = wavyPatch(), source = movedPatch();
+  const PointCloud side = registrationPreviewSide(source, kMotion.inverse(), kPreviewSourceColor);
+  ASSERT_EQ(side.count, source.count);
+  EXPECT_FALSE(side.hasNormals());
+  EXPECT_LE(side.quantization.scale[0], source.quantization.scale[0]);
+  for (std::size_t i = 0; i < source.count; ++i) {
+    ASSERT_EQ(side.colors[i], kPreviewSourceColor);
+    // Point i moved back onto the target's point i.
+    ASSERT_NEAR(side.worldX(i), target.worldX(i), 2e-4) << i;
+    ASSERT_NEAR(side.worldY(i), target.worldY(i), 2e-4) << i;
+    ASSERT_NEAR(side.worldZ(i), target.worldZ(i), 2e-4) << i;
+  }
+  const PointCloud unmoved = registrationPreviewSide(target, RigidTransform{}, kPreviewTargetColor);
+  ASSERT_EQ(unmoved.count, target.count);
+  for (std::size_t i = 0; i < target.count; ++i) {
+    ASSERT_EQ(unmoved.colors[i], kPreviewTargetColor);
+    ASSERT_NEAR(unmoved.worldX(i), target.worldX(i), 1e-9) << i;
+    ASSERT_NEAR(unmoved.worldZ(i), target.worldZ(i), 1e-9) << i;
   }
 }
 

@@ -22,6 +22,7 @@
 #include "render/scalar_colors.h"
 #include "render/scalar_legend.h"
 #include "scalar_test_cloud.h"
+#include "signed_legend_scene.h"
 #include "support/run_parallax.h"
 #include "support/temp_dir.h"
 
@@ -30,35 +31,6 @@ namespace {
 
 using test::readText;
 using test::runWithoutLeakCheck;
-
-using Rgb = std::array<int, 3>;
-
-Rgb rgbOf(const Rgba8& c) {
-  return {c.r, c.g, c.b};
-}
-
-// Moreland's cool-warm end and middle colours, linear in RGB between them.
-Rgb coolWarm(double t) {
-  const std::array<double, 3> cool{59, 76, 192}, mid{221, 221, 221}, warm{180, 4, 38};
-  Rgb c;
-  for (int i = 0; i < 3; ++i) {
-    const double v = t <= 0.5 ? cool[i] + (mid[i] - cool[i]) * (t / 0.5)
-                              : mid[i] + (warm[i] - mid[i]) * ((t - 0.5) / 0.5);
-    c[i] = int(std::lround(v));
-  }
-  return c;
-}
-
-bool near(const Rgb& a, const Rgb& b, int tolerance) {
-  for (int i = 0; i < 3; ++i) {
-    if (std::abs(a[i] - b[i]) > tolerance) return false;
-  }
-  return true;
-}
-
-std::string text(const Rgb& c) {
-  return std::to_string(c[0]) + " " + std::to_string(c[1]) + " " + std::to_string(c[2]);
-}
 
 TEST(CoolWarmRamp, MorelandsColoursAtTheEndsAndTheMiddleAndLinearBetween) {
   EXPECT_EQ(rgbOf(rampColor(ColorRamp::CoolWarm, 0.0)), (Rgb{59, 76, 192}));
@@ -131,74 +103,25 @@ TEST(ScalarLegendTicks, RoundValuesBetweenTheEndsWhichCarryTheUnit) {
 
 // --- `parallax render --color m3c2_distance --legend`, end to end ---------------------------
 
-const std::vector<float> kSigned{
-    -0.4f, -0.2f, -0.1f, 0.0f, 0.05f, 0.1f, 0.3f, std::numeric_limits<float>::quiet_NaN(), 1.0f};
-constexpr int kWidth = 400, kHeight = 160;  // 20 pixels a unit (the ortho height: 8)
-const Rgb kMagenta{255, 0, 255};
-
-std::string signedPly() {
-  std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex " +
-                    std::to_string(kSigned.size()) +
-                    "\nproperty double x\nproperty double y\nproperty double z\n"
-                    "property float m3c2_distance\nend_header\n";
-  for (std::size_t i = 0; i < kSigned.size(); ++i) {
-    const double xyz[3] = {double(i), 0.0, 0.0};
-    char bytes[28];
-    std::memcpy(bytes, xyz, 24);
-    std::memcpy(bytes + 24, &kSigned[i], 4);
-    ply.append(bytes, sizeof bytes);
-  }
-  return ply;
-}
-
-Rgb pixel(const RgbaImage& image, int x, int y) {
-  const std::uint8_t* p = &image.pixels[(std::size_t(y) * image.width + x) * 4];
-  return {p[0], p[1], p[2]};
-}
-
 struct Rendered {
   int rc = 0;
   std::string log;
   RgbaImage image;
 };
 
-// The cloud from above, orthographic, the points along a row in the left half (x to the
-// right), magenta behind.
+// `render` of the signed scene in kSignedLook.
 Rendered renderSigned(const TempDir& dir, const std::string& options) {
   const auto ply = dir.write("signed.ply", signedPly());
   const auto png = dir / "out.png";
   const auto log = dir / "log";
   const std::string command = std::string(PARALLAX_EXECUTABLE) + " render '" + ply.string() +
-                              "' -o '" + png.string() + "' --width " + std::to_string(kWidth) +
-                              " --height " + std::to_string(kHeight) +
-                              " --point-size 3 --ortho --eye 9,0.1,10 --target 9,0.1,0 --up "
-                              "0,1,0 --background 255,0,255 --rasterizer points " +
-                              options + " 2>'" + log.string() + "'";
+                              "' -o '" + png.string() + "' " + kSignedLook + " " + options +
+                              " 2>'" + log.string() + "'";
   Rendered r;
   r.rc = runWithoutLeakCheck(command);
   r.log = readText(log);
   if (r.rc == 0) r.image = readPng(png);
   return r;
-}
-
-// The colours met left to right along the row of `image` (left of `right`) with the most
-// pixels other than magenta, one per run of equal pixels.
-std::vector<Rgb> pointColours(const RgbaImage& image, int right) {
-  int best_row = 0, best = -1;
-  for (int y = 0; y < image.height; ++y) {
-    int count = 0;
-    for (int x = 0; x < right; ++x) count += pixel(image, x, y) != kMagenta;
-    if (count > best) best = count, best_row = y;
-  }
-  std::vector<Rgb> runs;
-  bool in_run = false;
-  for (int x = 0; x < right; ++x) {
-    const Rgb c = pixel(image, x, best_row);
-    const bool background = c == kMagenta;
-    if (!background && (!in_run || runs.back() != c)) runs.push_back(c);
-    in_run = !background;
-  }
-  return runs;
 }
 
 TEST(RenderLegend, PointsAndTheBarTakeTheDivergingRampOverTheSymmetricPercentileRange) {
@@ -212,46 +135,7 @@ TEST(RenderLegend, PointsAndTheBarTakeTheDivergingRampOverTheSymmetricPercentile
   EXPECT_NE(r.log.find("m3c2_distance from -0.300000012 to 0.300000012"), std::string::npos)
       << r.log;
 
-  // The legend's place, from the layout of the same legend in the same font.
-  const ScalarLegend legend =
-      scalarLegend("m3c2_distance", ColorRamp::CoolWarm, {-reach, reach}, "m");
-  const LegendLayout layout = legendLayout(legend, OverlayFont(), kWidth, kHeight);
-  ASSERT_GT(layout.bar_height, 50);
-  ASSERT_GT(layout.box_x, kWidth / 2);
-
-  const std::vector<Rgb> points = pointColours(r.image, layout.box_x);
-  ASSERT_EQ(points.size(), kSigned.size());
-  for (std::size_t i = 0; i < kSigned.size(); ++i) {
-    const double v = kSigned[i];
-    const Rgb expected = std::isnan(v) ? Rgb{128, 128, 128}
-                                       : coolWarm(std::clamp((v + reach) / (2 * reach), 0.0, 1.0));
-    EXPECT_TRUE(near(points[i], expected, 1)) << i << ": " << text(points[i]);
-  }
-
-  // Every pixel of the bar: the ramp at 1 - row / (rows - 1), the maximum at the top.
-  int wrong = 0;
-  for (int row = 0; row < layout.bar_height; ++row) {
-    const Rgb expected = coolWarm(1.0 - double(row) / double(layout.bar_height - 1));
-    for (int x = layout.bar_x; x < layout.bar_x + layout.bar_width; ++x) {
-      const Rgb got = pixel(r.image, x, layout.bar_y + row);
-      if (!near(got, expected, 1) && wrong++ < 5) {
-        ADD_FAILURE() << "bar row " << row << " x " << x << ": " << text(got) << ", expected "
-                      << text(expected);
-      }
-    }
-  }
-  EXPECT_EQ(wrong, 0);
-  // The box behind: magenta darkened to 40 %, where no text is (its bottom-left corner).
-  EXPECT_EQ(pixel(r.image, layout.box_x + 1, layout.box_y + layout.box_height - 2),
-            (Rgb{102, 0, 102}));
-  // Labels: white text within the box, right of the bar.
-  int white = 0;
-  for (int y = layout.box_y; y < layout.box_y + layout.box_height; ++y) {
-    for (int x = layout.label_x; x < layout.box_x + layout.box_width; ++x) {
-      white += pixel(r.image, x, y) == Rgb{255, 255, 255};
-    }
-  }
-  EXPECT_GT(white, 100);
+  expectSignedLegendPicture(r.image, reach);
 }
 
 TEST(RenderLegend, NoLegendWithoutTheFlagAndNoneWithoutAScalarAttribute) {

@@ -1,0 +1,105 @@
+// The Volume tool of the measurement panel: cut, fill and net volume inside the selected area
+// measurement, between the surface of the file shown and a base (the plane through the surface
+// along the polygon's ring, or the lowest point of the ring), computed as `parallax volume`
+// computes it (raster/volume.h: the surface rastered at the panel's resolution, only the cells
+// whose centre is inside the polygon). The polygon is the area's vertices seen from above (their
+// x and y): the picked points, in the file's coordinates.
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+#include <stdexcept>
+#include <string>
+
+#include "viewer/viewer_session.h"
+
+namespace parallax::viewer_internal {
+
+namespace {
+
+const char* volumeBaseName(VolumeBase base) {
+  return base == VolumeBase::Lowest ? "lowest" : "plane";
+}
+
+const Measurement* selectedArea(const Session& s) {
+  const MeasureSession& m = s.measure;
+  if (!m.selected || *m.selected >= m.document.measurements.size()) return nullptr;
+  const Measurement& measurement = m.document.measurements[*m.selected];
+  return measurement.kind == MeasurementKind::Area ? &measurement : nullptr;
+}
+
+}  // namespace
+
+void computeSelectedVolume(Session& s) {
+  MeasureSession& m = s.measure;
+  const Measurement* area = selectedArea(s);
+  if (!area) {
+    s.status = "volume: select an area measurement first (its polygon bounds the volume)";
+    std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
+    return;
+  }
+  MeasureSession::Volume volume;
+  volume.measurement = *m.selected;
+  volume.of = *area;
+  try {
+    // The file itself, read again (streamed: the surface is rastered out of core), so that the
+    // volume is the one `parallax volume` gives for it; an octree or a URL is not one file.
+    if (s.cloud_file.empty() && (s.octree || s.shown_path.empty() || s.build)) {
+      throw std::invalid_argument(
+          "needs a point file shown whole (an octree, a URL or a preview is not rastered here: "
+          "use parallax volume on the file)");
+    }
+    VolumeOptions options;
+    options.input.path = s.cloud_file.empty() ? s.shown_path : s.cloud_file;
+    for (const glm::dvec3& p : area->points) options.polygon.push_back({p.x, p.y});
+    options.resolution = m.volume_resolution;
+    options.base = m.volume_base;
+    volume.report = computeVolume(options);
+    const VolumeReport& r = volume.report;
+    char line[320];
+    std::snprintf(line, sizeof line,
+                  "volume of measurement %zu: cut %.6f fill %.6f net %.6f (area %.6f, %llu cells "
+                  "of %.6g, base %s)",
+                  volume.measurement + 1, r.cut, r.fill, r.net, r.area,
+                  static_cast<unsigned long long>(r.cells), m.volume_resolution,
+                  volumeBaseName(m.volume_base));
+    s.status = line;
+  } catch (const std::exception& e) {
+    volume.error = e.what();
+    s.status = "volume: " + volume.error;
+  }
+  std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
+  m.volume = std::move(volume);
+}
+
+void drawVolumePanel(Session& s) {
+  MeasureSession& m = s.measure;
+  const Measurement* area = selectedArea(s);
+  if (!area) return;
+  ImGui::Separator();
+  ImGui::TextDisabled("Volume");
+  ImGui::InputDouble("cell size", &m.volume_resolution, 0.1, 1.0, "%.3f");
+  m.volume_resolution = std::max(m.volume_resolution, 1e-3);
+  int base = m.volume_base == VolumeBase::Lowest ? 1 : 0;
+  ImGui::RadioButton("base: plane along the polygon", &base, 0);
+  ImGui::SameLine();
+  ImGui::RadioButton("lowest", &base, 1);
+  m.volume_base = base == 1 ? VolumeBase::Lowest : VolumeBase::Plane;
+  if (ImGui::Button("Compute the volume (Ctrl+V)")) computeSelectedVolume(s);
+  // The last result, while it is the selected measurement's as it is now (an edit makes it old).
+  if (m.volume && m.volume->measurement == *m.selected && m.volume->of == *area) {
+    if (!m.volume->error.empty()) {
+      ImGui::TextWrapped("%s", m.volume->error.c_str());
+    } else {
+      const VolumeReport& r = m.volume->report;
+      ImGui::TextWrapped("cut %.3f m³, fill %.3f m³, net %.3f m³", r.cut, r.fill, r.net);
+      ImGui::TextWrapped("over %.3f m² (%llu cells; %llu filled, %llu without surface)", r.area,
+                         static_cast<unsigned long long>(r.cells),
+                         static_cast<unsigned long long>(r.cells_filled),
+                         static_cast<unsigned long long>(r.cells_without_surface));
+    }
+  }
+}
+
+}  // namespace parallax::viewer_internal
