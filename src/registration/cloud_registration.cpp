@@ -1,11 +1,8 @@
 #include "registration/cloud_registration.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <fstream>
-#include <limits>
-#include <span>
 #include <stdexcept>
 #include <system_error>
 
@@ -52,35 +49,19 @@ IcpResult registerClouds(const PointCloud& source, const PointCloud& target,
   }
 }
 
-namespace {
-
-// One cloud of the preview's parts (each cloud moved by its transform, all of it in its colour),
-// positions and colours only, quantized at the finest of the parts' scales over the union of their
-// moved bounds.
-struct RegistrationPreviewPart {
-  const PointCloud* cloud = nullptr;
-  RigidTransform transform;
-  Rgba8 color;
-};
-
-PointCloud registrationPreviewOfParts(std::span<const RegistrationPreviewPart> parts) {
-  std::vector<std::vector<Point3>> moved;
+PointCloud registrationPreviewSide(const PointCloud& cloud, const RigidTransform& transform,
+                                   Rgba8 color) {
+  std::vector<Point3> moved = positionsOf(cloud);
   Bounds3 bounds;
-  PointCloud preview;
-  for (const RegistrationPreviewPart& part : parts) {
-    moved.push_back(positionsOf(*part.cloud));
-    for (Point3& p : moved.back()) {
-      p = part.transform.apply(p);
-      bounds.extend(p[0], p[1], p[2]);
-    }
-    preview.count += part.cloud->count;
+  for (Point3& p : moved) {
+    p = transform.apply(p);
+    bounds.extend(p[0], p[1], p[2]);
   }
+  PointCloud preview;
+  preview.count = cloud.count;
   if (preview.count == 0) return preview;
   for (int axis = 0; axis < 3; ++axis) {
-    double scale = std::numeric_limits<double>::infinity();
-    for (const RegistrationPreviewPart& part : parts) {
-      scale = std::min(scale, part.cloud->quantization.scale[std::size_t(axis)]);
-    }
+    const double scale = cloud.quantization.scale[std::size_t(axis)];
     preview.quantization.scale[std::size_t(axis)] = scale;
     // The offset at the bounds' centre, on a whole step: the integers reach half the span.
     const double centre = 0.5 * (bounds.min[std::size_t(axis)] + bounds.max[std::size_t(axis)]);
@@ -88,41 +69,20 @@ PointCloud registrationPreviewOfParts(std::span<const RegistrationPreviewPart> p
     if (!preview.quantization.fits(axis, bounds.min[std::size_t(axis)]) ||
         !preview.quantization.fits(axis, bounds.max[std::size_t(axis)])) {
       throw std::invalid_argument(
-          "registration preview: the two clouds span too far apart for one cloud at their "
-          "scale (are they in the same coordinate system?)");
+          "registration preview: the moved cloud spans too far for its scale (is the transform "
+          "in the clouds' coordinate system?)");
     }
   }
   preview.positions = Column<Int3>(preview.count);
   preview.colors = Column<Rgba8>(preview.count);
   const Quantization& q = preview.quantization;
-  std::size_t at = 0;
-  for (std::size_t k = 0; k < parts.size(); ++k) {
-    for (const Point3& p : moved[k]) {
-      preview.positions[at] = {q.toQuantized(0, p[0]), q.toQuantized(1, p[1]),
-                               q.toQuantized(2, p[2])};
-      preview.colors[at] = parts[k].color;
-      ++at;
-    }
+  for (std::size_t i = 0; i < preview.count; ++i) {
+    const Point3& p = moved[i];
+    preview.positions[i] = {q.toQuantized(0, p[0]), q.toQuantized(1, p[1]), q.toQuantized(2, p[2])};
+    preview.colors[i] = color;
   }
   preview.computeBounds();
   return preview;
-}
-
-}  // namespace
-
-PointCloud registrationPreview(const PointCloud& source, const PointCloud& target,
-                               const RigidTransform& transform) {
-  const std::array<RegistrationPreviewPart, 2> parts{
-      RegistrationPreviewPart{&target, RigidTransform{}, kPreviewTargetColor},
-      RegistrationPreviewPart{&source, transform, kPreviewSourceColor}};
-  return registrationPreviewOfParts(parts);
-}
-
-PointCloud registrationPreviewSide(const PointCloud& cloud, const RigidTransform& transform,
-                                   Rgba8 color) {
-  const std::array<RegistrationPreviewPart, 1> parts{
-      RegistrationPreviewPart{&cloud, transform, color}};
-  return registrationPreviewOfParts(parts);
 }
 
 void writeRigidTransform(const RigidTransform& transform, const std::filesystem::path& path) {

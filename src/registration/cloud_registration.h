@@ -29,16 +29,10 @@ IcpResult registerClouds(const PointCloud& source, const PointCloud& target,
 inline constexpr Rgba8 kPreviewSourceColor{255, 140, 0, 255};
 inline constexpr Rgba8 kPreviewTargetColor{30, 110, 255, 255};
 
-// One cloud for the preview: the target's points in kPreviewTargetColor, then the source's moved
-// by `transform` (the identity: before) in kPreviewSourceColor; positions only (and those
-// colours), quantized at the finer of the two clouds' scales over the union of their bounds.
-PointCloud registrationPreview(const PointCloud& source, const PointCloud& target,
-                               const RigidTransform& transform);
-
-// One side of the preview alone: `cloud`'s points moved by `transform`, all in `color`, in the
-// cloud's order (index i is cloud point i), positions only, quantized at the cloud's scale over
-// its moved bounds. The viewer's point-pairs picking draws each side apart, so that a click picks
-// on the side it asks for even where the two overlap.
+// One side of the preview: `cloud`'s points moved by `transform`, all in `color`, in the cloud's
+// order (index i is cloud point i), positions only, quantized at the cloud's scale over its moved
+// bounds. The viewer uploads each side apart and draws them together (the target first): sized by
+// one cloud's spacing, and each side can be picked alone (point pairs) where the two overlap.
 PointCloud registrationPreviewSide(const PointCloud& cloud, const RigidTransform& transform,
                                    Rgba8 color);
 
