@@ -596,7 +596,7 @@ TEST_F(XrViewTest, TheToolButtonChoosesHeightAndAreaWhosePicksAreMeasured) {
   ASSERT_NE(tool_height, std::string::npos) << err;
   ASSERT_NE(tool_area, std::string::npos) << err;
   EXPECT_LT(tool_height, tool_area);
-  EXPECT_EQ(err.find("distance "), std::string::npos) << "the dropped distance was finished";
+  EXPECT_EQ(err.find("--xr: distance "), std::string::npos) << "the dropped distance was finished";
 
   std::vector<glm::dvec3> picks;
   for (auto p = err.find("laser pick "); p != std::string::npos;
