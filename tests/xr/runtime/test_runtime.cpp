@@ -848,9 +848,18 @@ XRAPI_ATTR XrResult XRAPI_CALL endFrame(XrSession handle, const XrFrameEndInfo* 
 
 // --- actions (scripted by the configuration's "controllers") ----------------------------------
 
+// Every interaction profile of the OpenXR 1.0 specification (section 6.4): a runtime accepts
+// suggested bindings for all of them (hello_xr suggests Vive and Windows Mixed Reality bindings
+// too), and the configuration's profile, one of the first three, is the one it reports.
 const char* const kProfiles[] = {"/interaction_profiles/khr/simple_controller",
                                  "/interaction_profiles/oculus/touch_controller",
-                                 "/interaction_profiles/valve/index_controller"};
+                                 "/interaction_profiles/valve/index_controller",
+                                 "/interaction_profiles/google/daydream_controller",
+                                 "/interaction_profiles/htc/vive_controller",
+                                 "/interaction_profiles/htc/vive_pro",
+                                 "/interaction_profiles/microsoft/motion_controller",
+                                 "/interaction_profiles/microsoft/xbox_controller",
+                                 "/interaction_profiles/oculus/go_controller"};
 
 XRAPI_ATTR XrResult XRAPI_CALL createActionSet(XrInstance instance,
                                                const XrActionSetCreateInfo* info,
