@@ -24,8 +24,10 @@ packages=(
   libglfw3-dev libepoxy-dev libegl-dev libgl1-mesa-dri libglm-dev libimgui-dev libstb-dev
   xvfb xdotool
   # VR (src/xr): the Khronos OpenXR loader; in tests, its core validation layer and hello_xr
-  # against the project's own test runtime (tests/xr/runtime)
+  # against the project's own test runtime (tests/xr/runtime), on an X server with the dummy
+  # video driver (hello_xr's window needs XFree86-VidMode, which Xvfb lacks)
   libopenxr-dev libopenxr-loader1 openxr-layer-corevalidation libopenxr-utils libx11-dev
+  xserver-xorg-core xserver-xorg-video-dummy
   # the real Potree client test (tests/lod/js) and the LAZ oracles (tests/io/js): Node.js (with
   # npm; see install_npm_packages)
   nodejs

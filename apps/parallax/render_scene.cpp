@@ -128,16 +128,32 @@ StereoSettings headlessStereoSettings(const RenderOptions& options, bool quiet,
   return stereo;
 }
 
+namespace {
+
+// A node that failed to load is an error of the input for the commands that draw an octree.
+void throwOnFailedNodes(const RenderScene& scene, const RenderSource& source) {
+  if (scene.lod->firstError().empty()) return;
+  throw InputError({.file = urlForMessages(source.octree_dir.string()),
+                    .expected = "every node the view selects readable",
+                    .found = std::to_string(scene.lod->stats().failed_nodes) +
+                             " failed, the first: " + scene.lod->firstError()});
+}
+
+}  // namespace
+
 const DrawSet& frameDrawSet(RenderScene& scene, const RenderSource& source,
                             const StereoFrame& frame, const LodOptions& lod) {
   if (!scene.lod) return scene.whole;
   const DrawSet& draw_set = scene.lod->finishLoading(frame.views, lodFrameSettingsFrom(lod));
-  if (!scene.lod->firstError().empty()) {
-    throw InputError({.file = urlForMessages(source.octree_dir.string()),
-                      .expected = "every node the view selects readable",
-                      .found = std::to_string(scene.lod->stats().failed_nodes) +
-                               " failed, the first: " + scene.lod->firstError()});
-  }
+  throwOnFailedNodes(scene, source);
+  return draw_set;
+}
+
+const DrawSet& arrivedDrawSet(RenderScene& scene, const RenderSource& source,
+                              const StereoFrame& frame, const LodOptions& lod) {
+  if (!scene.lod) return scene.whole;
+  const DrawSet& draw_set = scene.lod->update(frame.views, lodFrameSettingsFrom(lod));
+  throwOnFailedNodes(scene, source);
   return draw_set;
 }
 

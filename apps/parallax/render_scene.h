@@ -76,5 +76,11 @@ StereoSettings headlessStereoSettings(const RenderOptions& options, bool quiet,
 // throws InputError where one failed to load.
 const DrawSet& frameDrawSet(RenderScene& scene, const RenderSource& source,
                             const StereoFrame& frame, const LodOptions& lod);
+// The draw set of a frame that must never wait (a headset's, whose runtime drops a late frame):
+// for an octree, what has arrived for the views (LodScene::update: missing nodes are requested
+// and drawn in a later frame, their parents meanwhile), as the window's progressive frames are.
+// Throws InputError where a node failed to load, as frameDrawSet does.
+const DrawSet& arrivedDrawSet(RenderScene& scene, const RenderSource& source,
+                              const StereoFrame& frame, const LodOptions& lod);
 
 }  // namespace parallax::cli

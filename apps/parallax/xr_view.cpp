@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <memory>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "filter_options.h"
@@ -18,6 +19,7 @@
 #include "viewer/xr_mirror_window.h"
 #include "xr/comfort_vignette.h"
 #include "xr/frame_budget.h"
+#include "xr/headset_measure_tool.h"
 #include "xr/locomotion.h"
 #include "xr/stage_mapping.h"
 #include "xr/xr_headset.h"
@@ -40,13 +42,15 @@ View laserView(const StagePlacement& placement, const StagePose& aim) {
   return view;
 }
 
-// The lasers of the tracked hands, from the aim's position along its -z, and the distance being
-// measured: lines in file coordinates that the overlay pass draws in each eye at its depth.
+// The lasers of the tracked hands, from the aim's position along its -z, the tool's name at each
+// hand (in its kind's colour), and the measurements with their labels, the one being drawn
+// brighter: lines and text in file coordinates that the overlay pass draws in each eye at its
+// depth, as the window draws them.
 OverlayScene laserOverlay(const StagePlacement& placement, const XrInput* input,
-                          const MeasurementDocument& document, const Measurement& in_progress) {
+                          const MeasurementDocument& document, const HeadsetMeasureTool& tool) {
   OverlayScene scene;
   MeasurementOverlayOptions options;
-  if (!in_progress.points.empty()) options.in_progress = &in_progress;
+  if (!tool.inProgress().points.empty()) options.in_progress = &tool.inProgress();
   appendMeasurementOverlay(document, options, scene);
   if (!input) return scene;
   for (const XrHandInput& hand : input->hands) {
@@ -57,6 +61,9 @@ OverlayScene laserOverlay(const StagePlacement& placement, const XrInput* input,
     line.points = {stageToFile(placement, hand.aim.position), stageToFile(placement, end)};
     line.color = kLaserColor;
     scene.polylines.push_back(std::move(line));
+    scene.labels.push_back({stageToFile(placement, hand.aim.position),
+                            std::string(measurementKindName(tool.kind())),
+                            measurementColor(tool.kind())});
   }
   return scene;
 }
@@ -102,7 +109,7 @@ int runXrView(const XrViewOptions& o) {
   XrHeadset headset("parallax view");
   Locomotion locomotion(placement);
   MeasurementDocument measurements;
-  Measurement distance;  // the distance the trigger is measuring: its first point, or none
+  HeadsetMeasureTool tool;  // what the trigger measures, and its points so far
   Renderer renderer;
   std::unique_ptr<ComfortVignette> vignette;
   if (o.vignette) vignette = std::make_unique<ComfortVignette>();
@@ -113,6 +120,7 @@ int runXrView(const XrViewOptions& o) {
   LodOptions lod = o.lod;
   std::unique_ptr<RenderTarget> canvas;  // both eyes, each in a viewport taller than its picture
   FrameStats last;
+  long long frames_arriving = 0;  // an octree's frames drawn while selected nodes were on their way
   const XrSessionStats stats = headset.run(
       [&](const XrFrameInfo& frame) {
         const auto frame_start = std::chrono::steady_clock::now();
@@ -135,10 +143,19 @@ int runXrView(const XrViewOptions& o) {
         };
         placeEyes();
         // One draw set (one LOD selection, one node cache) for both eyes, drawn in one pass.
-        const DrawSet* draw_set = &frameDrawSet(scene, source, views, lod);
+        // What has arrived: a headset's frame never waits for the loading (the runtime would
+        // drop it and the user's view would freeze); nodes still on their way come in later
+        // frames.
+        const DrawSet* draw_set = &arrivedDrawSet(scene, source, views, lod);
+        if (scene.lod && !scene.lod->complete()) ++frames_arriving;
         if (!settings) {
           // view's look: what the options leave open, chosen for the cloud as the window does.
-          const RenderSettings asked = renderSettingsFrom(o.render, draw_set->typical_spacing);
+          // An octree's first frame may have drawn nothing yet: its sizes follow the octree's
+          // spacing, about a level-3 node's as the window's (viewer.cpp), not that frame's.
+          const double spacing = source.lod() && source.octree->info().spacing > 0
+                                     ? source.octree->info().spacing / 8.0
+                                     : draw_set->typical_spacing;
+          const RenderSettings asked = renderSettingsFrom(o.render, spacing);
           const LookTraits traits =
               source.lod() ? LookTraits{.spacing_known = source.octree->info().spacing > 0,
                                         .has_normals = source.octree->info().has_normals}
@@ -147,6 +164,16 @@ int runXrView(const XrViewOptions& o) {
           settings = viewerLook(asked, asked, o.look, traits);
         }
         for (int h = 0; h < 2 && frame.input; ++h) {
+          if (events.tool[h]) {
+            if (const auto area = tool.toolButton()) {
+              std::fprintf(stderr, "parallax view --xr: %s\n",
+                           describeMeasurement(*area, 6).c_str());
+              measurements.measurements.push_back(*area);
+            } else {
+              std::fprintf(stderr, "parallax view --xr: tool %s\n",
+                           std::string(measurementKindName(tool.kind())).c_str());
+            }
+          }
           if (!events.pick[h] && !events.teleport[h]) continue;
           const View laser = laserView(locomotion.placement(), frame.input->hands[h].aim);
           const auto hit = pickPoint(renderer, *pick_source, *draw_set, std::span(&laser, 1),
@@ -160,20 +187,16 @@ int runXrView(const XrViewOptions& o) {
           if (events.teleport[h]) {
             locomotion.teleportTo(hit->position, frame.input->head);
             placeEyes();
-            draw_set = &frameDrawSet(scene, source, views, lod);
+            draw_set = &arrivedDrawSet(scene, source, views, lod);
             continue;
           }
-          // The distance tool: two picks make a measurement.
-          distance.points.push_back(hit->position);
-          if (distance.points.size() == 2) {
-            std::fprintf(stderr, "parallax view --xr: %s\n",
-                         describeMeasurement(distance, 6).c_str());
-            measurements.measurements.push_back(distance);
-            distance.points.clear();
+          // Six decimals (micrometres in metres), as the window prints: what tests compare.
+          if (const auto done = tool.pick(hit->position)) {
+            std::fprintf(stderr, "parallax view --xr: %s\n", describeMeasurement(*done, 6).c_str());
+            measurements.measurements.push_back(*done);
           }
         }
-        renderer.setOverlay(
-            laserOverlay(locomotion.placement(), frame.input, measurements, distance));
+        renderer.setOverlay(laserOverlay(locomotion.placement(), frame.input, measurements, tool));
         if (!canvas || canvas->width() != frame.width || canvas->height() != rows) {
           canvas = std::make_unique<RenderTarget>(frame.width, rows);
         }
@@ -205,12 +228,13 @@ int runXrView(const XrViewOptions& o) {
   std::fprintf(
       stderr,
       "parallax view --xr: %s on %s through %s, %lld frames of 2 x %dx%d drawn (%llu points, "
-      "rasterizer %s, budget %llu), origin %.17g,%.17g,%.17g, scale %.17g, yaw %.17g\n",
+      "rasterizer %s, budget %llu, %lld while nodes were arriving), origin %.17g,%.17g,%.17g, "
+      "scale %.17g, yaw %.17g\n",
       stats.system.c_str(), stats.runtime.c_str(), stats.binding.c_str(), stats.frames_drawn,
       stats.eye_width, stats.eye_height, static_cast<unsigned long long>(last.points_drawn),
       last.rasterizer == RasterizerKind::Compute ? "compute" : "points",
       static_cast<unsigned long long>(scene.lod ? frame_budget.budget() : scene.points),
-      end.origin.x, end.origin.y, end.origin.z, end.scale, end.yaw);
+      frames_arriving, end.origin.x, end.origin.y, end.origin.z, end.scale, end.yaw);
   return 0;
 }
 

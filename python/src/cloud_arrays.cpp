@@ -316,8 +316,10 @@ PointCloud cloudFromArrays(const py::dict& arrays,
                             "': expected a numpy array of int8-32, uint8-32, float32 or float64");
     }
     ScalarColumn column{name, *type, ByteBuffer(count * scalarSize(*type))};
+    // A named copy for the lambda: clang before 16 cannot capture a structured binding.
+    const py::handle column_array = value;
     withScalarType(*type, [&]<class T>() {
-      const auto values = columnOf<T>(value, name, count);
+      const auto values = columnOf<T>(column_array, name, count);
       std::memcpy(column.data.data(), values.data(), count * sizeof(T));
     });
     cloud.scalars.push_back(std::move(column));

@@ -151,7 +151,9 @@ py::object attributeValue(const PointAttribute& attribute) {
 
 py::dict pick(const py::object& input, const std::pair<int, int>& pixel, const py::kwargs& kwargs) {
   const SceneOptions o = sceneOptionsFrom(kwargs, "pick");
-  const auto [pixel_x, pixel_y] = pixel;
+  // Plain names, not a structured binding: the lambda below captures them (clang before 16
+  // cannot).
+  const int pixel_x = pixel.first, pixel_y = pixel.second;
   if (pixel_x < 0 || pixel_y < 0 || pixel_x >= o.width || pixel_y >= o.height) {
     throw py::value_error("pixel (" + std::to_string(pixel_x) + ", " + std::to_string(pixel_y) +
                           "): outside the " + std::to_string(o.width) + "x" +

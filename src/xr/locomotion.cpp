@@ -62,12 +62,14 @@ LocomotionEvents Locomotion::update(const XrInput& input) {
     grip[h] = hand.grip.position;
     hold[h] = hand.tracked && hand.squeeze >= (holding_[h] ? kLetGoAt : kGrabAt);
     if (!hand.tracked) {
-      trigger_down_[h] = primary_down_[h] = false;
+      trigger_down_[h] = primary_down_[h] = secondary_down_[h] = false;
       continue;
     }
     events.pick[h] = pressed(trigger_down_[h], hand.trigger, kPressAt, kReleaseAt);
     events.teleport[h] =
         pressed(primary_down_[h], hand.primary ? 1.0f : 0.0f, kPressAt, kReleaseAt);
+    events.tool[h] =
+        pressed(secondary_down_[h], hand.secondary ? 1.0f : 0.0f, kPressAt, kReleaseAt);
   }
   // A grab restarts from where things are whenever a hand takes hold or lets go, so the world
   // never jumps.

@@ -43,10 +43,12 @@ struct LocomotionSettings {
 };
 
 // What a frame's input asks of the application beyond the placement: a pick (the trigger went
-// down) or a teleport (the primary button went down), per hand.
+// down), a teleport (the primary button went down) or the tool button (the secondary button went
+// down), per hand.
 struct LocomotionEvents {
   std::array<bool, 2> pick{false, false};
   std::array<bool, 2> teleport{false, false};
+  std::array<bool, 2> tool{false, false};
 };
 
 class Locomotion {
@@ -73,6 +75,7 @@ class Locomotion {
   bool flying_ = false;
   std::array<bool, 2> trigger_down_{false, false};
   std::array<bool, 2> primary_down_{false, false};
+  std::array<bool, 2> secondary_down_{false, false};
 };
 
 }  // namespace parallax

@@ -59,6 +59,8 @@ XrActions::XrActions(XrInstance instance, XrSession session)
                            XR_ACTION_TYPE_VECTOR2F_INPUT, hand_paths_);
   primary_ =
       makeAction(instance, set_, "teleport", "Teleport", XR_ACTION_TYPE_BOOLEAN_INPUT, hand_paths_);
+  secondary_ = makeAction(instance, set_, "tool", "Next measurement tool, close an area",
+                          XR_ACTION_TYPE_BOOLEAN_INPUT, hand_paths_);
 
   struct Binding {
     XrAction action;
@@ -82,14 +84,17 @@ XrActions::XrActions(XrInstance instance, XrSession session)
         {squeeze_, "squeeze/value"},
         {thumbstick_, "thumbstick"},
         {primary_, "x/click", kLeftHand},
-        {primary_, "a/click", kRightHand}}},
+        {primary_, "a/click", kRightHand},
+        {secondary_, "y/click", kLeftHand},
+        {secondary_, "b/click", kRightHand}}},
       {"/interaction_profiles/valve/index_controller",
        {{grip_, "grip/pose"},
         {aim_, "aim/pose"},
         {trigger_, "trigger/value"},
         {squeeze_, "squeeze/value"},
         {thumbstick_, "thumbstick"},
-        {primary_, "a/click"}}},
+        {primary_, "a/click"},
+        {secondary_, "b/click"}}},
   };
   for (const Profile& profile : profiles) {
     std::vector<XrActionSuggestedBinding> suggested;
@@ -177,6 +182,10 @@ void XrActions::read(XrSpace space, XrTime time, bool focused, XrInput& input) {
     get.action = primary_;
     xrCheck(instance_, xrGetActionStateBoolean(session_, &get, &button), "xrGetActionStateBoolean");
     hand.primary = button.isActive && button.currentState;
+    button = {XR_TYPE_ACTION_STATE_BOOLEAN};
+    get.action = secondary_;
+    xrCheck(instance_, xrGetActionStateBoolean(session_, &get, &button), "xrGetActionStateBoolean");
+    hand.secondary = button.isActive && button.currentState;
   }
 }
 

@@ -5,6 +5,7 @@
 // XrPosef), headless on llvmpipe.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -535,6 +536,134 @@ TEST_F(XrViewTest, TheLaserPicksThePointItAimsAtAndMeasuresADistance) {
   double distance = 0;
   ASSERT_EQ(std::sscanf(result.err.c_str() + at, "distance %lf", &distance), 1);
   EXPECT_NEAR(distance, glm::length(a.file - b.file), 2e-3);
+}
+
+// The text pixels of the overlay's labels in a picture (x right, y down): white glyphs over
+// their dark box, grey where a glyph's edge is blended with the box. No point of the grid is grey.
+struct TextBox {
+  int count = 0;
+  int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
+};
+TextBox textPixels(const RgbaImage& image) {
+  TextBox box;
+  for (const Lit& l : litPixels(image)) {
+    if (l.r != l.g || l.g != l.b || l.r < 96) continue;
+    ++box.count;
+    box.x0 = std::min(box.x0, l.x);
+    box.y0 = std::min(box.y0, l.y);
+    box.x1 = std::max(box.x1, l.x);
+    box.y1 = std::max(box.y1, l.y);
+  }
+  return box;
+}
+
+// The tool button (B) cycles distance -> height -> area and closes an area; the trigger's picks
+// make a height and an area whose printed values are the test's own arithmetic on the picked
+// points, and the height's label is drawn where its anchor projects in each eye.
+TEST_F(XrViewTest, TheToolButtonChoosesHeightAndAreaWhosePicksAreMeasured) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const TestPoint& a = points_[7];
+  const TestPoint& b = points_[52];
+  const TestPoint& c = points_[26];
+  const glm::dvec3 hand(0.15, 1.3, -0.2);  // below the eyes' view: its laser rises into it
+  const auto stage = [](const glm::dvec3& file) {
+    const glm::dvec3 d = file - kOrigin;
+    return glm::dvec3(d.x, d.z, -d.y);
+  };
+  const auto at = [&](int frame, const TestPoint& p, const nlohmann::json& inputs) {
+    return nlohmann::json{{"frame", frame},
+                          {"right",
+                           {{"grip", poseJson(hand, glm::dquat(1, 0, 0, 0))},
+                            {"aim", poseJson(hand, aimingAt(stage(p.file) - hand))},
+                            {"inputs", inputs}}}};
+  };
+  const nlohmann::json none = nlohmann::json::object();
+  const nlohmann::json pull{{"trigger/value", 1.0}}, button{{"b/click", true}};
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames",
+       {at(0, a, none), at(1, a, pull),  // a distance's first point...
+        at(2, a, button),                // ...dropped: the height tool
+        at(3, a, none), at(4, a, pull), at(5, b, none), at(6, b, pull),  // a height
+        at(7, b, button),                                                // the area tool
+        at(8, a, none), at(9, a, pull), at(10, b, none), at(11, b, pull), at(12, c, none),
+        at(13, c, pull), at(14, c, button),  // an area, closed by the button
+        at(15, c, none)}}};
+  const auto result = run(eyes, 320, 240, 16, "", controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::string& err = result.err;
+  const auto tool_height = err.find("tool height"), tool_area = err.find("tool area");
+  ASSERT_NE(tool_height, std::string::npos) << err;
+  ASSERT_NE(tool_area, std::string::npos) << err;
+  EXPECT_LT(tool_height, tool_area);
+  EXPECT_EQ(err.find("--xr: distance "), std::string::npos) << "the dropped distance was finished";
+
+  std::vector<glm::dvec3> picks;
+  for (auto p = err.find("laser pick "); p != std::string::npos;
+       p = err.find("laser pick ", p + 1)) {
+    glm::dvec3 q;
+    ASSERT_EQ(std::sscanf(err.c_str() + p, "laser pick %lf,%lf,%lf", &q.x, &q.y, &q.z), 3);
+    picks.push_back(q);
+  }
+  ASSERT_EQ(picks.size(), 6u) << err;
+  const TestPoint* aimed[6] = {&a, &a, &b, &a, &b, &c};
+  for (int i = 0; i < 6; ++i) EXPECT_LT(glm::length(picks[i] - aimed[i]->file), 1e-3) << i;
+
+  // The height: z1 - z0, the horizontal and the 3D distance of the picks (six decimals printed).
+  double dz = 0, horizontal = 0, distance = 0;
+  const auto height_at = err.find("height difference ");
+  ASSERT_NE(height_at, std::string::npos) << err;
+  ASSERT_EQ(std::sscanf(err.c_str() + height_at,
+                        "height difference %lf m, horizontal %lf m, distance %lf m", &dz,
+                        &horizontal, &distance),
+            3)
+      << err;
+  const glm::dvec3 h0 = picks[1], h1 = picks[2];
+  EXPECT_NEAR(dz, h1.z - h0.z, 1e-6);
+  EXPECT_NEAR(horizontal, std::hypot(h1.x - h0.x, h1.y - h0.y), 1e-6);
+  EXPECT_NEAR(distance, glm::length(h1 - h0), 1e-6);
+  EXPECT_NEAR(dz, b.file.z - a.file.z, 2e-3);
+
+  // The area of the triangle of the last three picks: half the cross product's length, and on
+  // the ground half the cross product's z.
+  double area_3d = 0, area_ground = 0, perimeter = 0;
+  const auto area_at = err.find("area 3D ");
+  ASSERT_NE(area_at, std::string::npos) << err;
+  ASSERT_EQ(std::sscanf(err.c_str() + area_at, "area 3D %lf m², projected %lf m², perimeter %lf m",
+                        &area_3d, &area_ground, &perimeter),
+            3)
+      << err;
+  const glm::dvec3 t0 = picks[3], t1 = picks[4], t2 = picks[5];
+  const glm::dvec3 cross = glm::cross(t1 - t0, t2 - t0);
+  EXPECT_NEAR(area_3d, 0.5 * glm::length(cross), 1e-6);
+  EXPECT_NEAR(area_ground, 0.5 * std::abs(cross.z), 1e-6);
+  EXPECT_NEAR(perimeter, glm::length(t1 - t0) + glm::length(t2 - t1) + glm::length(t0 - t2), 1e-6);
+  EXPECT_GT(area_3d, 0.5);  // a real triangle, not three picks of one point
+
+  // Frame 7 shows the finished height alone, its label "dz ..." at the midpoint of its ends:
+  // the label's text starts a few pixels right of and above where that point projects in each
+  // eye, so its disparity is the point's.
+  const TestPoint mid{0.5 * (h0 + h1), 0, 0, 0};
+  double left_x[2] = {0, 0};
+  for (int v = 0; v < 2; ++v) {
+    const RgbaImage image = readPng(dir_ / "out" / ("frame_7_view_" + std::to_string(v) + ".png"));
+    glm::dvec2 anchor;
+    ASSERT_TRUE(project(mid, eyes[v], 1.0, image.width, image.height, anchor,
+                        [](const glm::dvec3& s) { return s; }));
+    const TextBox text = textPixels(image);
+    ASSERT_GT(text.count, 10) << "view " << v << ": no label drawn";
+    EXPECT_GE(text.x0, anchor.x) << "view " << v;
+    EXPECT_LE(text.x0, anchor.x + 12) << "view " << v;
+    EXPECT_LE(text.y1, anchor.y) << "view " << v;
+    EXPECT_GE(text.y0, anchor.y - 30) << "view " << v;
+    EXPECT_GT(text.x1 - text.x0, 30) << "view " << v << ": \"dz 1.23 m\" is wider";
+    left_x[v] = text.x0;
+  }
+  glm::dvec2 p0, p1;
+  ASSERT_TRUE(project(mid, eyes[0], 1.0, 320, 240, p0, [](const glm::dvec3& s) { return s; }));
+  ASSERT_TRUE(project(mid, eyes[1], 1.0, 320, 240, p1, [](const glm::dvec3& s) { return s; }));
+  EXPECT_NEAR(left_x[0] - left_x[1], p0.x - p1.x, 1.5) << "the label's disparity";
+  EXPECT_GT(p0.x - p1.x, 1.0) << "a near label sits further left in the right eye";
 }
 
 TEST_F(XrViewTest, TheAButtonTeleportsToTheLaserPointOnTheFloorUnderTheHead) {

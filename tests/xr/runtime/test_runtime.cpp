@@ -5,8 +5,10 @@
 // the application keeps current on the thread that calls xrCreateSwapchain and xrEndFrame, as it
 // does in a single-threaded renderer), and on every xrEndFrame writes each projection view the
 // application submitted as DIR/frame_F_view_V.png (top row first) with DIR/frame_F.json (the
-// pose, fov and image rect submitted). After the configured number of frames it takes the session
-// through focus loss (VISIBLE), SYNCHRONIZED and STOPPING; after xrEndSession, IDLE then EXITING.
+// pose, fov and image rect submitted). Frames are paced at 90 Hz (xrWaitFrame blocks until the
+// display time it predicted last), as a real compositor paces them. After the configured number
+// of frames it takes the session through focus loss (VISIBLE), SYNCHRONIZED and STOPPING; after
+// xrEndSession, IDLE then EXITING.
 //
 // One instance and one session at a time; no real tracking: the controllers are scripted per
 // frame by the configuration's "controllers" (poses and inputs), read through the action system
@@ -35,6 +37,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "test_runtime_config.h"
@@ -135,6 +138,7 @@ struct Session {
   bool frame_begun = false;
   bool exit_requested = false;
   uint64_t frames_waited = 0, frames_ended = 0;
+  XrTime last_display_time = 0;  // the display time xrWaitFrame predicted last (0: none yet)
   bool actions_attached = false;
   // The controllers' state as of the last xrSyncActions (none before it, or while unfocused).
   const parallax::xr_test::ControllerFrame* controllers = nullptr;
@@ -734,8 +738,17 @@ XRAPI_ATTR XrResult XRAPI_CALL waitFrame(XrSession handle, const XrFrameWaitInfo
   if (!s) return XR_ERROR_HANDLE_INVALID;
   if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
   ++s->frames_waited;
+  // Paced as a real compositor paces its application: xrWaitFrame blocks until the last predicted
+  // display time, so frames come at most once a display period (an application that draws
+  // faster waits; one that draws slower misses displays). Tests that count on time passing
+  // between frames (loads arriving meanwhile) get what a headset gives them.
+  const XrTime wait_until = s->last_display_time;
+  if (now(*s) < wait_until) {
+    std::this_thread::sleep_for(std::chrono::nanoseconds(wait_until - now(*s)));
+  }
   state->predictedDisplayPeriod = kFramePeriod;
   state->predictedDisplayTime = now(*s) + kFramePeriod;
+  s->last_display_time = state->predictedDisplayTime;
   state->shouldRender = s->state == XR_SESSION_STATE_VISIBLE || s->state == XR_SESSION_STATE_FOCUSED
                             ? XR_TRUE
                             : XR_FALSE;
@@ -835,9 +848,18 @@ XRAPI_ATTR XrResult XRAPI_CALL endFrame(XrSession handle, const XrFrameEndInfo* 
 
 // --- actions (scripted by the configuration's "controllers") ----------------------------------
 
+// Every interaction profile of the OpenXR 1.0 specification (section 6.4): a runtime accepts
+// suggested bindings for all of them (hello_xr suggests Vive and Windows Mixed Reality bindings
+// too), and the configuration's profile, one of the first three, is the one it reports.
 const char* const kProfiles[] = {"/interaction_profiles/khr/simple_controller",
                                  "/interaction_profiles/oculus/touch_controller",
-                                 "/interaction_profiles/valve/index_controller"};
+                                 "/interaction_profiles/valve/index_controller",
+                                 "/interaction_profiles/google/daydream_controller",
+                                 "/interaction_profiles/htc/vive_controller",
+                                 "/interaction_profiles/htc/vive_pro",
+                                 "/interaction_profiles/microsoft/motion_controller",
+                                 "/interaction_profiles/microsoft/xbox_controller",
+                                 "/interaction_profiles/oculus/go_controller"};
 
 XRAPI_ATTR XrResult XRAPI_CALL createActionSet(XrInstance instance,
                                                const XrActionSetCreateInfo* info,
