@@ -277,10 +277,10 @@ run_fuzzers() {
 }
 
 total_start=$(now)
-# The sanitizer tree (tests and fuzz targets): -O1 (ASan's own advice for usable speed, and what OSS-Fuzz builds
-# its fuzzers with): their builds are a large part of CI's time, and -O2 adds to them more than
-# it gives back in test time or executions a second; line tables only (-g1) instead of full debug
-# information, which is all a sanitizer's stack trace reads.
+# The sanitizer tree (tests and fuzz targets): -O1 (ASan's own advice for usable speed, and what
+# OSS-Fuzz builds its fuzzers with): its build is a large part of CI's time, and -O2 adds to it
+# more than it gives back in test time or executions a second; line tables only (-g1) instead of
+# full debug information, which is all a sanitizer's stack trace reads.
 sanitizer_flags=(-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG")
 
 banner "dependencies"
