@@ -12,7 +12,15 @@ if(PARALLAX_UNITY_BUILD AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
   # (-Wsubobject-linkage); within one batch that cannot happen.
   target_compile_options(parallax_build_flags INTERFACE -Wno-subobject-linkage)
 endif()
-if(PARALLAX_SANITIZE)
+if(PARALLAX_BUILD_FUZZ AND NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+  message(FATAL_ERROR "PARALLAX_BUILD_FUZZ needs clang (libFuzzer): configure with "
+                      "-DCMAKE_CXX_COMPILER=clang++ (Debian packages 'clang', "
+                      "'libclang-rt-14-dev')")
+endif()
+# A fuzzing tree is a sanitizer tree: the fuzz targets are built beside the tests, in the same
+# tree (scripts/test.sh builds them in its sanitizer tree), and only the modules they read get
+# libFuzzer's coverage instrumentation on top (fuzz/CMakeLists.txt, PARALLAX_FUZZED_MODULES).
+if(PARALLAX_SANITIZE OR PARALLAX_BUILD_FUZZ)
   target_compile_options(parallax_build_flags INTERFACE -fsanitize=address,undefined
                                                          -fno-sanitize-recover=undefined
                                                          -fno-omit-frame-pointer)
@@ -24,23 +32,6 @@ if(PARALLAX_SANITIZE)
   # builds stay PIE, as Debian builds them.
   target_link_options(parallax_build_flags INTERFACE
                       $<$<STREQUAL:$<TARGET_PROPERTY:TYPE>,EXECUTABLE>:-no-pie>)
-endif()
-if(PARALLAX_BUILD_FUZZ)
-  # The libraries a fuzz target links get coverage instrumentation without libFuzzer's main
-  # (fuzzer-no-link); the fuzz targets themselves add -fsanitize=fuzzer (fuzz/CMakeLists.txt).
-  # Executables other than fuzz targets (the `parallax` app) still link: they get the sanitizer
-  # runtimes, whose coverage callbacks are no-ops without libFuzzer.
-  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
-    message(FATAL_ERROR "PARALLAX_BUILD_FUZZ needs clang (libFuzzer): configure with "
-                        "-DCMAKE_CXX_COMPILER=clang++ (Debian packages 'clang', "
-                        "'libclang-rt-14-dev')")
-  endif()
-  # Line tables only: all a crash's stack trace reads (full debug information cost a good part
-  # of this tree's compile time in CI).
-  target_compile_options(parallax_build_flags INTERFACE -fsanitize=fuzzer-no-link,address,undefined
-                                                         -fno-sanitize-recover=undefined
-                                                         -fno-omit-frame-pointer -gline-tables-only)
-  target_link_options(parallax_build_flags INTERFACE -fsanitize=address,undefined)
 endif()
 add_library(parallax::build_flags ALIAS parallax_build_flags)
 

@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
-# Builds and tests everything CI checks: the formatting of every C++ file, then three trees:
+# Builds and tests everything CI checks: the formatting of every C++ file, then two trees:
 #   1. build/       Release: the product, the Python module and the benchmarks, and the tests
 #                   the sanitizer tree cannot run (label `unsanitized`: the Python module, the
 #                   Debian package); with --quick, every test instead (and nothing else runs)
 #   2. build-asan/  clang, RelWithDebInfo with AddressSanitizer + UndefinedBehaviorSanitizer:
 #                   everything else, every other test (LeakSanitizer too; system GL/X11
-#                   libraries' leaks: scripts/lsan.supp)
-#   3. build-fuzz/  clang + libFuzzer: the fuzz targets built; each runs for a fixed time from
-#                   a copy of its seed corpus fuzz/corpus/<format>/ and the real files fuzz/CMakeLists.txt lists from
-#                   PARALLAX_TEST_DATA (with fuzz/<format>.dict when present), as many at a
-#                   time as there are build jobs
+#                   libraries' leaks: scripts/lsan.supp); and the libFuzzer targets, built in
+#                   this tree (the modules they read carry libFuzzer's coverage instrumentation,
+#                   fuzz/CMakeLists.txt): after the tests each runs for a fixed time from a copy
+#                   of its seed corpus fuzz/corpus/<format>/ and the real files
+#                   fuzz/CMakeLists.txt lists from PARALLAX_TEST_DATA (with fuzz/<format>.dict
+#                   when present), as many at a time as there are build jobs
 # Every tree is built with PARALLAX_WERROR=ON (a compiler warning fails the build) and its build
 # log is searched for any other warning (CMake, linker), which fails the stage too.
 # Every tree compiles in unity batches (PARALLAX_UNITY_BUILD) and links with LLD where it is
@@ -22,11 +23,11 @@
 # exits non-zero when any stage failed and ends with a summary and a
 # "N passed, N failed, N skipped" line.
 #
-#   scripts/test.sh            everything (about 40 minutes on 2 cores from scratch)
+#   scripts/test.sh            everything (about 35 minutes on 2 cores from scratch)
 #   scripts/test.sh --quick    the Release tree with every test, nothing else
 # Environment: PARALLAX_JOBS (build and test parallelism, default: nproc),
 #              PARALLAX_FUZZ_SECONDS (per fuzz target, default 15),
-#              PARALLAX_BUILD_DIR (default build; the other trees are its name + -asan, -fuzz),
+#              PARALLAX_BUILD_DIR (default build; the sanitizer tree is its name + -asan),
 #              PARALLAX_TEST_DATA (the folder of other projects' test files, default ../shared/data
 #                beside the repository; read by CMake, cmake/ParallaxTestData.cmake),
 #              PARALLAX_ALLOWED_SKIPS (test names or shell patterns, separated by blanks, that may
@@ -48,7 +49,8 @@ jobs=${PARALLAX_JOBS:-$(nproc)}
 fuzz_seconds=${PARALLAX_FUZZ_SECONDS:-15}
 release_dir=${PARALLAX_BUILD_DIR:-build}
 asan_dir=$release_dir-asan
-fuzz_dir=$release_dir-fuzz
+# The fuzz targets are built and run in the sanitizer tree.
+fuzz_dir=$asan_dir
 read -r -a allowed_skips <<<"${PARALLAX_ALLOWED_SKIPS:-}"
 export DEBIAN_FRONTEND=noninteractive
 # Sanitizers: stop at the first report, with a stack; leaks are errors.
@@ -275,10 +277,10 @@ run_fuzzers() {
 }
 
 total_start=$(now)
-# The sanitizer and fuzz trees: -O1 (ASan's own advice for usable speed, and what OSS-Fuzz builds
-# its fuzzers with): their builds are a large part of CI's time, and -O2 adds to them more than
-# it gives back in test time or executions a second; line tables only (-g1) instead of full debug
-# information, which is all a sanitizer's stack trace reads.
+# The sanitizer tree (tests and fuzz targets): -O1 (ASan's own advice for usable speed, and what
+# OSS-Fuzz builds its fuzzers with): its build is a large part of CI's time, and -O2 adds to it
+# more than it gives back in test time or executions a second; line tables only (-g1) instead of
+# full debug information, which is all a sanitizer's stack trace reads.
 sanitizer_flags=(-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG")
 
 banner "dependencies"
@@ -328,19 +330,15 @@ if [[ $quick -eq 0 ]]; then
   #    tree builds them). Clang, not GCC: with the sanitizers it compiled a unit in 0.55-0.8 of
   #    GCC's CPU time, and this tree is the largest build of the run; so every file goes through
   #    clang (warnings as errors) here and the product's through GCC in the Release tree.
+  #    The fuzz targets are built here too (PARALLAX_BUILD_FUZZ; the modules they read get
+  #    libFuzzer's coverage instrumentation) and run after the tests: a tree of their own
+  #    compiled those modules a third time (264 s of CI).
   use_clang "$asan_dir"
   if configure_and_build asan "$asan_dir" all -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
        "${sanitizer_flags[@]}" -DCMAKE_CXX_COMPILER=clang++ -DPARALLAX_SANITIZE=ON \
-       -DPARALLAX_BUILD_BENCH=OFF; then
+       -DPARALLAX_BUILD_FUZZ=ON -DPARALLAX_BUILD_BENCH=OFF; then
     run_ctest asan "$asan_dir"
-  fi
-
-  # 3. Fuzzing: clang. Only the fuzz targets are built (the modules they link, instrumented for
-  #    coverage).
-  use_clang "$fuzz_dir"
-  if configure_and_build fuzz "$fuzz_dir" parallax_fuzzers -- -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-       "${sanitizer_flags[@]}" -DCMAKE_CXX_COMPILER=clang++ -DPARALLAX_BUILD_FUZZ=ON \
-       -DPARALLAX_BUILD_TESTS=OFF -DPARALLAX_BUILD_BENCH=OFF; then
+    # 3. Fuzzing: each fuzz target for a fixed time.
     fuzzers=()
     while read -r target; do
       [[ -n "$target" ]] && fuzzers+=("$fuzz_dir/fuzz/$target")

@@ -1,8 +1,9 @@
 """The distributed octree build on a real Dask cluster on loopback.
 
-A `dask scheduler` and two `dask worker` processes are started by each test (ports chosen by
-the scheduler, read back from its scheduler file), each in its own session so that the whole
-process group goes at the end, whatever happened. Outputs are compared byte for byte with
+A `dask scheduler` and two `dask worker` processes are started once for the cluster tests (ports
+chosen by the scheduler, read back from its scheduler file), each in its own session so that the
+whole process group goes at the end, whatever happened; each test waits for two live workers
+first (the test that kills one starts its replacement). Outputs are compared byte for byte with
 `parallax convert` on this machine. BuildOrderTest checks the driver's order of the builds alone,
 without a cluster.
 
@@ -136,16 +137,22 @@ class DistributedConvertTest(unittest.TestCase):
         # The reference: the local build, same options (a small budget: several chunks).
         cls.local = os.path.join(cls.data, "local", "octree")
         run_parallax("convert", cls.ply, cls.las, "-o", cls.local, "--memory", "16")
+        # One cluster for every case: a scheduler and two workers (each a Python process that
+        # imports distributed) started once instead of once a case.
+        cls.cluster = LoopbackCluster(tempfile.mkdtemp(prefix="cluster-", dir=TMP_ROOT))
+        cls.addClassCleanup(shutil.rmtree, cls.cluster.directory, True)
+        cls.addClassCleanup(cls.cluster.stop)
+        cls.cluster.start_worker("a")
+        cls.cluster.start_worker("b")
 
     @classmethod
     def tearDownClass(cls):
         shutil.rmtree(cls.data, ignore_errors=True)
 
     def setUp(self):
-        self.directory = tempfile.mkdtemp(prefix="cluster-", dir=TMP_ROOT)
-        self.cluster = LoopbackCluster(self.directory)
+        self.directory = tempfile.mkdtemp(prefix="case-", dir=TMP_ROOT)
         self.addCleanup(shutil.rmtree, self.directory, True)
-        self.addCleanup(self.cluster.stop)
+        self.cluster.wait_for_workers(2)
 
     def drive(self, inputs, output, *extra, parallax=PARALLAX):
         command = [sys.executable, "-m", "parallax_dask", *inputs, "-o", output, "--scheduler",
@@ -159,9 +166,6 @@ class DistributedConvertTest(unittest.TestCase):
                         f"{output} differs from the local build {self.local}")
 
     def test_output_is_byte_identical_to_the_local_build(self):
-        self.cluster.start_worker("a")
-        self.cluster.start_worker("b")
-        self.cluster.wait_for_workers(2)
         # --tasks 1: one range per input (2); 7: 150 000-point inputs in ranges of about
         # 300 000 / 7 points, 3 each (6).
         for tasks, ranges in (("1", 2), ("7", 6)):
@@ -202,9 +206,6 @@ fi
 exec "{PARALLAX}" "$@"
 """)
         os.chmod(wrapper, 0o755)
-        self.cluster.start_worker("a")
-        self.cluster.start_worker("b")
-        self.cluster.wait_for_workers(2)
         output = os.path.join(self.directory, "killed", "octree")
         driver = subprocess.Popen(
             [sys.executable, "-m", "parallax_dask", self.ply, self.las, "-o", output,
@@ -243,9 +244,6 @@ fi
 exec "{PARALLAX}" "$@"
 """)
         os.chmod(wrapper, 0o755)
-        self.cluster.start_worker("a")
-        self.cluster.start_worker("b")
-        self.cluster.wait_for_workers(2)
         output = os.path.join(self.directory, "retried", "octree")
         report = os.path.join(self.directory, "retried.json")
         done = self.drive([self.ply, self.las], output, "--tasks", "5", "--report", report,
@@ -263,9 +261,6 @@ exec "{PARALLAX}" "$@"
         self.assertIdenticalToLocal(output)
 
     def test_malformed_input_stops_the_run_with_its_error(self):
-        self.cluster.start_worker("a")
-        self.cluster.start_worker("b")
-        self.cluster.wait_for_workers(2)
         # An ascii PLY whose 3rd vertex has a word where a number belongs: the header is fine
         # (the plan is made), the scan task of its range finds the value.
         bad = os.path.join(self.directory, "bad.ply")
