@@ -95,7 +95,8 @@ void expectFixedRecordValues(const PointCloud& cloud, bool with_alpha) {
     const Float3 normal = cloud.normals[i];
     // Bits, not values: -0.0f must stay negative.
     ASSERT_EQ(std::memcmp(&normal, &r.nx, sizeof normal), 0) << "normal of point " << i;
-    ASSERT_EQ(cloud.colors[i], (Rgba8{r.red, r.green, r.blue, with_alpha ? r.alpha : 255}))
+    ASSERT_EQ(cloud.colors[i],
+              (Rgba8{r.red, r.green, r.blue, std::uint8_t(with_alpha ? r.alpha : 255)}))
         << "point " << i;
   }
 }
@@ -192,9 +193,9 @@ TEST(PlyFixedRecords, ANonFiniteValueAfterZIsNoCoordinate) {
 TEST(PlyFixedRecords, ANonFiniteCoordinateAtABlocksEndIsReportedWhereItIs) {
   constexpr std::size_t kRecord = 12;  // float x y z
   constexpr std::size_t kPerBlock = kReadBlockBytes / kRecord;
-  constexpr std::size_t kPoints = 2 * kPerBlock + 5;
+  constexpr std::size_t kBadFilePoints = 2 * kPerBlock + 5;
   const std::string header = plyHeader(
-      PlyFormat::BinaryLittleEndian, {"element vertex " + std::to_string(kPoints),
+      PlyFormat::BinaryLittleEndian, {"element vertex " + std::to_string(kBadFilePoints),
                                       "property float x", "property float y", "property float z"});
   struct Bad {
     std::size_t record;
@@ -203,11 +204,12 @@ TEST(PlyFixedRecords, ANonFiniteCoordinateAtABlocksEndIsReportedWhereItIs) {
     const char* property;
   };
   const float inf = std::numeric_limits<float>::infinity();
-  for (const Bad bad : {Bad{kPerBlock - 1, 2, inf, "'z'"}, Bad{kPerBlock, 0, -inf, "'x'"},
-                        Bad{kPoints - 1, 1, std::numeric_limits<float>::quiet_NaN(), "'y'"}}) {
+  for (const Bad bad :
+       {Bad{kPerBlock - 1, 2, inf, "'z'"}, Bad{kPerBlock, 0, -inf, "'x'"},
+        Bad{kBadFilePoints - 1, 1, std::numeric_limits<float>::quiet_NaN(), "'y'"}}) {
     SCOPED_TRACE("record " + std::to_string(bad.record));
     PlyBody body(PlyFormat::BinaryLittleEndian);
-    for (std::size_t i = 0; i < kPoints; ++i) {
+    for (std::size_t i = 0; i < kBadFilePoints; ++i) {
       float xyz[3] = {float(i), 1.0f, 2.0f};
       if (i == bad.record) xyz[bad.axis] = bad.value;
       body.put(xyz[0]).put(xyz[1]).put(xyz[2]).end();
