@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/column.h"
 #include "render/frame_times.h"
 
 namespace parallax::cli {
@@ -36,6 +37,19 @@ inline double rusageCpuSeconds(int who) {
   getrusage(who, &usage);
   return double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
          1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+// Touches `bytes` of memory allocated as columns are (core/column.h) and frees it, so that the
+// timed action that follows allocates memory just freed. These virtual machines' balloon driver
+// hands memory freed for about 2 s back to the host (free page reporting), and the next first touch
+// of it costs about 4 ms a MB where memory just freed costs about 0.2: without this, whichever
+// action allocated first after a pause would pay for it (scripts/bench_python.py does the same).
+inline void touchAndFreeMemory(std::size_t bytes) {
+  ByteBuffer memory(bytes);
+  constexpr std::size_t kPage = 4096;
+  // volatile: stores to memory freed right after are otherwise dead to the optimiser
+  volatile std::byte* pages = memory.data();
+  for (std::size_t at = 0; at < bytes; at += kPage) pages[at] = std::byte{1};
 }
 
 // /proc/loadavg's three figures (zeros where it cannot be read).

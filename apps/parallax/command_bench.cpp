@@ -11,6 +11,11 @@
 //   and M points/s. The reference, measured in the same run and
 //   interleaved with the loads: open + read() of the whole file into a newly allocated buffer,
 //   which is the least any loader must do (the kernel copy and the first touch of fresh memory).
+//   That is numpy.fromfile's work: the buffer is advised into huge pages as numpy's large arrays
+//   and the columns are. Every timed action starts on memory just freed (touchAndFreeMemory): on
+//   these virtual machines memory freed for about 2 s goes back to the host and its next first
+//   touch costs about 4 ms a MB, which would otherwise be charged to whichever action came first
+//   after a pause.
 //   "load / reference" says how much the parsing costs on top. One warm-up read comes first so
 //   that both measure from the page cache, never from the disk. Peak memory (ru_maxrss) is shown
 //   beside the size of the columns the load produced, and the CPU time of a load (user + system),
@@ -56,9 +61,11 @@ namespace {
   throw InputError({.file = path, .expected = "a readable file", .found = std::strerror(error)});
 }
 
-// The reference: the whole file into a fresh, untouched heap buffer with read(2). Returns the
-// bytes read; the buffer is freed after the clock stops (as the loaded cloud is).
-std::uint64_t readIntoNewBuffer(const std::string& path, std::unique_ptr<std::byte[]>& buffer) {
+// The reference: the whole file into a fresh, untouched buffer with read(2), allocated as the
+// columns are (core/column.h: large ones mapped and advised into huge pages, as numpy does for
+// the array numpy.fromfile fills). Returns the bytes read; the buffer is freed after the clock
+// stops (as the loaded cloud is).
+std::uint64_t readIntoNewBuffer(const std::string& path, ByteBuffer& buffer) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throwReadError(path, errno);
   struct stat info {};
@@ -68,10 +75,10 @@ std::uint64_t readIntoNewBuffer(const std::string& path, std::unique_ptr<std::by
     throwReadError(path, error);
   }
   const std::size_t size = std::size_t(info.st_size);
-  buffer.reset(new std::byte[size]);  // default-initialised: not touched before read() fills it
+  buffer = ByteBuffer(size);  // not touched before read() fills it
   std::size_t done = 0;
   while (done < size) {
-    const ssize_t got = ::read(fd, buffer.get() + done, size - done);
+    const ssize_t got = ::read(fd, buffer.data() + done, size - done);
     if (got < 0 && errno == EINTR) continue;
     if (got <= 0) {
       const int error = got < 0 ? errno : EIO;
@@ -136,15 +143,17 @@ std::string peerCommand(const std::string& pattern, const std::string& file) {
 int runBenchLoad(const LoadOptions& options) {
   const std::string& path = options.file;
   // Warm-up: puts the file in the page cache ("drop nothing": both measurements then read memory).
-  std::unique_ptr<std::byte[]> buffer;
+  ByteBuffer buffer;
   const std::uint64_t file_bytes = readIntoNewBuffer(path, buffer);
-  buffer.reset();
+  buffer = ByteBuffer();
+  // More than a load's columns (at most about twice the file for every format read whole).
+  const std::size_t fresh_bytes = std::size_t(2 * file_bytes);
 
   std::optional<tbb::global_control> limit;
   if (options.threads > 0) {
     limit.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(options.threads));
   }
-  Times load, reference, load_cpu, peer, peer_cpu, full, full_cpu;
+  Times load, reference, reference_cpu, load_cpu, peer, peer_cpu, full, full_cpu;
   const AttributeSelection selection = options.attributes.empty()
                                            ? AttributeSelection{}
                                            : AttributeSelection::only(options.attributes);
@@ -153,11 +162,15 @@ int runBenchLoad(const LoadOptions& options) {
   auto progress = progressBar(options.quiet, "bench load", std::uint64_t(options.repeat), "loads");
   for (int i = 0; i < options.repeat; ++i) {
     // Interleaved, so that drift in the machine's load (shared cores) hits both alike.
+    touchAndFreeMemory(fresh_bytes);
     auto start = Clock::now();
+    const double reference_start = rusageCpuSeconds(RUSAGE_SELF);
     readIntoNewBuffer(path, buffer);
     reference.seconds.push_back(secondsSince(start));
-    buffer.reset();
+    reference_cpu.seconds.push_back(rusageCpuSeconds(RUSAGE_SELF) - reference_start);
+    buffer = ByteBuffer();
 
+    touchAndFreeMemory(fresh_bytes);
     start = Clock::now();
     const double cpu_start = rusageCpuSeconds(RUSAGE_SELF);
     PointCloud cloud = readPointFile(path, {.attributes = selection});
@@ -167,6 +180,7 @@ int runBenchLoad(const LoadOptions& options) {
     columns = columnBytes(cloud);
     cloud = PointCloud();
     if (!selection.all()) {
+      touchAndFreeMemory(fresh_bytes);
       start = Clock::now();
       const double full_start = rusageCpuSeconds(RUSAGE_SELF);
       cloud = readPointFile(path);
@@ -176,6 +190,7 @@ int runBenchLoad(const LoadOptions& options) {
     }
     if (!options.peer.empty()) {
       const std::string command = peerCommand(options.peer, path);
+      touchAndFreeMemory(fresh_bytes);
       start = Clock::now();
       const double children_start = rusageCpuSeconds(RUSAGE_CHILDREN);
       const int status = std::system(command.c_str());
@@ -199,17 +214,18 @@ int runBenchLoad(const LoadOptions& options) {
   std::printf("load       median %.4f s, best %.4f s: %.1f MB/s, %.2f M points/s\n", load_median,
               load.best(), mb / load_median, double(points) / load_median / 1e6);
   std::printf(
-      "reference  median %.4f s, best %.4f s: %.1f MB/s (open + read() into a new "
-      "buffer)\n",
-      reference_median, reference.best(), mb / reference_median);
+      "reference  median %.4f s, best %.4f s: %.1f MB/s, %.4f s of CPU (open + read() into a "
+      "new buffer)\n",
+      reference_median, reference.best(), mb / reference_median, reference_cpu.median());
   std::printf(
       "cpu        median %.4f s of CPU a load (user + system, %s): %.2f M points/s per "
       "CPU second\n",
       load_cpu.median(),
       options.threads > 0 ? (std::to_string(options.threads) + " threads").c_str() : "all cores",
       double(points) / load_cpu.median() / 1e6);
-  std::printf("ratio      load / reference = %.2f (median), %.2f (best)\n",
-              load_median / reference_median, load.best() / reference.best());
+  std::printf("ratio      load / reference = %.2f (median), %.2f (best), %.2f in CPU time\n",
+              load_median / reference_median, load.best() / reference.best(),
+              load_cpu.median() / reference_cpu.median());
   if (!full.seconds.empty()) {
     std::string names;
     for (const std::string& name : options.attributes) names += (names.empty() ? "" : ",") + name;

@@ -172,6 +172,39 @@ void storeColors(const std::byte* c, std::size_t stride, std::size_t m, bool col
   }
 }
 
+// One bit field of one byte a record: the shift a template argument, since a shift by a
+// register (x86's shr %cl, several micro-ops) was most of a LAS read's decode (perf, format 2:
+// the five bit-field columns 27 % of decodeLasRecords).
+template <unsigned kShift>
+void copyBits(const std::byte* src, std::size_t stride, std::size_t m, unsigned mask,
+              std::uint8_t* __restrict dst) {
+  for (std::size_t i = 0; i < m; ++i) {
+    dst[i] = std::uint8_t((unsigned(src[i * stride]) >> kShift) & mask);
+  }
+}
+
+void copyBitsShifted(const std::byte* src, std::size_t stride, std::size_t m, unsigned shift,
+                     unsigned mask, std::uint8_t* dst) {
+  switch (shift) {
+    case 0:
+      return copyBits<0>(src, stride, m, mask, dst);
+    case 1:
+      return copyBits<1>(src, stride, m, mask, dst);
+    case 2:
+      return copyBits<2>(src, stride, m, mask, dst);
+    case 3:
+      return copyBits<3>(src, stride, m, mask, dst);
+    case 4:
+      return copyBits<4>(src, stride, m, mask, dst);
+    case 5:
+      return copyBits<5>(src, stride, m, mask, dst);
+    case 6:
+      return copyBits<6>(src, stride, m, mask, dst);
+    default:
+      return copyBits<7>(src, stride, m, mask, dst);
+  }
+}
+
 bool anyAbove255(const std::byte* c, std::size_t stride, std::size_t m) {
   unsigned all = 0;
   for (std::size_t i = 0; i < m; ++i) {
@@ -214,13 +247,16 @@ void decodeLasRecords(const std::byte* records, std::size_t n, const LasDecodePl
     const std::size_t m = std::min(kBlock, n - b);
     const std::byte* r = records + b * stride;
     const std::size_t o = at + b;
-    copyField<12>(r, stride, m, reinterpret_cast<std::byte*>(out.positions.data() + o));
     {
-      const Int3* p = out.positions.data() + o;
+      // Copied and bounded in one pass (a second pass read the positions back).
+      Int3* __restrict p = out.positions.data() + o;
       Int3 lo = box.lo, hi = box.hi;
       for (std::size_t i = 0; i < m; ++i) {
-        lo = {std::min(lo.x, p[i].x), std::min(lo.y, p[i].y), std::min(lo.z, p[i].z)};
-        hi = {std::max(hi.x, p[i].x), std::max(hi.y, p[i].y), std::max(hi.z, p[i].z)};
+        Int3 v;
+        std::memcpy(&v, r + i * stride, sizeof v);
+        p[i] = v;
+        lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+        hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
       }
       box.lo = lo, box.hi = hi;
     }
@@ -243,7 +279,13 @@ void decodeLasRecords(const std::byte* records, std::size_t n, const LasDecodePl
       storeColors(c, stride, m, plan.colors_8bit, out.colors.data() + o);
       copyField<6>(c, stride, m, reinterpret_cast<std::byte*>(out.stored_colors.data() + o));
     }
-    if (plan.normals) {
+    if (plan.normals && plan.normals->adjacentFloats()) {
+      // NormalX, NormalY, NormalZ side by side (as PDAL and CloudCompare write them, and
+      // Parallax too): one 12-byte copy a record, not three passes of 4 bytes.
+      const std::byte* src = r + plan.normals->offset[0];
+      Float3* normals = out.normals.data() + o;
+      for (std::size_t i = 0; i < m; ++i) std::memcpy(&normals[i], src + i * stride, 12);
+    } else if (plan.normals) {
       float* normals = &out.normals[o].x;
       for (std::size_t axis = 0; axis < 3; ++axis) {
         const std::byte* src = r + plan.normals->offset[axis];
@@ -261,16 +303,10 @@ void decodeLasRecords(const std::byte* records, std::size_t n, const LasDecodePl
       ScalarColumn& column = out.scalars[f];
       const std::byte* src = r + field.offset;
       switch (field.kind) {
-        case LasFieldDecoder::Kind::Bits: {
-          // Locals, so that the stores through `dst` (a uint8_t*, which may alias anything) do
-          // not force a reload of the shift and mask each point.
-          const unsigned shift = unsigned(field.shift), mask = unsigned(field.mask);
-          std::uint8_t* dst = column.as<std::uint8_t>() + o;
-          for (std::size_t i = 0; i < m; ++i) {
-            dst[i] = std::uint8_t((unsigned(src[i * stride]) >> shift) & mask);
-          }
+        case LasFieldDecoder::Kind::Bits:
+          copyBitsShifted(src, stride, m, unsigned(field.shift), unsigned(field.mask),
+                          column.as<std::uint8_t>() + o);
           break;
-        }
         case LasFieldDecoder::Kind::Copy: {
           std::byte* dst = column.data.data() + o * field.size;
           switch (field.size) {

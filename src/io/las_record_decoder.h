@@ -43,6 +43,11 @@ struct LasDecodePlan {
   struct NormalFields {
     std::array<std::size_t, 3> offset{};
     std::array<bool, 3> is_double{};
+    // Three floats side by side in x, y, z order: a Float3 as it is in memory.
+    bool adjacentFloats() const {
+      return !is_double[0] && !is_double[1] && !is_double[2] && offset[1] == offset[0] + 4 &&
+             offset[2] == offset[1] + 4;
+    }
   };
   std::optional<NormalFields> normals;
   std::vector<LasFieldDecoder> fields;  // one per scalar column, in order

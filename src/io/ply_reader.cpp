@@ -173,11 +173,36 @@ bool readsRecordsByRange(const DecodeContext& context) {
   return context.header.format != PlyFormat::Ascii && context.layout.fixed_size;
 }
 
+// Decodes the first `count` records of `range` (fixed-size binary) into `cloud` from point
+// `first_index`, reading them from `records` in blocks of whole records into `buffer` (a buffer
+// of the calling thread, grown to a block): the kernel's copy from the page cache runs at memcpy
+// speed over its own mapping of memory, and the decode's loads then hit L2, where through the
+// mapping every 4 KiB page was a fault (or at least a TLB miss) and the first load of each cache
+// line of a 540 MB file went to DRAM (most of the decode's time). The last block of a range
+// holds what is left (a range need not be a multiple of the block).
+ply::RangeStats decodeByBlocks(const DecodeContext& context, const ByteSource& records,
+                               const RecordRange& range, std::uint64_t count, PointCloud& cloud,
+                               std::uint64_t first_index, std::vector<std::byte>& buffer) {
+  const std::size_t size = context.layout.record_size;
+  const std::uint64_t per_block = std::max<std::size_t>(1, kReadBlockBytes / size);
+  if (buffer.size() < per_block * size) buffer.resize(per_block * size);
+  ply::RangeStats stats;
+  stats.end = range.begin;
+  for (std::uint64_t done = 0; done < count; done += per_block) {
+    const std::uint64_t n = std::min(per_block, count - done);
+    const RecordRange block{range.first_record + done, n, range.begin + done * size, 0};
+    records.read(block.begin, std::span(buffer.data(), n * size),
+                 {.element = context.layout.element_name});
+    ply::RangeStats block_stats =
+        ply::decodeFixedRecords(context, buffer.data(), block, n, cloud, first_index + done);
+    stats.raw_bounds.extend(block_stats.raw_bounds);
+    stats.end = block_stats.end;
+  }
+  return stats;
+}
+
 // Decodes every range into `cloud`. With `records` (a local file's pread source, fixed-size binary
-// records only), each range is first read into a buffer of its thread: the kernel's copy from the
-// page cache runs at memcpy speed over its own mapping of memory, and the decode's loads then hit
-// L2, where through the mapping every 4 KiB page was a fault (or at least a TLB miss) and the
-// first load of each cache line of a 540 MB file went to DRAM (most of the decode's time).
+// records only), each range is read by blocks into a buffer of its thread (decodeByBlocks).
 DecodeResult decodeAll(const DecodeContext& context, const std::vector<RecordRange>& ranges,
                        PointCloud& cloud, const PlyReadOptions& options,
                        const ByteSource* records) {
@@ -187,21 +212,9 @@ DecodeResult decodeAll(const DecodeContext& context, const std::vector<RecordRan
   tbb::enumerable_thread_specific<std::vector<std::byte>> buffers;
   auto decode = [&](std::size_t i) {
     if (records != nullptr) {
-      const std::size_t size = context.layout.record_size;
-      const std::uint64_t per_block = std::max<std::size_t>(1, kReadBlockBytes / size);
-      std::vector<std::byte>& buffer = buffers.local();
-      if (buffer.size() < per_block * size) buffer.resize(per_block * size);
       const RecordRange& range = ranges[i];
-      for (std::uint64_t done = 0; done < range.count; done += per_block) {
-        const std::uint64_t n = std::min(per_block, range.count - done);
-        const RecordRange block{range.first_record + done, n, range.begin + done * size, 0};
-        records->read(block.begin, std::span(buffer.data(), n * size),
-                      {.element = context.layout.element_name});
-        ply::RangeStats block_stats =
-            ply::decodeFixedRecords(context, buffer.data(), block, n, cloud, block.first_record);
-        stats[i].raw_bounds.extend(block_stats.raw_bounds);
-        stats[i].end = block_stats.end;
-      }
+      stats[i] = decodeByBlocks(context, *records, range, range.count, cloud, range.first_record,
+                                buffers.local());
       if (options.progress) options.progress->advance(range.count);
       return;
     }
@@ -294,6 +307,9 @@ struct PlyChunkReader::State {
             chooseQuantization(ply::sampleBounds(context, ranges, ply::kQuantizationSamples),
                                ply::kQuantizationSampleMargin)) {
     if (!ranges.empty()) cursor_byte = ranges.front().begin;
+    if (readsRecordsByRange(context) && std::filesystem::is_regular_file(path)) {
+      records = openFileSource(path);
+    }
   }
 
   MappedFile file;
@@ -308,6 +324,10 @@ struct PlyChunkReader::State {
   std::uint64_t done_in_range = 0;
   std::size_t cursor_byte = 0;
   std::uint64_t delivered = 0;
+  // A local file's fixed-size binary records are read by pread into a buffer of each thread, as
+  // readPly reads them (decodeByBlocks); the others through the mapping.
+  std::unique_ptr<ByteSource> records;
+  tbb::enumerable_thread_specific<std::vector<std::byte>> buffers;
 };
 
 PlyChunkReader::PlyChunkReader(const std::filesystem::path& path)
@@ -373,11 +393,14 @@ bool PlyChunkReader::next(PointCloud& chunk, std::size_t max_points) {
   }
   std::vector<ply::RangeStats> stats(pieces.size());
   tbb::parallel_for(std::size_t(0), pieces.size(), [&](std::size_t i) {
-    stats[i] = ply::decodeRange(s.context, pieces[i].range, pieces[i].count, chunk, pieces[i].dst);
+    const Piece& piece = pieces[i];
+    stats[i] = s.records ? decodeByBlocks(s.context, *s.records, piece.range, piece.count, chunk,
+                                          piece.dst, s.buffers.local())
+                         : ply::decodeRange(s.context, piece.range, piece.count, chunk, piece.dst);
   });
   // The chunk's input pages are read: drop them from the resident set, so that streaming a file
   // larger than memory does not keep all of it mapped in (the page cache keeps them).
-  s.context.releaseRead(pieces.front().range.begin, stats.back().end);
+  if (!s.records) s.context.releaseRead(pieces.front().range.begin, stats.back().end);
   Bounds3 raw;
   for (const auto& st : stats) raw.extend(st.raw_bounds);
   if (!fitsQuantization(s.quantization, raw)) {
