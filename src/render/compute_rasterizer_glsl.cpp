@@ -465,10 +465,10 @@ bool drawPoint(uint i, uint views) {
 #endif
   // Each view written out with its index a constant, not a loop over the views: llvmpipe runs an
   // if's body for every lane (masked) and a loop while any lane goes on, and a loop over the views
-  // indexed its uniforms with a variable. With the loop, a stereo frame's pass 1 cost 3.0-3.3x
-  // mono's (CPU, the 2 M-point demo in view's look at 2 x 1440x1600), and eye 0 alone in the
-  // two-view program (eye 1 masked off) 3-4x mono: the program, not the second eye's pixels.
-  // Written out: 1.75-2.5x (xr NOTES, "The second eye").
+  // indexed its uniforms with a variable. With the loop, a stereo frame's pass 1 cost 3.0-3.6x
+  // mono's (CPU, the 2 M-point demo in view's look at 2 x 1440x1600), and one eye alone in the
+  // two-view program (the other masked off) 3-4x mono: the program, not the second eye's
+  // pixels. Written out: 1.5-2.5x (xr NOTES, "The second eye").
 #define DRAW_IN_VIEW(v)                                                                 \
   if ((views & (1u << v)) != 0u) {                                                      \
     drawInView(i, u_id_base + i, p, v, first_clip, first_inv_w, first_key);             \
