@@ -100,7 +100,8 @@ struct RenderBenchOptions {
   bool selective_load = false;  // an octree: its load with what the look draws, and with all
   std::string look = "render";
   bool no_atomic64 = false;
-  RenderOptions render;  // the look: every option of `view` and `render`
+  bool pass_times = false;  // the compute rasterizer's passes timed apart (an octree)
+  RenderOptions render;     // the look: every option of `view` and `render`
   LodOptions lod;
 };
 
@@ -333,7 +334,8 @@ int runBenchRenderInput(const RenderBenchOptions& o, const CLI::App& command,
   }
   if (one_view_mode && !modes.empty()) render.stereo = std::string(stereoModeName(modes.front()));
   const StereoSettings stereo = headlessStereoSettings(render, true, "bench render");
-  const ComputeRasterizerOptions compute{.allow_64bit_atomics = !o.no_atomic64};
+  const ComputeRasterizerOptions compute{.allow_64bit_atomics = !o.no_atomic64,
+                                         .time_passes = o.pass_times};
   const double aspect = double(o.width) / o.height;
 
   RenderSource source =
@@ -568,6 +570,9 @@ Command addBenchRenderCommand(CLI::App& bench) {
   sub->add_flag("--no-atomic64", options->no_atomic64,
                 "Compute rasterizer: the 32-bit path even where GL_NV_shader_atomic_int64 is "
                 "offered (the JSON's atomic64 says which path drew)");
+  sub->add_flag("--pass-times", options->pass_times,
+                "An octree without --orbit: the compute rasterizer's passes timed apart (a "
+                "glFinish after each), medians per side");
   sub->add_flag("--selective-load", options->selective_load,
                 "An octree (COPC): the time to the first picture and to the whole load with its "
                 "nodes read with what the look draws (as `view` reads them) and with every "

@@ -5,9 +5,11 @@
 // draw call per node instead of per 1 M-point chunk, and the nodes' less compact order.
 //
 // The camera frames the whole cloud (the default view of `parallax view DIR`). Mono and, with
-// --stereo MODE, that stereo mode: one selection on the union of the eyes' frusta, both eyes
-// drawn. Timed to glFinish, median of --repeat frames after a warm-up frame; update and draw
-// are timed apart.
+// --stereo MODE, each stereo mode given: one selection on the union of the eyes' frusta, both
+// eyes drawn; the sides' frames alternated (mono, then each mode, round after round), so that
+// a shared machine's load weighs on all alike, and each mode's median against mono's. Timed to
+// glFinish, median of --repeat frames after a warm-up round; update and draw are timed apart
+// (--pass-times: the compute rasterizer's passes too).
 //
 // --orbit N: what the viewer does while the user orbits: N frames, the camera turning 2 degrees
 // a frame around the cloud's centre, each frame LodScene::update() (streaming, never waiting)
@@ -22,11 +24,13 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include "bench_pass_times.h"
 #include "bench_render_orbit.h"
 #include "bench_timing.h"
 #include "network_options.h"
@@ -63,57 +67,116 @@ PointCloud mergeNodes(const Octree& octree, const std::vector<std::int32_t>& nod
   return merged;
 }
 
-void benchFrame(const LodRenderBenchOptions& o, Octree& octree, const Camera& camera,
-                const StereoSettings& stereo, const RenderSettings& settings) {
-  const StereoFrame frame = stereoFrame(camera, stereo, o.width, o.height);
+// One side of the comparison: mono or a stereo mode, with its own scene (its views' nodes) and
+// renderer (the composed modes' canvas is twice as wide: one renderer for both sizes would
+// reallocate its framebuffers every frame).
+struct FrameSide {
+  StereoFrame frame;
+  LodScene scene;
+  Renderer renderer;
+  std::vector<double> update_times, draw_times, plain_times;
+  std::vector<ComputePassTimes> passes;
+  FrameSide(const StereoFrame& views, Octree& octree, const ComputeRasterizerOptions& compute)
+      : frame(views), scene(octree), renderer(compute) {}
+};
+
+// Mono and each stereo mode of o.stereo, frames alternated side by side (mono, sbs, mono, sbs,
+// ...) so that the load of a shared machine weighs on every side alike, then the same for the
+// plain references; the medians and each mode's ratio to mono.
+void benchFrames(const LodRenderBenchOptions& o, Octree& octree, const Camera& camera,
+                 const RenderSettings& settings) {
   LodFrameSettings lod_settings;
   lod_settings.selection.point_budget = o.budget;
   lod_settings.selection.min_node_size_px = o.min_node_size;
-  LodScene scene(octree);
   RenderTarget target(o.width, o.height);
-  Renderer renderer(o.compute);
-
-  auto start = Clock::now();
-  scene.finishLoading(frame.views, lod_settings);
-  const double load_s = secondsSince(start);
-  const LodStats loaded = scene.stats();
-  printNetworkReport("bench render", octree, loaded.drawn_points);
-
-  std::vector<double> update_times, draw_times, plain_times;
-  for (int i = 0; i <= o.repeat; ++i) {  // frame 0: warm-up
-    start = Clock::now();
-    const DrawSet& draw_set = scene.update(frame.views, lod_settings);
-    const double update_s = secondsSince(start);
-    start = Clock::now();
-    renderer.render(draw_set, frame, settings, target.framebuffer(), o.width, o.height);
-    glFinish();
-    if (i > 0) update_times.push_back(update_s), draw_times.push_back(secondsSince(start));
+  std::vector<std::unique_ptr<FrameSide>> sides;
+  std::vector<StereoSettings> modes(1);  // mono first
+  for (const StereoMode mode : o.stereo) {
+    StereoSettings stereo;
+    stereo.mode = mode;
+    modes.push_back(stereo);
+  }
+  std::vector<double> load_s;
+  std::vector<LodStats> loaded;
+  for (const StereoSettings& mode : modes) {
+    sides.push_back(std::make_unique<FrameSide>(stereoFrame(camera, mode, o.width, o.height),
+                                                octree, o.compute));
+    const auto start = Clock::now();
+    sides.back()->scene.finishLoading(sides.back()->frame.views, lod_settings);
+    load_s.push_back(secondsSince(start));
+    loaded.push_back(sides.back()->scene.stats());
+    printNetworkReport("bench render", octree, loaded.back().drawn_points);
+  }
+  const std::vector<double> load_before = loadAverage();
+  for (int i = 0; i <= o.repeat; ++i) {  // round 0: warm-up
+    for (auto& side : sides) {
+      auto start = Clock::now();
+      const DrawSet& draw_set = side->scene.update(side->frame.views, lod_settings);
+      const double update_s = secondsSince(start);
+      start = Clock::now();
+      const FrameStats stats = side->renderer.render(draw_set, side->frame, settings,
+                                                     target.framebuffer(), o.width, o.height);
+      glFinish();
+      if (i == 0) continue;
+      side->update_times.push_back(update_s), side->draw_times.push_back(secondsSince(start));
+      if (o.compute.time_passes && stats.rasterizer == RasterizerKind::Compute) {
+        side->passes.push_back(side->renderer.computeRasterizer().passTimesOfLastFrame());
+      }
+    }
   }
 
-  // The reference: the same nodes' points as one plainly drawn cloud.
-  std::vector<SelectionView> views;
-  for (const View& view : frame.views) {
-    views.push_back(selectionViewFor(view, octree.info().bounds));
+  // The references: the same nodes' points as one plainly drawn cloud, per side.
+  std::vector<std::unique_ptr<GpuPointCloud>> plains;
+  for (auto& side : sides) {
+    std::vector<SelectionView> views;
+    for (const View& view : side->frame.views) {
+      views.push_back(selectionViewFor(view, octree.info().bounds));
+    }
+    const NodeSelection selection = selectNodes(octree.nodes(), views, lod_settings.selection, {});
+    plains.push_back(std::make_unique<GpuPointCloud>(mergeNodes(octree, selection.nodes)));
   }
-  const NodeSelection selection = selectNodes(octree.nodes(), views, lod_settings.selection, {});
-  const GpuPointCloud plain(mergeNodes(octree, selection.nodes));
-  const DrawSet plain_set = plain.drawSet();
-  Renderer plain_renderer(o.compute);
+  std::vector<DrawSet> plain_sets;
+  std::vector<std::unique_ptr<Renderer>> plain_renderers;
+  for (const auto& plain : plains) {
+    plain_sets.push_back(plain->drawSet());
+    plain_renderers.push_back(std::make_unique<Renderer>(o.compute));
+  }
   for (int i = 0; i <= o.repeat; ++i) {
-    start = Clock::now();
-    plain_renderer.render(plain_set, frame, settings, target.framebuffer(), o.width, o.height);
-    glFinish();
-    if (i > 0) plain_times.push_back(secondsSince(start));
+    for (std::size_t s = 0; s < sides.size(); ++s) {
+      const auto start = Clock::now();
+      plain_renderers[s]->render(plain_sets[s], sides[s]->frame, settings, target.framebuffer(),
+                                 o.width, o.height);
+      glFinish();
+      if (i > 0) sides[s]->plain_times.push_back(secondsSince(start));
+    }
   }
-  const double update_s = median(update_times), draw_s = median(draw_times);
-  const double plain_s = median(plain_times);
-  std::printf(
-      "%-6s loaded in %.2f s: %zu nodes, %.2f M points drawn (plain reference %.2f M)\n"
-      "       update %6.1f ms + draw %6.1f ms = LOD frame %6.1f ms   plain %6.1f ms   "
-      "LOD / plain %.2f\n",
-      std::string(stereoModeName(stereo.mode)).c_str(), load_s, loaded.drawn_nodes,
-      double(loaded.drawn_points) / 1e6, double(plain.pointCount()) / 1e6, update_s * 1e3,
-      draw_s * 1e3, (update_s + draw_s) * 1e3, plain_s * 1e3, (update_s + draw_s) / plain_s);
+  const std::vector<double> load_after = loadAverage();
+
+  double mono_draw = 0, mono_frame = 0;
+  for (std::size_t s = 0; s < sides.size(); ++s) {
+    const FrameSide& side = *sides[s];
+    const double update_s = median(side.update_times), draw_s = median(side.draw_times);
+    const double plain_s = median(side.plain_times);
+    const std::string mode(stereoModeName(modes[s].mode));
+    std::printf(
+        "%-6s loaded in %.2f s: %zu nodes, %.2f M points drawn (plain reference %.2f M)\n"
+        "       update %6.1f ms + draw %6.1f ms = LOD frame %6.1f ms   plain %6.1f ms   "
+        "LOD / plain %.2f\n",
+        mode.c_str(), load_s[s], loaded[s].drawn_nodes, double(loaded[s].drawn_points) / 1e6,
+        double(plains[s]->pointCount()) / 1e6, update_s * 1e3, draw_s * 1e3,
+        (update_s + draw_s) * 1e3, plain_s * 1e3, (update_s + draw_s) / plain_s);
+    if (!side.passes.empty()) printPassTimes(mode.c_str(), side.passes);
+    if (s == 0) {
+      mono_draw = draw_s, mono_frame = update_s + draw_s;
+    } else {
+      std::printf("       %s / mono: draw %.2fx, LOD frame %.2fx\n", mode.c_str(),
+                  draw_s / mono_draw, (update_s + draw_s) / mono_frame);
+    }
+  }
+  if (sides.size() > 1) {
+    std::printf("(medians of %d frames of each, alternated; load %.2f before, %.2f after)\n",
+                o.repeat, load_before[0], load_after[0]);
+  }
 }
 
 void benchOrbit(const LodRenderBenchOptions& o, Octree& octree, Camera camera) {
@@ -281,13 +344,7 @@ int runBenchRenderLod(const LodRenderBenchOptions& o, Octree& octree) {
     benchSelectiveLoad(o, octree);
     return 0;
   }
-  const RenderSettings& settings = o.settings;
-  benchFrame(o, octree, o.camera, {}, settings);
-  for (const StereoMode mode : o.stereo) {
-    StereoSettings stereo;
-    stereo.mode = mode;
-    benchFrame(o, octree, o.camera, stereo, settings);
-  }
+  benchFrames(o, octree, o.camera, o.settings);
   return 0;
 }
 

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_pass_times.h"
 #include "bench_timing.h"
 #include "commands.h"
 #include "render/gl_context.h"
@@ -29,6 +30,7 @@ struct BenchXrOptions {
   std::string input;
   int eye_width = 1440, eye_height = 1600;
   int frames = 10;
+  bool pass_times = false;  // the compute rasterizer's passes timed apart (glFinish between)
   RenderOptions render;
   LodOptions lod;
 };
@@ -70,7 +72,8 @@ int runBenchXr(const BenchXrOptions& o, const CLI::App& command) {
   // renderer alternating between the two sizes would reallocate (and the driver zero) its
   // framebuffer and the compute rasterizer's visibility buffer every frame, which cost more
   // than both eyes' points on llvmpipe and is nothing a headset frame pays.
-  Renderer stereo_renderer, mono_renderer;
+  const ComputeRasterizerOptions compute{.time_passes = o.pass_times};
+  Renderer stereo_renderer(compute), mono_renderer(compute);
   RenderTarget stereo_canvas(stereo.width, stereo.rows), mono_canvas(mono.width, mono.rows);
   const auto drawSetFor = [&](const EyeFrame& frame) -> const DrawSet& {
     StereoFrame views;
@@ -100,10 +103,17 @@ int runBenchXr(const BenchXrOptions& o, const CLI::App& command) {
             stereo_stats);  // warm-up: shaders, first uploads
   timeFrame(mono, mono_renderer, mono_canvas, mono_stats);
   std::vector<double> stereo_ms, mono_ms;
+  std::vector<ComputePassTimes> stereo_passes, mono_passes;
   const std::vector<double> load_before = loadAverage();
   for (int f = 0; f < o.frames; ++f) {
     stereo_ms.push_back(timeFrame(stereo, stereo_renderer, stereo_canvas, stereo_stats));
+    if (o.pass_times && stereo_stats.rasterizer == RasterizerKind::Compute) {
+      stereo_passes.push_back(stereo_renderer.computeRasterizer().passTimesOfLastFrame());
+    }
     mono_ms.push_back(timeFrame(mono, mono_renderer, mono_canvas, mono_stats));
+    if (o.pass_times && mono_stats.rasterizer == RasterizerKind::Compute) {
+      mono_passes.push_back(mono_renderer.computeRasterizer().passTimesOfLastFrame());
+    }
   }
   const std::vector<double> load_after = loadAverage();
   const double s = median(stereo_ms), m = median(mono_ms);
@@ -118,6 +128,8 @@ int runBenchXr(const BenchXrOptions& o, const CLI::App& command) {
       o.eye_height, stereo.width, stereo.rows, s, double(stereo_stats.points_drawn) / s / 1e3,
       o.eye_width, o.eye_height, mono.width, mono.rows, m, m > 0 ? s / m : 0.0, o.frames,
       load_before[0], load_after[0]);
+  if (!stereo_passes.empty()) printPassTimes("both eyes", stereo_passes);
+  if (!mono_passes.empty()) printPassTimes("mono", mono_passes);
   return 0;
 }
 
@@ -134,6 +146,8 @@ Command addBenchXrCommand(CLI::App& bench) {
   sub->add_option("--frames", options->frames, "Frames timed of each")
       ->capture_default_str()
       ->check(CLI::Range(1, 10000));
+  sub->add_flag("--pass-times", options->pass_times,
+                "Time the compute rasterizer's passes apart (a glFinish after each)");
   addRenderOptions(*sub, options->render);
   addLodOptions(*sub, options->lod);
   command.subcommand = sub;

@@ -1,8 +1,10 @@
 #include "render/compute_rasterizer.h"
 
+#include <time.h>
 #include <algorithm>
 #include <bit>
 #include <cassert>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -214,6 +216,12 @@ float largestPointSize(const DrawItem& item, const std::vector<Eye>& eyes, std::
     largest = std::max(largest, world * per_unit);
   }
   return float(std::clamp(largest, double(settings.min_size_px), double(settings.max_size_px)));
+}
+
+double processCpuMs() {
+  timespec now{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return double(now.tv_sec) * 1e3 + double(now.tv_nsec) * 1e-6;
 }
 
 // The threads llvmpipe runs a dispatch on (as Mesa sets them: LP_NUM_THREADS, else the CPUs,
@@ -436,6 +444,20 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   if (views.empty() || frame.canvas_width <= 0 || frame.canvas_height <= 0) return stats;
 
   const bool hq = settings.hq;
+  pass_times_ = {};
+  // With time_passes: glFinish, then the wall and CPU time since the last mark into `wall`, `cpu`.
+  auto mark_wall = std::chrono::steady_clock::now();
+  double mark_cpu = processCpuMs();
+  const auto mark = [&](double& wall, double& cpu) {
+    if (!options_.time_passes) return;
+    glFinish();
+    const auto now = std::chrono::steady_clock::now();
+    const double now_cpu = processCpuMs();
+    wall = std::chrono::duration<double, std::milli>(now - mark_wall).count();
+    cpu = now_cpu - mark_cpu;
+    mark_wall = now, mark_cpu = now_cpu;
+  };
+  mark(pass_times_.clear_ms, pass_times_.clear_cpu_ms);  // what came before: not this frame's
   ensureBuffers(frame.canvas_width, frame.canvas_height, hq);
   if (!frame.accumulate) clearBuffers(hq);
 
@@ -754,12 +776,15 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
     if (variant.list_large) flush_large();
   };
 
+  mark(pass_times_.clear_ms, pass_times_.clear_cpu_ms);
   variant.pass = 1;
   dispatch_points();
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  mark(pass_times_.pass1_ms, pass_times_.pass1_cpu_ms);
   variant.pass = 2;
   dispatch_points();
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT);
+  mark(pass_times_.pass2_ms, pass_times_.pass2_cpu_ms);
   if (any_large) glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
   listed_large_splats_ = any_large;
 
@@ -799,6 +824,7 @@ RasterStats ComputeRasterizer::draw(const RasterFrame& frame) {
   }
   glBindVertexArray(0);
   glUseProgram(0);
+  mark(pass_times_.resolve_ms, pass_times_.resolve_cpu_ms);
   return stats;
 }
 

@@ -59,6 +59,17 @@ struct ComputeRasterizerOptions {
   // eyes) are projected in depth once for all (see shareDepth). False: each view projected
   // alone (the reference the tests compare the shared path with).
   bool share_depth = true;
+  // True: glFinish after the clears and after each pass, and each timed (passTimesOfLastFrame).
+  // For benchmarks: the waits cost a little and stop the GPU from overlapping the passes.
+  bool time_passes = false;
+};
+
+// One frame's passes timed apart (ComputeRasterizerOptions::time_passes): wall and process CPU
+// milliseconds (the CPU time is llvmpipe's threads together; on a GPU it is the driver's).
+// `clear` holds the clears and the frame's setup (culling, the batches' order).
+struct ComputePassTimes {
+  double clear_ms = 0, pass1_ms = 0, pass2_ms = 0, resolve_ms = 0;
+  double clear_cpu_ms = 0, pass1_cpu_ms = 0, pass2_cpu_ms = 0, resolve_cpu_ms = 0;
 };
 
 // A point found in the visibility buffer.
@@ -103,6 +114,9 @@ class ComputeRasterizer final : public Rasterizer {
   // allow it). For tests and benchmarks: a stereo frame that silently lost it costs more.
   bool sharedDepthOfLastFrame() const { return shared_depth_; }
 
+  // The last frame's passes, timed where options.time_passes is set (zeros otherwise).
+  const ComputePassTimes& passTimesOfLastFrame() const { return pass_times_; }
+
   // True where the 64-bit path runs (the context has the extensions and the options allow it).
   bool uses64BitAtomics() const { return atomic64_; }
 
@@ -145,8 +159,8 @@ class ComputeRasterizer final : public Rasterizer {
   GLuint large_ = 0;
   std::uint32_t large_capacity_ = 0;
   bool listed_large_splats_ = false;
-  bool shared_depth_ =
-      false;  // the last frame (sharedDepthOfLastFrame)  // the last frame listed (largeSplatsOfLastFrame)
+  bool shared_depth_ = false;                        // the last frame's (sharedDepthOfLastFrame)
+  ComputePassTimes pass_times_;                      // the last frame's (passTimesOfLastFrame)
   std::optional<ShaderProgram> large_args_program_;  // the count into the dispatch's size
   float max_point_px_ = 1.0f;
   int width_ = 0, height_ = 0;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <string>
 
@@ -155,6 +156,53 @@ TEST(CliBenchRender, OrbitOfAnOctreeGivesOrderedFrameTimesAndTheViewerLook) {
   EXPECT_EQ(json["settings"]["size_mode"], "adaptive");
   EXPECT_EQ(json["settings"]["shape"], "round");
   expectRasterizerReported(json);
+}
+
+// --stereo on an octree: mono and sbs frames alternated, each side's medians and the ratio of
+// the draws' medians (what issue 23's figure reads), and with --pass-times the compute
+// rasterizer's passes for both sides.
+TEST(CliBenchRender, StereoOfAnOctreeGivesTheRatioOfTheAlternatedMedians) {
+  TempDir dir;
+  const auto ply = generatedScan(dir);
+  const auto octree = dir / "scan_octree";
+  const RunResult convert =
+      runParallax(dir, "convert -q " + quoted(ply.string()) + " -o " + quoted(octree.string()));
+  ASSERT_EQ(convert.exit_code, 0) << convert.err;
+  const RunResult run = runParallax(dir, "bench render " + quoted(octree.string()) +
+                                             " --stereo sbs -n 2 --pass-times --width 64 "
+                                             "--height 48 --budget 5000 --rasterizer compute");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::regex draw_line(
+      R"((mono|sbs) +loaded in [^\n]*\n +update +[0-9.]+ ms \+ draw +([0-9.]+) ms)");
+  double draw_ms[2] = {0, 0};
+  int sides = 0;
+  for (std::sregex_iterator it(run.out.begin(), run.out.end(), draw_line), end; it != end; ++it) {
+    draw_ms[(*it)[1] == "sbs" ? 1 : 0] = std::stod((*it)[2]);
+    ++sides;
+  }
+  ASSERT_EQ(sides, 2) << run.out;
+  std::smatch ratio;
+  ASSERT_TRUE(std::regex_search(run.out, ratio, std::regex(R"(sbs / mono: draw ([0-9.]+)x)")))
+      << run.out;
+  // The ratio of the printed medians, within their rounding (0.05 ms each, 0.005 the ratio).
+  const double printed = std::stod(ratio[1]);
+  ASSERT_GT(draw_ms[0], 0.05) << run.out;
+  EXPECT_LE(printed, (draw_ms[1] + 0.05) / (draw_ms[0] - 0.05) + 0.005) << run.out;
+  EXPECT_GE(printed, (draw_ms[1] - 0.05) / (draw_ms[0] + 0.05) - 0.005) << run.out;
+  EXPECT_NE(run.out.find("(medians of 2 frames of each, alternated"), std::string::npos) << run.out;
+  // Both sides' passes, each pass timed (a positive wall time).
+  for (const char* side : {"mono", "sbs"}) {
+    std::smatch passes;
+    ASSERT_TRUE(std::regex_search(
+        run.out, passes,
+        std::regex(std::string(side) + R"(, passes \(wall / CPU ms, medians\): clears and setup )"
+                                       R"([0-9.]+ / [0-9.]+, pass 1 ([0-9.]+) / [0-9.]+, pass 2 )"
+                                       R"(([0-9.]+) / [0-9.]+, resolve ([0-9.]+))")))
+        << run.out;
+    EXPECT_GT(std::stod(passes[1]), 0.0) << run.out;
+    EXPECT_GT(std::stod(passes[2]), 0.0) << run.out;
+    EXPECT_GT(std::stod(passes[3]), 0.0) << run.out;
+  }
 }
 
 // Option errors: status 1 and the option named, as `render` reports its own (bad input is 2).
