@@ -38,6 +38,13 @@ inline double rusageCpuSeconds(int who) {
          1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
 
+// This process's peak resident memory so far in MB (ru_maxrss: kilobytes on Linux).
+inline double peakResidentMegabytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;
+}
+
 // /proc/loadavg's three figures (zeros where it cannot be read).
 inline std::vector<double> loadAverage() {
   std::ifstream file("/proc/loadavg");
