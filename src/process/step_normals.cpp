@@ -292,8 +292,9 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
     std::vector<Normal> normals(points.size(), Normal{0, 0, 0});
     std::vector<float> curvature(points.size(), 0.0f);
     TileNeighbourhood first = loadNeighbourhood(tiles, t, 0.0, points, kept);
-    const std::vector<GridPoint> queries(first.points.begin(), first.points.begin() + first.core);
-    const std::vector<std::uint32_t> slot = first.slot;
+    // With no halo the neighbourhood is the tile's kept points alone: they are the queries.
+    const std::vector<GridPoint> queries = std::move(first.points);
+    const std::vector<std::uint32_t> slot = std::move(first.slot);
     first = {};
     const double halo = step.k ? 1.5 * NeighbourIndex::radiusForCount(queries, double(step.k))
                                : step.radius * (1.0 + 1e-9);

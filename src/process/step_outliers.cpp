@@ -54,8 +54,9 @@ void meanDistances(const OutliersStep& step, const StepContext& context, Fixed& 
     const std::vector<std::uint8_t> kept = tiles.readKept(t);
     std::vector<float> mean(points.size(), std::nanf(""));
     TileNeighbourhood first = loadNeighbourhood(tiles, t, 0.0, points, kept);
-    const std::vector<GridPoint> queries(first.points.begin(), first.points.begin() + first.core);
-    const std::vector<std::uint32_t> slot = first.slot;
+    // With no halo the neighbourhood is the tile's kept points alone: they are the queries.
+    const std::vector<GridPoint> queries = std::move(first.points);
+    const std::vector<std::uint32_t> slot = std::move(first.slot);
     first = {};
     const std::size_t k = std::size_t(step.k) + 1;
     answerTileQueries(

@@ -39,17 +39,22 @@ struct StepContext {
 // asked again with the halo doubled. `load(halo)` loads the points searched for the first round;
 // later rounds load only the points of `searched` in the box of the pending queries, grown by the
 // halo. The box becomes infinite (everything loaded) before a query could fail again.
+//
+// Queries are asked in Morton order, so that consecutive ones walk the same nodes and leaves:
+// when the first load holds the queries themselves first (`hood.core == queries.size()`, as
+// loadNeighbourhood does), in the tree's own order, read from the tree's copy of the points (one
+// sort, and the positions read in order instead of gathered); otherwise in spatialOrder.
 template <class Load, class Answer>
 void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& load,
                        const TileSet& searched, Answer&& answer) {
-  std::vector<std::uint32_t> pending = spatialOrder(queries);
+  if (queries.empty()) return;
+  std::vector<std::uint32_t> pending;
   tbb::enumerable_thread_specific<std::vector<Neighbour>> scratch;
   bool first = true;
-  while (!pending.empty()) {
+  while (first || !pending.empty()) {
     TileNeighbourhood hood;
     if (first) {
       hood = load(halo);
-      first = false;
     } else {
       double lo[3], hi[3];
       for (int a = 0; a < 3; ++a) {
@@ -65,19 +70,38 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
       }
       hood = loadBox(searched, lo, hi);
     }
-    // The loaded points move into the index (the answers read them as grid.points()); the
-    // queries are gathered in the order they are asked, so that reading them does not wait on
-    // memory in the middle of each search.
+    // The loaded points move into the index (the answers read them as grid.points()).
     const NeighbourIndex grid(std::move(hood.points));
     hood.points = {};
-    std::vector<GridPoint> asked(pending.size());
-    for (std::size_t j = 0; j < pending.size(); ++j) asked[j] = queries[pending[j]];
+    const std::span<const GridPoint> tree = grid.treePoints();
+    // Where each asked query's position is read: its place in the tree (the queries are the
+    // first load's core), or a copy gathered in the order they are asked, so that reading them
+    // does not wait on memory in the middle of each search.
+    std::vector<std::uint32_t> in_tree;
+    std::vector<GridPoint> asked;
+    const bool from_tree = first && hood.core == queries.size();
+    if (from_tree) {
+      const std::span<const std::uint32_t> order = grid.treeOrder();
+      pending.reserve(queries.size());
+      in_tree.reserve(queries.size());
+      for (std::uint32_t j = 0; j < order.size(); ++j) {
+        if (order[j] >= hood.core) continue;
+        pending.push_back(order[j]);
+        in_tree.push_back(j);
+      }
+    } else {
+      if (first) pending = spatialOrder(queries);
+      asked.resize(pending.size());
+      for (std::size_t j = 0; j < pending.size(); ++j) asked[j] = queries[pending[j]];
+    }
+    first = false;
     std::vector<std::uint8_t> exact(pending.size(), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         std::vector<Neighbour>& local = scratch.local();
                         for (std::size_t j = range.begin(); j != range.end(); ++j) {
-                          exact[j] = answer(hood, grid, pending[j], asked[j], local);
+                          const GridPoint& q = from_tree ? tree[in_tree[j]] : asked[j];
+                          exact[j] = answer(hood, grid, pending[j], q, local);
                         }
                       });
     std::vector<std::uint32_t> again;
