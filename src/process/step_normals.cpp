@@ -302,7 +302,7 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
         queries, halo, [&](double h) { return loadNeighbourhood(tiles, t, h, points, kept); },
         tiles,
         [&](const TileNeighbourhood& hood, const NeighbourIndex& grid, std::uint32_t i,
-            const GridPoint& q, std::vector<Neighbour>& neighbours) -> bool {
+            const GridPoint& q, std::vector<Neighbour>& neighbours, double& needed) -> bool {
           double reach = step.radius;
           if (step.k) {
             grid.nearest(q.x, q.y, q.z, step.k, neighbours);
@@ -311,7 +311,10 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
           } else {
             grid.withinRadius(q.x, q.y, q.z, step.radius, neighbours);
           }
-          if (!hood.covers(q, reach)) return false;
+          if (!hood.covers(q, reach)) {
+            needed = reach;
+            return false;
+          }
           const LocalPlane plane = fitLocalPlane(grid, neighbours);
           if (plane.valid) {
             double n[3] = {plane.normal[0], plane.normal[1], plane.normal[2]};
