@@ -52,6 +52,13 @@ inline void touchAndFreeMemory(std::size_t bytes) {
   for (std::size_t at = 0; at < bytes; at += kPage) pages[at] = std::byte{1};
 }
 
+// This process's peak resident memory so far in MB (ru_maxrss: kilobytes on Linux).
+inline double peakResidentMegabytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;
+}
+
 // /proc/loadavg's three figures (zeros where it cannot be read).
 inline std::vector<double> loadAverage() {
   std::ifstream file("/proc/loadavg");

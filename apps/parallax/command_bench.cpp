@@ -45,6 +45,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_peer.h"
 #include "bench_timing.h"
 #include "commands.h"
 #include "core/attribute_selection.h"
@@ -100,12 +101,6 @@ std::uint64_t columnBytes(const PointCloud& cloud) {
   return bytes;
 }
 
-double peakRssBytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return double(usage.ru_maxrss) * 1024.0;  // Linux reports kilobytes
-}
-
 struct Times {
   std::vector<double> seconds;
   double median() const {
@@ -127,18 +122,6 @@ struct LoadOptions {
   // each as the reference. Empty: every attribute, no second load.
   std::vector<std::string> attributes;
 };
-
-// The peer's command line with every "{}" replaced by the file, single-quoted for /bin/sh.
-std::string peerCommand(const std::string& pattern, const std::string& file) {
-  std::string quoted = "'";
-  for (char c : file) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  quoted += "'";
-  std::string command = pattern;
-  for (std::size_t at; (at = command.find("{}")) != std::string::npos;) {
-    command.replace(at, 2, quoted);
-  }
-  return command;
-}
 
 int runBenchLoad(const LoadOptions& options) {
   const std::string& path = options.file;
@@ -189,17 +172,11 @@ int runBenchLoad(const LoadOptions& options) {
       cloud = PointCloud();
     }
     if (!options.peer.empty()) {
-      const std::string command = peerCommand(options.peer, path);
       touchAndFreeMemory(fresh_bytes);
-      start = Clock::now();
-      const double children_start = rusageCpuSeconds(RUSAGE_CHILDREN);
-      const int status = std::system(command.c_str());
-      peer.seconds.push_back(secondsSince(start));
-      peer_cpu.seconds.push_back(rusageCpuSeconds(RUSAGE_CHILDREN) - children_start);
-      if (status != 0) {
-        throw std::runtime_error("bench load --peer: '" + command + "' failed (status " +
-                                 std::to_string(status) + ")");
-      }
+      const PeerRun run =
+          runPeer(peerCommandLine(options.peer, {{"{}", shellQuoted(path)}}), "bench load --peer");
+      peer.seconds.push_back(run.wall);
+      peer_cpu.seconds.push_back(run.cpu);
     }
     if (progress) progress->advance(1);
   }
@@ -244,8 +221,8 @@ int runBenchLoad(const LoadOptions& options) {
         peer.median() / load_median, peer.best() / load.best(),
         peer_cpu.median() / load_cpu.median(), peer_cpu.median());
   }
-  std::printf("memory     peak RSS %.1f MB; columns %.1f MB; file %.1f MB\n", peakRssBytes() / 1e6,
-              double(columns) / 1e6, mb);
+  std::printf("memory     peak RSS %.1f MB; columns %.1f MB; file %.1f MB\n",
+              peakResidentMegabytes() * 1.048576, double(columns) / 1e6, mb);
   return 0;
 }
 
@@ -292,6 +269,7 @@ Command addBenchCommand(CLI::App& app) {
       addBenchConvertCommand(*command.subcommand),
       addBenchLazCommand(*command.subcommand),
       addBenchRegisterCommand(*command.subcommand),
+      addBenchNormalsCommand(*command.subcommand),
       addBenchXrCommand(*command.subcommand),
   });
   command.run = [modes] {

@@ -92,12 +92,6 @@ double runPotreeConverter(const std::string& executable, const std::vector<std::
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-double peakResidentMb() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return double(usage.ru_maxrss) / 1024.0;  // KiB on Linux
-}
-
 int runBenchConvert(const BenchConvertOptions& args) {
   std::vector<ConvertInput> inputs, twin;
   for (const std::string& file : args.files) inputs.push_back({file, {}});
@@ -121,7 +115,7 @@ int runBenchConvert(const BenchConvertOptions& args) {
   const double cpu_before = rusageCpuSeconds(RUSAGE_SELF);
   const PotreeConvertResult result = convertToPotree(inputs, output, options);
   const double cpu = rusageCpuSeconds(RUSAGE_SELF) - cpu_before;
-  const double peak_mb = peakResidentMb();
+  const double peak_mb = peakResidentMegabytes();
   std::filesystem::remove_all(output);
   const double rate = double(result.points) / result.seconds_total;
   std::printf("convert   %llu points in %.2f s: %.2f M points/s, %.2f M points/s per core\n",

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_peer.h"
 #include "bench_timing.h"
 #include "commands.h"
 #include "io/laz_decode.h"
@@ -48,12 +49,6 @@ struct Series {
   std::vector<double> wall, cpu;
 };
 
-std::string quoted(const std::string& file) {
-  std::string q = "'";
-  for (char c : file) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
 int runBenchLaz(const BenchLazOptions& options) {
   const tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
                                   std::size_t(options.threads));
@@ -61,10 +56,8 @@ int runBenchLaz(const BenchLazOptions& options) {
   const LazDecodeOptions specialised{.parallel = parallel};
   const LazDecodeOptions general{.path = laz::DecoderPath::kGeneral, .parallel = parallel};
   const LazDecodeOptions selective{.fields = laz::fields::kRgb, .parallel = parallel};
-  std::string peer_command = options.peer;
-  for (std::size_t at; (at = peer_command.find("{}")) != std::string::npos;) {
-    peer_command.replace(at, 2, quoted(options.file));
-  }
+  const std::string peer_command =
+      peerCommandLine(options.peer, {{"{}", shellQuoted(options.file)}});
 
   const double load_before = loadAverage()[0];
   // Warm-up: the file into the page cache, and the checksums every path must agree on.
@@ -88,15 +81,9 @@ int runBenchLaz(const BenchLazOptions& options) {
       }
     }
     if (!peer_command.empty()) {
-      const auto start = Clock::now();
-      const double cpu = rusageCpuSeconds(RUSAGE_CHILDREN);
-      const int status = std::system((peer_command + " > /dev/null").c_str());
-      runs[3].cpu.push_back(rusageCpuSeconds(RUSAGE_CHILDREN) - cpu);
-      runs[3].wall.push_back(std::chrono::duration<double>(Clock::now() - start).count());
-      if (status != 0) {
-        throw std::runtime_error("bench laz --peer: '" + peer_command + "' failed (status " +
-                                 std::to_string(status) + ")");
-      }
+      const PeerRun run = runPeer(peer_command, "bench laz --peer");
+      runs[3].cpu.push_back(run.cpu);
+      runs[3].wall.push_back(run.wall);
     }
   }
 

@@ -21,6 +21,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "bench_peer.h"
 #include "bench_timing.h"
 #include "commands.h"
 #include "core/bounds.h"
@@ -35,39 +36,6 @@ struct BenchRegisterOptions {
   double max_distance = 0.0;
 };
 
-std::string shellQuotedPath(const std::string& text) {
-  std::string q = "'";
-  for (char c : text) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-void replaceAllIn(std::string& text, const std::string& from, const std::string& to) {
-  for (std::size_t at = 0; (at = text.find(from, at)) != std::string::npos; at += to.size()) {
-    text.replace(at, from.size(), to);
-  }
-}
-
-// The peer's standard output (its last line is the JSON), or an error naming the command.
-std::string runPeerCommand(const std::string& command) {
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) throw std::runtime_error("bench register --peer: cannot run '" + command + "'");
-  std::string out;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), int(buffer.size()), pipe)) out += buffer.data();
-  const int status = pclose(pipe);
-  if (status != 0) {
-    throw std::runtime_error("bench register --peer: '" + command + "' failed (status " +
-                             std::to_string(status) + ")");
-  }
-  return out;
-}
-
-double peakMegabytesOfThisProcess() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return double(usage.ru_maxrss) / 1024.0;
-}
-
 int runBenchRegister(const BenchRegisterOptions& options) {
   const std::vector<double> load_before = loadAverage();
   IcpOptions icp;
@@ -79,7 +47,7 @@ int runBenchRegister(const BenchRegisterOptions& options) {
   const IcpResult ours = registerClouds(source, target, icp, options.source, options.target);
   const double wall = secondsSince(start);
   const double cpu = rusageCpuSeconds(RUSAGE_SELF) - cpu_start;
-  const double peak = peakMegabytesOfThisProcess();
+  const double peak = peakResidentMegabytes();
   std::printf(
       "bench register: %s (%llu points) onto %s (%llu points), max distance %.6g, load average "
       "%.1f %.1f %.1f before\n",
@@ -90,25 +58,15 @@ int runBenchRegister(const BenchRegisterOptions& options) {
       "parallax  wall %.2f s, cpu %.2f s, peak %.0f MB, rms %.9g, overlap %.6f, %u iterations\n",
       wall, cpu, peak, ours.rms, ours.overlap, ours.iterations);
   if (!options.peer.empty()) {
-    std::string command = options.peer;
-    replaceAllIn(command, "{source}", shellQuotedPath(options.source));
-    replaceAllIn(command, "{target}", shellQuotedPath(options.target));
     char distance[64];
     std::snprintf(distance, sizeof distance, "%.17g", ours.max_distance);
-    replaceAllIn(command, "{distance}", distance);
-    const auto peer_start = Clock::now();
-    const double peer_cpu_start = rusageCpuSeconds(RUSAGE_CHILDREN);
-    const std::string out = runPeerCommand(command);
-    const double peer_wall = secondsSince(peer_start);
-    const double peer_cpu = rusageCpuSeconds(RUSAGE_CHILDREN) - peer_cpu_start;
-    const std::size_t line = out.find_last_of('\n', out.size() >= 2 ? out.size() - 2 : 0);
-    nlohmann::json theirs;
-    try {
-      theirs = nlohmann::json::parse(line == std::string::npos ? out : out.substr(line + 1));
-    } catch (const nlohmann::json::exception& e) {
-      throw std::runtime_error("bench register --peer: the last line of '" + command +
-                               "' is not JSON (" + e.what() + ")");
-    }
+    const std::string command =
+        peerCommandLine(options.peer, {{"{source}", shellQuoted(options.source)},
+                                       {"{target}", shellQuoted(options.target)},
+                                       {"{distance}", distance}});
+    const PeerRun run = runPeer(command, "bench register --peer");
+    const double peer_wall = run.wall, peer_cpu = run.cpu;
+    const nlohmann::json theirs = peerJson(run, command, "bench register --peer");
     RigidTransform peer_transform;
     for (int r = 0; r < 4; ++r) {
       for (int c = 0; c < 4; ++c) peer_transform.m[r][c] = theirs.at("transform").at(r).at(c);
@@ -124,12 +82,10 @@ int runBenchRegister(const BenchRegisterOptions& options) {
       apart = std::max(apart, std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]));
     }
     const double peer_rms = theirs.at("rms");
-    // The peer's peak as it reports it ("peak_kb"): getrusage's figure for a child started
-    // from this process would include this process's own peak (Linux keeps it across exec).
-    std::string peer_peak = "not reported";
-    if (theirs.contains("peak_kb") && theirs["peak_kb"].is_number()) {
-      peer_peak = std::to_string(std::llround(double(theirs["peak_kb"]) / 1024.0)) + " MB";
-    }
+    const double peer_peak_mb = peerPeakMegabytes(theirs);
+    const std::string peer_peak = std::isnan(peer_peak_mb)
+                                      ? std::string("not reported")
+                                      : std::to_string(std::llround(peer_peak_mb)) + " MB";
     std::printf("peer      wall %.2f s, cpu %.2f s, peak %s, rms %.9g, overlap %.6f\n", peer_wall,
                 peer_cpu, peer_peak.c_str(), peer_rms, double(theirs.at("overlap")));
     std::printf(

@@ -44,5 +44,7 @@ Command addBenchConvertCommand(CLI::App& bench);
 Command addBenchLazCommand(CLI::App& bench);
 // `bench register` (command_bench_register.cpp), registered by addBenchCommand.
 Command addBenchRegisterCommand(CLI::App& bench);
+// `bench normals` (command_bench_normals.cpp), registered by addBenchCommand.
+Command addBenchNormalsCommand(CLI::App& bench);
 
 }  // namespace parallax::cli

@@ -239,15 +239,43 @@ std::span<const GridPoint> NeighbourIndex::treePoints() const {
   return tree_->ordered;
 }
 
+std::span<const std::uint32_t> NeighbourIndex::treeOrder() const {
+  if (!tree_) return {};
+  return tree_->given;
+}
+
 void NeighbourIndex::nearest(double x, double y, double z, std::size_t k,
                              std::vector<Neighbour>& out) const {
-  out.clear();
-  if (k == 0 || !tree_) return;
+  if (k == 0 || !tree_) {
+    out.clear();
+    return;
+  }
   // `out` is kept sorted by (d2, id), at most k long: K is small (8-32 for normals and
   // outliers), where an insertion into a sorted array beats a heap and leaves nothing to sort.
   const std::vector<GridPoint>& ordered = tree_->ordered;
   const std::vector<std::uint32_t>& given = tree_->given;
+  // k distinct points of the index lie within `worst` of the query (the squared distance of the
+  // farthest, in the same expression as every other), so the K-th nearest does too, and every
+  // point of the answer, ties at the K-th distance included: starting the search with this
+  // bound drops nothing the answer holds. A consecutive query in Morton order is near: the
+  // bound is tight.
   double worst = kInf;
+  if (out.size() == k) {
+    double bound = 0.0;
+    for (const Neighbour& n : out) {
+      if (n.in_tree >= ordered.size() || ordered[n.in_tree].id != n.id) {
+        bound = kInf;  // not this index's answer
+        break;
+      }
+      const GridPoint& p = ordered[n.in_tree];
+      bound = std::max(bound, squaredDistance(x, y, z, p.x, p.y, p.z));
+    }
+    worst = bound;
+  }
+  // The K best so far in out[0, size), sorted by (d2, id); `at` (an index into points()) is
+  // looked up once for each of the k that remain, not for every point that entered on the way.
+  out.resize(k);
+  std::size_t size = 0;
   tree_->search(
       x, y, z, [&] { return worst; },
       [&](std::uint32_t begin, std::uint32_t end) {
@@ -255,21 +283,24 @@ void NeighbourIndex::nearest(double x, double y, double z, std::size_t k,
           const GridPoint& p = ordered[i];
           const double d2 = squaredDistance(x, y, z, p.x, p.y, p.z);
           if (d2 > worst) continue;
-          const Neighbour n{d2, given[i], p.id, i};
-          if (out.size() == k) {
-            if (!(n < out.back())) continue;
-            out.pop_back();
+          const Neighbour n{d2, 0, p.id, i};
+          std::size_t at = size;
+          if (size == k) {
+            if (!(n < out[k - 1])) continue;
+            at = k - 1;
+          } else {
+            ++size;
           }
-          std::size_t at = out.size();
-          out.push_back(n);
           while (at > 0 && n < out[at - 1]) {
             out[at] = out[at - 1];
             --at;
           }
           out[at] = n;
-          if (out.size() == k) worst = out.back().d2;
+          if (size == k) worst = out[k - 1].d2;
         }
       });
+  out.resize(size);
+  for (Neighbour& n : out) n.at = given[n.in_tree];
 }
 
 void NeighbourIndex::withinRadius(double x, double y, double z, double radius,

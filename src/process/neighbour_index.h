@@ -62,9 +62,14 @@ class NeighbourIndex {
   // queries asked before it in Morton order, lie close together here, where points() scatters
   // them over the tile (what a loop over every neighbour's position should read).
   std::span<const GridPoint> treePoints() const;
+  // For each of treePoints(), its index in points(): treePoints()[j] is points()[treeOrder()[j]].
+  std::span<const std::uint32_t> treeOrder() const;
 
   // The k nearest points to (x, y, z) (the point itself included when it is indexed), in
-  // (d2, id) order, into `out` (fewer when there are fewer). `out` is reused storage.
+  // (d2, id) order, into `out` (fewer when there are fewer). `out` is reused storage: when it
+  // holds k distinct points of this index (the answer of the query asked before, checked by
+  // their ids), the farthest of them from (x, y, z) bounds the search from its start, which
+  // prunes what a search without a bound visits before it has k points. The answer is the same.
   void nearest(double x, double y, double z, std::size_t k, std::vector<Neighbour>& out) const;
 
   // Every point within `radius` (d2 <= radius^2), in (d2, id) order.

@@ -28,7 +28,6 @@ namespace parallax {
 
 namespace {
 
-constexpr std::size_t kBatchPoints = std::size_t(1) << 20;
 constexpr std::uint8_t kLowNoiseClass = 7;
 
 void checkSteps(const ProcessOptions& options) {
@@ -410,7 +409,7 @@ std::optional<PointCloud> writeOutput(const WritePass& pass, ProcessReport& repo
     PointStream stream(input.path, input.text_columns, nullptr, &input.filter);
     if (first && !stream.crs().empty()) las.vlrs = stream.crs().records;
     PointCloud batch;
-    while (stream.next(batch, kBatchPoints)) {
+    while (stream.next(batch, tiles.batchPoints())) {
       PointCloud out = outputBatch(batch, tiles, added, kept, normals, curvature, distance, mark,
                                    classes, scalar_readers, sensor);
       if (bar) bar->advance(batch.count);

@@ -38,11 +38,14 @@ void runDistanceStep(const DistanceStep& step, const StepContext& context) {
     answerTileQueries(
         queries, halo, load, reference,
         [&](const TileNeighbourhood& hood, const NeighbourIndex& grid, std::uint32_t i,
-            const GridPoint& q, std::vector<Neighbour>& neighbours) -> bool {
+            const GridPoint& q, std::vector<Neighbour>& neighbours, double& needed) -> bool {
           grid.nearest(q.x, q.y, q.z, k, neighbours);
           const double reach =
               neighbours.size() < k ? TileSet::kInfinity : std::sqrt(neighbours.back().d2);
-          if (!hood.covers(q, reach)) return false;
+          if (!hood.covers(q, reach)) {
+            needed = reach;
+            return false;
+          }
           double d = reach;
           if (step.plane) {
             const LocalPlane plane = fitLocalPlane(grid.points(), neighbours);

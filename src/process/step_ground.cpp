@@ -41,7 +41,7 @@ void writeInputClasses(const StepContext& context) {
   for (const ConvertInput& input : *context.inputs) {
     PointStream stream(input.path, input.text_columns, nullptr, &input.filter);
     PointCloud batch;
-    while (stream.next(batch, std::size_t(1) << 20)) {
+    while (stream.next(batch, tiles.batchPoints())) {
       for (std::size_t i = 0; i < batch.count; ++i) {
         const std::uint8_t c = batch.hasClassification() ? batch.classification[i] : 0;
         if (std::fputc(c, files[tiles.tileOf(batch.worldX(i))].get()) == EOF) {

@@ -292,8 +292,9 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
     std::vector<Normal> normals(points.size(), Normal{0, 0, 0});
     std::vector<float> curvature(points.size(), 0.0f);
     TileNeighbourhood first = loadNeighbourhood(tiles, t, 0.0, points, kept);
-    const std::vector<GridPoint> queries(first.points.begin(), first.points.begin() + first.core);
-    const std::vector<std::uint32_t> slot = first.slot;
+    // With no halo the neighbourhood is the tile's kept points alone: they are the queries.
+    const std::vector<GridPoint> queries = std::move(first.points);
+    const std::vector<std::uint32_t> slot = std::move(first.slot);
     first = {};
     const double halo = step.k ? 1.5 * NeighbourIndex::radiusForCount(queries, double(step.k))
                                : step.radius * (1.0 + 1e-9);
@@ -301,7 +302,7 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
         queries, halo, [&](double h) { return loadNeighbourhood(tiles, t, h, points, kept); },
         tiles,
         [&](const TileNeighbourhood& hood, const NeighbourIndex& grid, std::uint32_t i,
-            const GridPoint& q, std::vector<Neighbour>& neighbours) -> bool {
+            const GridPoint& q, std::vector<Neighbour>& neighbours, double& needed) -> bool {
           double reach = step.radius;
           if (step.k) {
             grid.nearest(q.x, q.y, q.z, step.k, neighbours);
@@ -310,7 +311,10 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
           } else {
             grid.withinRadius(q.x, q.y, q.z, step.radius, neighbours);
           }
-          if (!hood.covers(q, reach)) return false;
+          if (!hood.covers(q, reach)) {
+            needed = reach;
+            return false;
+          }
           const LocalPlane plane = fitLocalPlane(grid, neighbours);
           if (plane.valid) {
             double n[3] = {plane.normal[0], plane.normal[1], plane.normal[2]};

@@ -54,19 +54,23 @@ void meanDistances(const OutliersStep& step, const StepContext& context, Fixed& 
     const std::vector<std::uint8_t> kept = tiles.readKept(t);
     std::vector<float> mean(points.size(), std::nanf(""));
     TileNeighbourhood first = loadNeighbourhood(tiles, t, 0.0, points, kept);
-    const std::vector<GridPoint> queries(first.points.begin(), first.points.begin() + first.core);
-    const std::vector<std::uint32_t> slot = first.slot;
+    // With no halo the neighbourhood is the tile's kept points alone: they are the queries.
+    const std::vector<GridPoint> queries = std::move(first.points);
+    const std::vector<std::uint32_t> slot = std::move(first.slot);
     first = {};
     const std::size_t k = std::size_t(step.k) + 1;
     answerTileQueries(
         queries, 1.5 * NeighbourIndex::radiusForCount(queries, double(k)),
         [&](double h) { return loadNeighbourhood(tiles, t, h, points, kept); }, tiles,
         [&](const TileNeighbourhood& hood, const NeighbourIndex& grid, std::uint32_t i,
-            const GridPoint& q, std::vector<Neighbour>& neighbours) -> bool {
+            const GridPoint& q, std::vector<Neighbour>& neighbours, double& needed) -> bool {
           grid.nearest(q.x, q.y, q.z, k, neighbours);
           const double reach =
               neighbours.size() < k ? TileSet::kInfinity : std::sqrt(neighbours.back().d2);
-          if (!hood.covers(q, reach)) return false;
+          if (!hood.covers(q, reach)) {
+            needed = reach;
+            return false;
+          }
           double total = 0.0;
           for (std::size_t n = 1; n < neighbours.size(); ++n) total += std::sqrt(neighbours[n].d2);
           mean[slot[i]] = float(total / double(step.k));

@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -33,23 +34,34 @@ struct StepContext {
                                                       // that need their other columns
 };
 
-// For each of `queries` (the tile's kept points), calls `answer(hood, grid, i, query, scratch)`
-// (`hood`'s points moved into `grid`: grid.points()),
-// which returns whether its answer is exact (TileNeighbourhood::covers); those that are not are
-// asked again with the halo doubled. `load(halo)` loads the points searched for the first round;
-// later rounds load only the points of `searched` in the box of the pending queries, grown by the
-// halo. The box becomes infinite (everything loaded) before a query could fail again.
+// For each of `queries` (the tile's kept points), calls `answer(hood, grid, i, query, scratch,
+// needed)` (`hood`'s points moved into `grid`: grid.points()), which returns whether its answer
+// is exact (TileNeighbourhood::covers) and, when it is not, sets `needed` to the radius its
+// answer over the points loaded reached (infinite: too few points); those that are not are asked
+// again with a larger halo. `load(halo)` loads the points searched for the first round; later
+// rounds load only the points of `searched` in the box of the pending queries, grown by the
+// halo: doubled, or the largest radius the pending queries needed, whichever is larger. That
+// radius bounds what they need over the whole cloud (their K-th distance over a subset of it is
+// at least their K-th distance over all of it), so one round answers them however far they are
+// from the rest (a bogus return hundreds of metres above a scan: doubling from a neighbour's
+// distance took about seven rounds, each loading the whole slab again). The halo at least doubles,
+// so the box becomes infinite (everything loaded) before a query could fail again.
+//
+// Queries are asked in Morton order, so that consecutive ones walk the same nodes and leaves:
+// when the first load holds the queries themselves first (`hood.core == queries.size()`, as
+// loadNeighbourhood does), in the tree's own order, read from the tree's copy of the points (one
+// sort, and the positions read in order instead of gathered); otherwise in spatialOrder.
 template <class Load, class Answer>
 void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& load,
                        const TileSet& searched, Answer&& answer) {
-  std::vector<std::uint32_t> pending = spatialOrder(queries);
+  if (queries.empty()) return;
+  std::vector<std::uint32_t> pending;
   tbb::enumerable_thread_specific<std::vector<Neighbour>> scratch;
   bool first = true;
-  while (!pending.empty()) {
+  while (first || !pending.empty()) {
     TileNeighbourhood hood;
     if (first) {
       hood = load(halo);
-      first = false;
     } else {
       double lo[3], hi[3];
       for (int a = 0; a < 3; ++a) {
@@ -65,31 +77,56 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
       }
       hood = loadBox(searched, lo, hi);
     }
-    // The loaded points move into the index (the answers read them as grid.points()); the
-    // queries are gathered in the order they are asked, so that reading them does not wait on
-    // memory in the middle of each search.
+    // The loaded points move into the index (the answers read them as grid.points()).
     const NeighbourIndex grid(std::move(hood.points));
     hood.points = {};
-    std::vector<GridPoint> asked(pending.size());
-    for (std::size_t j = 0; j < pending.size(); ++j) asked[j] = queries[pending[j]];
+    const std::span<const GridPoint> tree = grid.treePoints();
+    // Where each asked query's position is read: its place in the tree (the queries are the
+    // first load's core), or a copy gathered in the order they are asked, so that reading them
+    // does not wait on memory in the middle of each search.
+    std::vector<std::uint32_t> in_tree;
+    std::vector<GridPoint> asked;
+    const bool from_tree = first && hood.core == queries.size();
+    if (from_tree) {
+      const std::span<const std::uint32_t> order = grid.treeOrder();
+      pending.reserve(queries.size());
+      in_tree.reserve(queries.size());
+      for (std::uint32_t j = 0; j < order.size(); ++j) {
+        if (order[j] >= hood.core) continue;
+        pending.push_back(order[j]);
+        in_tree.push_back(j);
+      }
+    } else {
+      if (first) pending = spatialOrder(queries);
+      asked.resize(pending.size());
+      for (std::size_t j = 0; j < pending.size(); ++j) asked[j] = queries[pending[j]];
+    }
+    first = false;
     std::vector<std::uint8_t> exact(pending.size(), 0);
+    std::vector<double> needed(pending.size(), 0.0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         std::vector<Neighbour>& local = scratch.local();
                         for (std::size_t j = range.begin(); j != range.end(); ++j) {
-                          exact[j] = answer(hood, grid, pending[j], asked[j], local);
+                          const GridPoint& q = from_tree ? tree[in_tree[j]] : asked[j];
+                          exact[j] = answer(hood, grid, pending[j], q, local, needed[j]);
                         }
                       });
     std::vector<std::uint32_t> again;
+    double farthest = 0.0;
     for (std::size_t j = 0; j < pending.size(); ++j) {
-      if (!exact[j]) again.push_back(pending[j]);
+      if (exact[j]) continue;
+      again.push_back(pending[j]);
+      farthest = std::max(farthest, needed[j]);
     }
     if (hood.everything() && !again.empty()) {
       // With every point loaded each answer is exact: a query that says otherwise is a bug.
       throw std::logic_error("process: a query over the whole cloud reported an incomplete answer");
     }
     pending = std::move(again);
-    halo = halo > 0.0 ? 2.0 * halo : 1.0;
+    // A hair over the radius needed: covers() wants the ball strictly inside the box's upper side.
+    const double reach = std::isfinite(farthest) ? farthest * (1.0 + 1e-9) : 0.0;
+    halo = std::max(halo > 0.0 ? 2.0 * halo : 1.0, reach);
   }
 }
 

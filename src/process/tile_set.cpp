@@ -14,8 +14,10 @@ namespace parallax {
 
 namespace {
 
-constexpr std::size_t kBatchPoints = std::size_t(1) << 20;
-constexpr std::size_t kBlockRecords = std::size_t(1) << 16;
+constexpr std::size_t kLeastBatchPoints = 4096;
+constexpr std::size_t kMostBatchPoints = std::size_t(1) << 20;
+// Records of a work file read at once (no more than a batch).
+constexpr std::size_t kMostBlockRecords = std::size_t(1) << 16;
 constexpr std::size_t kHistogramBins = std::size_t(1) << 16;
 
 struct FileCloser {
@@ -51,12 +53,18 @@ struct Xyz {
 
 }  // namespace
 
+std::size_t TileSet::batchPointsFor(std::uint64_t max_tile_points) {
+  return std::size_t(
+      std::clamp<std::uint64_t>(max_tile_points / 4, kLeastBatchPoints, kMostBatchPoints));
+}
+
 TileSet TileSet::spill(const std::vector<ConvertInput>& inputs, const std::filesystem::path& dir,
                        const std::string& name, std::uint64_t max_tile_points,
                        const std::vector<double>* edges, const ProgressFactory& progress) {
   TileSet set;
   set.dir_ = dir;
   set.name_ = name;
+  set.batch_points_ = batchPointsFor(max_tile_points);
   std::uint64_t total = 0;
   for (const ConvertInput& input : inputs) {
     PointStream probe(input.path, input.text_columns, nullptr, &input.filter);
@@ -75,7 +83,7 @@ TileSet TileSet::spill(const std::vector<ConvertInput>& inputs, const std::files
     for (const ConvertInput& input : inputs) {
       PointStream stream(input.path, input.text_columns, nullptr, &input.filter);
       PointCloud batch;
-      while (stream.next(batch, kBatchPoints)) {
+      while (stream.next(batch, set.batch_points_)) {
         block.resize(batch.count);
         for (std::size_t i = 0; i < batch.count; ++i) {
           block[i] = {batch.worldX(i), batch.worldY(i), batch.worldZ(i)};
@@ -99,9 +107,10 @@ TileSet TileSet::spill(const std::vector<ConvertInput>& inputs, const std::files
   }
   auto forEachBlock = [&](auto&& visit) {
     File all = openFile(all_path, "rb");
-    std::vector<Xyz> block(kBlockRecords);
+    const std::size_t records = std::min(set.batch_points_, kMostBlockRecords);
+    std::vector<Xyz> block(records);
     for (std::uint64_t done = 0; done < set.points_;) {
-      const std::size_t n = std::size_t(std::min<std::uint64_t>(kBlockRecords, set.points_ - done));
+      const std::size_t n = std::size_t(std::min<std::uint64_t>(records, set.points_ - done));
       readAll(all.get(), block.data(), n * sizeof(Xyz), all_path);
       visit(std::span<const Xyz>(block.data(), n), done);
       done += n;
@@ -216,10 +225,11 @@ void TileSet::appendKeptInBox(const double lo[3], const double hi[3], std::size_
     if (t == except || this->hi(t) <= lo[0] || this->lo(t) >= hi[0] || counts_[t] == 0) continue;
     File points = openFile(file(t, "points"), "rb");
     File kept = openFile(file(t, "kept"), "rb");
-    std::vector<GridPoint> block(kBlockRecords);
-    std::vector<std::uint8_t> flags(kBlockRecords);
+    const std::size_t records = std::min(batch_points_, kMostBlockRecords);
+    std::vector<GridPoint> block(records);
+    std::vector<std::uint8_t> flags(records);
     for (std::uint64_t done = 0; done < counts_[t];) {
-      const std::size_t n = std::size_t(std::min<std::uint64_t>(kBlockRecords, counts_[t] - done));
+      const std::size_t n = std::size_t(std::min<std::uint64_t>(records, counts_[t] - done));
       readAll(points.get(), block.data(), n * sizeof(GridPoint), file(t, "points"));
       readAll(kept.get(), flags.data(), n, file(t, "kept"));
       for (std::size_t i = 0; i < n; ++i) {

@@ -39,6 +39,11 @@ class TileSet {
                        const std::string& name, std::uint64_t max_tile_points,
                        const std::vector<double>* edges, const ProgressFactory& progress);
 
+  // Points a pass reads, spills or copies at once: a quarter of a slab, between 4 096 and 1 M,
+  // so that a small --memory reads in small batches too (the default's batches are 1 M points).
+  static std::size_t batchPointsFor(std::uint64_t max_tile_points);
+  std::size_t batchPoints() const { return batch_points_; }
+
   std::size_t tiles() const { return counts_.size(); }
   std::uint64_t points() const { return points_; }
   std::uint64_t count(std::size_t tile) const { return counts_[tile]; }
@@ -88,6 +93,7 @@ class TileSet {
   std::vector<double> edges_;  // tiles() - 1 inner edges, ascending
   std::vector<std::uint64_t> counts_;
   std::uint64_t points_ = 0;
+  std::size_t batch_points_ = 1;
   double min_[3] = {0, 0, 0}, max_[3] = {0, 0, 0};
 };
 

@@ -68,6 +68,34 @@ TEST(NeighbourIndex, NearestEqualsBruteForceWithTiesBrokenBySmallerId) {
   }
 }
 
+TEST(NeighbourIndex, AnEarlierAnswerInOutOnlyBoundsTheSearch) {
+  // nearest() starts from the farthest of the k points `out` holds when they are this index's
+  // (an earlier answer): queries asked in Morton order, each from the one before (ties at the
+  // K-th place on the lattice and its duplicate), and answers of another index left in `out`
+  // (their slots name other points here) give the brute force answers all the same.
+  const std::vector<GridPoint> points = latticeWithDuplicates(3000, 1);
+  std::vector<GridPoint> others = latticeWithDuplicates(2000, 9);
+  for (GridPoint& p : others) p.id += 100000;  // other points, other ids, the same slots
+  const NeighbourIndex grid(points), other(others);
+  const std::vector<std::uint32_t> order = spatialOrder(points);
+  std::vector<Neighbour> found, stale;
+  for (std::size_t j = 0; j < order.size(); j += 11) {
+    const GridPoint& q = points[order[j]];
+    const std::vector<Neighbour> expected = bruteNearest(points, q.x, q.y, q.z, 16);
+    grid.nearest(q.x, q.y, q.z, 16, found);  // from the answer of the query before
+    other.nearest(q.x, q.y, q.z, 16, stale);
+    grid.nearest(q.x, q.y, q.z, 16, stale);  // from another index's answer
+    ASSERT_EQ(found.size(), expected.size());
+    ASSERT_EQ(stale.size(), expected.size());
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+      ASSERT_EQ(found[i].id, expected[i].id) << "query " << j;
+      ASSERT_EQ(found[i].d2, expected[i].d2);
+      ASSERT_EQ(stale[i].id, expected[i].id) << "query " << j;
+      ASSERT_EQ(grid.points()[found[i].at].id, found[i].id);
+    }
+  }
+}
+
 TEST(NeighbourIndex, ClustersOfEveryDensityEqualBruteForce) {
   // Dense clusters a few millimetres wide beside sparse points a hundred metres apart, as a scan
   // is near and far from its station: the tree's boxes, split at Morton midpoints, are of every
