@@ -16,13 +16,7 @@ import time
 
 import open3d as o3d
 
-
-def peak_kb():
-    with open("/proc/self/status") as status:
-        for line in status:
-            if line.startswith("VmHWM:"):
-                return int(line.split()[1])
-    return None
+from peak_memory import peak_kb
 
 
 def main():

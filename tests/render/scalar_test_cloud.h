@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <utility>
 #include <vector>
@@ -25,6 +26,22 @@ inline PointCloud cloudWithFloatScalar(const std::string& name, const std::vecto
   cloud.scalars.push_back(std::move(column));
   cloud.computeBounds();
   return cloud;
+}
+
+// The same points as a binary PLY file's bytes: x y z double (x = 0, 1, 2, ...), `name` float.
+inline std::string floatScalarPly(const std::string& name, const std::vector<float>& values) {
+  std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex " +
+                    std::to_string(values.size()) +
+                    "\nproperty double x\nproperty double y\nproperty double z\nproperty float " +
+                    name + "\nend_header\n";
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double xyz[3] = {double(i), 0.0, 0.0};
+    char bytes[28];
+    std::memcpy(bytes, xyz, 24);
+    std::memcpy(bytes + 24, &values[i], 4);
+    ply.append(bytes, sizeof bytes);
+  }
+  return ply;
 }
 
 }  // namespace parallax::test

@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -18,6 +17,7 @@
 #include "render/overlay_font.h"
 #include "render/scalar_colors.h"
 #include "render/scalar_legend.h"
+#include "scalar_test_cloud.h"
 
 namespace parallax::test {
 
@@ -61,18 +61,7 @@ inline const std::string kSignedLook =
     "--background 255,0,255 --rasterizer points";
 
 inline std::string signedPly() {
-  std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex " +
-                    std::to_string(kSigned.size()) +
-                    "\nproperty double x\nproperty double y\nproperty double z\n"
-                    "property float m3c2_distance\nend_header\n";
-  for (std::size_t i = 0; i < kSigned.size(); ++i) {
-    const double xyz[3] = {double(i), 0.0, 0.0};
-    char bytes[28];
-    std::memcpy(bytes, xyz, 24);
-    std::memcpy(bytes + 24, &kSigned[i], 4);
-    ply.append(bytes, sizeof bytes);
-  }
-  return ply;
+  return floatScalarPly("m3c2_distance", kSigned);
 }
 
 inline Rgb pixel(const RgbaImage& image, int x, int y) {

@@ -9,7 +9,6 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -145,18 +144,7 @@ TEST(PaintScalarField, GivenRangeClampsAndBadInputIsAnError) {
 
 // The test cloud as a binary PLY (x y z double, distance float: NaN too).
 std::string distancePly() {
-  std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex " +
-                    std::to_string(kDistances.size()) +
-                    "\nproperty double x\nproperty double y\nproperty double z\n"
-                    "property float distance\nend_header\n";
-  for (std::size_t i = 0; i < kDistances.size(); ++i) {
-    const double xyz[3] = {double(i), 0.0, 0.0};
-    char bytes[28];
-    std::memcpy(bytes, xyz, 24);
-    std::memcpy(bytes + 24, &kDistances[i], 4);
-    ply.append(bytes, sizeof bytes);
-  }
-  return ply;
+  return floatScalarPly("distance", kDistances);
 }
 
 // The colours met along the image's row `row`, left to right, one per run of equal pixels other
