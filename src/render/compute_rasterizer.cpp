@@ -96,6 +96,8 @@ struct Variant {
            std::uint32_t(node_spacing) << 29;
   }
   std::string defines() const {
+    // drawPoint writes each view out up to view 3 (DRAW_IN_VIEW, compute_rasterizer_glsl.cpp).
+    static_assert(ComputeRasterizer::kMaxViews == 4, "write out every view in drawPoint");
     auto define = [](const char* name, int value) {
       return "#define " + std::string(name) + " " + std::to_string(value) + "\n";
     };
