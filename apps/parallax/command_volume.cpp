@@ -57,19 +57,7 @@ int runVolumeCommand(const VolumeArgs& args) {
   } else {
     throw std::invalid_argument("--surface: expected max or mean, found '" + args.surface + "'");
   }
-  if (args.base == "plane") {
-    options.base = VolumeBase::Plane;
-  } else if (args.base == "lowest") {
-    options.base = VolumeBase::Lowest;
-  } else {
-    options.base = VolumeBase::Raster;
-    options.base_raster = args.base;
-    std::error_code error;
-    if (!std::filesystem::is_regular_file(options.base_raster, error)) {
-      throw std::invalid_argument("--base: expected plane, lowest or a raster file, found '" +
-                                  args.base + "' (no such file)");
-    }
-  }
+  setVolumeBase(options, args.base);  // a raster's file is checked by computeVolume
   options.fill_radius = args.fill_radius;
   options.raster_out = args.raster_out;
   const VolumeReport r = computeVolume(options);

@@ -78,6 +78,54 @@ std::string geoTransformText(const std::array<double, 6>& gt) {
 
 }  // namespace
 
+namespace {
+
+// A spatial reference read from WKT, or none (null) where GDAL cannot read it.
+class SpatialReference {
+ public:
+  explicit SpatialReference(const std::string& wkt) : handle_(OSRNewSpatialReference(nullptr)) {
+    // OSRSetFromUserInput takes WKT 1 and 2 alike (and "EPSG:n"); the pointer is not kept.
+    if (OSRSetFromUserInput(handle_, wkt.c_str()) != OGRERR_NONE) {
+      OSRDestroySpatialReference(handle_);
+      handle_ = nullptr;
+    }
+  }
+  ~SpatialReference() {
+    if (handle_) OSRDestroySpatialReference(handle_);
+  }
+  SpatialReference(const SpatialReference&) = delete;
+  SpatialReference& operator=(const SpatialReference&) = delete;
+  OGRSpatialReferenceH get() const { return handle_; }
+
+ private:
+  OGRSpatialReferenceH handle_;
+};
+
+}  // namespace
+
+bool sameCoordinateSystem(const std::string& wkt_a, const std::string& wkt_b) {
+  if (wkt_a == wkt_b) return true;
+  registerGdal();
+  QuietGdalErrors quiet;
+  const SpatialReference a(wkt_a), b(wkt_b);
+  return a.get() && b.get() && OSRIsSame(a.get(), b.get()) != 0;
+}
+
+std::string coordinateSystemName(const std::string& wkt) {
+  if (wkt.empty()) return "none";
+  registerGdal();
+  QuietGdalErrors quiet;
+  const SpatialReference srs(wkt);
+  const char* name = srs.get() ? OSRGetName(srs.get()) : nullptr;
+  if (!name) return quoteInput(wkt, 60);
+  std::string text = name;
+  // The code of the CRS itself (the root node, nullptr), not of its datum or base.
+  const char* authority = OSRGetAuthorityName(srs.get(), nullptr);
+  const char* code = OSRGetAuthorityCode(srs.get(), nullptr);
+  if (authority && code) text += std::string(" (") + authority + ":" + code + ")";
+  return text;
+}
+
 struct GeoTiffWriter::Dataset {
   GDALDatasetH handle = nullptr;
 };

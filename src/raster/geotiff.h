@@ -20,6 +20,14 @@ namespace parallax {
 // vertical datum is left out (GeoTIFF keys of a compound CRS are a later step).
 std::string wktOfCoordinateSystem(const CoordinateSystem& crs);
 
+// Whether two CRSs given as WKT (a cloud's, wktOfCoordinateSystem; a raster's, readRaster) are
+// the same one, as GDAL's OSRIsSame judges (names and axis order aside, the datum, projection
+// and parameters compared); equal strings are. False where GDAL cannot read one of them.
+bool sameCoordinateSystem(const std::string& wkt_a, const std::string& wkt_b);
+// A CRS's name for a message: "WGS 84 / UTM zone 33N (EPSG:32633)", the name alone without an
+// authority code; the WKT's first 60 characters where GDAL cannot read it; "none" for "".
+std::string coordinateSystemName(const std::string& wkt);
+
 // Writes a GeoTIFF band by band (rows from the top) under a temporary name; commit() renames it.
 // Destroyed uncommitted, the temporary file is removed. Errors are std::runtime_error naming the
 // output path and GDAL's message.

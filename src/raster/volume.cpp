@@ -1,11 +1,14 @@
 #include "raster/volume.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <set>
 #include <stdexcept>
 
+#include "core/error.h"
 #include "core/point_filter.h"
 #include "io/point_file.h"
 #include "raster/geotiff.h"
@@ -39,7 +42,87 @@ std::vector<std::array<double, 3>> boundarySamples(const RasterImage& surface,
   return samples;
 }
 
+// The base raster, read and checked against the cloud: the file is there, GDAL reads it, and
+// its CRS is the cloud's where both state one.
+RasterImage readBaseRaster(const VolumeOptions& options) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(options.base_raster, error)) {
+    throw std::invalid_argument("--base: expected plane, lowest or a raster file, found '" +
+                                options.base_raster.string() + "' (no such file)");
+  }
+  RasterImage raster = readRaster(options.base_raster);
+  if (!raster.wkt.empty()) {
+    const std::string cloud = wktOfCoordinateSystem(readPointFileHeader(options.input.path).crs);
+    if (!cloud.empty() && !sameCoordinateSystem(raster.wkt, cloud)) {
+      InputErrorInfo info;
+      info.file = options.base_raster.string();
+      info.element = "base raster";
+      info.property = "CRS";
+      info.expected = "the cloud's CRS, " + coordinateSystemName(cloud);
+      info.found = coordinateSystemName(raster.wkt);
+      info.hint = "reproject the raster to the cloud's CRS (gdalwarp -t_srs)";
+      throw InputError(info);
+    }
+  }
+  return raster;
+}
+
+std::string rangeText(double low, double high) {
+  char text[96];
+  std::snprintf(text, sizeof text, "[%.10g, %.10g]", low, high);
+  return text;
+}
+
+// Every cell of `grid` whose centre is inside the polygon has its centre within the base
+// raster's extent: a base over part of the polygon would give the volume of that part only,
+// which reads like the whole's. Throws InputError naming the raster, its extent and the cells'.
+void checkBaseCovers(const RasterImage& base, const RasterGrid& grid,
+                     const VolumeOptions& options) {
+  PointFilter inside;
+  inside.polygon = options.polygon;
+  std::uint64_t beyond = 0;
+  double min_x = std::numeric_limits<double>::infinity(), min_y = min_x;
+  double max_x = -min_x, max_y = -min_x;
+  for (std::int64_t row = 0; row < grid.rows; ++row) {
+    const double y = grid.centreY(row);
+    const std::int64_t br = base.grid.rowOf(y);
+    for (std::int64_t column = 0; column < grid.columns; ++column) {
+      const double x = grid.centreX(column);
+      const std::int64_t bc = base.grid.columnOf(x);
+      if (bc >= 0 && bc < base.grid.columns && br >= 0 && br < base.grid.rows) continue;
+      if (!inside.insidePolygon(x, y)) continue;
+      ++beyond;
+      min_x = std::min(min_x, x), max_x = std::max(max_x, x);
+      min_y = std::min(min_y, y), max_y = std::max(max_y, y);
+    }
+  }
+  if (beyond == 0) return;
+  const RasterGrid& b = base.grid;
+  InputErrorInfo info;
+  info.file = options.base_raster.string();
+  info.element = "base raster";
+  info.property = "extent";
+  info.expected = "a raster covering the polygon";
+  info.found = "x " + rangeText(b.left, b.left + double(b.columns) * b.resolution) + ", y " +
+               rangeText(b.top - double(b.rows) * b.resolution, b.top) + ", and " +
+               std::to_string(beyond) + " cell centres inside the polygon beyond it (x " +
+               rangeText(min_x, max_x) + ", y " + rangeText(min_y, max_y) + ")";
+  info.hint = "give a base raster over the whole polygon, or a polygon inside the raster";
+  throw InputError(info);
+}
+
 }  // namespace
+
+void setVolumeBase(VolumeOptions& options, const std::string& base) {
+  if (base == "plane") {
+    options.base = VolumeBase::Plane;
+  } else if (base == "lowest") {
+    options.base = VolumeBase::Lowest;
+  } else {
+    options.base = VolumeBase::Raster;
+    options.base_raster = base;
+  }
+}
 
 bool fitPlane(const std::vector<std::array<double, 3>>& samples, double& a, double& b, double& c) {
   if (samples.size() < 3) return false;
@@ -79,6 +162,13 @@ VolumeReport computeVolume(const VolumeOptions& options) {
   report.grid = alignedGrid(minx, miny, maxx, maxy, options.resolution);
   const RasterGrid& grid = report.grid;
 
+  // A base raster first: a wrong one is said before the cloud is read.
+  RasterImage base_raster;
+  if (options.base == VolumeBase::Raster) {
+    base_raster = readBaseRaster(options);
+    checkBaseCovers(base_raster, grid, options);
+  }
+
   RasterReport counts;
   RasterImage surface;
   surface.grid = grid;
@@ -90,10 +180,7 @@ VolumeReport computeVolume(const VolumeOptions& options) {
                                                     : kDefaultFillCells * options.resolution);
 
   // The base at each cell's centre.
-  RasterImage base_raster;
-  if (options.base == VolumeBase::Raster) {
-    base_raster = readRaster(options.base_raster);
-  } else {
+  if (options.base != VolumeBase::Raster) {
     const auto samples = boundarySamples(surface, options.polygon);
     report.boundary_samples = samples.size();
     if (options.base == VolumeBase::Plane) {
@@ -132,8 +219,9 @@ VolumeReport computeVolume(const VolumeOptions& options) {
       double base = 0.0;
       if (options.base == VolumeBase::Raster) {
         const std::int64_t bc = base_raster.grid.columnOf(x), br = base_raster.grid.rowOf(y);
-        if (bc < 0 || bc >= base_raster.grid.columns || br < 0 || br >= base_raster.grid.rows ||
-            !base_raster.hasValue(bc, br)) {
+        assert(bc >= 0 && bc < base_raster.grid.columns && br >= 0 && br < base_raster.grid.rows &&
+               "computeVolume: checkBaseCovers let a cell beyond the base raster through");
+        if (!base_raster.hasValue(bc, br)) {
           ++report.cells_without_base;
           continue;
         }
@@ -150,6 +238,15 @@ VolumeReport computeVolume(const VolumeOptions& options) {
       ++report.cells;
       difference.at(column, row) = float(d);
     }
+  }
+  if (options.base == VolumeBase::Raster && report.cells == 0 && report.cells_without_base > 0) {
+    InputErrorInfo info;
+    info.file = options.base_raster.string();
+    info.element = "base raster";
+    info.property = "values";
+    info.expected = "a value at the polygon's cells";
+    info.found = "nodata at all " + std::to_string(report.cells_without_base) + " of them";
+    throw InputError(info);
   }
   report.net = report.cut - report.fill;
   report.area = double(report.cells) * cell_area;

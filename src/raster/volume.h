@@ -15,7 +15,13 @@
 //           ring: every cell the ring crosses (walked at steps of R / 4), once, at its centre
 //   lowest  the horizontal plane at the lowest of those samples
 //   FILE    a raster (a DTM, an earlier epoch), sampled at each cell's centre (the cell of the
-//           base raster holding it); cells where it has no value are left out and counted
+//           base raster holding it); cells where it has no value are left out and counted.
+//           It must be in the cloud's CRS where both state one (GDAL's OSRIsSame; a file
+//           without a CRS is taken as it is), and its extent must hold every counted cell's
+//           centre: a polygon reaching past the raster is an error, not a smaller volume, and so
+//           is a raster without a value at any cell inside the polygon.
+// `parallax volume` and the viewer's Volume tool (src/viewer/volume_tool.cpp) both call
+// computeVolume, with the base set by setVolumeBase: the same checks, the same figures.
 #pragma once
 
 #include <cstdint>
@@ -54,7 +60,13 @@ struct VolumeReport {
   std::uint64_t points_used = 0;
 };
 
-// Throws std::invalid_argument naming the option, InputError for bad input files.
+// The base as `--base` names it: "plane", "lowest", or else the path of a raster file
+// (VolumeBase::Raster; computeVolume checks that it is one).
+void setVolumeBase(VolumeOptions& options, const std::string& base);
+
+// Throws std::invalid_argument naming the option (--base for a base raster that is not a file),
+// InputError for bad input files: one GDAL cannot read, a base raster in another CRS than the
+// cloud's, one that does not cover the polygon or has no value inside it (naming the raster).
 VolumeReport computeVolume(const VolumeOptions& options);
 
 // The least-squares plane z = a x + b y + c of the samples (at least 3, not on one line); false

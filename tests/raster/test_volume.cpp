@@ -9,6 +9,9 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/error.h"
+#include "io/las_writer.h"
+#include "io/point_file.h"
 #include "raster/geotiff.h"
 #include "raster/volume.h"
 #include "raster/volume_piles.h"
@@ -111,6 +114,112 @@ TEST(Volume, CutAndFillAgainstTheLowestRingSampleAndARasterBase) {
   EXPECT_TRUE(sameGrid(difference.grid, above.grid));
   EXPECT_FLOAT_EQ(difference.at(190, 190), 1.0f);         // (19.05, 1.05): flat ground, 5 - 4
   EXPECT_EQ(difference.at(200, 100), difference.nodata);  // x = 20.05: outside the polygon
+}
+
+// The sloped base as a raster (cells of 0.5 aligned with the volume's grid: each counted cell's
+// base is the plane at its centre) under the cone: the cone's volume, as above the plane fitted
+// along the ring.
+RasterImage slopedBaseRaster(double left, double bottom, double right, double top) {
+  RasterImage base;
+  base.grid = boundedGrid(left, bottom, right, top, 0.5);
+  base.values.resize(base.grid.cellCount());
+  for (std::int64_t row = 0; row < base.grid.rows; ++row) {
+    for (std::int64_t column = 0; column < base.grid.columns; ++column) {
+      base.at(column, row) = float(slopedBase(base.grid.centreX(column), base.grid.centreY(row)));
+    }
+  }
+  return base;
+}
+
+TEST(Volume, AConeAboveABaseRasterOfTheSlope) {
+  TempDir dir;
+  const auto cloud = writeCloud(dir, slopedBase, cone, 0.5, 1);
+  writeGeoTiff(slopedBaseRaster(-1, -1, 21, 21), dir / "base.tif");
+  VolumeOptions options = squareAround(cloud, 0.5);
+  setVolumeBase(options, (dir / "base.tif").string());
+  ASSERT_EQ(options.base, VolumeBase::Raster);
+  const VolumeReport r = computeVolume(options);
+  const double expected = std::numbers::pi * 64 * 4 / 3;
+  EXPECT_NEAR(r.cut, expected, 0.005 * expected);
+  // The base at the cells' centres is the surface there away from the cone (both the plane in
+  // float): nothing below it beyond float rounding.
+  EXPECT_NEAR(r.fill, 0.0, 1e-3);
+  EXPECT_EQ(r.cells, 40u * 40u);
+  EXPECT_EQ(r.cells_without_base, 0u);
+  setVolumeBase(options, "lowest");
+  EXPECT_EQ(options.base, VolumeBase::Lowest);
+  setVolumeBase(options, "plane");
+  EXPECT_EQ(options.base, VolumeBase::Plane);
+}
+
+// The message of what computeVolume throws for `options` (empty when it throws nothing).
+template <typename Error>
+std::string volumeError(const VolumeOptions& options) {
+  try {
+    computeVolume(options);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Volume, ABaseRasterThatIsMissingShortOrInAnotherCrsIsAnError) {
+  TempDir dir;
+  const auto cloud = writeCloud(dir, slopedBase, cone, 0.5, 1);
+  VolumeOptions options = squareAround(cloud, 0.5);
+  setVolumeBase(options, (dir / "none.tif").string());
+  const std::string missing = volumeError<std::invalid_argument>(options);
+  EXPECT_NE(missing.find("--base"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("none.tif' (no such file)"), std::string::npos) << missing;
+
+  // Covering x up to 15 only: the polygon's cells from x = 15.25 to 19.75 are beyond it.
+  writeGeoTiff(slopedBaseRaster(-1, -1, 15, 21), dir / "short.tif");
+  setVolumeBase(options, (dir / "short.tif").string());
+  const std::string short_of = volumeError<InputError>(options);
+  EXPECT_NE(short_of.find("short.tif"), std::string::npos) << short_of;
+  EXPECT_NE(short_of.find("x [-1, 15], y [-1, 21], and 400 cell centres inside the polygon "
+                          "beyond it (x [15.25, 19.75], y [0.25, 19.75])"),
+            std::string::npos)
+      << short_of;
+
+  // Nodata at every cell inside the polygon.
+  RasterImage empty = slopedBaseRaster(-1, -1, 21, 21);
+  empty.values.assign(empty.values.size(), empty.nodata);
+  writeGeoTiff(empty, dir / "empty.tif");
+  setVolumeBase(options, (dir / "empty.tif").string());
+  const std::string no_values = volumeError<InputError>(options);
+  EXPECT_NE(no_values.find("empty.tif"), std::string::npos) << no_values;
+  EXPECT_NE(no_values.find("nodata at all 1600 of them"), std::string::npos) << no_values;
+
+  // The cloud in UTM 32N (a LAS file with its GeoTIFF keys), the raster in UTM 33N.
+  std::string keys;
+  for (std::uint16_t v : {1, 1, 0, 1, 3072, 0, 1, 32632}) {
+    keys.append(reinterpret_cast<const char*>(&v), 2);
+  }
+  LasVlr projection{.user_id = "LASF_Projection", .record_id = 34735};
+  for (char c : keys) projection.data.push_back(std::byte(c));
+  const auto las = dir / "cloud.las";
+  writeLas(readPointFile(cloud), las, {.vlrs = {projection}});
+  RasterImage utm33 = slopedBaseRaster(-1, -1, 21, 21);
+  CoordinateSystem crs;
+  crs.description.projected_epsg = 32633;
+  utm33.wkt = wktOfCoordinateSystem(crs);
+  writeGeoTiff(utm33, dir / "utm33.tif");
+  options.input.path = las;
+  setVolumeBase(options, (dir / "utm33.tif").string());
+  const std::string other_crs = volumeError<InputError>(options);
+  EXPECT_NE(other_crs.find("utm33.tif"), std::string::npos) << other_crs;
+  EXPECT_NE(other_crs.find("expected the cloud's CRS, WGS 84 / UTM zone 32N (EPSG:32632), found "
+                           "WGS 84 / UTM zone 33N (EPSG:32633)"),
+            std::string::npos)
+      << other_crs;
+  // The same raster in the cloud's CRS: the cone's volume again.
+  crs.description.projected_epsg = 32632;
+  utm33.wkt = wktOfCoordinateSystem(crs);
+  writeGeoTiff(utm33, dir / "utm32.tif");
+  setVolumeBase(options, (dir / "utm32.tif").string());
+  const double expected = std::numbers::pi * 64 * 4 / 3;
+  EXPECT_NEAR(computeVolume(options).cut, expected, 0.005 * expected);
 }
 
 TEST(Volume, FitPlaneNeedsThreePointsNotOnALine) {
