@@ -5,6 +5,7 @@
 // --point-size or --shape, points are round and sized to the local spacing (adaptive); without
 // --lighting, clouds with normals are lit.
 #include <chrono>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -30,6 +31,7 @@ struct ViewCommandOptions {
   std::string screenshot_dir = ".";
   double frame_budget_ms = 1000.0 / 15.0;
   std::string measurements_file;
+  std::string volume_base = "plane";
   std::string tool = "none";
   std::vector<std::string> process_steps;
   std::string process_output;
@@ -80,6 +82,15 @@ int runView(const ViewCommandOptions& o, const CLI::App& command,
   }
   viewer.measure_tool = *tool;
   viewer.profile_width = o.profile_width;
+  viewer.volume_base = o.volume_base;
+  if (o.volume_base != "plane" && o.volume_base != "lowest") {
+    std::error_code error;  // a typo is an error here, before the window opens
+    if (!std::filesystem::is_regular_file(o.volume_base, error)) {
+      throw std::invalid_argument(
+          "--volume-base: expected plane, lowest or a raster file, found '" + o.volume_base +
+          "' (no such file)");
+    }
+  }
   for (const std::string& step : o.process_steps) {
     (void)parseProcessStep(step);  // a typo is an error here, before the window opens
     viewer.process_steps.push_back(step);
@@ -154,6 +165,10 @@ Command addViewCommand(CLI::App& app) {
   sub->add_option("--tool", options->tool,
                   "Measurement tool a click uses: none, point, distance, height, area, angle, "
                   "profile or annotation (also in the panel)")
+      ->capture_default_str();
+  sub->add_option("--volume-base", options->volume_base,
+                  "Base of the Volume tool (an area measurement selected, Ctrl+V): plane, lowest "
+                  "or a raster file (a DTM GeoTIFF), as volume --base takes it (also in the panel)")
       ->capture_default_str();
   sub->add_option("--profile-width", options->profile_width,
                   "Corridor width of new height profiles, in the cloud's units (also in the panel)")

@@ -39,9 +39,11 @@ struct MeasureSession {
   std::optional<Profile> profile;
 
   // The volume inside the selected area measurement (volume_tool.cpp): the surface's cell size
-  // and the base asked for, and the last result, for the measurement it was computed for.
+  // and the base asked for (with VolumeBase::Raster, the raster's path as typed in the panel:
+  // a DTM, an earlier epoch), and the last result, for the measurement it was computed for.
   double volume_resolution = 0.5;
   VolumeBase volume_base = VolumeBase::Plane;
+  std::string volume_base_file;
   struct Volume {
     std::size_t measurement = 0;
     Measurement of;

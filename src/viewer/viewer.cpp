@@ -472,6 +472,12 @@ int runViewer(const ViewerOptions& options) {
                        ? (options.screenshot_dir / "measurements.json").string()
                        : options.measurements_file.string();
   s.measure.profile_width = options.profile_width;
+  {
+    VolumeOptions base;  // the base parsed as `parallax volume --base` parses it
+    setVolumeBase(base, options.volume_base);
+    s.measure.volume_base = base.base;
+    s.measure.volume_base_file = base.base_raster.string();
+  }
   setMeasureTool(s, options.measure_tool);
   s.process.steps = options.process_steps;
   s.process.output = options.process_output.string();

@@ -56,6 +56,9 @@ struct ViewerOptions {
   double profile_width = 1.0;  // the corridor width of new profiles (world units, > 0)
   MeasurementDocument measurements;
   std::filesystem::path measurements_file;
+  // The Volume tool's base at first, as `parallax volume --base` takes it (raster/volume.h
+  // setVolumeBase): plane, lowest or a raster file's path (also in the panel).
+  std::string volume_base = "plane";
   // The Processing panel's steps at first, one a line as process/process_steps.h
   // parseProcessStep reads them ("normals 16"), and the file its result is written to (empty:
   // NAME-processed.ply in screenshot_dir).

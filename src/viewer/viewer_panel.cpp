@@ -289,12 +289,9 @@ void drawPanel(Session& s, const FrameStats& stats) {
       -(ImGui::CalcTextSize(kWidestLabel).x + ImGui::GetStyle().ItemInnerSpacing.x));
   ImGui::TextWrapped(
       "%s", s.loaded_name.empty() ? "(no cloud: drop a file here)" : s.loaded_name.c_str());
-  // The last failure to open, first, where the eye is.
-  if (!s.error.empty()) {
-    ImGui::PushStyleColor(ImGuiCol_Text, kErrorColor);
-    ImGui::TextWrapped("%s", s.error.c_str());
-    ImGui::PopStyleColor();
-  }
+  // The last failure to open and the Volume tool's error, first, where the eye is.
+  if (!s.error.empty()) drawErrorText(s.error);
+  if (const std::string* volume = volumeError(s)) drawErrorText("volume: " + *volume);
   // The picture shown: its points (every part of a refined one) and how long it took from the
   // start of its first part to the end of its last; then the frames of a moving camera.
   const std::uint64_t total =
@@ -431,8 +428,17 @@ void drawPanel(Session& s, const FrameStats& stats) {
   ImGui::End();
 }
 
+void drawErrorText(const std::string& text) {
+  ImGui::PushStyleColor(ImGuiCol_Text, kErrorColor);
+  ImGui::TextWrapped("%s", text.c_str());
+  ImGui::PopStyleColor();
+}
+
 void drawErrorBanner(const Session& s) {
-  if (s.error.empty() || (s.show_panel && s.panel_right.value_or(0.0f) > 0.0f)) return;
+  const std::string* volume = volumeError(s);
+  if ((s.error.empty() && !volume) || (s.show_panel && s.panel_right.value_or(0.0f) > 0.0f)) {
+    return;
+  }
   const ImGuiViewport* viewport = ImGui::GetMainViewport();
   ImGui::SetNextWindowPos(ImVec2(viewport->Size.x * 0.5f, 10.0f), ImGuiCond_Always,
                           ImVec2(0.5f, 0.0f));
@@ -442,7 +448,8 @@ void drawErrorBanner(const Session& s) {
                    ImGuiWindowFlags_NoSavedSettings);
   ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + std::min(viewport->Size.x * 0.7f, 640.0f));
   ImGui::PushStyleColor(ImGuiCol_Text, kErrorColor);
-  ImGui::TextUnformatted(s.error.c_str());
+  if (!s.error.empty()) ImGui::TextUnformatted(s.error.c_str());
+  if (volume) ImGui::TextUnformatted(("volume: " + *volume).c_str());
   ImGui::PopStyleColor();
   ImGui::PopTextWrapPos();
   ImGui::End();

@@ -220,8 +220,9 @@ bool panelStartsCollapsed(const Session& s);
 // While nothing is shown: what to do (drop a file) and why the last open failed, in the middle
 // of the window where the eye is.
 void drawEmptyWindowMessage(const Session& s);
-// While a cloud is shown and the panel is hidden or collapsed: the last failure to open, at the
-// top of the window (the panel shows it at its top otherwise).
+// While a cloud is shown and the panel is hidden or collapsed: the last failure to open and the
+// Volume tool's error (volumeError), at the top of the window (the panel shows them at its top
+// otherwise).
 void drawErrorBanner(const Session& s);
 // The filter part of the panel: a checkbox per class, the clip box editor.
 void drawFilterPanel(Session& s);
@@ -380,6 +381,12 @@ void loadMeasurements(Session& s);
 // Volume part, drawn under the selected area.
 void computeSelectedVolume(Session& s);
 void drawVolumePanel(Session& s);
+// Why the selected area's volume could not be computed (its last try, the area unchanged since);
+// nullptr when it was, or was not tried. Shown in the Volume part, at the panel's top and, with
+// the panel hidden, over the picture.
+const std::string* volumeError(const Session& s);
+// `text` wrapped, in the colour of errors (viewer_panel.cpp).
+void drawErrorText(const std::string& text);
 // The panel's Measure section (measure_panel.cpp).
 void drawMeasurePanel(Session& s);
 

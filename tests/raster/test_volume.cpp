@@ -23,6 +23,7 @@ namespace {
 using test::cone;
 using test::Height;
 using test::slopedBase;
+using test::slopedBaseRaster;
 using test::TempDir;
 using test::writeCloud;
 
@@ -116,21 +117,8 @@ TEST(Volume, CutAndFillAgainstTheLowestRingSampleAndARasterBase) {
   EXPECT_EQ(difference.at(200, 100), difference.nodata);  // x = 20.05: outside the polygon
 }
 
-// The sloped base as a raster (cells of 0.5 aligned with the volume's grid: each counted cell's
-// base is the plane at its centre) under the cone: the cone's volume, as above the plane fitted
-// along the ring.
-RasterImage slopedBaseRaster(double left, double bottom, double right, double top) {
-  RasterImage base;
-  base.grid = boundedGrid(left, bottom, right, top, 0.5);
-  base.values.resize(base.grid.cellCount());
-  for (std::int64_t row = 0; row < base.grid.rows; ++row) {
-    for (std::int64_t column = 0; column < base.grid.columns; ++column) {
-      base.at(column, row) = float(slopedBase(base.grid.centreX(column), base.grid.centreY(row)));
-    }
-  }
-  return base;
-}
-
+// The sloped base as a raster under the cone (slopedBaseRaster): the cone's volume, as above the
+// plane fitted along the ring.
 TEST(Volume, AConeAboveABaseRasterOfTheSlope) {
   TempDir dir;
   const auto cloud = writeCloud(dir, slopedBase, cone, 0.5, 1);

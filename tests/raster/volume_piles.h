@@ -1,13 +1,16 @@
-// Analytic piles on a sloped base, written as a text cloud (x y z a line), of the volume tests
-// (test_volume.cpp: `computeVolume` against closed forms; tests/render/test_viewer_panels.cpp:
-// the viewer's Volume tool).
+// Analytic piles on a sloped base, written as a text cloud (x y z a line), and the base as a
+// raster, of the volume tests (test_volume.cpp: `computeVolume` against closed forms;
+// tests/render/test_viewer_panels.cpp: the viewer's Volume tool).
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <sstream>
 
+#include "raster/raster_grid.h"
+#include "raster/raster_image.h"
 #include "support/temp_dir.h"
 
 namespace parallax::test {
@@ -42,6 +45,21 @@ inline std::filesystem::path writeCloud(const TempDir& dir, const Height& base, 
     }
   }
   return dir.write("cloud.xyz", text.str());
+}
+
+// The sloped base as a raster of cells of 0.5 over [left, right] x [bottom, top] (their values
+// the plane at their centres, in float), aligned with a volume's 0.5 grid: each counted cell's
+// base is the plane at its centre.
+inline RasterImage slopedBaseRaster(double left, double bottom, double right, double top) {
+  RasterImage base;
+  base.grid = boundedGrid(left, bottom, right, top, 0.5);
+  base.values.resize(base.grid.cellCount());
+  for (std::int64_t row = 0; row < base.grid.rows; ++row) {
+    for (std::int64_t column = 0; column < base.grid.columns; ++column) {
+      base.at(column, row) = float(slopedBase(base.grid.centreX(column), base.grid.centreY(row)));
+    }
+  }
+  return base;
 }
 
 }  // namespace parallax::test

@@ -11,7 +11,8 @@
 // `render --legend`'s test (signed_legend_scene.h).
 //
 // The Volume tool (measurement panel): an area drawn around a cone pile on a sloped base, Ctrl + V:
-// the cone's closed-form volume, and what `parallax volume` gives for the same polygon.
+// the cone's closed-form volume, and what `parallax volume` gives for the same polygon; the same
+// over a base raster of the slope (`view --volume-base DEM.tif`), and the error once it is gone.
 //
 // The raster layer (`view CLOUD --raster DEM.tif`): each cell's colour at its projected centre,
 // the same oracle as `render --raster`'s test (tests/raster/raster_plane_scene.h).
@@ -300,6 +301,80 @@ TEST(ViewerWindow, M3c2DistancesThroughTheDivergingRampWithTheirLegend) {
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
 }
 
+// The viewer on the cone pile on its sloped base (volume_piles.h), orthographic from above,
+// centred on (10, 10), the area tool on; `extra`: more options.
+std::vector<std::string> coneViewArgs(const std::filesystem::path& cloud,
+                                      const std::vector<std::string>& extra = {}) {
+  std::vector<std::string> args = {
+      cloud.string(), "--no-vsync",   "--tool", "area",         "--width",  "400",      "--height",
+      "400",          "--ortho",      "--eye",  "10,10,100",    "--target", "10,10,20", "--up",
+      "0,1,0",        "--point-size", "4",      "--rasterizer", "points"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  return args;
+}
+
+// Four clicks near the corners of [0, 20]^2, well outside the cone, and Enter: the area. The
+// view's height is the extent's largest side (22) over 400 pixels. `polygon`: the clicked
+// points' x and y as the viewer logs them, one vertex a line (as `volume --polygon` reads them).
+void clickAreaAroundTheCone(ViewerProcess& viewer, std::string& polygon) {
+  const std::array<std::array<double, 2>, 4> corners{
+      {{0.25, 0.25}, {19.75, 0.25}, {19.75, 19.75}, {0.25, 19.75}}};
+  std::ostringstream vertices;
+  vertices.precision(17);
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    const double per_unit = 400.0 / 22.0;
+    viewer.click(int(std::floor(200 + (corners[i][0] - 10) * per_unit)),
+                 int(std::floor(200 - (corners[i][1] - 10) * per_unit)));
+    const std::string prefix = "parallax view: area point " + std::to_string(i + 1) + ": ";
+    ASSERT_TRUE(viewer.logged(prefix)) << viewer.log();
+    const auto p = loggedNumbers(viewer.log(), prefix);
+    ASSERT_EQ(p.size(), 3u) << viewer.log();
+    // A point of the cloud near the corner: the polygon holds the whole cone.
+    EXPECT_NEAR(p[0], corners[i][0], 1.0) << viewer.log();
+    EXPECT_NEAR(p[1], corners[i][1], 1.0) << viewer.log();
+    vertices << p[0] << ' ' << p[1] << '\n';
+  }
+  viewer.key("Return");
+  polygon = vertices.str();
+}
+
+// Cut, fill and net of the viewer's line "parallax view: volume of measurement 1: ...", and
+// the line.
+struct ViewerVolume {
+  double cut = 0, fill = 0, net = 0;
+  std::string line;
+};
+void loggedVolume(const ViewerProcess& viewer, ViewerVolume& volume) {
+  const std::string prefix = "parallax view: volume of measurement 1: cut ";
+  ASSERT_TRUE(viewer.logged(prefix)) << viewer.log();
+  const std::string log = viewer.log();
+  const auto at = log.find(prefix);
+  volume.line = log.substr(at, log.find('\n', at) - at);
+  ASSERT_EQ(std::sscanf(volume.line.c_str() + prefix.size(), "%lf fill %lf net %lf", &volume.cut,
+                        &volume.fill, &volume.net),
+            3)
+      << volume.line;
+}
+
+// What `parallax volume CLOUD --polygon (the clicked polygon) --resolution 0.5 ARGS --json`
+// prints.
+nlohmann::json volumeCommand(const TempDir& dir, const std::filesystem::path& cloud,
+                             const std::string& polygon, const std::string& args) {
+  const auto polygon_file = dir.write("area.txt", polygon);
+  const auto json_file = dir / "volume.json";
+  EXPECT_EQ(
+      run(std::string(PARALLAX_EXECUTABLE) + " volume " + cloud.string() + " --polygon " +
+          polygon_file.string() + " --resolution 0.5 " + args + " --json > " + json_file.string()),
+      0);
+  return nlohmann::json::parse(readFile(json_file));
+}
+
+void expectSameVolume(const ViewerVolume& viewer, const nlohmann::json& command) {
+  EXPECT_NEAR(viewer.cut, command.at("cut").get<double>(), 1e-6) << command.dump();
+  EXPECT_NEAR(viewer.fill, command.at("fill").get<double>(), 1e-6) << command.dump();
+  EXPECT_NEAR(viewer.net, command.at("net").get<double>(), 1e-6) << command.dump();
+}
+
 // An area drawn with four clicks around a cone (radius 8, height 4) on a sloped base, seen from
 // above; Ctrl + V: cut = the cone's pi r^2 h / 3 within 0.5 % (one point at each 0.5 cell's
 // centre, the panel's cell size: the midpoint rule), nothing filled, and exactly what `parallax
@@ -312,57 +387,77 @@ TEST(ViewerWindow, TheVolumeToolGivesAConesVolumeInsideAnArea) {
   const auto cloud = writeCloud(dir, slopedBase, cone, 0.5, 1);
   Display display(dir);
   ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  ViewerProcess viewer(dir, display.name(), coneViewArgs(cloud), "viewer.log");
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+  viewer.key("g");
+  std::string polygon;
+  ASSERT_NO_FATAL_FAILURE(clickAreaAroundTheCone(viewer, polygon));
+  viewer.key("ctrl+v");
+  ViewerVolume volume;
+  ASSERT_NO_FATAL_FAILURE(loggedVolume(viewer, volume));
+  const double cone_volume = std::numbers::pi * 64 * 4 / 3;
+  EXPECT_NEAR(volume.cut, cone_volume, 0.005 * cone_volume) << volume.line;
+  EXPECT_NEAR(volume.fill, 0.0, 1e-3) << volume.line;
+  EXPECT_NEAR(volume.net, volume.cut - volume.fill, 2e-6) << volume.line;
+  expectSameVolume(volume, volumeCommand(dir, cloud, polygon, ""));
+  EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
+}
+
+// Pixels of the viewer's error colour (1, 0.35, 0.35: 255 89 89) in `image`: the fully covered
+// pixels of an error's text.
+int errorTextPixels(const RgbaImage& image) {
+  int count = 0;
+  for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
+    count += image.pixels[i] == 255 && image.pixels[i + 1] == 89 && image.pixels[i + 2] == 89;
+  }
+  return count;
+}
+
+// The same area over a base raster (`view --volume-base DEM.tif`, the panel's raster field): a
+// GeoTIFF of the sloped plane written here through GDAL, cells of 0.5 whose centres are the
+// volume's: cut = the cone's volume within 0.5 %, and exactly what `parallax volume --base
+// DEM.tif` prints. The file removed, Ctrl + V again: the error, naming it, on stderr and over
+// the picture (the panel hidden), where a failure to open is shown.
+TEST(ViewerWindow, TheVolumeToolTakesABaseRasterAndShowsWhenItIsMissing) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto cloud = writeCloud(dir, slopedBase, cone, 0.5, 1);
+  const auto base = dir / "slope-dtm.tif";
+  writeGeoTiff(slopedBaseRaster(-1, -1, 21, 21), base);
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
   ViewerProcess viewer(dir, display.name(),
-                       {cloud.string(), "--no-vsync", "--tool", "area", "--width", "400",
-                        "--height", "400", "--ortho", "--eye", "10,10,100", "--target", "10,10,20",
-                        "--up", "0,1,0", "--point-size", "4", "--rasterizer", "points"},
+                       coneViewArgs(cloud, {"--volume-base", base.string(), "--screenshot-dir",
+                                            dir.path().string()}),
                        "viewer.log");
   ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
   EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
   viewer.key("g");
-  // Orthographic from above, centred on (10, 10): the view's height the extent's largest side
-  // (22) over 400 pixels. Clicks near the corners of [0, 20]^2, well outside the cone.
-  const std::array<std::array<double, 2>, 4> corners{
-      {{0.25, 0.25}, {19.75, 0.25}, {19.75, 19.75}, {0.25, 19.75}}};
-  std::ostringstream polygon;
-  polygon.precision(17);
-  for (std::size_t i = 0; i < corners.size(); ++i) {
-    const double per_unit = 400.0 / 22.0;
-    viewer.click(int(std::floor(200 + (corners[i][0] - 10) * per_unit)),
-                 int(std::floor(200 - (corners[i][1] - 10) * per_unit)));
-    const std::string prefix = "parallax view: area point " + std::to_string(i + 1) + ": ";
-    ASSERT_TRUE(viewer.logged(prefix)) << viewer.log();
-    const auto p = loggedNumbers(viewer.log(), prefix);
-    ASSERT_EQ(p.size(), 3u) << viewer.log();
-    // A point of the cloud near the corner: the polygon holds the whole cone.
-    EXPECT_NEAR(p[0], corners[i][0], 1.0) << viewer.log();
-    EXPECT_NEAR(p[1], corners[i][1], 1.0) << viewer.log();
-    polygon << p[0] << ' ' << p[1] << '\n';
-  }
-  viewer.key("Return");
+  std::string polygon;
+  ASSERT_NO_FATAL_FAILURE(clickAreaAroundTheCone(viewer, polygon));
   viewer.key("ctrl+v");
-  const std::string prefix = "parallax view: volume of measurement 1: cut ";
-  ASSERT_TRUE(viewer.logged(prefix)) << viewer.log();
-  const std::string log = viewer.log();
-  const std::string line =
-      log.substr(log.find(prefix), log.find('\n', log.find(prefix)) - log.find(prefix));
-  double cut = 0, fill = 0, net = 0;
-  ASSERT_EQ(std::sscanf(line.c_str() + prefix.size(), "%lf fill %lf net %lf", &cut, &fill, &net), 3)
-      << line;
+  ViewerVolume volume;
+  ASSERT_NO_FATAL_FAILURE(loggedVolume(viewer, volume));
+  EXPECT_NE(volume.line.find("base raster " + base.string()), std::string::npos) << volume.line;
   const double cone_volume = std::numbers::pi * 64 * 4 / 3;
-  EXPECT_NEAR(cut, cone_volume, 0.005 * cone_volume) << line;
-  EXPECT_NEAR(fill, 0.0, 1e-3) << line;
-  EXPECT_NEAR(net, cut - fill, 2e-6) << line;
+  EXPECT_NEAR(volume.cut, cone_volume, 0.005 * cone_volume) << volume.line;
+  EXPECT_NEAR(volume.fill, 0.0, 1e-3) << volume.line;
+  const nlohmann::json expected = volumeCommand(dir, cloud, polygon, "--base " + base.string());
+  EXPECT_EQ(expected.at("base"), "raster") << expected.dump();
+  expectSameVolume(volume, expected);
 
-  const auto polygon_file = dir.write("area.txt", polygon.str());
-  const auto json_file = dir / "volume.json";
-  ASSERT_EQ(run(std::string(PARALLAX_EXECUTABLE) + " volume " + cloud.string() + " --polygon " +
-                polygon_file.string() + " --resolution 0.5 --json > " + json_file.string()),
-            0);
-  const nlohmann::json expected = nlohmann::json::parse(readFile(json_file));
-  EXPECT_NEAR(cut, expected.at("cut").get<double>(), 1e-6) << expected.dump();
-  EXPECT_NEAR(fill, expected.at("fill").get<double>(), 1e-6) << expected.dump();
-  EXPECT_NEAR(net, expected.at("net").get<double>(), 1e-6) << expected.dump();
+  EXPECT_EQ(errorTextPixels(viewer.windowShot(dir.path())), 0) << "an error shown before any";
+  std::filesystem::remove(base);
+  viewer.key("ctrl+v");
+  const std::string error =
+      "parallax view: volume: --base: expected plane, lowest or a raster "
+      "file, found '" +
+      base.string() + "' (no such file)";
+  EXPECT_TRUE(viewer.logged(error)) << viewer.log();
+  EXPECT_GE(errorTextPixels(viewer.windowShot(dir.path())), 50) << "no error over the picture";
   EXPECT_EQ(viewer.quit(), 0) << "the viewer did not quit on Escape: " << viewer.log();
 }
 
