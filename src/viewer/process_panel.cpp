@@ -8,7 +8,7 @@
 // The runner reads the file again rather than the points on the GPU: it works out of core on the
 // file's own values (a float chunk would lose precision), and the output keeps every attribute.
 // A run is cancelled by its Cancel button (ProcessOptions::cancel, checked at every tile): its
-// temporary output and work files are removed, the input stays shown.
+// temporary output and work files are removed, the input stays shown, the panel says so.
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
@@ -43,7 +43,15 @@ class PanelProgress final : public Progress {
     shared_->done = 0;
     shared_->total = total;
   }
-  void advance(std::uint64_t amount) override { shared_->done += amount; }
+  void advance(std::uint64_t amount) override {
+    shared_->done += amount;
+    if (shared_->hold_first_report && !shared_->held.exchange(true)) {
+      std::fprintf(stderr,
+                   "parallax view: processing held at its first progress report until Cancel "
+                   "(PARALLAX_VIEW_TEST_HOLD_PROCESS)\n");
+      shared_->cancel.wait(false);
+    }
+  }
 
  private:
   std::shared_ptr<ProcessProgress> shared_;
@@ -77,6 +85,23 @@ void showResult(Session& s, const std::filesystem::path& path, bool distance) {
   }
 }
 
+// For a window test (PARALLAX_VIEW_TRACE_KEYS): where the Cancel button just drawn is, once a
+// run, when the panel shows it whole (scrolled to it otherwise).
+void traceCancelButton(Session& s) {
+  if (s.process.cancel_button_logged) return;
+  const ImVec2 min = ImGui::GetItemRectMin(), max = ImGui::GetItemRectMax();
+  const ImVec2 window_min = ImGui::GetWindowPos();
+  const ImVec2 window_max(window_min.x + ImGui::GetWindowSize().x,
+                          window_min.y + ImGui::GetWindowSize().y);
+  if (min.y < window_min.y || max.y > window_max.y) {
+    ImGui::SetScrollHereY(0.5f);
+    return;
+  }
+  s.process.cancel_button_logged = true;
+  std::fprintf(stderr, "parallax view: Cancel button at %d %d\n", int((min.x + max.x) / 2),
+               int((min.y + max.y) / 2));
+}
+
 }  // namespace
 
 void startProcessing(Session& s) {
@@ -104,6 +129,8 @@ void startProcessing(Session& s) {
     options.inputs.push_back(std::move(input));
     options.output = p.output.empty() ? defaultOutput(s) : std::filesystem::path(p.output);
     auto progress = std::make_shared<ProcessProgress>();
+    progress->hold_first_report = p.hold_first_report;
+    p.cancel_button_logged = false;
     options.progress = [progress](const std::string& stage, std::uint64_t total) {
       return std::unique_ptr<Progress>(std::make_unique<PanelProgress>(progress, stage, total));
     };
@@ -202,8 +229,9 @@ void drawProcessPanel(Session& s) {
                        stage.c_str());
     if (p.progress->cancel) {
       ImGui::TextDisabled("cancelling at the next tile");
-    } else if (ImGui::Button("Cancel")) {
-      p.progress->cancel = true;
+    } else {
+      if (ImGui::Button("Cancel")) p.progress->requestCancel();
+      if (s.trace_keys) traceCancelButton(s);
     }
   } else if (ImGui::Button("Run (K)")) {
     startProcessing(s);

@@ -22,7 +22,19 @@ struct ProcessProgress {
   std::mutex mutex;
   std::string stage;  // guarded by mutex
   std::atomic<std::uint64_t> done{0}, total{0};
-  std::atomic<bool> cancel{false};  // the Cancel button: the run stops at its next tile
+  // The Cancel button: the run stops at its next tile. Set through requestCancel, which wakes a
+  // held run.
+  std::atomic<bool> cancel{false};
+  // A test hook (PARALLAX_VIEW_TEST_HOLD_PROCESS=1): the run's first progress report waits until
+  // Cancel is pressed, so that a window test cancels a run of any size while it is under way,
+  // without timing it. `held`: that report has come.
+  bool hold_first_report = false;
+  std::atomic<bool> held{false};
+
+  void requestCancel() {
+    cancel = true;
+    cancel.notify_all();
+  }
 };
 
 struct ProcessSession {
@@ -38,8 +50,20 @@ struct ProcessSession {
   std::filesystem::path running_output;
   std::vector<ProcessStep> running_steps;
   std::chrono::steady_clock::time_point started;
-  std::string message;         // the last run's outcome, or why it could not start
-  bool run_requested = false;  // the K key: run the steps at the next frame
+  std::string message;             // the last run's outcome, or why it could not start
+  bool run_requested = false;      // the K key: run the steps at the next frame
+  bool hold_first_report = false;  // ProcessProgress::hold_first_report for the next runs
+  // With PARALLAX_VIEW_TRACE_KEYS: the Cancel button's place was logged for the run under way.
+  bool cancel_button_logged = false;
+
+  ProcessSession() = default;
+  ProcessSession(const ProcessSession&) = delete;
+  ProcessSession& operator=(const ProcessSession&) = delete;
+  // A run under way is cancelled (its output and work files removed) and waited for: quitting
+  // does not wait for the whole run.
+  ~ProcessSession() {
+    if (run.valid() && progress) progress->requestCancel();
+  }
 };
 
 }  // namespace parallax::viewer_internal

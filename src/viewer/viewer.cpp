@@ -518,6 +518,9 @@ int runViewer(const ViewerOptions& options) {
   if (const char* trace = std::getenv("PARALLAX_VIEW_TRACE_KEYS")) {
     s.trace_keys = std::strcmp(trace, "0") != 0 && *trace != '\0';
   }
+  if (const char* hold = std::getenv("PARALLAX_VIEW_TEST_HOLD_PROCESS")) {
+    s.process.hold_first_report = std::strcmp(hold, "0") != 0 && *hold != '\0';
+  }
   auto last = std::chrono::steady_clock::now();
   FrameStats stats;
   bool busy = true;  // drew points or had input last frame: poll; otherwise wait for events

@@ -1,12 +1,14 @@
 // The viewer's Processing panel (issue 26 item 6), driven through the K key (run the panel's
 // steps, given with --process-step) in a real window under Xvfb, as test_viewer_window.cpp:
 // normals computed on a cloud that has none light it, and a distance-to result is shown coloured
-// by its distance, the picture `parallax render --color distance` draws of the saved result.
+// by its distance, the picture `parallax render --color distance` draws of the saved result; the
+// Cancel button stops a run and leaves nothing behind.
 // Skipped (with the reason) without the Debian packages xvfb and xdotool.
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <set>
 #include <sstream>
@@ -107,6 +109,79 @@ TEST(ViewerProcess, WithTheClipBoxOnOnlyItsPointsAreProcessed) {
   const PointCloud saved = readPointFile(output);
   EXPECT_EQ(saved.count, inside);
   EXPECT_TRUE(saved.hasNormals());
+  EXPECT_EQ(viewer.quit(), 0) << viewer.log();
+}
+
+// The panel's Cancel button: a run held at its first progress report (the test hook
+// PARALLAX_VIEW_TEST_HOLD_PROCESS: the run waits there until Cancel is pressed, so the click
+// always lands while it is under way, whatever the machine's speed), the button clicked where
+// the viewer says it drew it: the panel says the run was cancelled, nothing is left in the
+// output's folder (no output, no temporary or work file), the input file is as it was and the
+// picture is the one before, pixel for pixel.
+TEST(ViewerProcess, CancelStopsTheRunLeavesNothingAndKeepsTheCloudShown) {
+  if (!onPath("Xvfb") || !onPath("xdotool")) {
+    GTEST_SKIP() << "needs Xvfb and xdotool (Debian packages xvfb, xdotool)";
+  }
+  TempDir dir;
+  const auto cloud = dir.write("grid.ply", gridPly());
+  const std::string cloud_bytes = readFile(cloud);
+  const auto out = dir.path() / "out";
+  const auto shots = dir.path() / "shots";
+  std::filesystem::create_directories(out);
+  std::filesystem::create_directories(shots);
+  const auto output = out / "grid-normals.ply";
+  Display display(dir);
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start: " << readFile(dir / "xvfb.log");
+  // A window tall enough for the panel's Processing part beside the cloud.
+  const std::vector<std::string> args = {cloud.string(),
+                                         "--screenshot-dir",
+                                         shots.string(),
+                                         "--no-vsync",
+                                         "--process-step",
+                                         "normals 8",
+                                         "--process-output",
+                                         output.string(),
+                                         "--width",
+                                         "900",
+                                         "--height",
+                                         "700",
+                                         "--background",
+                                         "255,0,255",
+                                         "--point-size",
+                                         "3",
+                                         "--eye",
+                                         "0.9,-1.2,1.1",
+                                         "--target",
+                                         "0,0,0.05"};
+  ViewerProcess viewer(dir, display.name(), args, "viewer.log",
+                       {"PARALLAX_VIEW_TEST_HOLD_PROCESS=1"});
+  ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
+  EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
+  const RgbaImage before = viewer.settledScreenshot(shots);
+
+  viewer.key("k");
+  ASSERT_TRUE(viewer.logged("parallax view: processing held at its first progress report"))
+      << viewer.log();
+  const std::string button = "parallax view: Cancel button at ";
+  ASSERT_TRUE(viewer.logged(button)) << viewer.log();
+  const std::string log = viewer.log();
+  int x = -1, y = -1;
+  ASSERT_EQ(std::sscanf(log.c_str() + log.find(button) + button.size(), "%d %d", &x, &y), 2) << log;
+  viewer.click(x, y);
+  EXPECT_TRUE(
+      viewer.logged("parallax view: processing cancelled: nothing written to " + output.string()))
+      << viewer.log();
+  EXPECT_EQ(viewer.log().find("processed into"), std::string::npos) << viewer.log();
+  std::vector<std::string> left;
+  for (const auto& entry : std::filesystem::directory_iterator(out)) {
+    left.push_back(entry.path().filename().string());
+  }
+  EXPECT_TRUE(left.empty()) << left.front() << " is left in the output's folder";
+  EXPECT_EQ(readFile(cloud), cloud_bytes);
+  const RgbaImage after = viewer.settledScreenshot(shots);
+  EXPECT_EQ(after.width, before.width);
+  EXPECT_EQ(after.height, before.height);
+  EXPECT_TRUE(after.pixels == before.pixels) << "the picture changed";
   EXPECT_EQ(viewer.quit(), 0) << viewer.log();
 }
 

@@ -172,8 +172,9 @@ class Display {
 // The parallax viewer on `display`, its window found by xdotool.
 class ViewerProcess {
  public:
+  // `extra_env`: more NAME=VALUE pairs for the viewer (test hooks).
   ViewerProcess(const TempDir& dir, const std::string& display, std::vector<std::string> args,
-                const std::string& log_name)
+                const std::string& log_name, std::vector<std::string> extra_env = {})
       : log_(dir / log_name),
         env_("DISPLAY=" + display + " "),
         viewer_(
@@ -181,7 +182,12 @@ class ViewerProcess {
               args.insert(args.begin(), {PARALLAX_EXECUTABLE, "view"});
               return args;
             }(),
-            {"DISPLAY=" + display, "ASAN_OPTIONS=detect_leaks=0", "PARALLAX_VIEW_TRACE_KEYS=1"},
+            [&] {
+              extra_env.insert(extra_env.begin(),
+                               {"DISPLAY=" + display, "ASAN_OPTIONS=detect_leaks=0",
+                                "PARALLAX_VIEW_TRACE_KEYS=1"});
+              return extra_env;
+            }(),
             log_.string()) {
     const auto window_file = dir / (log_name + ".window");
     if (run(env_ + "timeout 60 xdotool search --sync --name Parallax > " + window_file.string()) ==
