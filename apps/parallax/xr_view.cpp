@@ -65,8 +65,7 @@ OverlayScene laserOverlay(const StagePlacement& placement, const XrInput* input,
   if (!tool.inProgress().points.empty()) options.in_progress = &tool.inProgress();
   appendMeasurementOverlay(document, options, scene);
   for (const HeadsetProfileSummary& profile : profiles) {
-    scene.labels.push_back(
-        {profile.anchor, profile.text, measurementColor(MeasurementKind::Profile)});
+    scene.labels.push_back({profile.anchor, profile.text, {1, 1, 1, 1}});  // as its other labels
   }
   if (!input) return scene;
   for (const XrHandInput& hand : input->hands) {
