@@ -75,8 +75,9 @@ LocomotionEvents Locomotion::update(const XrInput& input) {
       secondary_long_[h] = false;
     } else if (hand.secondary) {
       secondary_held_s_[h] += input.period_s;
-      // (A relative margin: 45 periods of 1/90 s add up to a hair under 0.5.)
-      if (!secondary_long_[h] && secondary_held_s_[h] >= kLongPressSeconds * (1.0 - 1e-9)) {
+      // Within half a period: a runtime's period is whole nanoseconds (11 111 111 at 90 Hz), and
+      // 45 of them fall short of 0.5 s.
+      if (!secondary_long_[h] && secondary_held_s_[h] + 0.5 * input.period_s >= kLongPressSeconds) {
         secondary_long_[h] = true;
         events.remove[h] = true;
       }

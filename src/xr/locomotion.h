@@ -43,8 +43,9 @@ struct LocomotionSettings {
 };
 
 // How long the secondary (tool) button is held to delete the last measurement instead: a press
-// is held this long on the frame where the display periods of the frames since it went down add
-// up to it (frames, not measured seconds, as flying counts them: 45 frames at 90 Hz).
+// is held this long on the first frame where the display periods of the frames since it went
+// down add up to it within half a period (frames, not measured seconds, as flying counts them:
+// 45 frames after the press at 90 Hz).
 constexpr double kLongPressSeconds = 0.5;
 
 // What a frame's input asks of the application beyond the placement, per hand: a pick (the

@@ -139,8 +139,9 @@ TEST(HeadsetMeasureTool, TheSecondaryButtonHeldHalfASecondDeletesOnce) {
   const LocomotionEvents released = locomotion.update(input);
   EXPECT_FALSE(released.tool[kLeftHand]) << "a long press is no tool event";
   EXPECT_FALSE(released.remove[kLeftHand]);
-  // 45 frames at 90 Hz (whose periods add up to a hair under 0.5 s) are half a second too.
-  input.period_s = 1.0 / 90.0;
+  // 45 frames at 90 Hz are half a second too, with the runtime's period in whole nanoseconds
+  // (11 111 111 ns: 45 of them are 0.499999995 s).
+  input.period_s = 11'111'111 * 1e-9;
   input.hands[kLeftHand].secondary = true;
   int deleted_at = -1;
   for (int frame = 0; frame <= 50; ++frame) {
