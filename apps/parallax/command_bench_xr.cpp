@@ -31,6 +31,7 @@ struct BenchXrOptions {
   int eye_width = 1440, eye_height = 1600;
   int frames = 10;
   bool pass_times = false;  // the compute rasterizer's passes timed apart (glFinish between)
+  bool walk = false;        // --walk: the head where view --xr stands at true scale
   RenderOptions render;
   LodOptions lod;
 };
@@ -65,7 +66,13 @@ int runBenchXr(const BenchXrOptions& o, const CLI::App& command) {
   RenderSource source = openRenderSource({.input = o.input, .command = "bench xr"}, o.lod);
   auto context = GlContext::createHeadless();
   RenderScene scene = uploadRenderSource(source, false);
-  const Camera head = cameraFrom(o.render, scene.extent, double(o.eye_width) / o.eye_height);
+  Camera head = cameraFrom(o.render, scene.extent, double(o.eye_width) / o.eye_height);
+  if (o.walk) {
+    // view --xr's default placement (the centre of the cloud's base at the stage's origin, true
+    // scale) with the head 1.6 m up at the stage's origin, looking along the stage's -z: file +y.
+    const glm::dvec3 eye = baseCentre(scene.extent.bounds) + glm::dvec3(0, 0, 1.6);
+    head.lookAt(eye, eye + glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1));
+  }
   const EyeFrame stereo = eyeFrame(head, 2, o.eye_width, o.eye_height);
   const EyeFrame mono = eyeFrame(head, 1, o.eye_width, o.eye_height);
   // A renderer for each canvas, as view --xr keeps one canvas size for the session: one
@@ -146,6 +153,9 @@ Command addBenchXrCommand(CLI::App& bench) {
   sub->add_option("--frames", options->frames, "Frames timed of each")
       ->capture_default_str()
       ->check(CLI::Range(1, 10000));
+  sub->add_flag("--walk", options->walk,
+                "The head where view --xr stands by default: 1.6 m above the centre of the "
+                "cloud's base, looking north (file +y), at true scale; default: render's camera");
   sub->add_flag("--pass-times", options->pass_times,
                 "Time the compute rasterizer's passes apart (a glFinish after each)");
   addRenderOptions(*sub, options->render);

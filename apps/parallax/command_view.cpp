@@ -57,6 +57,8 @@ int runView(const ViewCommandOptions& o, const CLI::App& command,
     xr.look = viewerLookChoiceFrom(command);
     xr.mirror_width = o.width;
     xr.mirror_height = o.height;
+    xr.measurements_file = o.measurements_file;
+    xr.profile_width = o.profile_width;
     if (xr.input.empty()) throw std::invalid_argument("--xr needs an INPUT");
     return runXrView(xr);
   }
@@ -161,7 +163,9 @@ Command addViewCommand(CLI::App& app) {
       ->check(CLI::Range(0.0, 10000.0));
   sub->add_option("--measurements", options->measurements_file,
                   "Measurement file (JSON): show its measurements and annotations, from its camera "
-                  "unless --eye or --camera is given; the panel's Save writes it back");
+                  "unless --eye or --camera is given; the panel's Save writes it back. With --xr: "
+                  "the headset's measurements are written to it when the session ends (created "
+                  "if it does not exist)");
   sub->add_option("--tool", options->tool,
                   "Measurement tool a click uses: none, point, distance, height, area, angle, "
                   "profile or annotation (also in the panel)")

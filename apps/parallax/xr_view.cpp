@@ -4,13 +4,16 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "filter_options.h"
+#include "measure/height_profile.h"
 #include "measure/measurement.h"
+#include "measure/measurement_document.h"
 #include "measure/measurement_overlay.h"
 #include "render/gl_context.h"
 #include "render/point_picker.h"
@@ -34,6 +37,14 @@ constexpr double kLaserConeDeg = 2.0;
 constexpr double kLaserLength = 5.0;  // stage metres drawn from the hand
 const OverlayColor kLaserColor{1.0f, 0.2f, 0.2f, 0.9f};
 
+// A profile made in the headset: what the window's panel says of it beside its plot (how many
+// points, from what), and the heights it spans, as a label at the section line's start.
+struct HeadsetProfileSummary {
+  std::size_t measurement = 0;  // its index in the document
+  glm::dvec3 anchor{0.0};
+  std::string text;
+};
+
 View laserView(const StagePlacement& placement, const StagePose& aim) {
   View view;
   view.viewport = {0, 0, kLaserPixels, kLaserPixels};
@@ -47,11 +58,15 @@ View laserView(const StagePlacement& placement, const StagePose& aim) {
 // brighter: lines and text in file coordinates that the overlay pass draws in each eye at its
 // depth, as the window draws them.
 OverlayScene laserOverlay(const StagePlacement& placement, const XrInput* input,
-                          const MeasurementDocument& document, const HeadsetMeasureTool& tool) {
+                          const MeasurementDocument& document, const HeadsetMeasureTool& tool,
+                          const std::vector<HeadsetProfileSummary>& profiles) {
   OverlayScene scene;
   MeasurementOverlayOptions options;
   if (!tool.inProgress().points.empty()) options.in_progress = &tool.inProgress();
   appendMeasurementOverlay(document, options, scene);
+  for (const HeadsetProfileSummary& profile : profiles) {
+    scene.labels.push_back({profile.anchor, profile.text, {1, 1, 1, 1}});  // as its other labels
+  }
   if (!input) return scene;
   for (const XrHandInput& hand : input->hands) {
     if (!hand.tracked) continue;
@@ -108,8 +123,45 @@ int runXrView(const XrViewOptions& o) {
 
   XrHeadset headset("parallax view");
   Locomotion locomotion(placement);
+  // view's --measurements FILE: shown, and the headset's written back to it at the end.
   MeasurementDocument measurements;
-  HeadsetMeasureTool tool;  // what the trigger measures, and its points so far
+  if (!o.measurements_file.empty() && std::filesystem::exists(o.measurements_file)) {
+    measurements = loadMeasurementDocument(o.measurements_file);
+  }
+  std::vector<HeadsetProfileSummary> profiles;  // of the profiles made in the headset
+  HeadsetMeasureTool tool(o.profile_width);     // what the trigger measures, and its points so far
+  // A finished measurement: printed as the window prints it (six decimals, micrometres in metres:
+  // what tests compare) and added to the document; a profile is extracted at once from every
+  // point of the source, as the window's is for its panel.
+  const auto finish = [&](const Measurement& done) {
+    std::fprintf(stderr, "parallax view --xr: %s\n", describeMeasurement(done, 6).c_str());
+    measurements.measurements.push_back(done);
+    if (done.kind != MeasurementKind::Profile) return;
+    const std::size_t index = measurements.measurements.size() - 1;
+    try {
+      const HeightProfile profile =
+          source.lod() ? extractProfile(*source.octree, done.points, done.profile_width)
+                       : extractProfile(source.cloud, done.points, done.profile_width);
+      const char* from = source.lod() ? "every point of the octree" : "every point of the file";
+      std::fprintf(stderr, "parallax view --xr: profile of measurement %zu: %zu points from %s\n",
+                   index + 1, profile.samples.size(), from);
+      std::string text = std::to_string(profile.samples.size()) + " points";
+      if (!profile.samples.empty()) {
+        double low = profile.samples.front().position.z, high = low;
+        for (const ProfileSample& sample : profile.samples) {
+          low = std::min(low, sample.position.z);
+          high = std::max(high, sample.position.z);
+        }
+        char heights[96];
+        std::snprintf(heights, sizeof(heights), ", heights %.2f to %.2f m", low, high);
+        text += heights;
+      }
+      profiles.push_back({index, done.points.front(), text});
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "parallax view --xr: no profile of measurement %zu: %s\n", index + 1,
+                   e.what());
+    }
+  };
   Renderer renderer;
   std::unique_ptr<ComfortVignette> vignette;
   if (o.vignette) vignette = std::make_unique<ComfortVignette>();
@@ -164,11 +216,19 @@ int runXrView(const XrViewOptions& o) {
           settings = viewerLook(asked, asked, o.look, traits);
         }
         for (int h = 0; h < 2 && frame.input; ++h) {
+          if (events.remove[h] && !measurements.measurements.empty()) {
+            // The tool button held: the last finished measurement goes (and its profile's label).
+            std::fprintf(stderr, "parallax view --xr: deleted %s\n",
+                         describeMeasurement(measurements.measurements.back(), 6).c_str());
+            measurements.measurements.pop_back();
+            if (!profiles.empty() &&
+                profiles.back().measurement == measurements.measurements.size()) {
+              profiles.pop_back();
+            }
+          }
           if (events.tool[h]) {
             if (const auto area = tool.toolButton()) {
-              std::fprintf(stderr, "parallax view --xr: %s\n",
-                           describeMeasurement(*area, 6).c_str());
-              measurements.measurements.push_back(*area);
+              finish(*area);
             } else {
               std::fprintf(stderr, "parallax view --xr: tool %s\n",
                            std::string(measurementKindName(tool.kind())).c_str());
@@ -190,13 +250,10 @@ int runXrView(const XrViewOptions& o) {
             draw_set = &arrivedDrawSet(scene, source, views, lod);
             continue;
           }
-          // Six decimals (micrometres in metres), as the window prints: what tests compare.
-          if (const auto done = tool.pick(hit->position)) {
-            std::fprintf(stderr, "parallax view --xr: %s\n", describeMeasurement(*done, 6).c_str());
-            measurements.measurements.push_back(*done);
-          }
+          if (const auto done = tool.pick(hit->position)) finish(*done);
         }
-        renderer.setOverlay(laserOverlay(locomotion.placement(), frame.input, measurements, tool));
+        renderer.setOverlay(
+            laserOverlay(locomotion.placement(), frame.input, measurements, tool, profiles));
         if (!canvas || canvas->width() != frame.width || canvas->height() != rows) {
           canvas = std::make_unique<RenderTarget>(frame.width, rows);
         }
@@ -223,6 +280,13 @@ int runXrView(const XrViewOptions& o) {
         }
       },
       o.frames);
+  if (!o.measurements_file.empty()) {
+    // The document as the window saves it (its camera, if the file had one, kept: a headset's
+    // eyes are no window's camera).
+    saveMeasurementDocument(measurements, o.measurements_file);
+    std::fprintf(stderr, "parallax view --xr: %zu measurements saved to %s\n",
+                 measurements.measurements.size(), o.measurements_file.c_str());
+  }
   // The placement as the controllers left it, to the last digit (tests compare it).
   const StagePlacement& end = locomotion.placement();
   std::fprintf(

@@ -24,6 +24,10 @@ struct XrViewOptions {
   ViewerLookChoice look;  // what view's options leave to the viewer (its look defaults)
   bool vignette = false;  // --xr-vignette: narrow the view while flying
   long long frames = 0;   // --xr-frames N: end the session after N frames; 0: the runtime ends it
+  // view's --measurements FILE: its measurements are shown (when it exists) and the headset's
+  // written back to it when the session ends; empty: nothing is saved.
+  std::string measurements_file;
+  double profile_width = 1.0;  // view's --profile-width: the corridor of profiles made
 };
 
 // Runs the session; 0 when the runtime ended it. Throws XrError (no runtime, no headset: the

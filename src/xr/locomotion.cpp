@@ -62,14 +62,29 @@ LocomotionEvents Locomotion::update(const XrInput& input) {
     grip[h] = hand.grip.position;
     hold[h] = hand.tracked && hand.squeeze >= (holding_[h] ? kLetGoAt : kGrabAt);
     if (!hand.tracked) {
-      trigger_down_[h] = primary_down_[h] = secondary_down_[h] = false;
+      trigger_down_[h] = primary_down_[h] = secondary_down_[h] = secondary_long_[h] = false;
       continue;
     }
     events.pick[h] = pressed(trigger_down_[h], hand.trigger, kPressAt, kReleaseAt);
     events.teleport[h] =
         pressed(primary_down_[h], hand.primary ? 1.0f : 0.0f, kPressAt, kReleaseAt);
-    events.tool[h] =
-        pressed(secondary_down_[h], hand.secondary ? 1.0f : 0.0f, kPressAt, kReleaseAt);
+    // The tool button: a short press at its release, a long one while still held.
+    if (hand.secondary && !secondary_down_[h]) {
+      secondary_down_[h] = true;
+      secondary_held_s_[h] = 0.0;
+      secondary_long_[h] = false;
+    } else if (hand.secondary) {
+      secondary_held_s_[h] += input.period_s;
+      // Within half a period: a runtime's period is whole nanoseconds (11 111 111 at 90 Hz), and
+      // 45 of them fall short of 0.5 s.
+      if (!secondary_long_[h] && secondary_held_s_[h] + 0.5 * input.period_s >= kLongPressSeconds) {
+        secondary_long_[h] = true;
+        events.remove[h] = true;
+      }
+    } else if (secondary_down_[h]) {
+      secondary_down_[h] = false;
+      events.tool[h] = !secondary_long_[h];
+    }
   }
   // A grab restarts from where things are whenever a hand takes hold or lets go, so the world
   // never jumps.

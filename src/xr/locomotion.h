@@ -42,13 +42,21 @@ struct LocomotionSettings {
   double fly_speed = 2.0;  // stage metres per second at a full stick, whatever the world's scale
 };
 
-// What a frame's input asks of the application beyond the placement: a pick (the trigger went
-// down), a teleport (the primary button went down) or the tool button (the secondary button went
-// down), per hand.
+// How long the secondary (tool) button is held to delete the last measurement instead: a press
+// is held this long on the first frame where the display periods of the frames since it went
+// down add up to it within half a period (frames, not measured seconds, as flying counts them:
+// 45 frames after the press at 90 Hz).
+constexpr double kLongPressSeconds = 0.5;
+
+// What a frame's input asks of the application beyond the placement, per hand: a pick (the
+// trigger went down), a teleport (the primary button went down), the tool button (the secondary
+// button let go before kLongPressSeconds: a short press) or a delete (the secondary button held
+// for kLongPressSeconds; once, and its release is then nothing).
 struct LocomotionEvents {
   std::array<bool, 2> pick{false, false};
   std::array<bool, 2> teleport{false, false};
   std::array<bool, 2> tool{false, false};
+  std::array<bool, 2> remove{false, false};
 };
 
 class Locomotion {
@@ -76,6 +84,8 @@ class Locomotion {
   std::array<bool, 2> trigger_down_{false, false};
   std::array<bool, 2> primary_down_{false, false};
   std::array<bool, 2> secondary_down_{false, false};
+  std::array<double, 2> secondary_held_s_{0.0, 0.0};  // display periods since it went down
+  std::array<bool, 2> secondary_long_{false, false};  // this press has deleted: no tool event
 };
 
 }  // namespace parallax

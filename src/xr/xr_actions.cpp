@@ -59,7 +59,8 @@ XrActions::XrActions(XrInstance instance, XrSession session)
                            XR_ACTION_TYPE_VECTOR2F_INPUT, hand_paths_);
   primary_ =
       makeAction(instance, set_, "teleport", "Teleport", XR_ACTION_TYPE_BOOLEAN_INPUT, hand_paths_);
-  secondary_ = makeAction(instance, set_, "tool", "Next measurement tool, close an area",
+  secondary_ = makeAction(instance, set_, "tool",
+                          "Next measurement tool, close an area; held: delete the last",
                           XR_ACTION_TYPE_BOOLEAN_INPUT, hand_paths_);
 
   struct Binding {

@@ -20,7 +20,8 @@ struct XrHandInput {
   float squeeze = 0.0f;        // 0..1: grabs the world (menu on the simple controller)
   glm::dvec2 thumbstick{0.0};  // -1..1, x right, y forward: fly (left), snap turn (right)
   bool primary = false;        // A (X on a left Touch controller): teleport to the laser's point
-  bool secondary = false;      // B (Y on a left Touch controller): the next measurement tool
+  bool secondary = false;      // B (Y on a left Touch controller): the next measurement tool;
+                               // held, deletes the last measurement
 };
 
 struct XrInput {

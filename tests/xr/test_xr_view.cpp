@@ -666,6 +666,261 @@ TEST_F(XrViewTest, TheToolButtonChoosesHeightAndAreaWhosePicksAreMeasured) {
   EXPECT_GT(p0.x - p1.x, 1.0) << "a near label sits further left in the right eye";
 }
 
+// The grey text pixels inside [x0, x1] x [y0, y1].
+TextBox textPixelsIn(const RgbaImage& image, double x0, double y0, double x1, double y1) {
+  TextBox box;
+  for (const Lit& l : litPixels(image)) {
+    if (l.r != l.g || l.g != l.b || l.r < 96 || l.x < x0 || l.x > x1 || l.y < y0 || l.y > y1) {
+      continue;
+    }
+    ++box.count;
+    box.x0 = std::min(box.x0, l.x);
+    box.y0 = std::min(box.y0, l.y);
+    box.x1 = std::max(box.x1, l.x);
+    box.y1 = std::max(box.y1, l.y);
+  }
+  return box;
+}
+
+// The "laser pick X,Y,Z" lines, in order.
+std::vector<glm::dvec3> laserPicks(const std::string& err) {
+  std::vector<glm::dvec3> picks;
+  for (auto p = err.find("laser pick "); p != std::string::npos;
+       p = err.find("laser pick ", p + 1)) {
+    glm::dvec3 q;
+    if (std::sscanf(err.c_str() + p, "laser pick %lf,%lf,%lf", &q.x, &q.y, &q.z) == 3) {
+      picks.push_back(q);
+    }
+  }
+  return picks;
+}
+
+// The measurement file's "measurements", read as plain JSON: kind, points, width (0 if none).
+struct SavedMeasurement {
+  std::string kind;
+  std::vector<glm::dvec3> points;
+  double width = 0;
+};
+std::vector<SavedMeasurement> savedMeasurements(const std::filesystem::path& file) {
+  const nlohmann::json doc = nlohmann::json::parse(test::readFile(file));
+  EXPECT_EQ(doc.at("format"), "parallax-measurements");
+  std::vector<SavedMeasurement> out;
+  for (const nlohmann::json& m : doc.at("measurements")) {
+    SavedMeasurement saved;
+    saved.kind = m.at("kind").get<std::string>();
+    for (const nlohmann::json& p : m.at("points")) {
+      saved.points.push_back({p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()});
+    }
+    if (m.contains("width")) saved.width = m.at("width").get<double>();
+    out.push_back(std::move(saved));
+  }
+  return out;
+}
+
+// The tool button goes on past the area to the angle, the profile and the point tools (the
+// window's order); their printed values are the test's own arithmetic on the picks: the angle at
+// the middle pick, the section line's length and the points of the grid in its corridor, the
+// point's coordinates. The angle's label and the profile's summary label are drawn where their
+// anchors project in each eye, and --measurements FILE (not there before) holds the three
+// measurements when the session ends.
+TEST_F(XrViewTest, AngleProfileAndPointToolsMeasureThePicksAndAreSaved) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const TestPoint& a = points_[7];
+  const TestPoint& b = points_[52];
+  const TestPoint& c = points_[26];
+  const glm::dvec3 hand(0.15, 1.3, -0.2);  // below the eyes' view: its laser rises into it
+  const auto stage = [](const glm::dvec3& file) {
+    const glm::dvec3 d = file - kOrigin;
+    return glm::dvec3(d.x, d.z, -d.y);
+  };
+  const auto at = [&](int frame, const TestPoint& p, const nlohmann::json& inputs) {
+    return nlohmann::json{{"frame", frame},
+                          {"right",
+                           {{"grip", poseJson(hand, glm::dquat(1, 0, 0, 0))},
+                            {"aim", poseJson(hand, aimingAt(stage(p.file) - hand))},
+                            {"inputs", inputs}}}};
+  };
+  const nlohmann::json none = nlohmann::json::object();
+  const nlohmann::json pull{{"trigger/value", 1.0}}, button{{"b/click", true}};
+  // A short press acts at its release: height at frame 2, area at 4, angle at 6.
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames", {at(0, a, none),    at(1, a, button), at(2, a, none),  at(3, a, button),
+                  at(4, a, none),    at(5, a, button), at(6, a, none),  at(7, a, pull),
+                  at(8, b, none),    at(9, b, pull),   at(10, c, none), at(11, c, pull),  // angle
+                  at(12, c, button), at(13, a, none),                    // the profile tool
+                  at(14, a, pull),   at(15, b, none),  at(16, b, pull),  // a profile a -> b
+                  at(17, c, button), at(18, c, none),                    // the point tool
+                  at(19, c, pull),   at(20, c, none)}}};
+  const std::filesystem::path file = dir_ / "headset-measurements.json";
+  ASSERT_FALSE(std::filesystem::exists(file));
+  const auto result =
+      run(eyes, 320, 240, 21, "--profile-width 1.5 --measurements " + quoted(file.string()),
+          controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::string& err = result.err;
+  const auto tool_angle = err.find("tool angle"), tool_profile = err.find("tool profile"),
+             tool_point = err.find("tool point");
+  ASSERT_NE(tool_angle, std::string::npos) << err;
+  ASSERT_NE(tool_profile, std::string::npos) << err;
+  ASSERT_NE(tool_point, std::string::npos) << err;
+  EXPECT_LT(tool_angle, tool_profile);
+  EXPECT_LT(tool_profile, tool_point);
+
+  const std::vector<glm::dvec3> picks = laserPicks(err);
+  ASSERT_EQ(picks.size(), 6u) << err;
+  const TestPoint* aimed[6] = {&a, &b, &c, &a, &b, &c};
+  for (int i = 0; i < 6; ++i) EXPECT_LT(glm::length(picks[i] - aimed[i]->file), 1e-3) << i;
+
+  // The angle at the second pick: atan2(|u x v|, u . v) in degrees, six decimals printed.
+  double angle = 0;
+  const auto angle_at = err.find("--xr: angle ");
+  ASSERT_NE(angle_at, std::string::npos) << err;
+  ASSERT_EQ(std::sscanf(err.c_str() + angle_at, "--xr: angle %lf degrees (3 points)", &angle), 1);
+  const glm::dvec3 ray0 = picks[0] - picks[1], ray1 = picks[2] - picks[1];
+  EXPECT_NEAR(angle,
+              glm::degrees(std::atan2(glm::length(glm::cross(ray0, ray1)), glm::dot(ray0, ray1))),
+              1e-6);
+  EXPECT_GT(angle, 5.0);
+
+  // The profile: the section line's 3D length, the corridor's width, and the points of the grid
+  // whose horizontal distance to the line is at most 0.75 with their foot on it.
+  double length = 0, width = 0;
+  const auto profile_at = err.find("--xr: profile ");
+  ASSERT_NE(profile_at, std::string::npos) << err;
+  ASSERT_EQ(std::sscanf(err.c_str() + profile_at, "--xr: profile %lf m long, %lf m wide (2 points)",
+                        &length, &width),
+            2)
+      << err;
+  EXPECT_NEAR(length, glm::length(picks[4] - picks[3]), 1e-6);
+  EXPECT_EQ(width, 1.5);
+  const glm::dvec2 p0(picks[3]), p1(picks[4]);
+  const glm::dvec2 along = p1 - p0;
+  std::size_t inside = 0;
+  for (const TestPoint& p : points_) {
+    // The line's ends are points of the cloud as it holds them (the picks: within a float's
+    // rounding of the file's values); every other point is 0.016 or more off the corridor's edges.
+    glm::dvec3 held = p.file;
+    for (const glm::dvec3& end : {picks[3], picks[4]}) {
+      if (glm::length(p.file - end) < 1e-3) held = end;
+    }
+    const glm::dvec2 q = glm::dvec2(held) - p0;
+    const double t = glm::dot(q, along) / glm::dot(along, along);
+    const double off = std::abs(q.x * along.y - q.y * along.x) / glm::length(along);
+    if (t >= 0 && t <= 1 && off <= 0.75) ++inside;
+  }
+  EXPECT_GE(inside, 10u);  // (8 in a corridor of 1, 28 in one of 3: the width counts)
+  std::size_t listed = 0;
+  const auto summary_at = err.find("profile of measurement 2: ");
+  ASSERT_NE(summary_at, std::string::npos) << err;
+  ASSERT_EQ(std::sscanf(err.c_str() + summary_at, "profile of measurement 2: %zu points", &listed),
+            1);
+  EXPECT_EQ(listed, inside);
+
+  // The point: its coordinates, six decimals.
+  glm::dvec3 point;
+  const auto point_at = err.find("--xr: point ");
+  ASSERT_NE(point_at, std::string::npos) << err;
+  ASSERT_EQ(
+      std::sscanf(err.c_str() + point_at, "--xr: point %lf %lf %lf", &point.x, &point.y, &point.z),
+      3);
+  EXPECT_LT(glm::length(point - picks[5]), 1e-6);
+
+  // Frame 12 shows the angle alone, its label at the vertex; frame 17 the profile's summary
+  // ("14 points, heights ...") at the section line's start, where no other label is.
+  const auto expectLabelAt = [&](int frame, const glm::dvec3& anchor_file, int least_width) {
+    for (int v = 0; v < 2; ++v) {
+      const RgbaImage image =
+          readPng(dir_ / "out" /
+                  ("frame_" + std::to_string(frame) + "_view_" + std::to_string(v) + ".png"));
+      glm::dvec2 anchor;
+      ASSERT_TRUE(project({anchor_file, 0, 0, 0}, eyes[v], 1.0, image.width, image.height, anchor,
+                          [](const glm::dvec3& s) { return s; }));
+      const TextBox text =
+          textPixelsIn(image, anchor.x - 20, anchor.y - 40, anchor.x + 200, anchor.y + 20);
+      ASSERT_GT(text.count, 10) << "frame " << frame << " view " << v << ": no label drawn";
+      EXPECT_GE(text.x0, anchor.x) << "frame " << frame << " view " << v;
+      EXPECT_LE(text.x0, anchor.x + 12) << "frame " << frame << " view " << v;
+      EXPECT_LE(text.y1, anchor.y) << "frame " << frame << " view " << v;
+      EXPECT_GE(text.y0, anchor.y - 30) << "frame " << frame << " view " << v;
+      EXPECT_GT(text.x1 - text.x0, least_width) << "frame " << frame << " view " << v;
+    }
+  };
+  expectLabelAt(12, picks[1], 15);  // "12.3°"
+  expectLabelAt(17, picks[3], 60);  // "14 points, heights 0.27 to 3.48 m"
+
+  // The file, read back as JSON: the three measurements, the same doubles.
+  ASSERT_TRUE(std::filesystem::exists(file)) << err;
+  const std::vector<SavedMeasurement> saved = savedMeasurements(file);
+  ASSERT_EQ(saved.size(), 3u);
+  EXPECT_EQ(saved[0].kind, "angle");
+  EXPECT_EQ(saved[0].points, (std::vector<glm::dvec3>{picks[0], picks[1], picks[2]}));
+  EXPECT_EQ(saved[1].kind, "profile");
+  EXPECT_EQ(saved[1].points, (std::vector<glm::dvec3>{picks[3], picks[4]}));
+  EXPECT_EQ(saved[1].width, 1.5);
+  EXPECT_EQ(saved[2].kind, "point");
+  EXPECT_EQ(saved[2].points, std::vector<glm::dvec3>{picks[5]});
+  EXPECT_NE(err.find("3 measurements saved to "), std::string::npos) << err;
+}
+
+// --measurements FILE that exists: its measurements and annotations are kept, the headset's are
+// added, and the tool button held half a second (45 frames at the runtime's 90 Hz) deletes the
+// last one, which the file then lacks.
+TEST_F(XrViewTest, TheToolButtonHeldDeletesTheLastMeasurementAndTheFileKeepsTheRest) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const TestPoint& a = points_[7];
+  const TestPoint& b = points_[52];
+  const TestPoint& c = points_[26];
+  const glm::dvec3 hand(0.15, 1.3, -0.2);
+  const auto stage = [](const glm::dvec3& file) {
+    const glm::dvec3 d = file - kOrigin;
+    return glm::dvec3(d.x, d.z, -d.y);
+  };
+  const auto at = [&](int frame, const TestPoint& p, const nlohmann::json& inputs) {
+    return nlohmann::json{{"frame", frame},
+                          {"left",
+                           {{"grip", poseJson(hand, glm::dquat(1, 0, 0, 0))},
+                            {"aim", poseJson(hand, aimingAt(stage(p.file) - hand))},
+                            {"inputs", inputs}}}};
+  };
+  const nlohmann::json none = nlohmann::json::object();
+  const nlohmann::json pull{{"trigger/value", 1.0}}, hold{{"y/click", true}};
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames",
+       {at(0, a, none), at(1, a, pull), at(2, b, none), at(3, b, pull),  // a distance a -> b
+        at(4, b, none), at(5, b, pull), at(6, c, none), at(7, c, pull),  // and b -> c
+        at(8, c, hold),  // held from frame 8: 45 periods later, frame 53, deletes b -> c
+        at(54, c, none)}}};
+  const std::filesystem::path file = dir_ / "kept.json";
+  std::ofstream(file) << R"({"format": "parallax-measurements", "version": 1,
+    "measurements": [{"kind": "height", "name": "mast", "points": [[1, 2, 3], [1, 2, 7.5]]}],
+    "annotations": [{"label": "gate", "position": [4, 5, 6]}]})";
+  const auto result = run(eyes, 64, 48, 55, "--measurements " + quoted(file.string()), controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::string& err = result.err;
+  const std::vector<glm::dvec3> picks = laserPicks(err);
+  ASSERT_EQ(picks.size(), 4u) << err;
+  EXPECT_EQ(err.find("tool "), std::string::npos) << "a long press is no short one: " << err;
+  const auto deleted = err.find("--xr: deleted distance ");
+  ASSERT_NE(deleted, std::string::npos) << err;
+  EXPECT_EQ(err.find("--xr: deleted ", deleted + 1), std::string::npos) << "deleted once";
+  double deleted_length = 0;
+  ASSERT_EQ(std::sscanf(err.c_str() + deleted, "--xr: deleted distance %lf m", &deleted_length), 1);
+  EXPECT_NEAR(deleted_length, glm::length(picks[3] - picks[2]), 1e-6);
+
+  const std::vector<SavedMeasurement> saved = savedMeasurements(file);
+  ASSERT_EQ(saved.size(), 2u);
+  EXPECT_EQ(saved[0].kind, "height");
+  EXPECT_EQ(saved[0].points, (std::vector<glm::dvec3>{glm::dvec3(1, 2, 3), glm::dvec3(1, 2, 7.5)}));
+  EXPECT_EQ(saved[1].kind, "distance");
+  EXPECT_EQ(saved[1].points, (std::vector<glm::dvec3>{picks[0], picks[1]}));
+  const nlohmann::json doc = nlohmann::json::parse(test::readFile(file));
+  EXPECT_EQ(doc.at("measurements").at(0).at("name"), "mast");
+  ASSERT_EQ(doc.at("annotations").size(), 1u);
+  EXPECT_EQ(doc.at("annotations").at(0).at("label"), "gate");
+}
+
 TEST_F(XrViewTest, TheAButtonTeleportsToTheLaserPointOnTheFloorUnderTheHead) {
   const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
   const TestPoint& target = points_[33];
