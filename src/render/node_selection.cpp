@@ -1,5 +1,6 @@
 #include "render/node_selection.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -19,7 +20,51 @@ SelectionView selectionViewFor(const View& view, const Bounds3& scene) {
   result.slope = std::tan(glm::radians(camera.fov_y_deg) * 0.5);
   result.ortho_height = camera.ortho_height;
   result.viewport_height = double(view.viewport.height);
+  result.pixels = view.output;
   return result;
+}
+
+namespace {
+
+// Area of the union of the views' pixel rectangles (those given), on the grid their edges make.
+std::uint64_t unionPixelArea(std::span<const SelectionView> views) {
+  std::vector<int> xs, ys;
+  for (const SelectionView& view : views) {
+    const Viewport& r = view.pixels;
+    if (r.width <= 0 || r.height <= 0) continue;
+    xs.insert(xs.end(), {r.x, r.x + r.width});
+    ys.insert(ys.end(), {r.y, r.y + r.height});
+  }
+  std::sort(xs.begin(), xs.end());
+  xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
+  std::sort(ys.begin(), ys.end());
+  ys.erase(std::unique(ys.begin(), ys.end()), ys.end());
+  std::uint64_t area = 0;
+  for (std::size_t i = 0; i + 1 < xs.size(); ++i) {
+    for (std::size_t j = 0; j + 1 < ys.size(); ++j) {
+      const bool covered = std::any_of(views.begin(), views.end(), [&](const SelectionView& v) {
+        const Viewport& r = v.pixels;
+        return r.width > 0 && r.height > 0 && r.x <= xs[i] && xs[i + 1] <= r.x + r.width &&
+               r.y <= ys[j] && ys[j + 1] <= r.y + r.height;
+      });
+      if (covered) area += std::uint64_t(xs[i + 1] - xs[i]) * std::uint64_t(ys[j + 1] - ys[j]);
+    }
+  }
+  return area;
+}
+
+}  // namespace
+
+std::uint64_t viewsPointBudget(std::uint64_t budget, std::span<const SelectionView> views) {
+  std::uint64_t largest = 0;
+  for (const SelectionView& view : views) {
+    if (view.pixels.width > 0 && view.pixels.height > 0)
+      largest = std::max(largest, std::uint64_t(view.pixels.width) * view.pixels.height);
+  }
+  const std::uint64_t covered = unionPixelArea(views);
+  if (largest == 0 || largest == covered) return budget;
+  // budget x largest / covered, rounded down, without overflowing for a budget near the maximum.
+  return budget / covered * largest + budget % covered * largest / covered;
 }
 
 double projectedRadius(const Bounds3& box, const SelectionView& view) {
@@ -40,6 +85,7 @@ NodeSelection selectNodes(std::span<const OctreeNode> nodes, std::span<const Sel
                           std::span<const std::uint8_t> resident) {
   NodeSelection selection;
   if (nodes.empty() || views.empty()) return selection;
+  const std::uint64_t point_budget = viewsPointBudget(settings.point_budget, views);
 
   std::vector<Frustum> frusta;
   frusta.reserve(views.size());
@@ -73,7 +119,7 @@ NodeSelection selectNodes(std::span<const OctreeNode> nodes, std::span<const Sel
     const OctreeNode& node = nodes[std::size_t(candidate.node)];
     // Potree stops at the first node that does not fit rather than looking for smaller ones
     // further down the queue: everything chosen then outranks everything left out.
-    if (candidate.node != 0 && selection.point_count + node.point_count > settings.point_budget) {
+    if (candidate.node != 0 && selection.point_count + node.point_count > point_budget) {
       selection.budget_reached = true;
       break;
     }

@@ -30,6 +30,9 @@ struct SelectionView {
   double slope = 1.0;            // perspective: tan(vertical field of view / 2)
   double ortho_height = 2.0;     // orthographic: world height of the view
   double viewport_height = 1.0;  // pixels
+  // The view's pixels on the output (View::output): views whose rectangles are apart share the
+  // point budget (see NodeSelectionSettings::point_budget); width or height 0: not given.
+  Viewport pixels{0, 0, 0, 0};
 };
 
 // The view's camera with near and far planes that hold `scene` (Camera::clipRange), its aspect
@@ -37,8 +40,15 @@ struct SelectionView {
 SelectionView selectionViewFor(const View& view, const Bounds3& scene);
 
 struct NodeSelectionSettings {
-  // At most this many points in the chosen nodes together. The root is taken even when it alone
-  // holds more (a picture of something beats an empty one).
+  // Points per frame over the output's pixels the frame's views cover together (the union of
+  // their `pixels`): each view gets the points per pixel of one view filling them all. The views
+  // see the same scene and one selection is drawn in each, so it gets point_budget x (the largest
+  // view's pixels / the union's pixels): the whole budget for one view (mono) or eyes on the same
+  // pixels (anaglyph, interlaced, quad buffer), half of it for eyes side by side or one above the
+  // other (sbs, sbs squeezed, top-bottom), whose eyes then draw as many points per pixel as mono.
+  // Views that do not state their pixels (a headset's eyes, whose budget follows the frame time)
+  // get the whole budget. The root is taken even when it alone holds more (a picture of
+  // something beats an empty one).
   std::uint64_t point_budget = 3'000'000;
   // Nodes whose projected radius is smaller (pixels) are skipped with their subtrees; the root
   // never is. Potree's default, 30: a node holds about 128 points across its box (the root's
@@ -68,6 +78,11 @@ struct NodeSelection {
 // (2 x distance x slope) in perspective, +inf with the eye inside the sphere; radius x viewport
 // height / ortho height in orthographic projection.
 double projectedRadius(const Bounds3& box, const SelectionView& view);
+
+// The point budget for one selection serving `views` (NodeSelectionSettings::point_budget):
+// budget x the largest view's pixel area / the area of the union of their pixel rectangles,
+// rounded down. The budget itself when no view gives its pixels.
+std::uint64_t viewsPointBudget(std::uint64_t budget, std::span<const SelectionView> views);
 
 // Selects nodes of `nodes` (node 0 the root) for `views`. A node counts as visible if any view's
 // frustum meets its box; its weight is the largest projected radius over the views that see it.

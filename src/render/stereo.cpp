@@ -77,6 +77,7 @@ StereoFrame stereoFrame(const Camera& camera, const StereoSettings& settings, in
   StereoFrame frame;
   if (settings.mode == StereoMode::Mono) {
     frame.views.push_back({camera, {0, 0, width, height}});
+    frame.views.back().output = frame.views.back().viewport;
     return frame;
   }
   const StereoSettings s = resolvedStereo(settings, camera);
@@ -104,8 +105,11 @@ StereoFrame stereoFrame(const Camera& camera, const StereoSettings& settings, in
       break;
     default:  // composed modes: both eyes full size in a double-width canvas
       frame.views = {{eyes.left, {0, 0, width, height}}, {eyes.right, {width, 0, width, height}}};
-      break;
+      // Each eye's picture covers the whole output once composed.
+      for (View& view : frame.views) view.output = {0, 0, width, height};
+      return frame;
   }
+  for (View& view : frame.views) view.output = view.viewport;  // drawn straight to the output
   return frame;
 }
 

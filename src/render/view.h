@@ -19,6 +19,11 @@ struct View {
   // The projection's width / height; 0: the viewport's. Side-by-side squeezed draws a picture
   // of the whole output's aspect into a half-width viewport (anamorphic, as 3D TVs expect).
   double projection_aspect = 0.0;
+  // Where the view's picture lands on the output the user sees, which the point budget is for
+  // (NodeSelectionSettings::point_budget): an sbs eye's half of the window, or the whole window
+  // for an anaglyph eye drawn in a double-width canvas. Width 0: not stated (a headset's eye,
+  // each its own picture); such a view gets the whole budget.
+  Viewport output{0, 0, 0, 0};
 
   double aspect() const { return projection_aspect > 0 ? projection_aspect : viewport.aspect(); }
 };

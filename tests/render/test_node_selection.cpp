@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "fake_octree.h"
+#include "render/stereo.h"
 
 namespace parallax {
 namespace {
@@ -195,6 +196,88 @@ TEST(NodeSelection, OrthographicSizeIgnoresDistance) {
   EXPECT_EQ(selection.nodes, (Ids{0, 1, 2, 3, 4, 5, 6, 7, 8}));
   EXPECT_NEAR(selection.weights[1], 4.0 * std::sqrt(3.0) * 200 / 40, 1e-9);
   EXPECT_NEAR(selection.weights[0], 8.0 * std::sqrt(3.0) * 200 / 40, 1e-9);
+}
+
+// The point budget is for the output's pixels: eyes side by side (or one above the other) share
+// it, so each eye draws as many points per pixel as mono; eyes on the same pixels do not.
+// Seen from (0, 0, 40) the children come in octant order 1, 3, 5, 7, 0, 2, 4, 6 (PriorityOrder);
+// with these counts the selections fill 100, 120, 160, 200, 300, 400... points.
+class BudgetPerOutputPixel : public ::testing::Test {
+ protected:
+  std::unique_ptr<FakeOctree> octree = rootAndChildren(100, {100, 20, 100, 40, 100, 40, 100, 100});
+
+  // Views of one camera (so that ties and weights are mono's) at the given canvas rectangles,
+  // landing on the given output rectangles.
+  std::vector<SelectionView> views(const std::vector<Viewport>& canvas,
+                                   const std::vector<Viewport>& output) const {
+    std::vector<SelectionView> result;
+    for (std::size_t i = 0; i < canvas.size(); ++i) {
+      View view;
+      view.camera.fov_y_deg = 60.0;
+      view.camera.lookAt({0, 0, 40}, {8, 8, 8}, {0, 1, 0});
+      view.viewport = canvas[i], view.output = output[i];
+      result.push_back(selectionViewFor(view, octree->info().cube));
+    }
+    return result;
+  }
+  NodeSelection select(const std::vector<SelectionView>& selection_views) const {
+    NodeSelectionSettings settings;
+    settings.point_budget = 400, settings.min_node_size_px = 0.0;
+    return selectNodes(octree->nodes(), selection_views, settings);
+  }
+};
+
+TEST_F(BudgetPerOutputPixel, SideBySideEyesDrawMonosPointsPerPixel) {
+  // A 200 x 100 window: mono fills the budget, 400 points over 20 000 pixels.
+  const NodeSelection mono = select(views({{0, 0, 200, 100}}, {{0, 0, 200, 100}}));
+  EXPECT_EQ(mono.nodes, (Ids{0, 2, 4, 6, 8, 1}));
+  EXPECT_EQ(mono.point_count, 400u);
+  // Two 100 x 100 eyes: 200 points, drawn in each eye's 10 000 pixels.
+  const std::vector<Viewport> halves = {{0, 0, 100, 100}, {100, 0, 100, 100}};
+  const NodeSelection sbs = select(views(halves, halves));
+  EXPECT_EQ(sbs.nodes, (Ids{0, 2, 4, 6}));
+  EXPECT_EQ(sbs.point_count, 200u);
+  EXPECT_TRUE(sbs.budget_reached);
+  EXPECT_EQ(double(sbs.point_count) / (100 * 100), double(mono.point_count) / (200 * 100));
+  // One above the other: the same.
+  const std::vector<Viewport> rows = {{0, 50, 200, 50}, {0, 0, 200, 50}};
+  EXPECT_EQ(select(views(rows, rows)).nodes, (Ids{0, 2, 4, 6}));
+}
+
+TEST_F(BudgetPerOutputPixel, EyesOnTheSamePixelsKeepTheWholeBudget) {
+  // Anaglyph: full-size eyes side by side in a double-width canvas, each over the whole output.
+  const NodeSelection anaglyph =
+      select(views({{0, 0, 200, 100}, {200, 0, 200, 100}}, {{0, 0, 200, 100}, {0, 0, 200, 100}}));
+  EXPECT_EQ(anaglyph.nodes, (Ids{0, 2, 4, 6, 8, 1}));
+  // Views that do not state their output (a headset's eyes) keep it too.
+  const NodeSelection headset =
+      select(views({{0, 0, 100, 100}, {100, 0, 100, 100}}, {{0, 0, 0, 0}, {0, 0, 0, 0}}));
+  EXPECT_EQ(headset.nodes, (Ids{0, 2, 4, 6, 8, 1}));
+}
+
+TEST(NodeSelection, StereoFramesShareTheBudgetByTheirEyesPixels) {
+  Camera camera;
+  camera.lookAt({0, 0, 40}, {8, 8, 8}, {0, 1, 0});
+  auto budget = [&](StereoMode mode, int width, int height) {
+    std::vector<SelectionView> views;
+    for (const View& view : stereoFrame(camera, {.mode = mode}, width, height).views)
+      views.push_back(selectionViewFor(view, cube(0, 16)));
+    return viewsPointBudget(3'000'000, views);
+  };
+  EXPECT_EQ(budget(StereoMode::Mono, 1920, 1080), 3'000'000u);
+  EXPECT_EQ(budget(StereoMode::SideBySide, 1920, 1080), 1'500'000u);
+  EXPECT_EQ(budget(StereoMode::SideBySideSqueezed, 1920, 1080), 1'500'000u);
+  EXPECT_EQ(budget(StereoMode::TopBottom, 1920, 1080), 1'500'000u);
+  EXPECT_EQ(budget(StereoMode::Anaglyph, 1920, 1080), 3'000'000u);
+  EXPECT_EQ(budget(StereoMode::Interlaced, 1920, 1080), 3'000'000u);
+  EXPECT_EQ(budget(StereoMode::QuadBuffer, 1920, 1080), 3'000'000u);
+  // An odd width: halves of 960 and 961 columns; the larger sets the share, rounded down.
+  EXPECT_EQ(budget(StereoMode::SideBySide, 1921, 1080), 3'000'000u * 961 / 1921);
+  // No overflow for an unlimited budget.
+  std::vector<SelectionView> halves(2);
+  halves[0].pixels = {0, 0, 100, 100}, halves[1].pixels = {100, 0, 100, 100};
+  EXPECT_EQ(viewsPointBudget(std::numeric_limits<std::uint64_t>::max(), halves),
+            std::numeric_limits<std::uint64_t>::max() / 2);
 }
 
 }  // namespace
