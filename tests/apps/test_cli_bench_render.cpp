@@ -195,7 +195,8 @@ TEST(CliBenchRender, StereoOfAnOctreeGivesTheRatioOfTheAlternatedMedians) {
   EXPECT_LE(printed, (draw_ms[1] + 0.05) / (draw_ms[0] - 0.05) + 0.005) << run.out;
   EXPECT_GE(printed, (draw_ms[1] - 0.05) / (draw_ms[0] + 0.05) - 0.005) << run.out;
   EXPECT_NE(run.out.find("(medians of 2 frames of each, alternated"), std::string::npos) << run.out;
-  // Both sides' passes, each pass timed (a positive wall time).
+  // Both sides' passes, each pass timed. Printed to 0.1 ms: a pass of this 64x48 frame can print
+  // 0.0 on a fast machine, so the check is that each is a number, not that it is positive.
   for (const char* side : {"mono", "sbs"}) {
     std::smatch passes;
     ASSERT_TRUE(std::regex_search(
@@ -204,9 +205,9 @@ TEST(CliBenchRender, StereoOfAnOctreeGivesTheRatioOfTheAlternatedMedians) {
                                        R"([0-9.]+ / [0-9.]+, pass 1 ([0-9.]+) / [0-9.]+, pass 2 )"
                                        R"(([0-9.]+) / [0-9.]+, resolve ([0-9.]+))")))
         << run.out;
-    EXPECT_GT(std::stod(passes[1]), 0.0) << run.out;
-    EXPECT_GT(std::stod(passes[2]), 0.0) << run.out;
-    EXPECT_GT(std::stod(passes[3]), 0.0) << run.out;
+    EXPECT_GE(std::stod(passes[1]), 0.0) << run.out;
+    EXPECT_GE(std::stod(passes[2]), 0.0) << run.out;
+    EXPECT_GE(std::stod(passes[3]), 0.0) << run.out;
   }
 }
 
