@@ -5,7 +5,6 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <cassert>
 #include <cmath>
@@ -77,20 +76,6 @@ inline double boxDistance2(const double lo[3], const double hi[3], double x, dou
   const double dz = z < lo[2] ? lo[2] - z : (z > hi[2] ? z - hi[2] : 0.0);
   return (dx * dx + dy * dy) + dz * dz;
 }
-
-// The smallest squared distance between a point of box a and a point of box b, in
-// squaredDistance's expression: for p in a and q in b each axis's |p - q| is at least the gap,
-// and rounding is monotonic, so this is <= squaredDistance(p, q) as computed.
-inline double boxGap2(const double alo[3], const double ahi[3], const double blo[3],
-                      const double bhi[3]) {
-  double d[3];
-  for (int a = 0; a < 3; ++a) {
-    d[a] = alo[a] > bhi[a] ? alo[a] - bhi[a] : (blo[a] > ahi[a] ? blo[a] - ahi[a] : 0.0);
-  }
-  return (d[0] * d[0] + d[1] * d[1]) + d[2] * d[2];
-}
-
-std::atomic<std::uint64_t> neighbour_index_serials{0};
 
 }  // namespace
 
@@ -205,32 +190,6 @@ struct NeighbourIndex::Tree {
       if (nodes[at].right == kLeaf) visit(nodes[at].begin, nodes[at].end);
     }
   }
-
-  // The leaf holding ordered[slot].
-  std::uint32_t leafOf(std::uint32_t slot) const {
-    std::uint32_t at = 0;
-    while (nodes[at].right != kLeaf) at = slot < nodes[at + 1].end ? at + 1 : nodes[at].right;
-    return at;
-  }
-
-  // Visits the leaves whose boxes lie within r2 of the box [lo, hi].
-  template <class Visit>
-  void gather(const double lo[3], const double hi[3], double r2, Visit&& visit) const {
-    std::uint32_t stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const std::uint32_t at = stack[--top];
-      const Node& node = nodes[at];
-      if (boxGap2(node.lo, node.hi, lo, hi) > r2) continue;
-      if (node.right == kLeaf) {
-        visit(node.begin, node.end);
-      } else {
-        stack[top++] = node.right;
-        stack[top++] = at + 1;
-      }
-    }
-  }
 };
 
 double NeighbourIndex::radiusForCount(std::span<const GridPoint> points, double per_cell) {
@@ -271,7 +230,6 @@ NeighbourIndex::NeighbourIndex(std::vector<GridPoint> points) : points_(std::mov
   assert(points_.size() < std::numeric_limits<std::uint32_t>::max() &&
          "NeighbourIndex: at most 2^32 - 1 points");
   if (!points_.empty()) tree_ = std::make_unique<Tree>(points_);
-  serial_ = ++neighbour_index_serials;
 }
 
 NeighbourIndex::~NeighbourIndex() = default;
@@ -284,124 +242,6 @@ std::span<const GridPoint> NeighbourIndex::treePoints() const {
 std::span<const std::uint32_t> NeighbourIndex::treeOrder() const {
   if (!tree_) return {};
   return tree_->given;
-}
-
-double NeighbourIndex::carriedBound(double x, double y, double z, std::size_t k,
-                                    const std::vector<Neighbour>& out) const {
-  if (out.size() != k) return kInf;
-  const std::vector<GridPoint>& ordered = tree_->ordered;
-  double bound = 0.0;
-  for (const Neighbour& n : out) {
-    if (n.in_tree >= ordered.size() || ordered[n.in_tree].id != n.id) {
-      return kInf;  // not this index's answer
-    }
-    const GridPoint& p = ordered[n.in_tree];
-    bound = std::max(bound, squaredDistance(x, y, z, p.x, p.y, p.z));
-  }
-  return bound;
-}
-
-void NeighbourIndex::nearest(double x, double y, double z, std::size_t k,
-                             std::vector<Neighbour>& out, LeafCandidates& cache) const {
-  if (k == 0 || !tree_) {
-    out.clear();
-    return;
-  }
-  bool hit = false;
-  if (cache.serial == serial_ && cache.k == k) {
-    for (std::uint32_t j = cache.begin; j < cache.end; ++j) {
-      const GridPoint& p = tree_->ordered[j];
-      if (p.x == x && p.y == y && p.z == z) {
-        hit = true;
-        break;
-      }
-    }
-  }
-  if (hit) {
-    // Every point of the answer is a candidate (above); the same insertion as nearest()'s, over
-    // them, gives the same k (d2, id)-smallest.
-    double worst = carriedBound(x, y, z, k, out);
-    out.resize(k);
-    std::size_t size = 0;
-    // The distances first, in a loop of no branches (two at a time in SSE2), then the few
-    // within the bound are inserted.
-    const std::size_t count = cache.in_tree.size();
-    std::vector<double>& d2s = cache.d2s;
-    d2s.resize(count);
-    const double* xs = cache.xs.data();
-    const double* ys = cache.ys.data();
-    const double* zs = cache.zs.data();
-    for (std::size_t c = 0; c < count; ++c) d2s[c] = squaredDistance(x, y, z, xs[c], ys[c], zs[c]);
-    for (std::size_t c = 0; c < count; ++c) {
-      const double d2 = d2s[c];
-      if (d2 > worst) continue;
-      const GridPoint& p = tree_->ordered[cache.in_tree[c]];
-      const Neighbour n{d2, 0, p.id, cache.in_tree[c]};
-      std::size_t at = size;
-      if (size == k) {
-        if (!(n < out[k - 1])) continue;
-        at = k - 1;
-      } else {
-        ++size;
-      }
-      while (at > 0 && n < out[at - 1]) {
-        out[at] = out[at - 1];
-        --at;
-      }
-      out[at] = n;
-      if (size == k) worst = out[k - 1].d2;
-    }
-    out.resize(size);
-    for (Neighbour& n : out) n.at = tree_->given[n.in_tree];
-    return;
-  }
-  nearest(x, y, z, k, out);
-  cache.serial = 0;
-  if (out.size() != k || out[0].d2 != 0.0) return;
-  // The query is at an indexed point: gather for the leaf holding that point. Each point of the
-  // leaf has k distinct points (of its answer's and the leaf's own) within the k-th smallest of
-  // its distances to them: the largest of these over the leaf bounds every query at a leaf point.
-  const std::vector<GridPoint>& ordered = tree_->ordered;
-  const Tree::Node& leaf = tree_->nodes[tree_->leafOf(out[0].in_tree)];
-  std::vector<std::uint32_t>& near = cache.near;
-  near.clear();
-  for (const Neighbour& n : out) near.push_back(n.in_tree);
-  for (std::uint32_t j = leaf.begin; j < leaf.end; ++j) {
-    if (std::find(near.begin(), near.begin() + std::ptrdiff_t(k), j) ==
-        near.begin() + std::ptrdiff_t(k)) {
-      near.push_back(j);
-    }
-  }
-  std::vector<double>& d2s = cache.d2s;
-  double r2 = 0.0;
-  for (std::uint32_t j = leaf.begin; j < leaf.end; ++j) {
-    const GridPoint& q = ordered[j];
-    d2s.clear();
-    for (std::uint32_t i : near) {
-      const GridPoint& p = ordered[i];
-      d2s.push_back(squaredDistance(q.x, q.y, q.z, p.x, p.y, p.z));
-    }
-    std::nth_element(d2s.begin(), d2s.begin() + std::ptrdiff_t(k - 1), d2s.end());
-    r2 = std::max(r2, d2s[k - 1]);
-  }
-  cache.xs.clear();
-  cache.ys.clear();
-  cache.zs.clear();
-  cache.in_tree.clear();
-  tree_->gather(leaf.lo, leaf.hi, r2, [&](std::uint32_t begin, std::uint32_t end) {
-    for (std::uint32_t i = begin; i < end; ++i) {
-      const GridPoint& p = ordered[i];
-      if (boxDistance2(leaf.lo, leaf.hi, p.x, p.y, p.z) > r2) continue;
-      cache.xs.push_back(p.x);
-      cache.ys.push_back(p.y);
-      cache.zs.push_back(p.z);
-      cache.in_tree.push_back(i);
-    }
-  });
-  cache.begin = leaf.begin;
-  cache.end = leaf.end;
-  cache.k = k;
-  cache.serial = serial_;
 }
 
 void NeighbourIndex::nearest(double x, double y, double z, std::size_t k,
@@ -419,7 +259,19 @@ void NeighbourIndex::nearest(double x, double y, double z, std::size_t k,
   // point of the answer, ties at the K-th distance included: starting the search with this
   // bound drops nothing the answer holds. A consecutive query in Morton order is near: the
   // bound is tight.
-  double worst = carriedBound(x, y, z, k, out);
+  double worst = kInf;
+  if (out.size() == k) {
+    double bound = 0.0;
+    for (const Neighbour& n : out) {
+      if (n.in_tree >= ordered.size() || ordered[n.in_tree].id != n.id) {
+        bound = kInf;  // not this index's answer
+        break;
+      }
+      const GridPoint& p = ordered[n.in_tree];
+      bound = std::max(bound, squaredDistance(x, y, z, p.x, p.y, p.z));
+    }
+    worst = bound;
+  }
   // The K best so far in out[0, size), sorted by (d2, id); `at` (an index into points()) is
   // looked up once for each of the k that remain, not for every point that entered on the way.
   out.resize(k);

@@ -72,28 +72,6 @@ class NeighbourIndex {
   // prunes what a search without a bound visits before it has k points. The answer is the same.
   void nearest(double x, double y, double z, std::size_t k, std::vector<Neighbour>& out) const;
 
-  // What a thread keeps between consecutive nearest() calls (below): the points that may answer
-  // any query inside one leaf's box. Reuse one per thread; it notices another index.
-  struct LeafCandidates {
-    std::uint64_t serial = 0;  // the index it was gathered over (0: none)
-    std::size_t k = 0;
-    std::uint32_t begin = 0, end = 0;    // the leaf: treePoints()[begin, end)
-    std::vector<double> xs, ys, zs;      // the candidates, in the tree's order
-    std::vector<std::uint32_t> in_tree;  // their places in treePoints()
-    std::vector<std::uint32_t> near;     // scratch: the points bounding the leaf's answers
-    std::vector<double> d2s;             // scratch
-  };
-  // The same answer as nearest(x, y, z, k, out), for queries asked in the tree's order: the
-  // queries of one leaf share one tree walk. When the query lies in the box of the leaf that
-  // `cache` was gathered for, its answer is searched among that leaf's candidates only: every
-  // point within R of the box, R the largest squared distance from the box to the k points of
-  // the answer of the query that gathered them (k distinct points within R of any point of the
-  // box bound every K-th distance there). Otherwise it is searched in the tree, and when the
-  // query is an indexed point (its answer's first point at distance 0), its leaf's candidates
-  // are gathered.
-  void nearest(double x, double y, double z, std::size_t k, std::vector<Neighbour>& out,
-               LeafCandidates& cache) const;
-
   // Every point within `radius` (d2 <= radius^2), in (d2, id) order.
   void withinRadius(double x, double y, double z, double radius, std::vector<Neighbour>& out) const;
 
@@ -101,11 +79,6 @@ class NeighbourIndex {
   struct Tree;
   std::vector<GridPoint> points_;
   std::unique_ptr<Tree> tree_;
-  std::uint64_t serial_ = 0;  // distinct for every index built in the process
-  // The bound that `out` (an earlier answer) gives a search from (x, y, z): infinite unless it
-  // holds k distinct points of this index.
-  double carriedBound(double x, double y, double z, std::size_t k,
-                      const std::vector<Neighbour>& out) const;
 };
 
 }  // namespace parallax

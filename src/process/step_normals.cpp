@@ -298,8 +298,6 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
     first = {};
     const double halo = step.k ? 1.5 * NeighbourIndex::radiusForCount(queries, double(step.k))
                                : step.radius * (1.0 + 1e-9);
-    // Each thread's candidates for the leaf its last queries lay in (NeighbourIndex::nearest).
-    tbb::enumerable_thread_specific<NeighbourIndex::LeafCandidates> leaf_candidates;
     answerTileQueries(
         queries, halo, [&](double h) { return loadNeighbourhood(tiles, t, h, points, kept); },
         tiles,
@@ -307,7 +305,7 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
             const GridPoint& q, std::vector<Neighbour>& neighbours, double& needed) -> bool {
           double reach = step.radius;
           if (step.k) {
-            grid.nearest(q.x, q.y, q.z, step.k, neighbours, leaf_candidates.local());
+            grid.nearest(q.x, q.y, q.z, step.k, neighbours);
             reach =
                 neighbours.size() < step.k ? TileSet::kInfinity : std::sqrt(neighbours.back().d2);
           } else {
