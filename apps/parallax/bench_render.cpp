@@ -82,6 +82,7 @@
 #include "render/view_extent.h"
 #include "render_options.h"
 #include "render_scene.h"
+#include "viewer/viewer.h"
 
 namespace parallax::cli {
 namespace {
@@ -95,7 +96,7 @@ struct RenderBenchOptions {
   std::string order;                // morton|random|both; empty: both, or morton with --json
   bool json = false;
   int orbit_frames = 0;         // an orbit of this many frames (0: none)
-  double frame_budget_ms = 0;   // with an octree's --orbit: progressive refinement's budget
+  double frame_budget_ms = 0;   // an --orbit's progressive refinement budget (0: none)
   bool filter_toggle = false;   // frames with and without the filter (bench_render_filter.h)
   bool selective_load = false;  // an octree: its load with what the look draws, and with all
   std::string look = "render";
@@ -341,6 +342,12 @@ int runBenchRenderInput(const RenderBenchOptions& o, const CLI::App& command,
   RenderSource source =
       openRenderSource({.input = o.input, .quiet = o.json, .command = "bench render"}, o.lod);
   paintScalarColors(source, o.render, o.json, "bench render");
+  // The viewer refines its moving frames (a point file's and an octree's) within its frame
+  // budget: --look viewer measures that too, unless --frame-budget says otherwise (0: whole
+  // frames).
+  const double frame_budget_ms = command.count("--frame-budget") ? o.frame_budget_ms
+                                 : o.look == "viewer"            ? ViewerOptions{}.frame_budget_ms
+                                                                 : 0.0;
   if (source.lod()) {
     const Octree& octree = *source.octree;
     // As the viewer sizes an octree's attenuated points before any node is drawn: spacing / 4.
@@ -356,7 +363,7 @@ int runBenchRenderInput(const RenderBenchOptions& o, const CLI::App& command,
                               .stereo = o.orbit_frames > 0 ? std::vector<StereoMode>{} : modes,
                               .settings = settings,
                               .orbit_frames = o.orbit_frames,
-                              .frame_budget_ms = o.frame_budget_ms,
+                              .frame_budget_ms = frame_budget_ms,
                               .orbit_stereo = stereo,
                               .camera = cameraFrom(render, viewExtentOf(octree), aspect),
                               .look = o.look,
@@ -382,7 +389,8 @@ int runBenchRenderInput(const RenderBenchOptions& o, const CLI::App& command,
                                   .stereo = stereo,
                                   .compute = compute,
                                   .json = o.json,
-                                  .gl_renderer = context->renderer()},
+                                  .gl_renderer = context->renderer(),
+                                  .frame_budget_ms = orbit ? frame_budget_ms : 0.0},
                                  scene.whole, cameraFrom(render, scene.extent, aspect));
 }
 
@@ -558,8 +566,9 @@ Command addBenchRenderCommand(CLI::App& bench) {
                   "2 degrees a frame (an octree streamed as the viewer does); median, p90 and "
                   "worst frame times");
   sub->add_option("--frame-budget", options->frame_budget_ms,
-                  "With an octree's --orbit: progressive refinement's time budget per moving "
-                  "frame, ms")
+                  "With --orbit: progressive refinement's time budget per moving frame, ms, as "
+                  "the viewer draws (0: whole frames; default: the viewer's, 66.7, with --look "
+                  "viewer, else 0)")
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--look", options->look,
                   "render: the look options as `render` reads them (1-pixel squares, unlit, by "

@@ -7,6 +7,8 @@
 #include <string>
 
 #include "bench_timing.h"
+#include "render/frame_step.h"
+#include "render/progressive.h"
 #include "render/renderer.h"
 
 namespace parallax::cli {
@@ -91,6 +93,22 @@ void timedFrame(Renderer& renderer, const DrawSet& draw_set, const StereoFrame& 
   side.cpu.push_back(processCpuSeconds() - cpu_start);
 }
 
+// The viewer's step: the part of the prioritized draw set that progressive refinement plans.
+void timedViewerFrame(Renderer& renderer, ProgressiveRefinement& progressive,
+                      const DrawSet& draw_set, const StereoFrame& frame,
+                      const RenderSettings& settings, const RenderTarget& target, int width,
+                      int height, bool changed, Side& side) {
+  const auto start = Clock::now();
+  const double cpu_start = processCpuSeconds();
+  const DrawSet prioritized = prioritizedDrawSet(draw_set, frame.views);
+  const FrameStepResult step = drawFrameStep(renderer, &progressive, prioritized, frame, settings,
+                                             target.framebuffer(), width, height, changed);
+  glFinish();
+  side.wall.push_back(std::chrono::duration<double>(Clock::now() - start).count());
+  side.cpu.push_back(processCpuSeconds() - cpu_start);
+  if (step.drew) side.stats = step.stats;
+}
+
 const char* rasterizerLabel(RasterizerKind kind) {
   return kind == RasterizerKind::Compute ? "compute" : "points";
 }
@@ -114,7 +132,16 @@ int runBenchRenderFileOrbit(const FileOrbitBenchOptions& o, const DrawSet& draw_
   // Warm-up (shaders, framebuffers, the first touch of the buffers), which also says who draws.
   Side look, plain;
   StereoFrame frame = stereoFrame(camera, o.stereo, w, h);
-  timedFrame(ours, draw_set, frame, o.settings, target, w, h, look);
+  ProgressiveSettings progressive_settings;
+  const bool refine = o.frame_budget_ms > 0;
+  if (refine) progressive_settings.frame_budget_s = o.frame_budget_ms / 1e3;
+  ProgressiveRefinement progressive(progressive_settings);
+  // The viewer's first frame is planned too (and measures the rate for the next).
+  if (refine) {
+    timedViewerFrame(ours, progressive, draw_set, frame, o.settings, target, w, h, true, look);
+  } else {
+    timedFrame(ours, draw_set, frame, o.settings, target, w, h, look);
+  }
   RenderSettings reference_settings = o.settings;
   std::string reference_name = "same look, GL_POINTS";
   if (look.stats.rasterizer == RasterizerKind::Points) {
@@ -136,7 +163,12 @@ int runBenchRenderFileOrbit(const FileOrbitBenchOptions& o, const DrawSet& draw_
     // Each side goes first every other frame: neither always meets a cache the other warmed.
     for (int turn = 0; turn < 2; ++turn) {
       if ((turn == 0) == (i % 2 == 0)) {
-        timedFrame(ours, draw_set, frame, o.settings, target, w, h, look);
+        if (refine) {
+          timedViewerFrame(ours, progressive, draw_set, frame, o.settings, target, w, h,
+                           o.degrees_per_frame > 0 || i == 0, look);
+        } else {
+          timedFrame(ours, draw_set, frame, o.settings, target, w, h, look);
+        }
       } else {
         timedFrame(reference, draw_set, frame, reference_settings, target, w, h, plain);
       }
@@ -163,6 +195,7 @@ int runBenchRenderFileOrbit(const FileOrbitBenchOptions& o, const DrawSet& draw_
         {"width", w},
         {"height", h},
         {"frames", t.frames},
+        {"frame_budget_ms", o.frame_budget_ms},
         {"degrees_per_frame", o.degrees_per_frame},
         {"renderer", o.gl_renderer},
         {"asked", rasterizerKindName(o.settings.rasterizer)},
@@ -197,6 +230,12 @@ int runBenchRenderFileOrbit(const FileOrbitBenchOptions& o, const DrawSet& draw_
   if (o.degrees_per_frame > 0) std::printf(" (%g degrees a frame)", o.degrees_per_frame);
   std::printf(", on %s\n", o.gl_renderer.c_str());
   std::printf("look (%s): %s\n", o.look.c_str(), lookLine(o.settings, o.stereo).c_str());
+  if (refine) {
+    std::printf(
+        "moving frames refined within %.1f ms (the viewer's step; the last frame drew "
+        "%llu of the chunks)\n",
+        o.frame_budget_ms, static_cast<unsigned long long>(look.stats.chunks_drawn));
+  }
   if (!look.stats.fallback_reason.empty()) {
     std::printf("compute asked, GL_POINTS drew: %s\n", look.stats.fallback_reason.c_str());
   }

@@ -52,6 +52,10 @@ struct FileOrbitBenchOptions {
   ComputeRasterizerOptions compute;  // allow_64bit_atomics false: --no-atomic64
   bool json = false;
   std::string gl_renderer;  // GL_RENDERER, for the report
+  // > 0: the look's frames are the viewer's (render/frame_step.h): the chunks ordered by
+  // prioritizedDrawSet and drawn a part within this budget a frame by progressive refinement,
+  // the camera moving every frame (the reference still draws the whole cloud).
+  double frame_budget_ms = 0;
 };
 
 // Draws `draw_set` (a whole cloud) `frames` times from `camera` turning, each frame timed to
