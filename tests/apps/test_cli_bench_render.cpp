@@ -84,6 +84,33 @@ TEST(CliBenchRender, ViewerLookOrbitOfAFileWithNormalsIsRoundAdaptiveAndLit) {
   EXPECT_EQ(json["load_average"]["before"].size(), 3u);
 }
 
+// --look viewer measures the viewer's moving frames: progressive refinement within the viewer's
+// frame budget (1000 / 15 ms) unless --frame-budget says otherwise; render's look draws whole
+// frames. A 20 000-point file is one chunk, drawn whole by every plan.
+TEST(CliBenchRender, ViewerLookOrbitRefinesWithinTheViewersFrameBudget) {
+  TempDir dir;
+  const auto ply = generatedScan(dir);
+  const std::string base =
+      "bench render " + quoted(ply.string()) + " --orbit 2 --json --width 32 --height 32 ";
+  const struct {
+    std::string options;
+    double budget_ms;
+  } cases[] = {{"--look viewer", 1000.0 / 15.0},
+               {"--look viewer --frame-budget 0", 0.0},
+               {"--look viewer --frame-budget 40", 40.0},
+               {"", 0.0},
+               {"--frame-budget 25", 25.0}};
+  for (const auto& c : cases) {
+    const RunResult run = runParallax(dir, base + c.options);
+    ASSERT_EQ(run.exit_code, 0) << c.options << ": " << run.err;
+    const auto json = nlohmann::json::parse(run.out);
+    ASSERT_TRUE(json["frame_budget_ms"].is_number()) << c.options << ": " << json;
+    EXPECT_DOUBLE_EQ(json["frame_budget_ms"].get<double>(), c.budget_ms) << c.options;
+    EXPECT_EQ(json["points_drawn"], 20000) << c.options;
+    expectOrderedFrameTimes(json);
+  }
+}
+
 TEST(CliBenchRender, ViewerLookLeavesWhatTheOptionsSay) {
   TempDir dir;
   const auto ply = generatedScan(dir);
