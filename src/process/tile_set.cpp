@@ -221,6 +221,15 @@ void TileSet::appendKeptInRange(double lo, double hi, std::size_t except,
 
 void TileSet::appendKeptInBox(const double lo[3], const double hi[3], std::size_t except,
                               std::vector<GridPoint>& out) const {
+  // Reserved up front for every point of the overlapping tiles: a bound on what is appended, so
+  // the vector is never grown by doubling (a copy of everything loaded so far, old and new held
+  // at once). The reserved pages that are never written are never made resident.
+  std::uint64_t bound = 0;
+  for (std::size_t t = 0; t < tiles(); ++t) {
+    if (t == except || this->hi(t) <= lo[0] || this->lo(t) >= hi[0]) continue;
+    bound += counts_[t];
+  }
+  out.reserve(out.size() + std::size_t(bound));
   for (std::size_t t = 0; t < tiles(); ++t) {
     if (t == except || this->hi(t) <= lo[0] || this->lo(t) >= hi[0] || counts_[t] == 0) continue;
     File points = openFile(file(t, "points"), "rb");

@@ -10,6 +10,7 @@
 
 #include "io/point_file.h"
 #include "process/process_runner.h"
+#include "process/tile_set.h"
 #include "support/allocation_counter.h"
 #include "support/temp_dir.h"
 
@@ -68,6 +69,45 @@ TEST(ProcessMemory, ATextInputIsStreamedNotHeld) {
     EXPECT_NEAR(double(n.x) * n.x + double(n.y) * n.y + double(n.z) * n.z, 1.0, 1e-4) << i;
     EXPECT_GT(n.z, 0.5f) << i;
   }
+}
+
+}  // namespace
+}  // namespace parallax
+
+namespace parallax {
+namespace {
+
+TEST(ProcessMemory, LoadBoxAllocatesWhatItLoadsOnce) {
+  // 30 000 points spilled into slabs of 4 096 (batches of 4 096), all loaded by one box: the
+  // result is reserved once for the overlapping slabs' points (30 000 x 24 bytes) besides the
+  // read buffers (4 096 x 25 bytes a slab). Grown by push_back instead, the vector is allocated again
+  // at each doubling (1, 2, 4 ... 32 768 points: about 2 x 32 768 x 24 bytes), and this fails.
+  constexpr std::size_t kPoints = 30000;
+  test::TempDir dir;
+  const auto in = dir / "strip.xyz";
+  {
+    std::FILE* text = std::fopen(in.c_str(), "w");
+    ASSERT_NE(text, nullptr);
+    for (std::size_t i = 0; i < kPoints; ++i) {
+      std::fprintf(text, "%.3f %.3f %.3f\n", double(i % 3000) * 0.1, double(i / 3000), 0.5);
+    }
+    ASSERT_EQ(std::fclose(text), 0);
+  }
+  const TileSet set = TileSet::spill({ConvertInput{.path = in, .text_columns = {"x", "y", "z"}}},
+                                     dir.path(), "t", 4096, nullptr, {});
+  ASSERT_GE(set.tiles(), 7u);
+  const double lo[3] = {-1.0, -1.0, -1.0}, hi[3] = {1000.0, 1000.0, 1000.0};
+  std::vector<GridPoint> out;
+  std::uint64_t bytes = 0;
+  {
+    test::AllocationScope allocations;
+    set.appendKeptInBox(lo, hi, SIZE_MAX, out);
+    bytes = allocations.bytes();
+  }
+  ASSERT_EQ(out.size(), kPoints);
+  // Each slab read allocates its block and flags buffers once.
+  const std::uint64_t buffers = set.tiles() * set.batchPoints() * (sizeof(GridPoint) + 1);
+  EXPECT_LE(bytes, kPoints * sizeof(GridPoint) + buffers + (64u << 10));
 }
 
 }  // namespace
