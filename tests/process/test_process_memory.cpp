@@ -4,9 +4,11 @@
 // the text path end to end.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
 
 #include "io/point_file.h"
 #include "process/process_runner.h"
@@ -17,6 +19,22 @@
 namespace parallax {
 namespace {
 
+// printf into a std::string.
+template <typename... Args>
+std::string format(const char* pattern, Args... args) {
+  char line[128];
+  const int n = std::snprintf(line, sizeof line, pattern, args...);
+  return std::string(line, std::size_t(std::max(n, 0)));
+}
+
+// An xyz text file's lines, line(i) for i in [0, count).
+template <typename Line>
+std::string textLines(std::size_t count, Line line) {
+  std::string text;
+  for (std::size_t i = 0; i < count; ++i) text += line(i);
+  return text;
+}
+
 TEST(ProcessMemory, ATextInputIsStreamedNotHeld) {
   // 60 000 points of a hilly strip, at --memory 1: slabs of 4 096 points, read in batches of
   // 4 096. Held whole, the cloud's positions alone would be one 720 KB column (1.4 MB as
@@ -26,19 +44,13 @@ TEST(ProcessMemory, ATextInputIsStreamedNotHeld) {
   // large --memory, the whole cloud is one batch, and this fails.
   constexpr std::size_t kPoints = 60000;
   test::TempDir dir;
-  const auto in = dir / "strip.xyz";
-  {
-    std::FILE* text = std::fopen(in.c_str(), "w");
-    ASSERT_NE(text, nullptr);
-    std::mt19937 random(26);
-    std::uniform_real_distribution<double> along(0.0, 250.0), across(0.0, 40.0);
-    for (std::size_t i = 0; i < kPoints; ++i) {
-      const double x = along(random), y = across(random);
-      const double z = 3.0 * std::sin(x / 17.0) + 2.0 * std::cos(y / 11.0);
-      std::fprintf(text, "%.3f %.3f %.3f %zu\n", x, y, z, i % 251);
-    }
-    ASSERT_EQ(std::fclose(text), 0);
-  }
+  std::mt19937 random(26);
+  std::uniform_real_distribution<double> along(0.0, 250.0), across(0.0, 40.0);
+  const auto in = dir.write("strip.xyz", textLines(kPoints, [&](std::size_t i) {
+                              const double x = along(random), y = across(random);
+                              const double z = 3.0 * std::sin(x / 17.0) + 2.0 * std::cos(y / 11.0);
+                              return format("%.3f %.3f %.3f %zu\n", x, y, z, i % 251);
+                            }));
   ProcessOptions options;
   options.inputs = {ConvertInput{.path = in, .text_columns = {"x", "y", "z", "intensity"}}};
   options.output = dir / "out.xyz";
@@ -71,12 +83,6 @@ TEST(ProcessMemory, ATextInputIsStreamedNotHeld) {
   }
 }
 
-}  // namespace
-}  // namespace parallax
-
-namespace parallax {
-namespace {
-
 TEST(ProcessMemory, LoadBoxAllocatesWhatItLoadsOnce) {
   // 30 000 points spilled into slabs of 4 096 (batches of 4 096), all loaded by one box: the
   // result is reserved once for the overlapping slabs' points (30 000 x 24 bytes) besides the
@@ -84,15 +90,10 @@ TEST(ProcessMemory, LoadBoxAllocatesWhatItLoadsOnce) {
   // at each doubling (1, 2, 4 ... 32 768 points: about 2 x 32 768 x 24 bytes), and this fails.
   constexpr std::size_t kPoints = 30000;
   test::TempDir dir;
-  const auto in = dir / "strip.xyz";
-  {
-    std::FILE* text = std::fopen(in.c_str(), "w");
-    ASSERT_NE(text, nullptr);
-    for (std::size_t i = 0; i < kPoints; ++i) {
-      std::fprintf(text, "%.3f %.3f %.3f\n", double(i % 3000) * 0.1, double(i / 3000), 0.5);
-    }
-    ASSERT_EQ(std::fclose(text), 0);
-  }
+  const auto in =
+      dir.write("strip.xyz", textLines(kPoints, [](std::size_t i) {
+                  return format("%.3f %.3f %.3f\n", double(i % 3000) * 0.1, double(i / 3000), 0.5);
+                }));
   const TileSet set = TileSet::spill({ConvertInput{.path = in, .text_columns = {"x", "y", "z"}}},
                                      dir.path(), "t", 4096, nullptr, {});
   ASSERT_GE(set.tiles(), 7u);

@@ -369,6 +369,14 @@ nlohmann::json volumeCommand(const TempDir& dir, const std::filesystem::path& cl
   return nlohmann::json::parse(readFile(json_file));
 }
 
+// The area tool (G) around the cone, then its volume (Ctrl + V) as the viewer logs it.
+void volumeAroundTheCone(ViewerProcess& viewer, std::string& polygon, ViewerVolume& volume) {
+  viewer.key("g");
+  ASSERT_NO_FATAL_FAILURE(clickAreaAroundTheCone(viewer, polygon));
+  viewer.key("ctrl+v");
+  ASSERT_NO_FATAL_FAILURE(loggedVolume(viewer, volume));
+}
+
 void expectSameVolume(const ViewerVolume& viewer, const nlohmann::json& command) {
   EXPECT_NEAR(viewer.cut, command.at("cut").get<double>(), 1e-6) << command.dump();
   EXPECT_NEAR(viewer.fill, command.at("fill").get<double>(), 1e-6) << command.dump();
@@ -390,12 +398,9 @@ TEST(ViewerWindow, TheVolumeToolGivesAConesVolumeInsideAnArea) {
   ViewerProcess viewer(dir, display.name(), coneViewArgs(cloud), "viewer.log");
   ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
   EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
-  viewer.key("g");
   std::string polygon;
-  ASSERT_NO_FATAL_FAILURE(clickAreaAroundTheCone(viewer, polygon));
-  viewer.key("ctrl+v");
   ViewerVolume volume;
-  ASSERT_NO_FATAL_FAILURE(loggedVolume(viewer, volume));
+  ASSERT_NO_FATAL_FAILURE(volumeAroundTheCone(viewer, polygon, volume));
   const double cone_volume = std::numbers::pi * 64 * 4 / 3;
   EXPECT_NEAR(volume.cut, cone_volume, 0.005 * cone_volume) << volume.line;
   EXPECT_NEAR(volume.fill, 0.0, 1e-3) << volume.line;
@@ -435,12 +440,9 @@ TEST(ViewerWindow, TheVolumeToolTakesABaseRasterAndShowsWhenItIsMissing) {
                        "viewer.log");
   ASSERT_TRUE(viewer.hasWindow()) << "no viewer window: " << viewer.log();
   EXPECT_TRUE(viewer.logged("parallax view: first picture after")) << viewer.log();
-  viewer.key("g");
   std::string polygon;
-  ASSERT_NO_FATAL_FAILURE(clickAreaAroundTheCone(viewer, polygon));
-  viewer.key("ctrl+v");
   ViewerVolume volume;
-  ASSERT_NO_FATAL_FAILURE(loggedVolume(viewer, volume));
+  ASSERT_NO_FATAL_FAILURE(volumeAroundTheCone(viewer, polygon, volume));
   EXPECT_NE(volume.line.find("base raster " + base.string()), std::string::npos) << volume.line;
   const double cone_volume = std::numbers::pi * 64 * 4 / 3;
   EXPECT_NEAR(volume.cut, cone_volume, 0.005 * cone_volume) << volume.line;

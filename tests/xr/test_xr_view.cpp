@@ -498,19 +498,32 @@ glm::dquat aimingAt(const glm::dvec3& direction) {
   return glm::angleAxis(std::acos(glm::dot(from, to)), glm::normalize(axis));
 }
 
+// The hand that points the laser: below the eyes' view, so that its laser rises into it.
+const glm::dvec3 kLaserHand(0.15, 1.3, -0.2);
+
+// A controller at kLaserHand aiming at `p` (its file coordinates through the default stage
+// mapping, stage = (x, z, -y) from kOrigin), with `inputs`.
+nlohmann::json handAimingAt(const glm::dvec3& file, const nlohmann::json& inputs) {
+  const glm::dvec3 d = file - kOrigin;
+  const glm::dvec3 stage(d.x, d.z, -d.y);
+  nlohmann::json hand{{"grip", poseJson(kLaserHand, glm::dquat(1, 0, 0, 0))},
+                      {"aim", poseJson(kLaserHand, aimingAt(stage - kLaserHand))}};
+  if (!inputs.is_null()) hand["inputs"] = inputs;
+  return hand;
+}
+
+// One frame of a controller script: `side` ("left" or "right") aiming at `p` with `inputs`.
+nlohmann::json frameAimingAt(int frame, const char* side, const TestPoint& p,
+                             const nlohmann::json& inputs) {
+  return {{"frame", frame}, {side, handAimingAt(p.file, inputs)}};
+}
+
 TEST_F(XrViewTest, TheLaserPicksThePointItAimsAtAndMeasuresADistance) {
   const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
   const TestPoint& a = points_[7];
   const TestPoint& b = points_[52];
-  const glm::dvec3 hand(0.15, 1.3, -0.2);
-  const auto stage = [](const glm::dvec3& file) {
-    const glm::dvec3 d = file - kOrigin;
-    return glm::dvec3(d.x, d.z, -d.y);
-  };
-  const auto aim = [&](const TestPoint& p, bool click) {
-    return nlohmann::json{{"grip", poseJson(hand, glm::dquat(1, 0, 0, 0))},
-                          {"aim", poseJson(hand, aimingAt(stage(p.file) - hand))},
-                          {"inputs", {{"select/click", click}}}};
+  const auto aim = [](const TestPoint& p, bool click) {
+    return handAimingAt(p.file, {{"select/click", click}});
   };
   const nlohmann::json controllers{{"profile", "/interaction_profiles/khr/simple_controller"},
                                    {"frames",
@@ -565,17 +578,8 @@ TEST_F(XrViewTest, TheToolButtonChoosesHeightAndAreaWhosePicksAreMeasured) {
   const TestPoint& a = points_[7];
   const TestPoint& b = points_[52];
   const TestPoint& c = points_[26];
-  const glm::dvec3 hand(0.15, 1.3, -0.2);  // below the eyes' view: its laser rises into it
-  const auto stage = [](const glm::dvec3& file) {
-    const glm::dvec3 d = file - kOrigin;
-    return glm::dvec3(d.x, d.z, -d.y);
-  };
-  const auto at = [&](int frame, const TestPoint& p, const nlohmann::json& inputs) {
-    return nlohmann::json{{"frame", frame},
-                          {"right",
-                           {{"grip", poseJson(hand, glm::dquat(1, 0, 0, 0))},
-                            {"aim", poseJson(hand, aimingAt(stage(p.file) - hand))},
-                            {"inputs", inputs}}}};
+  const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
+    return frameAimingAt(frame, "right", p, inputs);
   };
   const nlohmann::json none = nlohmann::json::object();
   const nlohmann::json pull{{"trigger/value", 1.0}}, button{{"b/click", true}};
@@ -728,17 +732,8 @@ TEST_F(XrViewTest, AngleProfileAndPointToolsMeasureThePicksAndAreSaved) {
   const TestPoint& a = points_[7];
   const TestPoint& b = points_[52];
   const TestPoint& c = points_[26];
-  const glm::dvec3 hand(0.15, 1.3, -0.2);  // below the eyes' view: its laser rises into it
-  const auto stage = [](const glm::dvec3& file) {
-    const glm::dvec3 d = file - kOrigin;
-    return glm::dvec3(d.x, d.z, -d.y);
-  };
-  const auto at = [&](int frame, const TestPoint& p, const nlohmann::json& inputs) {
-    return nlohmann::json{{"frame", frame},
-                          {"right",
-                           {{"grip", poseJson(hand, glm::dquat(1, 0, 0, 0))},
-                            {"aim", poseJson(hand, aimingAt(stage(p.file) - hand))},
-                            {"inputs", inputs}}}};
+  const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
+    return frameAimingAt(frame, "right", p, inputs);
   };
   const nlohmann::json none = nlohmann::json::object();
   const nlohmann::json pull{{"trigger/value", 1.0}}, button{{"b/click", true}};
@@ -871,17 +866,8 @@ TEST_F(XrViewTest, TheToolButtonHeldDeletesTheLastMeasurementAndTheFileKeepsTheR
   const TestPoint& a = points_[7];
   const TestPoint& b = points_[52];
   const TestPoint& c = points_[26];
-  const glm::dvec3 hand(0.15, 1.3, -0.2);
-  const auto stage = [](const glm::dvec3& file) {
-    const glm::dvec3 d = file - kOrigin;
-    return glm::dvec3(d.x, d.z, -d.y);
-  };
-  const auto at = [&](int frame, const TestPoint& p, const nlohmann::json& inputs) {
-    return nlohmann::json{{"frame", frame},
-                          {"left",
-                           {{"grip", poseJson(hand, glm::dquat(1, 0, 0, 0))},
-                            {"aim", poseJson(hand, aimingAt(stage(p.file) - hand))},
-                            {"inputs", inputs}}}};
+  const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
+    return frameAimingAt(frame, "left", p, inputs);
   };
   const nlohmann::json none = nlohmann::json::object();
   const nlohmann::json pull{{"trigger/value", 1.0}}, hold{{"y/click", true}};
@@ -924,10 +910,7 @@ TEST_F(XrViewTest, TheToolButtonHeldDeletesTheLastMeasurementAndTheFileKeepsTheR
 TEST_F(XrViewTest, TheAButtonTeleportsToTheLaserPointOnTheFloorUnderTheHead) {
   const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
   const TestPoint& target = points_[33];
-  const glm::dvec3 hand(0.15, 1.3, -0.2);
-  const glm::dvec3 d = target.file - kOrigin;
-  const nlohmann::json aim{{"grip", poseJson(hand, glm::dquat(1, 0, 0, 0))},
-                           {"aim", poseJson(hand, aimingAt(glm::dvec3(d.x, d.z, -d.y) - hand))}};
+  const nlohmann::json aim = handAimingAt(target.file, nullptr);
   nlohmann::json pressed = aim;
   pressed["inputs"] = {{"a/click", true}};
   const nlohmann::json controllers{
