@@ -224,14 +224,15 @@ void TileSet::appendKeptInBox(const double lo[3], const double hi[3], std::size_
   // Reserved up front for every point of the overlapping tiles: a bound on what is appended, so
   // the vector is never grown by doubling (a copy of everything loaded so far, old and new held
   // at once). The reserved pages that are never written are never made resident.
+  std::vector<std::size_t> overlapping;
   std::uint64_t bound = 0;
   for (std::size_t t = 0; t < tiles(); ++t) {
-    if (t == except || this->hi(t) <= lo[0] || this->lo(t) >= hi[0]) continue;
+    if (t == except || this->hi(t) <= lo[0] || this->lo(t) >= hi[0] || counts_[t] == 0) continue;
+    overlapping.push_back(t);
     bound += counts_[t];
   }
   out.reserve(out.size() + std::size_t(bound));
-  for (std::size_t t = 0; t < tiles(); ++t) {
-    if (t == except || this->hi(t) <= lo[0] || this->lo(t) >= hi[0] || counts_[t] == 0) continue;
+  for (const std::size_t t : overlapping) {
     File points = openFile(file(t, "points"), "rb");
     File kept = openFile(file(t, "kept"), "rb");
     const std::size_t records = std::min(batch_points_, kMostBlockRecords);
