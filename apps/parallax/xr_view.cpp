@@ -147,13 +147,9 @@ int runXrView(const XrViewOptions& o) {
                    index + 1, profile.samples.size(), from);
       std::string text = std::to_string(profile.samples.size()) + " points";
       if (!profile.samples.empty()) {
-        double low = profile.samples.front().position.z, high = low;
-        for (const ProfileSample& sample : profile.samples) {
-          low = std::min(low, sample.position.z);
-          high = std::max(high, sample.position.z);
-        }
+        const HeightRange range = heightRange(profile);
         char heights[96];
-        std::snprintf(heights, sizeof(heights), ", heights %.2f to %.2f m", low, high);
+        std::snprintf(heights, sizeof(heights), ", heights %.2f to %.2f m", range.low, range.high);
         text += heights;
       }
       profiles.push_back({index, done.points.front(), text});

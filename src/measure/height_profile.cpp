@@ -226,6 +226,16 @@ HeightProfile extractProfile(Octree& octree, const std::vector<glm::dvec3>& line
   return ordered(joined, std::move(all));
 }
 
+HeightRange heightRange(const HeightProfile& profile) {
+  if (profile.samples.empty()) return {};
+  HeightRange range{profile.samples.front().position.z, profile.samples.front().position.z};
+  for (const ProfileSample& sample : profile.samples) {
+    range.low = std::min(range.low, sample.position.z);
+    range.high = std::max(range.high, sample.position.z);
+  }
+  return range;
+}
+
 void writeProfileCsv(const HeightProfile& profile, const std::filesystem::path& path) {
   const std::filesystem::path partial = path.string() + ".partial";
   {

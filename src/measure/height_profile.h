@@ -48,6 +48,13 @@ HeightProfile extractProfile(const PointCloud& cloud, const std::vector<glm::dve
 HeightProfile extractProfile(Octree& octree, const std::vector<glm::dvec3>& line, double width,
                              std::uint64_t max_points = 50'000'000);
 
+// The lowest and highest heights (z) of the profile's points; {0, 0} when it has none.
+struct HeightRange {
+  double low = 0.0;
+  double high = 0.0;
+};
+HeightRange heightRange(const HeightProfile& profile);
+
 // CSV: a header line "station,height,offset,x,y,z", then one line per sample, full precision
 // (17 significant digits: the values read back exactly). Written under a temporary name and
 // renamed. Throws std::runtime_error naming the file when it cannot be written.

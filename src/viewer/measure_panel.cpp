@@ -62,11 +62,7 @@ void plotProfile(const HeightProfile& profile) {
   ImGui::Dummy(size);
   if (profile.samples.empty()) return;
   double s0 = profile.samples.front().station, s1 = profile.samples.back().station;
-  double z0 = profile.samples.front().position.z, z1 = z0;
-  for (const ProfileSample& p : profile.samples) {
-    z0 = std::min(z0, p.position.z);
-    z1 = std::max(z1, p.position.z);
-  }
+  const auto [z0, z1] = heightRange(profile);
   const double ds = std::max(s1 - s0, 1e-9), dz = std::max(z1 - z0, 1e-9);
   // The same scale on both axes where it fits, as a section drawing would; else stretched.
   const float margin = 4.0f;
