@@ -17,6 +17,7 @@
 #include "measure/measurement_document.h"
 #include "network_options.h"
 #include "process/process_steps.h"
+#include "raster/volume.h"
 #include "render_options.h"
 #include "viewer/viewer.h"
 #include "xr_view.h"
@@ -85,13 +86,11 @@ int runView(const ViewCommandOptions& o, const CLI::App& command,
   viewer.measure_tool = *tool;
   viewer.profile_width = o.profile_width;
   viewer.volume_base = o.volume_base;
-  if (o.volume_base != "plane" && o.volume_base != "lowest") {
-    std::error_code error;  // a typo is an error here, before the window opens
-    if (!std::filesystem::is_regular_file(o.volume_base, error)) {
-      throw std::invalid_argument(
-          "--volume-base: expected plane, lowest or a raster file, found '" + o.volume_base +
-          "' (no such file)");
-    }
+  VolumeOptions volume_base;
+  setVolumeBase(volume_base, o.volume_base);
+  if (volume_base.base == VolumeBase::Raster) {
+    // A typo is an error here, before the window opens.
+    requireBaseRasterFile("--volume-base", volume_base.base_raster);
   }
   for (const std::string& step : o.process_steps) {
     (void)parseProcessStep(step);  // a typo is an error here, before the window opens

@@ -45,11 +45,7 @@ std::vector<std::array<double, 3>> boundarySamples(const RasterImage& surface,
 // The base raster, read and checked against the cloud: the file is there, GDAL reads it, and
 // its CRS is the cloud's where both state one.
 RasterImage readBaseRaster(const VolumeOptions& options) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(options.base_raster, error)) {
-    throw std::invalid_argument("--base: expected plane, lowest or a raster file, found '" +
-                                options.base_raster.string() + "' (no such file)");
-  }
+  requireBaseRasterFile("--base", options.base_raster);
   RasterImage raster = readRaster(options.base_raster);
   if (!raster.wkt.empty()) {
     const std::string cloud = wktOfCoordinateSystem(readPointFileHeader(options.input.path).crs);
@@ -112,6 +108,14 @@ void checkBaseCovers(const RasterImage& base, const RasterGrid& grid,
 }
 
 }  // namespace
+
+void requireBaseRasterFile(const std::string& option, const std::filesystem::path& file) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(file, error)) {
+    throw std::invalid_argument(option + ": expected plane, lowest or a raster file, found '" +
+                                file.string() + "' (no such file)");
+  }
+}
 
 void setVolumeBase(VolumeOptions& options, const std::string& base) {
   if (base == "plane") {

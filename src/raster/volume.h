@@ -64,6 +64,10 @@ struct VolumeReport {
 // (VolumeBase::Raster; computeVolume checks that it is one).
 void setVolumeBase(VolumeOptions& options, const std::string& base);
 
+// Throws std::invalid_argument naming `option` (--base, view's --volume-base) when `file`, a base
+// raster's path, is not a file: computeVolume's first check, which a caller can make early.
+void requireBaseRasterFile(const std::string& option, const std::filesystem::path& file);
+
 // Throws std::invalid_argument naming the option (--base for a base raster that is not a file),
 // InputError for bad input files: one GDAL cannot read, a base raster in another CRS than the
 // cloud's, one that does not cover the polygon or has no value inside it (naming the raster).
