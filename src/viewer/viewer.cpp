@@ -403,6 +403,12 @@ void writeScreenshot(Session& s, int width, int height) {
   std::fprintf(stderr, "parallax view: %s\n", s.status.c_str());
 }
 
+// A switch set in the environment: set, and neither empty nor "0".
+bool environmentFlag(const char* name) {
+  const char* value = std::getenv(name);
+  return value && *value != '\0' && std::strcmp(value, "0") != 0;
+}
+
 void onGlfwError(int code, const char* description) {
   std::fprintf(stderr, "parallax view: GLFW error 0x%x: %s\n", code, description);
 }
@@ -515,12 +521,8 @@ int runViewer(const ViewerOptions& options) {
     loadRasterLayer(s, options.raster);
   }
 
-  if (const char* trace = std::getenv("PARALLAX_VIEW_TRACE_KEYS")) {
-    s.trace_keys = std::strcmp(trace, "0") != 0 && *trace != '\0';
-  }
-  if (const char* hold = std::getenv("PARALLAX_VIEW_TEST_HOLD_PROCESS")) {
-    s.process.hold_first_report = std::strcmp(hold, "0") != 0 && *hold != '\0';
-  }
+  s.trace_keys = environmentFlag("PARALLAX_VIEW_TRACE_KEYS");
+  s.process.hold_first_report = environmentFlag("PARALLAX_VIEW_TEST_HOLD_PROCESS");
   auto last = std::chrono::steady_clock::now();
   FrameStats stats;
   bool busy = true;  // drew points or had input last frame: poll; otherwise wait for events
