@@ -53,6 +53,12 @@ View laserView(const StagePlacement& placement, const StagePose& aim) {
   return view;
 }
 
+// A hand's aim as a ray in file coordinates (the laser's origin and direction).
+LaserRay laserRay(const StagePlacement& placement, const StagePose& aim) {
+  return {stageToFile(placement, aim.position),
+          stageToFileVector(placement, aim.orientation * glm::dvec3(0, 0, -1))};
+}
+
 // The lasers of the tracked hands, from the aim's position along its -z, the tool's name at each
 // hand (in its kind's colour), and the measurements with their labels, the one being drawn
 // brighter: lines and text in file coordinates that the overlay pass draws in each eye at its
@@ -63,8 +69,14 @@ OverlayScene laserOverlay(const StagePlacement& placement, const XrInput* input,
   OverlayScene scene;
   MeasurementOverlayOptions options;
   if (!tool.inProgress().points.empty()) options.in_progress = &tool.inProgress();
+  // A measurement whose vertex a hand moves is drawn wider, as the window's selected one.
+  for (int h = 0; h < 2; ++h) {
+    if (const auto grabbed = tool.grabbed(h)) options.selected = grabbed->measurement;
+  }
   appendMeasurementOverlay(document, options, scene);
   for (const HeadsetProfileSummary& profile : profiles) {
+    // A profile being changed has no summary until its new one is extracted at the release.
+    if (options.selected == profile.measurement) continue;
     scene.labels.push_back({profile.anchor, profile.text, {1, 1, 1, 1}});  // as its other labels
   }
   if (!input) return scene;
@@ -133,11 +145,8 @@ int runXrView(const XrViewOptions& o) {
   // A finished measurement: printed as the window prints it (six decimals, micrometres in metres:
   // what tests compare) and added to the document; a profile is extracted at once from every
   // point of the source, as the window's is for its panel.
-  const auto finish = [&](const Measurement& done) {
-    std::fprintf(stderr, "parallax view --xr: %s\n", describeMeasurement(done, 6).c_str());
-    measurements.measurements.push_back(done);
-    if (done.kind != MeasurementKind::Profile) return;
-    const std::size_t index = measurements.measurements.size() - 1;
+  const auto summarizeProfile = [&](std::size_t index) {
+    const Measurement& done = measurements.measurements[index];
     try {
       const HeightProfile profile =
           source.lod() ? extractProfile(*source.octree, done.points, done.profile_width)
@@ -157,6 +166,23 @@ int runXrView(const XrViewOptions& o) {
       std::fprintf(stderr, "parallax view --xr: no profile of measurement %zu: %s\n", index + 1,
                    e.what());
     }
+  };
+  const auto finish = [&](const Measurement& done) {
+    std::fprintf(stderr, "parallax view --xr: %s\n", describeMeasurement(done, 6).c_str());
+    measurements.measurements.push_back(done);
+    if (done.kind == MeasurementKind::Profile) {
+      summarizeProfile(measurements.measurements.size() - 1);
+    }
+  };
+  // Measurement `index` leaves the document (with its profile's label, and any grab of it).
+  const auto erase = [&](std::size_t index) {
+    std::vector<Measurement>& list = measurements.measurements;
+    std::fprintf(stderr, "parallax view --xr: deleted %s\n",
+                 describeMeasurement(list[index], 6).c_str());
+    list.erase(list.begin() + std::ptrdiff_t(index));
+    std::erase_if(profiles, [&](const HeadsetProfileSummary& p) { return p.measurement == index; });
+    for (HeadsetProfileSummary& p : profiles) p.measurement -= p.measurement > index ? 1 : 0;
+    tool.erased(index);
   };
   Renderer renderer;
   std::unique_ptr<ComfortVignette> vignette;
@@ -211,16 +237,57 @@ int runXrView(const XrViewOptions& o) {
                                         .has_normals = scene.gpu->hasNormals()};
           settings = viewerLook(asked, asked, o.look, traits);
         }
+        // The laser's pick of hand h this frame: the front-most point within its cone.
+        const auto laserPick = [&](int h) {
+          const View laser = laserView(locomotion.placement(), frame.input->hands[h].aim);
+          return pickPoint(renderer, *pick_source, *draw_set, std::span(&laser, 1),
+                           Composition::Direct, *settings, kLaserPixels, kLaserPixels,
+                           {kLaserPixels / 2, kLaserPixels / 2, kLaserPixels / 2, false});
+        };
         for (int h = 0; h < 2 && frame.input; ++h) {
+          const XrHandInput& hand = frame.input->hands[h];
           if (events.remove[h] && !measurements.measurements.empty()) {
-            // The tool button held: the last finished measurement goes (and its profile's label).
-            std::fprintf(stderr, "parallax view --xr: deleted %s\n",
-                         describeMeasurement(measurements.measurements.back(), 6).c_str());
-            measurements.measurements.pop_back();
-            if (!profiles.empty() &&
-                profiles.back().measurement == measurements.measurements.size()) {
-              profiles.pop_back();
+            // The tool button held: the measurement under the laser goes, the last one when the
+            // laser is on none.
+            const auto under =
+                hand.tracked ? measurementUnderLaser(measurements.measurements,
+                                                     laserRay(locomotion.placement(), hand.aim))
+                             : std::nullopt;
+            erase(under.value_or(measurements.measurements.size() - 1));
+          }
+          if (events.let_go[h]) {
+            if (const auto moved = tool.release(h)) {
+              // The vertex stays where the last pick put it; the measurement's value is measure/'s
+              // on its new points, as for a fresh pick.
+              const Measurement& m = measurements.measurements[moved->measurement];
+              const glm::dvec3& at = m.points[moved->vertex];
+              std::fprintf(
+                  stderr,
+                  "parallax view --xr: moved vertex %zu of measurement %zu to %s,%s,%s: %s\n",
+                  moved->vertex + 1, moved->measurement + 1, formatAttributeValue(at.x).c_str(),
+                  formatAttributeValue(at.y).c_str(), formatAttributeValue(at.z).c_str(),
+                  describeMeasurement(m, 6).c_str());
+              if (m.kind == MeasurementKind::Profile) {
+                std::erase_if(profiles, [&](const HeadsetProfileSummary& p) {
+                  return p.measurement == moved->measurement;
+                });
+                summarizeProfile(moved->measurement);
+              }
             }
+          }
+          bool picks = events.pick[h];
+          if (picks) {
+            // A press on a vertex grabs it; only a press on no vertex picks.
+            if (const auto grabbed = tool.grab(h, measurements.measurements,
+                                               laserRay(locomotion.placement(), hand.aim))) {
+              std::fprintf(stderr, "parallax view --xr: grabbed vertex %zu of measurement %zu\n",
+                           grabbed->vertex + 1, grabbed->measurement + 1);
+              picks = false;
+            }
+          } else if (tool.grabbed(h) && !events.let_go[h]) {
+            // Held: the vertex follows the laser's pick (no point under it: it stays).
+            if (const auto hit = laserPick(h))
+              tool.drag(h, measurements.measurements, hit->position);
           }
           if (events.tool[h]) {
             if (const auto area = tool.toolButton()) {
@@ -230,11 +297,8 @@ int runXrView(const XrViewOptions& o) {
                            std::string(measurementKindName(tool.kind())).c_str());
             }
           }
-          if (!events.pick[h] && !events.teleport[h]) continue;
-          const View laser = laserView(locomotion.placement(), frame.input->hands[h].aim);
-          const auto hit = pickPoint(renderer, *pick_source, *draw_set, std::span(&laser, 1),
-                                     Composition::Direct, *settings, kLaserPixels, kLaserPixels,
-                                     {kLaserPixels / 2, kLaserPixels / 2, kLaserPixels / 2, false});
+          if (!picks && !events.teleport[h]) continue;
+          const auto hit = laserPick(h);
           if (!hit) continue;
           std::fprintf(stderr, "parallax view --xr: laser pick %s,%s,%s\n",
                        formatAttributeValue(hit->position.x).c_str(),
@@ -246,7 +310,9 @@ int runXrView(const XrViewOptions& o) {
             draw_set = &arrivedDrawSet(scene, source, views, lod);
             continue;
           }
-          if (const auto done = tool.pick(hit->position)) finish(*done);
+          if (picks) {
+            if (const auto done = tool.pick(hit->position)) finish(*done);
+          }
         }
         renderer.setOverlay(
             laserOverlay(locomotion.placement(), frame.input, measurements, tool, profiles));

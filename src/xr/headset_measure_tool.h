@@ -13,18 +13,61 @@
 //                 area that has three or more points; otherwise it drops what is being drawn and
 //                 selects the next tool, in the window's order: distance -> height -> area ->
 //                 angle -> profile -> point -> distance.
-//   held          (the tool button held kLongPressSeconds) deletes the last finished measurement:
+//   held          (the tool button held kLongPressSeconds) deletes the measurement under that
+//                 hand's laser (measurementUnderLaser), or the last one when the laser is on none:
 //                 the caller's document, not this class's (xr_view.cpp).
+//   trigger on a  (a press with a finished measurement's vertex under the laser, within
+//   vertex        kVertexConeDeg: vertexUnderLaser) grabs that vertex instead of picking; while
+//                 the trigger is held the caller moves it to the laser's pick of every later
+//                 frame (drag), and letting go leaves it at the last one (release). A press starts
+//                 a new pick only when no vertex is under the laser.
 // Positions are the cloud's file coordinates in double, as everywhere in measure/.
 #pragma once
 
+#include <array>
 #include <optional>
+#include <span>
+#include <vector>
 
 #include <glm/glm.hpp>
 
 #include "measure/measurement.h"
 
 namespace parallax {
+
+// A laser in file coordinates: from `origin` along `direction` (any length but zero). The stage
+// mapping is a rotation and a uniform scale, so angles about the ray are the stage's.
+struct LaserRay {
+  glm::dvec3 origin{0.0};
+  glm::dvec3 direction{0.0, 0.0, -1.0};
+};
+
+// The half-angle about the laser within which a vertex or a measurement's line is under it: half
+// the laser picker's cone (xr_view.cpp's 2 degrees), about 10 pixels of a 20-pixel-a-degree
+// headset. Smaller is hard to hold on a vertex with a hand-held laser; larger keeps a new pick
+// from starting near a vertex (a press there grabs it): 0.5 degrees is 9 cm at 10 m.
+constexpr double kVertexConeDeg = 0.5;
+
+// A vertex of one of a document's measurements: their indices.
+struct MeasurementVertex {
+  std::size_t measurement = 0;
+  std::size_t vertex = 0;
+  bool operator==(const MeasurementVertex&) const = default;
+};
+
+// The vertex of `measurements` under the laser: of those in front of its origin within
+// `cone_deg` of the ray, the one at the least angle (the nearer to the origin on a tie, then the
+// first in the list); none when no vertex is.
+std::optional<MeasurementVertex> vertexUnderLaser(std::span<const Measurement> measurements,
+                                                  const LaserRay& ray,
+                                                  double cone_deg = kVertexConeDeg);
+
+// The measurement under the laser: the one of vertexUnderLaser when there is one, else the one
+// whose lines (the segments between its vertices, an area's closing one too) come closest in
+// angle to the ray within `cone_deg` (the first in the list on a tie); none when none does.
+std::optional<std::size_t> measurementUnderLaser(std::span<const Measurement> measurements,
+                                                 const LaserRay& ray,
+                                                 double cone_deg = kVertexConeDeg);
 
 class HeadsetMeasureTool {
  public:
@@ -41,8 +84,29 @@ class HeadsetMeasureTool {
   // The tool button: returns the area it closes, or std::nullopt when it selected the next tool.
   std::optional<Measurement> toolButton();
 
+  // Moving a vertex, one grab a hand (`hand` 0 or 1, xr_input.h's XrHandIndex).
+  // The trigger went down on `hand`: grabs the vertex of `measurements` under its laser (a grab
+  // the other hand held of the same vertex passes to this one) and returns it; none when no
+  // vertex is under the laser, and then the press is a pick.
+  std::optional<MeasurementVertex> grab(int hand, std::span<const Measurement> measurements,
+                                        const LaserRay& ray);
+  // The vertex `hand` holds; none when it holds none.
+  std::optional<MeasurementVertex> grabbed(int hand) const;
+  // The laser's pick while `hand`'s trigger is held: the vertex it holds goes to `point`, in
+  // `measurements` itself (the value and labels follow it). Returns the vertex moved, none when
+  // the hand holds none.
+  std::optional<MeasurementVertex> drag(int hand, std::vector<Measurement>& measurements,
+                                        const glm::dvec3& point);
+  // `hand`'s trigger let go: its grab ends, the vertex where the last drag left it. Returns the
+  // vertex it held.
+  std::optional<MeasurementVertex> release(int hand);
+  // Measurement `index` left the document: a grab of it ends, the grabs of later ones follow
+  // their measurement's new index.
+  void erased(std::size_t index);
+
  private:
   double profile_width_;
+  std::array<std::optional<MeasurementVertex>, 2> grabbed_;
   Measurement current_{.kind = MeasurementKind::Distance};
 };
 

@@ -62,10 +62,13 @@ LocomotionEvents Locomotion::update(const XrInput& input) {
     grip[h] = hand.grip.position;
     hold[h] = hand.tracked && hand.squeeze >= (holding_[h] ? kLetGoAt : kGrabAt);
     if (!hand.tracked) {
+      events.let_go[h] = trigger_down_[h];
       trigger_down_[h] = primary_down_[h] = secondary_down_[h] = secondary_long_[h] = false;
       continue;
     }
+    const bool trigger_was_down = trigger_down_[h];
     events.pick[h] = pressed(trigger_down_[h], hand.trigger, kPressAt, kReleaseAt);
+    events.let_go[h] = trigger_was_down && !trigger_down_[h];
     events.teleport[h] =
         pressed(primary_down_[h], hand.primary ? 1.0f : 0.0f, kPressAt, kReleaseAt);
     // The tool button: a short press at its release, a long one while still held.

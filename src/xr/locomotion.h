@@ -49,11 +49,13 @@ struct LocomotionSettings {
 constexpr double kLongPressSeconds = 0.5;
 
 // What a frame's input asks of the application beyond the placement, per hand: a pick (the
-// trigger went down), a teleport (the primary button went down), the tool button (the secondary
+// trigger went down; or a grab of the vertex under the laser, headset_measure_tool.h), the
+// trigger let go (ending a grab; also when the hand is no longer tracked), a teleport (the primary button went down), the tool button (the secondary
 // button let go before kLongPressSeconds: a short press) or a delete (the secondary button held
 // for kLongPressSeconds; once, and its release is then nothing).
 struct LocomotionEvents {
   std::array<bool, 2> pick{false, false};
+  std::array<bool, 2> let_go{false, false};
   std::array<bool, 2> teleport{false, false};
   std::array<bool, 2> tool{false, false};
   std::array<bool, 2> remove{false, false};
