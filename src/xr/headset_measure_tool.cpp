@@ -84,8 +84,10 @@ std::optional<MeasurementVertex> vertexUnderLaser(std::span<const Measurement> m
       if (!(sight.depth > 0)) continue;
       const double tangent = glm::length(sight.across);
       if (tangent > most) continue;
-      if (!best || tangent < best_tangent ||
-          (tangent == best_tangent && sight.depth < best_depth)) {
+      // The same angle within a rounding's worth (1e-9 of the tangent, 6e-8 degrees), as two
+      // measurements that share a vertex are: the nearer, then the first.
+      const bool same = std::abs(tangent - best_tangent) <= 1e-9;
+      if (!best || (!same && tangent < best_tangent) || (same && sight.depth < best_depth)) {
         best = MeasurementVertex{m, v};
         best_tangent = tangent;
         best_depth = sight.depth;

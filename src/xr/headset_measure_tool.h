@@ -56,8 +56,9 @@ struct MeasurementVertex {
 };
 
 // The vertex of `measurements` under the laser: of those in front of its origin within
-// `cone_deg` of the ray, the one at the least angle (the nearer to the origin on a tie, then the
-// first in the list); none when no vertex is.
+// `cone_deg` of the ray, the one at the least angle (on a tie within 1e-9 of the angle's tangent,
+// a rounding's worth, the nearer to the origin, then the first in the list); none when no vertex
+// is.
 std::optional<MeasurementVertex> vertexUnderLaser(std::span<const Measurement> measurements,
                                                   const LaserRay& ray,
                                                   double cone_deg = kVertexConeDeg);

@@ -578,6 +578,9 @@ TEST_F(XrViewTest, TheToolButtonChoosesHeightAndAreaWhosePicksAreMeasured) {
   const TestPoint& a = points_[7];
   const TestPoint& b = points_[52];
   const TestPoint& c = points_[26];
+  // The area's other points: not a and b, the height's vertices (a press on one grabs it).
+  const TestPoint& d = points_[8];
+  const TestPoint& e = points_[53];
   const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
     return frameAimingAt(frame, "right", p, inputs);
   };
@@ -590,7 +593,7 @@ TEST_F(XrViewTest, TheToolButtonChoosesHeightAndAreaWhosePicksAreMeasured) {
         at(2, a, button),                // ...dropped: the height tool
         at(3, a, none), at(4, a, pull), at(5, b, none), at(6, b, pull),  // a height
         at(7, b, button),                                                // the area tool
-        at(8, a, none), at(9, a, pull), at(10, b, none), at(11, b, pull), at(12, c, none),
+        at(8, d, none), at(9, d, pull), at(10, e, none), at(11, e, pull), at(12, c, none),
         at(13, c, pull), at(14, c, button),  // an area, closed by the button
         at(15, c, none)}}};
   const auto result = run(eyes, 320, 240, 16, "", controllers);
@@ -610,7 +613,7 @@ TEST_F(XrViewTest, TheToolButtonChoosesHeightAndAreaWhosePicksAreMeasured) {
     picks.push_back(q);
   }
   ASSERT_EQ(picks.size(), 6u) << err;
-  const TestPoint* aimed[6] = {&a, &a, &b, &a, &b, &c};
+  const TestPoint* aimed[6] = {&a, &a, &b, &d, &e, &c};
   for (int i = 0; i < 6; ++i) EXPECT_LT(glm::length(picks[i] - aimed[i]->file), 1e-3) << i;
 
   // The height: z1 - z0, the horizontal and the 3D distance of the picks (six decimals printed).
@@ -735,6 +738,10 @@ TEST_F(XrViewTest, AngleProfileAndPointToolsMeasureThePicksAndAreSaved) {
   const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
     return frameAimingAt(frame, "right", p, inputs);
   };
+  // The profile's and the point's: not the angle's vertices (a press on one grabs it).
+  const TestPoint& d = points_[8];
+  const TestPoint& e = points_[53];
+  const TestPoint& f = points_[27];
   const nlohmann::json none = nlohmann::json::object();
   const nlohmann::json pull{{"trigger/value", 1.0}}, button{{"b/click", true}};
   // A short press acts at its release: height at frame 2, area at 4, angle at 6.
@@ -743,10 +750,10 @@ TEST_F(XrViewTest, AngleProfileAndPointToolsMeasureThePicksAndAreSaved) {
       {"frames", {at(0, a, none),    at(1, a, button), at(2, a, none),  at(3, a, button),
                   at(4, a, none),    at(5, a, button), at(6, a, none),  at(7, a, pull),
                   at(8, b, none),    at(9, b, pull),   at(10, c, none), at(11, c, pull),  // angle
-                  at(12, c, button), at(13, a, none),                    // the profile tool
-                  at(14, a, pull),   at(15, b, none),  at(16, b, pull),  // a profile a -> b
-                  at(17, c, button), at(18, c, none),                    // the point tool
-                  at(19, c, pull),   at(20, c, none)}}};
+                  at(12, c, button), at(13, d, none),                    // the profile tool
+                  at(14, d, pull),   at(15, e, none),  at(16, e, pull),  // a profile d -> e
+                  at(17, c, button), at(18, f, none),                    // the point tool
+                  at(19, f, pull),   at(20, f, none)}}};
   const std::filesystem::path file = dir_ / "headset-measurements.json";
   ASSERT_FALSE(std::filesystem::exists(file));
   const auto result =
@@ -764,7 +771,7 @@ TEST_F(XrViewTest, AngleProfileAndPointToolsMeasureThePicksAndAreSaved) {
 
   const std::vector<glm::dvec3> picks = laserPicks(err);
   ASSERT_EQ(picks.size(), 6u) << err;
-  const TestPoint* aimed[6] = {&a, &b, &c, &a, &b, &c};
+  const TestPoint* aimed[6] = {&a, &b, &c, &d, &e, &f};
   for (int i = 0; i < 6; ++i) EXPECT_LT(glm::length(picks[i] - aimed[i]->file), 1e-3) << i;
 
   // The angle at the second pick: atan2(|u x v|, u . v) in degrees, six decimals printed.
@@ -859,13 +866,15 @@ TEST_F(XrViewTest, AngleProfileAndPointToolsMeasureThePicksAndAreSaved) {
 }
 
 // --measurements FILE that exists: its measurements and annotations are kept, the headset's are
-// added, and the tool button held half a second (45 frames at the runtime's 90 Hz) deletes the
-// last one, which the file then lacks.
+// added, and the tool button held half a second (45 frames at the runtime's 90 Hz) with the laser
+// on no measurement deletes the last one, which the file then lacks.
 TEST_F(XrViewTest, TheToolButtonHeldDeletesTheLastMeasurementAndTheFileKeepsTheRest) {
   const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
   const TestPoint& a = points_[7];
   const TestPoint& b = points_[52];
   const TestPoint& c = points_[26];
+  const TestPoint& d = points_[8];     // not b: a press on the first distance's vertex grabs it
+  const TestPoint& away = points_[0];  // the laser on no measurement: tens of degrees off them
   const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
     return frameAimingAt(frame, "left", p, inputs);
   };
@@ -875,9 +884,9 @@ TEST_F(XrViewTest, TheToolButtonHeldDeletesTheLastMeasurementAndTheFileKeepsTheR
       {"profile", "/interaction_profiles/oculus/touch_controller"},
       {"frames",
        {at(0, a, none), at(1, a, pull), at(2, b, none), at(3, b, pull),  // a distance a -> b
-        at(4, b, none), at(5, b, pull), at(6, c, none), at(7, c, pull),  // and b -> c
-        at(8, c, hold),  // held from frame 8: 45 periods later, frame 53, deletes b -> c
-        at(54, c, none)}}};
+        at(4, d, none), at(5, d, pull), at(6, c, none), at(7, c, pull),  // and d -> c
+        at(8, away, hold),  // held from frame 8: 45 periods later, frame 53, deletes d -> c
+        at(54, away, none)}}};
   const std::filesystem::path file = dir_ / "kept.json";
   std::ofstream(file) << R"({"format": "parallax-measurements", "version": 1,
     "measurements": [{"kind": "height", "name": "mast", "points": [[1, 2, 3], [1, 2, 7.5]]}],
@@ -905,6 +914,121 @@ TEST_F(XrViewTest, TheToolButtonHeldDeletesTheLastMeasurementAndTheFileKeepsTheR
   EXPECT_EQ(doc.at("measurements").at(0).at("name"), "mast");
   ASSERT_EQ(doc.at("annotations").size(), 1u);
   EXPECT_EQ(doc.at("annotations").at(0).at("label"), "gate");
+}
+
+// The trigger pressed with the laser on a distance's second vertex grabs it (no pick); held, the
+// vertex follows the laser's pick to another point of the grid, the segment's label drawn at the
+// new midpoint while it is held; let go, the distance is printed and saved with that vertex: its
+// length the test's own arithmetic on the points.
+TEST_F(XrViewTest, TheTriggerOnAVertexGrabsItAndItFollowsTheLaserUntilLetGo) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const TestPoint& a = points_[7];
+  const TestPoint& b = points_[52];
+  const TestPoint& c = points_[26];
+  const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
+    return frameAimingAt(frame, "right", p, inputs);
+  };
+  const nlohmann::json none = nlohmann::json::object();
+  const nlohmann::json pull{{"trigger/value", 1.0}};
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames",
+       {at(0, a, none), at(1, a, pull), at(2, b, none), at(3, b, pull),  // a distance a -> b
+        at(4, b, none), at(5, b, pull),                                  // b grabbed
+        at(6, c, pull),                                                  // dragged to c
+        at(7, c, none)}}};                                               // and let go there
+  const std::filesystem::path file = dir_ / "moved.json";
+  const auto result =
+      run(eyes, 320, 240, 8, "--measurements " + quoted(file.string()), controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::string& err = result.err;
+  const std::vector<glm::dvec3> picks = laserPicks(err);
+  ASSERT_EQ(picks.size(), 2u) << "the grab and the drag are no picks: " << err;
+  EXPECT_LT(glm::length(picks[0] - a.file), 1e-3) << err;
+  EXPECT_LT(glm::length(picks[1] - b.file), 1e-3) << err;
+  EXPECT_NE(err.find("--xr: grabbed vertex 2 of measurement 1\n"), std::string::npos) << err;
+  const auto moved_at = err.find("--xr: moved vertex 2 of measurement 1 to ");
+  ASSERT_NE(moved_at, std::string::npos) << err;
+  EXPECT_EQ(err.find("--xr: moved ", moved_at + 1), std::string::npos) << "one release: " << err;
+  glm::dvec3 moved;
+  double length = 0;
+  ASSERT_EQ(std::sscanf(err.c_str() + moved_at,
+                        "--xr: moved vertex 2 of measurement 1 to %lf,%lf,%lf: distance %lf m",
+                        &moved.x, &moved.y, &moved.z, &length),
+            4)
+      << err;
+  EXPECT_LT(glm::length(moved - c.file), 1e-3) << "the laser's pick of c";
+  EXPECT_NEAR(length, glm::length(moved - picks[0]), 1e-6);
+  EXPECT_NEAR(length, glm::length(c.file - a.file), 2e-3);
+  EXPECT_GT(std::abs(length - glm::length(picks[1] - picks[0])), 1.0) << "it did move";
+
+  // While held (frame 6) the segment's label is at the midpoint of a and the laser's point, not
+  // where it was (frame 4, the midpoint of a and b).
+  const auto labelAt = [&](int frame, int v, const glm::dvec3& anchor_file) {
+    const RgbaImage image = readPng(
+        dir_ / "out" / ("frame_" + std::to_string(frame) + "_view_" + std::to_string(v) + ".png"));
+    glm::dvec2 anchor;
+    EXPECT_TRUE(project({anchor_file, 0, 0, 0}, eyes[v], 1.0, image.width, image.height, anchor,
+                        [](const glm::dvec3& s) { return s; }));
+    const TextBox text =
+        textPixelsIn(image, anchor.x - 20, anchor.y - 40, anchor.x + 200, anchor.y + 20);
+    return text.count > 10 && text.x0 >= anchor.x && text.x0 <= anchor.x + 12 &&
+           text.y1 <= anchor.y && text.y0 >= anchor.y - 30;
+  };
+  const glm::dvec3 before = 0.5 * (picks[0] + picks[1]), after = 0.5 * (picks[0] + moved);
+  for (int v = 0; v < 2; ++v) {
+    EXPECT_TRUE(labelAt(4, v, before)) << "view " << v;
+    EXPECT_FALSE(labelAt(4, v, after)) << "view " << v;
+    EXPECT_TRUE(labelAt(6, v, after)) << "view " << v;
+    EXPECT_FALSE(labelAt(6, v, before)) << "view " << v;
+  }
+
+  const std::vector<SavedMeasurement> saved = savedMeasurements(file);
+  ASSERT_EQ(saved.size(), 1u);
+  EXPECT_EQ(saved[0].kind, "distance");
+  ASSERT_EQ(saved[0].points.size(), 2u);
+  EXPECT_EQ(saved[0].points[0], picks[0]);
+  EXPECT_LT(glm::length(saved[0].points[1] - moved), 1e-6) << "as printed, six decimals";
+}
+
+// The tool button held with the laser on the first of two distances (the middle of its line, no
+// vertex near) deletes that one; the file keeps the second.
+TEST_F(XrViewTest, TheToolButtonHeldOnAMeasurementDeletesThatOne) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const TestPoint& a = points_[7];
+  const TestPoint& b = points_[52];
+  const TestPoint& c = points_[26];
+  const TestPoint& d = points_[8];
+  const TestPoint middle{0.5 * (a.file + b.file), 0, 0, 0};
+  const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
+    return frameAimingAt(frame, "left", p, inputs);
+  };
+  const nlohmann::json none = nlohmann::json::object();
+  const nlohmann::json pull{{"trigger/value", 1.0}}, hold{{"y/click", true}};
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames",
+       {at(0, a, none), at(1, a, pull), at(2, b, none), at(3, b, pull),  // a distance a -> b
+        at(4, d, none), at(5, d, pull), at(6, c, none), at(7, c, pull),  // and d -> c
+        at(8, middle, hold),  // held from frame 8 on a -> b's line: frame 53 deletes a -> b
+        at(54, middle, none)}}};
+  const std::filesystem::path file = dir_ / "second.json";
+  const auto result = run(eyes, 64, 48, 55, "--measurements " + quoted(file.string()), controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::string& err = result.err;
+  const std::vector<glm::dvec3> picks = laserPicks(err);
+  ASSERT_EQ(picks.size(), 4u) << err;
+  const auto deleted = err.find("--xr: deleted distance ");
+  ASSERT_NE(deleted, std::string::npos) << err;
+  EXPECT_EQ(err.find("--xr: deleted ", deleted + 1), std::string::npos) << "deleted once";
+  double deleted_length = 0;
+  ASSERT_EQ(std::sscanf(err.c_str() + deleted, "--xr: deleted distance %lf m", &deleted_length), 1);
+  EXPECT_NEAR(deleted_length, glm::length(picks[1] - picks[0]), 1e-6);
+  const std::vector<SavedMeasurement> saved = savedMeasurements(file);
+  ASSERT_EQ(saved.size(), 1u);
+  EXPECT_EQ(saved[0].kind, "distance");
+  EXPECT_EQ(saved[0].points, (std::vector<glm::dvec3>{picks[2], picks[3]}));
+  EXPECT_NE(err.find("1 measurements saved to "), std::string::npos) << err;
 }
 
 TEST_F(XrViewTest, TheAButtonTeleportsToTheLaserPointOnTheFloorUnderTheHead) {
