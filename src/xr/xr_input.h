@@ -16,12 +16,13 @@ struct XrHandInput {
   bool tracked = false;        // the grip and aim poses are valid this frame
   StagePose grip;              // where the hand holds the controller (grabbing moves this point)
   StagePose aim;               // the pointing ray: from its position along its -z (the laser)
-  float trigger = 0.0f;        // 0..1: picks points (select on the simple controller)
+  float trigger = 0.0f;        // 0..1: picks points, or grabs the vertex under the laser
+                               // (select on the simple controller)
   float squeeze = 0.0f;        // 0..1: grabs the world (menu on the simple controller)
   glm::dvec2 thumbstick{0.0};  // -1..1, x right, y forward: fly (left), snap turn (right)
   bool primary = false;        // A (X on a left Touch controller): teleport to the laser's point
   bool secondary = false;      // B (Y on a left Touch controller): the next measurement tool;
-                               // held, deletes the last measurement
+                               // held, deletes the measurement under the laser (or the last)
 };
 
 struct XrInput {
