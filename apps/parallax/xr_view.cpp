@@ -142,9 +142,9 @@ int runXrView(const XrViewOptions& o) {
   }
   std::vector<HeadsetProfileSummary> profiles;  // of the profiles made in the headset
   HeadsetMeasureTool tool(o.profile_width);     // what the trigger measures, and its points so far
-  // A finished measurement: printed as the window prints it (six decimals, micrometres in metres:
-  // what tests compare) and added to the document; a profile is extracted at once from every
-  // point of the source, as the window's is for its panel.
+  // The profile that is measurement `index`, extracted at once from every point of the source, as
+  // the window's is for its panel, and summed up in a label (when it is made, and again when a
+  // vertex of it has moved).
   const auto summarizeProfile = [&](std::size_t index) {
     const Measurement& done = measurements.measurements[index];
     try {
@@ -167,6 +167,8 @@ int runXrView(const XrViewOptions& o) {
                    e.what());
     }
   };
+  // A finished measurement: printed as the window prints it (six decimals, micrometres in metres:
+  // what tests compare) and added to the document.
   const auto finish = [&](const Measurement& done) {
     std::fprintf(stderr, "parallax view --xr: %s\n", describeMeasurement(done, 6).c_str());
     measurements.measurements.push_back(done);
@@ -286,8 +288,9 @@ int runXrView(const XrViewOptions& o) {
             }
           } else if (tool.grabbed(h) && !events.let_go[h]) {
             // Held: the vertex follows the laser's pick (no point under it: it stays).
-            if (const auto hit = laserPick(h))
+            if (const auto hit = laserPick(h)) {
               tool.drag(h, measurements.measurements, hit->position);
+            }
           }
           if (events.tool[h]) {
             if (const auto area = tool.toolButton()) {
