@@ -110,7 +110,9 @@ ProfilePlotImage drawProfilePlot(const HeightProfile& profile, double length,
   const int scale = layout.text_scale;
   const int line = int(std::lround(font.lineHeight())) * scale;
 
-  // The axes, left and below, three pixels clear of the data area (a dot reaches one pixel out).
+  // The axes, left and below, three pixels clear of the data area (a dot reaches two pixels out:
+  // 5 x 5 texels, about a quarter of a degree on a headset's panel, where the window's 2 x 2 dots
+  // would be lost).
   for (int y = layout.plot_top - 3; y <= layout.plot_bottom + 2; ++y) {
     canvas.set(layout.plot_left - 3, y, kProfilePlotAxis);
   }
@@ -127,8 +129,8 @@ ProfilePlotImage drawProfilePlot(const HeightProfile& profile, double length,
         std::clamp((sample.position.z - image.low) / (image.high - image.low), 0.0, 1.0);
     const int x = layout.plot_left + int(std::lround(s * columns));
     const int y = layout.plot_bottom - 1 - int(std::lround(z * rows));
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) canvas.set(x + dx, y + dy, kProfilePlotDot);
+    for (int dy = -2; dy <= 2; ++dy) {
+      for (int dx = -2; dx <= 2; ++dx) canvas.set(x + dx, y + dy, kProfilePlotDot);
     }
   }
 

@@ -6,14 +6,14 @@
 // The picture (all in pixels, x right, y down, the top row first):
 //   background  kProfilePlotBackground everywhere else, opaque.
 //   data area   columns [plot_left, plot_right) x rows [plot_top, plot_bottom) of the layout. A
-//               sample at station s (0 .. length) and height z (low .. high) is the 3 x 3 block
+//               sample at station s (0 .. length) and height z (low .. high) is the 5 x 5 block
 //               of kProfilePlotDot centred on
 //                 column plot_left + round(s / length * (plot_right - plot_left - 1)),
 //                 row    plot_bottom - 1 - round((z - low) / (high - low) * (plot_bottom - plot_top - 1)),
 //               so the ends of each range land on the area's first and last pixel.
 //   axes        kProfilePlotAxis: the column plot_left - 3 over rows plot_top - 3 .. plot_bottom + 2
 //               and the row plot_bottom + 2 over columns plot_left - 3 .. plot_right + 2 (both
-//               inclusive; clear of the dots' blocks).
+//               inclusive; clear of the dots' blocks, which reach 2 pixels out of the area).
 //   labels      kProfilePlotText, in the overlay labels' font (render/overlay_font.h) at
 //               `text_scale` times its size: the title at the top-left corner; the height range
 //               ("%.2f m" of high and of low) right-aligned left of the vertical axis, at the top and

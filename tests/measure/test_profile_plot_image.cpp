@@ -59,15 +59,17 @@ TEST(ProfilePlotImage, EachSampleIsADotWhereItsDistanceAndHeightPutIt) {
   int dots = 0;
   for (const ProfileSample& s : fourSamples().samples) {
     const auto [x, y] = expectedDot(s.station, s.position.z);
-    // The 3 x 3 block around the centre, and the background just outside it (left and right:
+    // The 5 x 5 block around the centre, and the background just outside it (left and right:
     // no two samples are near each other).
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) {
+    for (int dy = -2; dy <= 2; ++dy) {
+      for (int dx = -2; dx <= 2; ++dx) {
         EXPECT_EQ(pixelOf(image, x + dx, y + dy), dot) << "sample at " << s.station << " m";
       }
     }
-    EXPECT_NE(pixelOf(image, x - 2, y), dot) << "sample at " << s.station << " m";
-    EXPECT_NE(pixelOf(image, x + 2, y), dot) << "sample at " << s.station << " m";
+    EXPECT_NE(pixelOf(image, x - 3, y), dot) << "sample at " << s.station << " m";
+    EXPECT_NE(pixelOf(image, x + 3, y), dot) << "sample at " << s.station << " m";
+    EXPECT_NE(pixelOf(image, x, y - 3), dot) << "sample at " << s.station << " m";
+    EXPECT_NE(pixelOf(image, x, y + 3), dot) << "sample at " << s.station << " m";
     ++dots;
   }
   EXPECT_EQ(dots, 4);
@@ -80,7 +82,7 @@ TEST(ProfilePlotImage, EachSampleIsADotWhereItsDistanceAndHeightPutIt) {
   for (int y = 0; y < image.height; ++y) {
     for (int x = 0; x < image.width; ++x) dot_pixels += pixelOf(image, x, y) == dot;
   }
-  EXPECT_EQ(dot_pixels, 4 * 9);
+  EXPECT_EQ(dot_pixels, 4 * 25);
   EXPECT_EQ(pixelOf(image, (kLeft + kRight) / 2, kTop + 5), background);
 }
 
