@@ -16,6 +16,7 @@
 #include "measure/measurement_document.h"
 #include "measure/measurement_overlay.h"
 #include "render/gl_context.h"
+#include "render/overlay_font.h"
 #include "render/point_picker.h"
 #include "render/renderer.h"
 #include "render_scene.h"
@@ -24,6 +25,7 @@
 #include "xr/frame_budget.h"
 #include "xr/headset_measure_tool.h"
 #include "xr/locomotion.h"
+#include "xr/profile_panel.h"
 #include "xr/stage_mapping.h"
 #include "xr/xr_headset.h"
 
@@ -38,11 +40,13 @@ constexpr double kLaserLength = 5.0;  // stage metres drawn from the hand
 const OverlayColor kLaserColor{1.0f, 0.2f, 0.2f, 0.9f};
 
 // A profile made in the headset: what the window's panel says of it beside its plot (how many
-// points, from what), and the heights it spans, as a label at the section line's start.
+// points, from what), and the heights it spans, as a label at the section line's start; the plot
+// itself on a panel above the line (xr/profile_panel.h).
 struct HeadsetProfileSummary {
   std::size_t measurement = 0;  // its index in the document
   glm::dvec3 anchor{0.0};
   std::string text;
+  OverlayImage panel;
 };
 
 View laserView(const StagePlacement& placement, const StagePose& aim) {
@@ -78,6 +82,7 @@ OverlayScene laserOverlay(const StagePlacement& placement, const XrInput* input,
     // A profile being changed has no summary until its new one is extracted at the release.
     if (options.selected == profile.measurement) continue;
     scene.labels.push_back({profile.anchor, profile.text, {1, 1, 1, 1}});  // as its other labels
+    scene.images.push_back(profile.panel);
   }
   if (!input) return scene;
   for (const XrHandInput& hand : input->hands) {
@@ -141,6 +146,8 @@ int runXrView(const XrViewOptions& o) {
     measurements = loadMeasurementDocument(o.measurements_file);
   }
   std::vector<HeadsetProfileSummary> profiles;  // of the profiles made in the headset
+  std::unique_ptr<OverlayFont> plot_font;       // the panels' labels, made with the first panel
+  glm::dvec3 head{0.0};                         // file coordinates, this frame's (a panel faces it)
   HeadsetMeasureTool tool(o.profile_width);     // what the trigger measures, and its points so far
   // The profile that is measurement `index`, extracted at once from every point of the source, as
   // the window's is for its panel, and summed up in a label (when it is made, and again when a
@@ -161,7 +168,11 @@ int runXrView(const XrViewOptions& o) {
         std::snprintf(heights, sizeof(heights), ", heights %.2f to %.2f m", range.low, range.high);
         text += heights;
       }
-      profiles.push_back({index, done.points.front(), text});
+      if (!plot_font) plot_font = std::make_unique<OverlayFont>();
+      const std::string title = "profile " + std::to_string(index + 1) + ": " +
+                                std::to_string(profile.samples.size()) + " points";
+      profiles.push_back({index, done.points.front(), text,
+                          profilePanel(profile, done.points, head, title, *plot_font)});
     } catch (const std::exception& e) {
       std::fprintf(stderr, "parallax view --xr: no profile of measurement %zu: %s\n", index + 1,
                    e.what());
@@ -203,6 +214,7 @@ int runXrView(const XrViewOptions& o) {
         lod.budget = frame_budget.budget();
         const LocomotionEvents events =
             frame.input ? locomotion.update(*frame.input) : LocomotionEvents{};
+        if (frame.input) head = stageToFile(locomotion.placement(), frame.input->head);
         StereoFrame views;
         std::vector<EyeView> eyes;
         int rows = 0;

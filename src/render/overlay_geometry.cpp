@@ -124,7 +124,56 @@ std::vector<unsigned> decodeUtf8(std::string_view text) {
   return codepoints;
 }
 
+// A corner of an image's quad in eye space with its picture coordinates, for clipping.
+struct ImageCorner {
+  glm::dvec3 eye;
+  glm::dvec2 uv;
+};
+
 }  // namespace
+
+std::vector<OverlayVertex> overlayImageTriangles(const OverlayImage& image, const View& view,
+                                                 const ClipRange& range) {
+  const ViewTransform t(view, range);
+  // bottom-left, bottom-right, top-right, top-left; v = 0 is the picture's top row.
+  const glm::dvec2 uv[4] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  std::vector<ImageCorner> polygon;
+  for (int i = 0; i < 4; ++i) polygon.push_back({t.eye(image.corners[std::size_t(i)]), uv[i]});
+  // Sutherland-Hodgman against the near plane alone (the scissor and the viewport cut the rest),
+  // just inside it as pushSegment clips, so that every kept corner passes inFront.
+  const double limit = t.perspective ? std::max(t.near_plane, 1e-9) * (1.0 + 1e-9)
+                                     : t.near_plane + 1e-9 * std::abs(t.near_plane) + 1e-12;
+  std::vector<ImageCorner> clipped;
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const ImageCorner& a = polygon[i];
+    const ImageCorner& b = polygon[(i + 1) % polygon.size()];
+    const bool a_in = t.inFront(a.eye), b_in = t.inFront(b.eye);
+    if (a_in) clipped.push_back(a);
+    if (a_in != b_in) {
+      const double s = (limit - t.depth(a.eye)) / (t.depth(b.eye) - t.depth(a.eye));
+      clipped.push_back({a.eye + s * (b.eye - a.eye), a.uv + s * (b.uv - a.uv)});
+    }
+  }
+  std::vector<OverlayVertex> out;
+  if (clipped.size() < 3) return out;
+  std::vector<OverlayVertex> corners;
+  for (const ImageCorner& c : clipped) {
+    const ProjectedPoint p = t.project(c.eye);
+    OverlayVertex v;
+    v.x = float(p.x);
+    v.y = float(p.y);
+    v.inverse_depth = t.depthVarying(p.eye_depth);
+    const double per_depth = t.perspective ? 1.0 / p.eye_depth : 1.0;
+    v.u = float(c.uv.x * per_depth);
+    v.v = float(c.uv.y * per_depth);
+    corners.push_back(v);
+  }
+  // A convex polygon (a quad cut by one plane): a fan from its first corner.
+  for (std::size_t i = 1; i + 1 < corners.size(); ++i) {
+    out.insert(out.end(), {corners[0], corners[i], corners[i + 1]});
+  }
+  return out;
+}
 
 std::optional<ProjectedPoint> projectToView(const View& view, const ClipRange& range,
                                             const glm::dvec3& world) {

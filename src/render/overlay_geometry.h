@@ -58,4 +58,14 @@ class OverlayGlyphs {
 std::vector<OverlayVertex> overlayTriangles(const OverlayScene& scene, const View& view,
                                             const ClipRange& range, const OverlayGlyphs* glyphs);
 
+// The triangles of one image's quad in `view` (three vertices each; none when it is wholly
+// behind the near plane), clipped to the near plane in eye space. Tested per fragment (test_x
+// -1), coloured white. (u, v) are the picture's coordinates (0, 0 at its top-left corner, 1, 1 at
+// its bottom-right, as a texture of its rows uploaded top row first samples them) divided by the
+// eye depth in perspective, so that the pass's noperspective interpolation of (u, v) and of
+// inverse_depth gives the perspective-correct coordinates (u, v) / inverse_depth; in
+// orthographic (depth affine in screen space) they are (u, v) themselves.
+std::vector<OverlayVertex> overlayImageTriangles(const OverlayImage& image, const View& view,
+                                                 const ClipRange& range);
+
 }  // namespace parallax

@@ -1,6 +1,9 @@
 #include "render/overlay_pass.h"
 
+#include <algorithm>
+#include <cassert>
 #include <cstddef>
+#include <vector>
 
 #include "render/overlay_geometry.h"
 
@@ -39,6 +42,8 @@ noperspective in vec2 v_uv;
 noperspective in vec4 v_color;
 uniform sampler2D scene_depth;
 uniform sampler2D font;
+uniform sampler2D picture;
+uniform int image;  // 1: an OverlayImage's triangles, (u, v) over the eye depth in perspective
 uniform vec4 proj;
 uniform int perspective;
 uniform float tolerance;
@@ -56,9 +61,16 @@ void main() {
     hidden = scene < depth - tolerance * abs(depth) - absolute_tolerance;
   }
   float alpha = v_color.a * (hidden ? hidden_alpha : 1.0);
-  if (v_uv.x >= 0.0) alpha *= texture(font, v_uv).r;
+  vec3 rgb = v_color.rgb;
+  if (image != 0) {
+    vec4 texel = texture(picture, perspective != 0 ? v_uv / v_depth : v_uv);
+    rgb *= texel.rgb;
+    alpha *= texel.a;
+  } else if (v_uv.x >= 0.0) {
+    alpha *= texture(font, v_uv).r;
+  }
   if (alpha <= 0.0) discard;
-  fragment = vec4(v_color.rgb, alpha);
+  fragment = vec4(rgb, alpha);
 }
 )";
 
@@ -93,9 +105,39 @@ OverlayPass::OverlayPass()
 }
 
 OverlayPass::~OverlayPass() {
+  for (const PictureTexture& picture : pictures_) glDeleteTextures(1, &picture.texture);
   glDeleteTextures(1, &font_texture_);
   glDeleteBuffers(1, &buffer_);
   glDeleteVertexArrays(1, &vao_);
+}
+
+GLuint OverlayPass::pictureTexture(const OverlayImage& image) {
+  for (PictureTexture& picture : pictures_) {
+    if (picture.pixels == image.rgba) {
+      picture.used = true;
+      return picture.texture;
+    }
+  }
+  assert(image.width > 0 && image.height > 0 && image.rgba &&
+         image.rgba->size() == std::size_t(image.width) * std::size_t(image.height) * 4 &&
+         "OverlayImage: rgba must hold width * height RGBA8 pixels");
+  PictureTexture picture{image.rgba, 0, true};
+  glCreateTextures(GL_TEXTURE_2D, 1, &picture.texture);
+  // Mipmapped: a panel seen from afar covers fewer pixels than its picture has.
+  int levels = 1;
+  for (int size = std::max(image.width, image.height); size > 1; size /= 2) ++levels;
+  glTextureStorage2D(picture.texture, levels, GL_RGBA8, image.width, image.height);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(picture.texture, 0, 0, 0, image.width, image.height, GL_RGBA,
+                      GL_UNSIGNED_BYTE, image.rgba->data());
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glGenerateTextureMipmap(picture.texture);
+  glTextureParameteri(picture.texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTextureParameteri(picture.texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(picture.texture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(picture.texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  pictures_.push_back(picture);
+  return picture.texture;
 }
 
 void OverlayPass::draw(const OverlayScene& scene, std::span<const View> views,
@@ -108,6 +150,16 @@ void OverlayPass::draw(const OverlayScene& scene, std::span<const View> views,
   glBindTextureUnit(1, font_texture_);
   glUniform1i(program_.uniform("scene_depth"), 0);
   glUniform1i(program_.uniform("font"), 1);
+  glUniform1i(program_.uniform("picture"), 2);
+  // The pictures' textures: uploaded while their pixels are in the scenes drawn, dropped after
+  // the first draw without them.
+  for (PictureTexture& picture : pictures_) picture.used = false;
+  std::vector<GLuint> picture_textures;
+  for (const OverlayImage& image : scene.images) picture_textures.push_back(pictureTexture(image));
+  for (PictureTexture& picture : pictures_) {
+    if (!picture.used) glDeleteTextures(1, &picture.texture);
+  }
+  std::erase_if(pictures_, [](const PictureTexture& picture) { return !picture.used; });
   glUniform2f(program_.uniform("canvas_size"), float(canvas_width), float(canvas_height));
   glUniform1f(program_.uniform("tolerance"), float(depth.tolerance));
   glUniform1f(program_.uniform("hidden_alpha"), depth.hidden_alpha);
@@ -120,7 +172,7 @@ void OverlayPass::draw(const OverlayScene& scene, std::span<const View> views,
   for (std::size_t v = 0; v < views.size() && v < ranges.size(); ++v) {
     const std::vector<OverlayVertex> vertices =
         overlayTriangles(scene, views[v], ranges[v], &font_);
-    if (vertices.empty()) continue;
+    if (vertices.empty() && scene.images.empty()) continue;
     const Viewport& vp = views[v].viewport;
     // Each eye's overlay stays in its eye's half.
     glScissor(vp.x, vp.y, vp.width, vp.height);
@@ -131,6 +183,19 @@ void OverlayPass::draw(const OverlayScene& scene, std::span<const View> views,
                 views[v].camera.projection == Projection::Perspective ? 1 : 0);
     glUniform1f(program_.uniform("absolute_tolerance"),
                 float(1e-4 * (ranges[v].far_plane - ranges[v].near_plane)));
+    // The pictures first, in the scene's order; the lines, labels and markers over them.
+    glUniform1i(program_.uniform("image"), 1);
+    for (std::size_t i = 0; i < scene.images.size(); ++i) {
+      const std::vector<OverlayVertex> quad =
+          overlayImageTriangles(scene.images[i], views[v], ranges[v]);
+      if (quad.empty()) continue;
+      glBindTextureUnit(2, picture_textures[i]);
+      glNamedBufferData(buffer_, GLsizeiptr(quad.size() * sizeof(OverlayVertex)), quad.data(),
+                        GL_STREAM_DRAW);
+      glDrawArrays(GL_TRIANGLES, 0, GLsizei(quad.size()));
+    }
+    glUniform1i(program_.uniform("image"), 0);
+    if (vertices.empty()) continue;
     glNamedBufferData(buffer_, GLsizeiptr(vertices.size() * sizeof(OverlayVertex)), vertices.data(),
                       GL_STREAM_DRAW);
     glDrawArrays(GL_TRIANGLES, 0, GLsizei(vertices.size()));

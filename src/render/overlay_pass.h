@@ -1,6 +1,6 @@
-// The overlay pass: the triangles of render/overlay_geometry.h (lines, markers, labels) blended
-// over a finished picture, each view in its viewport with its own camera (each eye in stereo),
-// depth-tested against the points of the frame.
+// The overlay pass: the triangles of render/overlay_geometry.h (pictures on quads, lines,
+// markers, labels) blended over a finished picture, each view in its viewport with its own
+// camera (each eye in stereo), depth-tested against the points of the frame.
 //
 // Depth: the pass reads the frame's depth texture (reversed, [0, 1]), turns it into linear eye
 // depth with the view's projection, and compares it with the overlay fragment's eye depth. An
@@ -12,8 +12,10 @@
 
 #include <epoxy/gl.h>
 
+#include <cstdint>
 #include <memory>
 #include <span>
+#include <vector>
 
 #include "render/overlay.h"
 #include "render/overlay_font.h"
@@ -48,7 +50,16 @@ class OverlayPass {
   const OverlayFont& font() const { return font_; }
 
  private:
+  // An OverlayImage's texture, kept while its pixels (the same shared block) are in the scenes.
+  struct PictureTexture {
+    std::shared_ptr<const std::vector<std::uint8_t>> pixels;  // held: its address stays unique
+    GLuint texture = 0;
+    bool used = false;
+  };
+  GLuint pictureTexture(const OverlayImage& image);
+
   OverlayFont font_;
+  std::vector<PictureTexture> pictures_;
   ShaderProgram program_;
   GLuint vao_ = 0, buffer_ = 0, font_texture_ = 0;
 };

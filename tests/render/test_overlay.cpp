@@ -220,6 +220,41 @@ TEST(OverlayGeometry, SegmentThroughTheNearPlaneIsClippedNotMirrored) {
   EXPECT_NEAR(centre->eye_depth, 20.0, 1e-9);
 }
 
+// A picture's quad (OverlayImage) rising from the ground in front of the camera to far behind it:
+// cut where it crosses the near plane, the cut's corners carrying the picture's coordinates there
+// (over their eye depth, for the pass's perspective-correct interpolation).
+TEST(OverlayGeometry, ImageQuadThroughTheNearPlaneIsClippedWithItsPictureCoordinates) {
+  const View view{frontCamera(), {0, 0, kWidth, kHeight}};
+  const ClipRange range{1, 100};
+  OverlayImage image;
+  image.width = image.height = 2;
+  // Bottom at depth 20, top at depth -20: the near plane (depth 1) cuts both sides 19/40 of the
+  // way up, where the picture's v (0 at its top) is 1 - 19/40.
+  image.corners = {utm(0, 0, 0), utm(2, 0, 0), utm(2, 4, 40), utm(0, 4, 40)};
+  const auto triangles = overlayImageTriangles(image, view, range);
+  ASSERT_EQ(triangles.size(), 6u);  // the kept quad: two triangles
+  int bottom = 0, cut = 0;
+  for (const OverlayVertex& v : triangles) {
+    const double depth = 1.0 / v.inverse_depth, u = v.u * depth, t = v.v * depth;
+    EXPECT_EQ(v.test_x, -1.0f);  // tested per fragment
+    if (std::abs(depth - 20.0) < 1e-3) {
+      ++bottom;
+      EXPECT_NEAR(t, 1.0, 1e-5);
+      EXPECT_TRUE(std::abs(u) < 1e-5 || std::abs(u - 1.0) < 1e-5) << u;
+    } else {
+      ++cut;
+      EXPECT_NEAR(depth, 1.0, 1e-5);
+      EXPECT_NEAR(t, 1.0 - 19.0 / 40.0, 1e-5);
+      EXPECT_TRUE(std::abs(u) < 1e-5 || std::abs(u - 1.0) < 1e-5) << u;
+    }
+  }
+  EXPECT_GT(bottom, 0);
+  EXPECT_GT(cut, 0);
+  // Wholly behind the camera: nothing.
+  image.corners = {utm(0, 0, 30), utm(2, 0, 30), utm(2, 4, 40), utm(0, 4, 40)};
+  EXPECT_TRUE(overlayImageTriangles(image, view, range).empty());
+}
+
 // A font of identical boxes: every glyph 6 x 10 pixels, 7 apart, lines 12 high.
 class BoxGlyphs : public OverlayGlyphs {
  public:

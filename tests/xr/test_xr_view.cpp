@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -863,6 +864,224 @@ TEST_F(XrViewTest, AngleProfileAndPointToolsMeasureThePicksAndAreSaved) {
   EXPECT_EQ(saved[2].kind, "point");
   EXPECT_EQ(saved[2].points, std::vector<glm::dvec3>{picks[5]});
   EXPECT_NE(err.find("3 measurements saved to "), std::string::npos) << err;
+}
+
+// The profile's plot on a panel (xr/profile_panel.h), written out here from its rule: above the
+// middle of the section line, its bottom 0.05 D above the line's highest end, 0.5 D wide, as high
+// as the picture's 640 x 400 make it, facing the head's horizontal direction (D: from the head to
+// the line's middle). The picture's layout (measure/profile_plot_image.h): data area columns
+// 150..619, rows 48..335; each point of the corridor a 5 x 5 orange dot at its distance along the
+// line (0 .. the line's horizontal length) and height (lowest .. highest); a dark background
+// (20, 20, 24). Corners: bottom-left, bottom-right, top-right, top-left (file coordinates).
+std::array<glm::dvec3, 4> expectedPanel(const glm::dvec3& start, const glm::dvec3& end,
+                                        const glm::dvec3& head) {
+  const glm::dvec3 middle = 0.5 * (start + end);
+  const double distance = glm::length(head - middle);
+  const glm::dvec2 facing = glm::normalize(glm::dvec2(head) - glm::dvec2(middle));
+  const glm::dvec3 right(-facing.y, facing.x, 0);  // right of someone looking along -facing
+  const double width = 0.5 * distance, height = width * 400.0 / 640.0;
+  const glm::dvec3 bottom(middle.x, middle.y, std::max(start.z, end.z) + 0.05 * distance);
+  const glm::dvec3 up(0, 0, height);
+  return {bottom - 0.5 * width * right, bottom + 0.5 * width * right,
+          bottom + 0.5 * width * right + up, bottom - 0.5 * width * right + up};
+}
+
+// The file position of the picture's pixel centre (column, row; the top row first) on the panel.
+glm::dvec3 onPanel(const std::array<glm::dvec3, 4>& c, double column, double row) {
+  const double u = (column + 0.5) / 640.0, v = (row + 0.5) / 400.0;
+  return c[0] + u * (c[1] - c[0]) + (1.0 - v) * (c[3] - c[0]);
+}
+
+// Eyes 6.4 cm apart at 1.6 m, looking 25 degrees up at where the profile's panel stands (its
+// corners at tangents -0.19..0.31 across, -0.14..0.14 up): at 480 x 256 pixels, the panel's 640
+// columns cover about 365 of theirs.
+constexpr double kPanelPitch = 0.436;
+Eye panelEye(double x) {
+  return {-0.26, 0.36,          0.17,
+          -0.17, {x, 1.6, 0.0}, glm::angleAxis(kPanelPitch, glm::dvec3(1, 0, 0))};
+}
+
+// The profile tool chosen, a profile from points_[7] to points_[52] (picked at frames 9 and 11),
+// frame 12 showing it; then, if `hold`, the tool button held from frame 13 for 45 periods: the
+// profile deleted at frame 58, frame 59 showing what is left.
+nlohmann::json profileScript(const std::vector<TestPoint>& points, bool hold) {
+  const TestPoint& a = points[7];
+  const TestPoint& b = points[52];
+  const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
+    return frameAimingAt(frame, "right", p, inputs);
+  };
+  const nlohmann::json none = nlohmann::json::object();
+  const nlohmann::json pull{{"trigger/value", 1.0}}, button{{"b/click", true}};
+  // Short presses act at their release: height at frame 2, area 4, angle 6, profile 8.
+  nlohmann::json frames{at(0, a, none), at(1, a, button), at(2, a, none),  at(3, a, button),
+                        at(4, a, none), at(5, a, button), at(6, a, none),  at(7, a, button),
+                        at(8, a, none), at(9, a, pull),   at(10, b, none), at(11, b, pull),
+                        at(12, b, none)};
+  if (hold) {
+    frames.push_back(at(13, b, button));
+    frames.push_back(at(59, b, none));
+  }
+  return {{"profile", "/interaction_profiles/oculus/touch_controller"}, {"frames", frames}};
+}
+
+bool panelBackground(const std::uint8_t* p) {
+  return std::abs(p[0] - 20) <= 6 && std::abs(p[1] - 20) <= 6 && std::abs(p[2] - 24) <= 6;
+}
+
+// After the profile tool's two picks, the panel stands where its rule puts it in both eyes (its
+// left edge where the test projects it, so with the eyes' disparity), the corridor's points are
+// orange dots on it where the plot's layout and the test's projection put them, its background
+// between them.
+TEST_F(XrViewTest, AProfilesPlotStandsOnAPanelAboveItsLineInBothEyes) {
+  const Eye eyes[2] = {panelEye(-0.032), panelEye(0.032)};
+  constexpr int kW = 480, kH = 256;
+  const auto result = run(eyes, kW, kH, 13, "--profile-width 1.5", profileScript(points_, false));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::string& err = result.err;
+  const std::vector<glm::dvec3> picks = laserPicks(err);
+  ASSERT_EQ(picks.size(), 2u) << err;
+
+  // The corridor's points as the plot places them: distance along the line, height.
+  const glm::dvec2 p0(picks[0]), along = glm::dvec2(picks[1]) - p0;
+  const double length = glm::length(along);
+  std::vector<glm::dvec2> samples;  // (station, height)
+  for (const TestPoint& p : points_) {
+    glm::dvec3 held = p.file;
+    for (const glm::dvec3& end : picks) {
+      if (glm::length(p.file - end) < 1e-3) held = end;
+    }
+    const glm::dvec2 q = glm::dvec2(held) - p0;
+    const double t = glm::dot(q, along) / glm::dot(along, along);
+    const double off = std::abs(q.x * along.y - q.y * along.x) / length;
+    if (t >= 0 && t <= 1 && off <= 0.75) samples.push_back({t * length, held.z});
+  }
+  ASSERT_GE(samples.size(), 10u);
+  double low = samples[0].y, high = samples[0].y;
+  for (const glm::dvec2& s : samples) low = std::min(low, s.y), high = std::max(high, s.y);
+
+  const glm::dvec3 head = kOrigin + glm::dvec3(0, 0, 1.6);  // the eyes' middle, in the file
+  const std::array<glm::dvec3, 4> corners = expectedPanel(picks[0], picks[1], head);
+  const auto eyePixel = [&](int v, const glm::dvec3& file) {
+    glm::dvec2 px(-1e9);
+    EXPECT_TRUE(
+        project({file, 0, 0, 0}, eyes[v], 1.0, kW, kH, px, [](const glm::dvec3& s) { return s; }));
+    return px;
+  };
+  const auto pixelOf = [&](const RgbaImage& image, const glm::dvec2& px) {
+    const int x = int(std::floor(px.x)), y = int(std::floor(px.y));
+    EXPECT_TRUE(x >= 0 && y >= 0 && x < image.width && y < image.height) << px.x << "," << px.y;
+    const std::uint8_t* p =
+        &image.pixels[(std::size_t(std::clamp(y, 0, image.height - 1)) * image.width +
+                       std::size_t(std::clamp(x, 0, image.width - 1))) *
+                      4];
+    return glm::ivec3(p[0], p[1], p[2]);
+  };
+  // A grid point drawn in front of the panel could cover a pixel checked: none is near one.
+  const auto nearAPoint = [&](int v, const glm::dvec2& px) {
+    for (const TestPoint& p : points_) {
+      glm::dvec2 q;
+      if (project(p, eyes[v], 1.0, kW, kH, q, [](const glm::dvec3& s) { return s; }) &&
+          glm::length(q - px) < 2.5) {
+        return true;
+      }
+    }
+    return false;
+  };
+  const auto orange = [](const glm::ivec3& c) {
+    return c.r > 110 && c.r > c.g + 25 && c.g > c.b + 15;
+  };
+  const auto background = [](const glm::ivec3& c) {
+    const std::uint8_t p[3] = {std::uint8_t(c.r), std::uint8_t(c.g), std::uint8_t(c.b)};
+    return panelBackground(p);
+  };
+
+  double left_edge[2] = {0, 0};
+  for (int v = 0; v < 2; ++v) {
+    const RgbaImage image = readPng(dir_ / "out" / ("frame_12_view_" + std::to_string(v) + ".png"));
+    ASSERT_EQ(image.width, kW);
+    // The corners are in the picture: the whole panel is seen.
+    for (const glm::dvec3& c : corners) {
+      const glm::dvec2 px = eyePixel(v, c);
+      EXPECT_TRUE(px.x > 2 && px.y > 2 && px.x < kW - 2 && px.y < kH - 2) << "view " << v;
+    }
+    // Each point of the corridor: an orange dot at its place in the plot.
+    int dots = 0;
+    for (const glm::dvec2& s : samples) {
+      const double column = 150 + std::round(s.x / length * 469.0);
+      const double row = 335 - std::round((s.y - low) / (high - low) * 287.0);
+      const glm::dvec2 px = eyePixel(v, onPanel(corners, column, row));
+      if (nearAPoint(v, px)) continue;
+      const glm::ivec3 c = pixelOf(image, px);
+      EXPECT_TRUE(orange(c)) << "view " << v << ": the point at " << s.x << " m, height " << s.y
+                             << " expected at " << px.x << "," << px.y << ", found " << c.r << ","
+                             << c.g << "," << c.b;
+      ++dots;
+    }
+    EXPECT_GE(dots, 6) << "view " << v;
+    // The background in the data area, away from the dots; black just outside the panel's
+    // corners.
+    int backgrounds = 0;
+    for (double column = 170; column < 610; column += 40) {
+      for (double row = 70; row < 330; row += 40) {
+        bool clear = true;
+        for (const glm::dvec2& s : samples) {
+          const double dc = 150 + s.x / length * 469.0 - column;
+          const double dr = 335 - (s.y - low) / (high - low) * 287.0 - row;
+          clear &= std::hypot(dc, dr) > 12;
+        }
+        const glm::dvec2 px = eyePixel(v, onPanel(corners, column, row));
+        if (!clear || nearAPoint(v, px)) continue;
+        const glm::ivec3 c = pixelOf(image, px);
+        EXPECT_TRUE(background(c)) << "view " << v << " at " << px.x << "," << px.y << ": " << c.r
+                                   << "," << c.g << "," << c.b;
+        ++backgrounds;
+      }
+    }
+    EXPECT_GE(backgrounds, 20) << "view " << v;
+    for (const auto& [column, row] : {std::pair{-12.0, 420.0}, {652.0, 420.0}, {-12.0, -20.0}}) {
+      const glm::dvec2 px = eyePixel(v, onPanel(corners, column, row));
+      if (nearAPoint(v, px)) continue;
+      EXPECT_FALSE(background(pixelOf(image, px))) << "view " << v << " outside the panel";
+    }
+    // The panel's left edge on the row through its middle (the picture's left margin is
+    // background there): the first background pixel from the left, where the edge projects.
+    const glm::dvec2 mid = eyePixel(v, onPanel(corners, -0.5, 199.5));
+    const int y = int(std::floor(mid.y));
+    int first = -1;
+    for (int x = 0; x < kW && first < 0; ++x) {
+      if (background(pixelOf(image, {x + 0.5, y + 0.5}))) first = x;
+    }
+    EXPECT_NEAR(first + 0.5, mid.x, 1.0) << "view " << v;
+    left_edge[v] = first;
+  }
+  // The disparity: the panel, nearer than infinity, sits further left in the right eye.
+  const glm::dvec2 edge0 = eyePixel(0, onPanel(corners, -0.5, 199.5));
+  const glm::dvec2 edge1 = eyePixel(1, onPanel(corners, -0.5, 199.5));
+  EXPECT_GT(edge0.x - edge1.x, 3.0);
+  EXPECT_NEAR(left_edge[0] - left_edge[1], edge0.x - edge1.x, 1.5);
+}
+
+// The tool button held deletes the profile (the last measurement), and its panel goes with it:
+// frame 12 shows the panel's background, frame 59 none (small pictures: the panel alone counts).
+TEST_F(XrViewTest, TheToolButtonHeldTakesTheProfilesPanelAway) {
+  const Eye eyes[2] = {panelEye(-0.032), panelEye(0.032)};
+  const auto result = run(eyes, 64, 34, 60, "--profile-width 1.5", profileScript(points_, true));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  ASSERT_NE(result.err.find("--xr: deleted profile "), std::string::npos) << result.err;
+  for (int v = 0; v < 2; ++v) {
+    const auto count = [&](int frame) {
+      const RgbaImage image =
+          readPng(dir_ / "out" /
+                  ("frame_" + std::to_string(frame) + "_view_" + std::to_string(v) + ".png"));
+      int n = 0;
+      for (std::size_t i = 0; i < image.pixels.size(); i += 4)
+        n += panelBackground(&image.pixels[i]);
+      return n;
+    };
+    // The panel covers about 24 x 14 of these pixels, some of them its dots and labels.
+    EXPECT_GT(count(12), 150) << "view " << v;
+    EXPECT_EQ(count(59), 0) << "view " << v;
+  }
 }
 
 // --measurements FILE that exists: its measurements and annotations are kept, the headset's are
