@@ -4,7 +4,9 @@
 // read is an error that names it.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -100,6 +102,31 @@ TEST(HttpConvert, ALasFileFromAUrlConvertsByRangesToTheLocalFilesBytes) {
   for (const test::AccessLine& line : log) {
     EXPECT_TRUE(line.status == 206 || line.status == 304) << line.status << " " << line.range;
   }
+}
+
+// A COPC file's URL is read through its octree (the nodes a filter can meet), the local file as
+// the LAZ file it also is: both LAS outputs keep the source's header fields and records, the
+// WKT CRS among them, byte for byte.
+TEST(HttpConvert, ACopcFileFromAUrlConvertsToTheLocalFilesLasBytes) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "www");
+  std::filesystem::copy_file(test::testDataFile("laz/simple.copc.laz"),
+                             dir / "www" / "simple.copc.laz");
+  ::setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);
+  Nginx nginx(dir / "nginx", {.root = dir / "www"});
+
+  const Converted c = convertBoth(dir, nginx, "simple.copc.laz", "simple.las");
+  ASSERT_EQ(c.remote.exit_code, 0) << c.remote.err;
+  ASSERT_EQ(c.local.exit_code, 0) << c.local.err;
+  const PointFileHeader header = readPointFileHeader(c.remote_out);
+  EXPECT_NE(header.crs.summary().find("NAD83 / Oregon"), std::string::npos) << header.crs.summary();
+  // The header and the VLRs, up to the offset to the point data (bytes 96-99).
+  const std::string remote = fileText(c.remote_out), local = fileText(c.local_out);
+  ASSERT_GT(local.size(), 375u);
+  std::uint32_t points_at = 0;
+  std::memcpy(&points_at, local.data() + 96, 4);
+  ASSERT_LT(points_at, local.size());
+  EXPECT_EQ(remote.substr(0, points_at), local.substr(0, points_at));
 }
 
 TEST(HttpConvert, APlyFromAUrlConvertsToTheLocalFilesPoints) {
