@@ -127,6 +127,8 @@ TEST(HttpConvert, ACopcFileFromAUrlConvertsToTheLocalFilesLasBytes) {
   std::memcpy(&points_at, local.data() + 96, 4);
   ASSERT_LT(points_at, local.size());
   EXPECT_EQ(remote.substr(0, points_at), local.substr(0, points_at));
+  // And the records: the colours as stored (8-bit values in 16-bit fields), not scaled up.
+  EXPECT_EQ(remote, local);
 }
 
 TEST(HttpConvert, APlyFromAUrlConvertsToTheLocalFilesPoints) {
