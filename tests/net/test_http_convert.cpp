@@ -161,6 +161,23 @@ TEST(HttpConvert, APlyFromAUrlConvertsToTheLocalFilesPoints) {
   EXPECT_EQ(got.colors[2].b, 70);
 }
 
+// A PCD file without its header is refused by the PCD reader (its name says PCD, its content
+// matches no signature), from a URL as from the disk, also when a query follows the name.
+TEST(HttpConvert, AQueryDoesNotHideTheFormatTheNameGives) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "www");
+  std::ofstream(dir / "www" / "cloud.pcd") << "1.5 2.5 3.5\n4.5 5.5 6.5\n";
+  ::setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);
+  Nginx nginx(dir / "nginx", {.root = dir / "www"});
+  const std::string url = nginx.url("cloud.pcd") + "?token=a.b&v=1";
+  const test::RunResult remote = test::runParallax(
+      dir, "convert -q " + quoted(url) + " -o " + quoted((dir / "x.xyz").string()));
+  EXPECT_EQ(remote.exit_code, 2) << remote.err;
+  EXPECT_NE(remote.err.find(url + ": line 1, element 'header'"), std::string::npos) << remote.err;
+  EXPECT_NE(remote.err.find("expected a PCD header keyword"), std::string::npos) << remote.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.xyz"));
+}
+
 TEST(HttpConvert, AMissingUrlIsAnErrorNamingIt) {
   test::TempDir dir;
   std::filesystem::create_directories(dir / "www");
