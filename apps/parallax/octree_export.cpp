@@ -33,8 +33,11 @@ int writeOctreePoints(const OctreeExportOptions& o) {
   });
   if (progress) progress->finish();
   const PointCloud& all = read.cloud;
+  // A COPC file is a LAZ file: a LAS or LAZ output keeps its header fields and records (the CRS
+  // above all) as `convert` of the local file, read as LAZ, does. A Potree directory has none.
   const PointWriteOptions options{.ply_ascii = o.ply_ascii,
-                                  .las_minor_version = o.las_minor_version};
+                                  .las_minor_version = o.las_minor_version,
+                                  .source = read.copc ? o.input : std::string()};
   if (!o.quiet) {
     std::fprintf(stderr, "%s: %s, %llu points in %zu nodes\n", o.input.c_str(),
                  read.copc ? "COPC" : "Potree 2.0", static_cast<unsigned long long>(all.count),

@@ -79,6 +79,30 @@ that ``parallax.write`` writes. The arrays' ``base`` is this object, which keeps
           },
           py::arg("name"), "The column `name` as a numpy array (x, y, z: world float64)")
       .def(
+          "__setitem__",
+          [](const py::object& self, const std::string& name, const py::object& value) {
+            const py::array column = arrayOf(self, name, false);  // KeyError: no such column
+            // `pc[name] *= 0.5` changes the view in place, then hands it back here: done.
+            if (py::isinstance<py::array>(value)) {
+              const auto array = value.cast<py::array>();
+              if (array.data() == column.data() && array.ndim() == 1 &&
+                  array.shape(0) == column.shape(0) && array.strides(0) == column.strides(0)) {
+                return;
+              }
+            }
+            if (!column.writeable()) {
+              throw py::value_error(
+                  "column '" + name +
+                  "' is read only: world x, y and z are computed from the int32 positions; "
+                  "write pc.raw(\"" +
+                  name + "\") (world = raw * scale + offset)");
+            }
+            column.attr("__setitem__")(py::ellipsis(), value);  // numpy's broadcasting and casts
+          },
+          py::arg("name"), py::arg("value"),
+          "Writes `value` (an array of len(pc) values, or one value) into the column `name`; "
+          "`pc[name] *= 2` and the like work in place. x, y, z are read only (write raw(\"x\"))")
+      .def(
           "raw",
           [](const py::object& self, const std::string& name) { return arrayOf(self, name, true); },
           py::arg("name"),

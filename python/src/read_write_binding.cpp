@@ -70,6 +70,34 @@ void keepOnlyColumns(PointCloud& cloud, const std::vector<std::string>& wanted) 
   std::erase_if(cloud.scalars, [&](const ScalarColumn& c) { return !keep.count(c.name); });
 }
 
+// Colours written through pc["red"] (and green, blue) change the 8-bit display column; a LAS
+// source's stored 16-bit values would be written back over them (core/point_cloud.h: code that
+// changes `colors` must update `stored_colors`). Before a write, every point whose display colour
+// is no longer that of its stored one gets a stored colour from it, by the reader's 8-bit rule
+// (las_record_decoder.cpp: values all below 256 are kept as they are, others are v * 257).
+void storeChangedColours(PointCloud& cloud) {
+  if (cloud.stored_colors.size() != cloud.count || cloud.colors.size() != cloud.count) return;
+  const Rgb16* stored = cloud.stored_colors.data();
+  const bool eight = std::all_of(stored, stored + cloud.count, [](const Rgb16& c) {
+    return c.r < 256 && c.g < 256 && c.b < 256;
+  });
+  const auto shown = [eight](std::uint16_t v) {
+    return eight ? std::uint8_t(v) : std::uint8_t((unsigned(v) + 128) / 257);
+  };
+  const auto kept = [eight](std::uint8_t v) { return std::uint16_t(eight ? v : v * 257); };
+  // Channel by channel: a 16-bit value whose display form is unchanged keeps every bit.
+  const auto sync = [&](std::uint16_t& value, std::uint8_t display) {
+    if (shown(value) != display) value = kept(display);
+  };
+  for (std::size_t i = 0; i < cloud.count; ++i) {
+    const Rgba8 c = cloud.colors[i];
+    Rgb16& s = cloud.stored_colors[i];
+    sync(s.r, c.r);
+    sync(s.g, c.g);
+    sync(s.b, c.b);
+  }
+}
+
 // A Progress that calls a Python callable with (done, total) from whichever thread advances it,
 // as often as ThrottledProgress reports, with the GIL taken for each call. An exception the
 // callable raises is kept and raised again by finish(), once the work is done (the readers
@@ -257,6 +285,7 @@ void write(const std::filesystem::path& path, const py::object& points, bool asc
   std::vector<std::string> losses;
   {
     py::gil_scoped_release release;
+    if (owner) storeChangedColours(owner->cloud);
     losses = describeWriteLosses(*cloud, path, options);
     writePointFile(*cloud, path, options);
   }

@@ -17,7 +17,6 @@
 #include <vector>
 
 #include "command_words.h"
-#include "lod/octree_url.h"
 #include "network_options.h"
 #include "python_module.h"
 #include "render/gl_context.h"
@@ -79,7 +78,6 @@ cli::RenderSource openSource(const py::object& input, const SceneOptions& o, boo
   const std::string path = py::str(py::module_::import("os").attr("fspath")(input));
   py::gil_scoped_release release;
   cli::configureNetworkFrom(o.lod);
-  checkOctreeUrl(path);
   cli::pointFilterFrom(o.render.filter, cli::FilterTarget::Gpu);  // before the file is read
   // Render reads the attributes the picture needs; pick every one (it reports the point whole).
   source = cli::openRenderSource(

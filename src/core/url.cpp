@@ -1,6 +1,7 @@
 #include "core/url.h"
 
 #include <cctype>
+#include <filesystem>
 
 namespace parallax {
 namespace {
@@ -42,6 +43,13 @@ std::string urlFileName(std::string_view url) {
   const std::size_t path = base.find('/', authority);
   if (path == std::string::npos) return {};
   return base.substr(base.rfind('/') + 1);
+}
+
+std::string fileExtensionOf(std::string_view path_or_url) {
+  const std::string name = isHttpUrl(path_or_url)
+                               ? urlFileName(path_or_url)
+                               : std::filesystem::path(path_or_url).filename().string();
+  return std::filesystem::path(name).extension().string();
 }
 
 std::string urlForMessages(std::string_view url) {

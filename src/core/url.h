@@ -22,6 +22,11 @@ UrlParts splitUrl(std::string_view url);
 // The path's last segment ("metadata.json" of ".../cloud/metadata.json"; empty for ".../").
 std::string urlFileName(std::string_view url);
 
+// The extension of a local path's file name, or of an http(s) URL's last path segment without
+// its query and fragment (".pcd" of ".../scan.pcd?X-Amz-Signature=..."), with its dot, as
+// written; empty when there is none. What names a file's format where its content does not.
+std::string fileExtensionOf(std::string_view path_or_url);
+
 // `url` with "user:password@" removed, for messages and logs (a URL with credentials must not
 // end up in a terminal's scroll-back or a bug report). Anything without "://" comes back as is.
 std::string urlForMessages(std::string_view url);

@@ -9,6 +9,8 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "core/url.h"
+
 namespace parallax {
 
 // The built-in rows, in detection order (point_formats.cpp).
@@ -30,8 +32,9 @@ Table& table() {
   return *instance;
 }
 
+// A URL's query does not hide its extension (".../scan.pcd?token=..." names a PCD file).
 std::string lowerExtension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
+  std::string ext = fileExtensionOf(path.string());
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });
   return ext;

@@ -8,6 +8,7 @@
 
 #include "core/column_names.h"
 #include "core/error.h"
+#include "core/url.h"
 #include "io/las_reader.h"
 
 namespace parallax::text {
@@ -167,7 +168,7 @@ std::vector<std::string> commonLayout(std::size_t n) {
 Layout detectLayout(std::string_view text, const std::string& file,
                     const std::vector<std::string>& columns, bool pts) {
   Layout layout;
-  layout.pts = pts || lower(std::filesystem::path(file).extension().string()) == ".pts";
+  layout.pts = pts || lower(fileExtensionOf(file)) == ".pts";
   const char* p = text.data();
   const char* end = p + text.size();
   if (text.starts_with("\xEF\xBB\xBF")) p += 3;  // UTF-8 byte order mark

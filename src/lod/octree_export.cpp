@@ -75,6 +75,7 @@ void appendColumns(const PointCloud& part, PointCloud& all, std::uint64_t at) {
   };
   copy(all.positions, part.positions);
   copy(all.colors, part.colors);
+  copy(all.stored_colors, part.stored_colors);
   copy(all.normals, part.normals);
   copy(all.intensity, part.intensity);
   copy(all.classification, part.classification);
@@ -93,6 +94,9 @@ PointCloud emptyLike(const PointCloud& first, std::uint64_t count) {
   all.source = first.source;
   all.positions = Column<Int3>(count);
   if (first.hasColors()) all.colors = Column<Rgba8>(count);
+  // The 16-bit values as stored (a COPC or Potree node's): a LAS output writes them back
+  // unchanged, not the 8-bit display colours scaled up (100 would become 25700).
+  if (!first.stored_colors.empty()) all.stored_colors = Column<Rgb16>(count);
   if (first.hasNormals()) all.normals = Column<Float3>(count);
   if (first.hasIntensity()) all.intensity = Column<float>(count);
   if (first.hasClassification()) all.classification = Column<std::uint8_t>(count);

@@ -4,7 +4,8 @@
 //
 // Opening sends one request (the probe, `Range: bytes=0-(head-1)`), which gives the size
 // (Content-Range), the version (ETag, else Last-Modified) and the first `head_bytes` of the file,
-// kept in memory (metadata.json whole, hierarchy.bin's first chunk). With a range cache that
+// kept in memory (metadata.json whole, hierarchy.bin's first chunk). A 200 answer with the whole
+// file (a server without range requests) is kept whole when it is at most `whole_file_bytes`. With a range cache that
 // holds the URL, the probe is conditional (If-None-Match / If-Modified-Since): a 304 keeps the
 // cached ranges, anything else drops them.
 //
@@ -20,8 +21,9 @@
 //
 // Errors are InputErrors naming the URL, the range's offset and the reader's element: HTTP 4xx
 // (never retried), 5xx and transport failures after the last attempt, a 200 answer with the
-// whole file (the server ignores Range: fetching whole files would be the wrong client for
-// octrees of hundreds of GB), a short body, and an answer of another version (ETag or
+// whole file to a later range request, or to the probe for a file over `whole_file_bytes` (the
+// server ignores Range: fetching whole files would be the wrong client for octrees of hundreds
+// of GB), a short body, and an answer of another version (ETag or
 // Last-Modified or size not those of the probe). A change of version fails that read and every
 // later one: the source never returns bytes of two versions of the file.
 #pragma once
@@ -43,6 +45,10 @@ namespace parallax {
 struct HttpSourceOptions {
   // Bytes the probe fetches and the source keeps in memory (0: a 1-byte probe, nothing kept).
   std::uint64_t head_bytes = 0;
+  // A server without range requests (Python's http.server, some CDNs' origins) answers the probe
+  // with 200 and the whole file: a file of at most this many bytes is then kept whole and every
+  // read is served from memory; a larger one fails the probe at its headers, before its body.
+  std::uint64_t whole_file_bytes = 64ull << 20;
   MergeLimits merge;
   int max_transfers = 8;  // requests of this source in flight at once
   // Fetched ranges that no read or hint wants any more are kept up to this many bytes: a hint

@@ -75,7 +75,11 @@ std::string describeFailure(const HttpResponse& r) {
   if (r.transport != TransportError::None) {
     return std::string(transportErrorName(r.transport)) + " (" + r.transport_message + ")";
   }
-  if (r.ignored_range) return "HTTP 200 with the whole file: the server ignores Range requests";
+  if (r.ignored_range) {
+    std::string found = "HTTP 200 with the whole file";
+    if (r.content_length) found += " (" + std::to_string(*r.content_length) + " bytes)";
+    return found + ": the server ignores Range requests";
+  }
   return describeStatus(r.status);
 }
 
@@ -131,7 +135,10 @@ std::shared_ptr<HttpByteSource::State> probe(const HttpOpenSpec& spec, HttpClien
 
   const std::optional<CacheValidator> cached = cache ? cache->validator(spec.url) : std::nullopt;
   const ByteRange head{0, std::max<std::uint64_t>(spec.options.head_bytes, 1)};
-  HttpRequest request{.url = spec.url, .range = head};
+  // A 200 answer (the server ignores Range) is taken whole up to whole_file_bytes.
+  HttpRequest request{.url = spec.url,
+                      .range = head,
+                      .max_body = std::max(head.size, spec.options.whole_file_bytes)};
   if (cached && cached->usable()) {
     if (!cached->etag.empty()) {
       request.if_none_match = cached->etag;
@@ -169,6 +176,7 @@ std::shared_ptr<HttpByteSource::State> probe(const HttpOpenSpec& spec, HttpClien
 
   CacheValidator now{.etag = r.etag, .last_modified = r.last_modified};
   bool fresh_head = false;
+  bool whole = false;
   if (r.status == 304 && cached && cached->usable()) {
     now = *cached;
     state->stats.validated_by_cache = true;
@@ -183,10 +191,11 @@ std::shared_ptr<HttpByteSource::State> probe(const HttpOpenSpec& spec, HttpClien
     now.size = *range->total;
     fresh_head = true;
   } else if (r.status == 200 && !r.ignored_range) {
-    // The whole file, no larger than the head asked for: a small file, whatever the server
-    // does with ranges.
+    // The whole file, at most whole_file_bytes: a server without range requests, or a file no
+    // larger than the head asked for. Kept whole below, so that no read asks for a range.
     now.size = r.body.size();
     fresh_head = true;
+    whole = true;
   } else if (r.status == 416) {
     const std::optional<ContentRange> range = parseContentRange(r.content_range);
     if (!range || !range->total || *range->total != 0) {
@@ -196,12 +205,17 @@ std::shared_ptr<HttpByteSource::State> probe(const HttpOpenSpec& spec, HttpClien
     }
     now.size = 0;  // an empty file
   } else {
-    throw InputError(state->errorAt(head, expected, describeFailure(r), hintForFailure(r)));
+    std::string hint = hintForFailure(r);
+    if (r.ignored_range) {
+      hint += "; from a server without them only files of at most " +
+              std::to_string(spec.options.whole_file_bytes >> 20) + " MiB are read (whole)";
+    }
+    throw InputError(state->errorAt(head, expected, describeFailure(r), hint));
   }
   state->size = now.size;
   state->validator = now;
   state->version = versionOf(now);
-  if (fresh_head && spec.options.head_bytes > 0) state->head = std::move(r.body);
+  if (fresh_head && (spec.options.head_bytes > 0 || whole)) state->head = std::move(r.body);
   if (cache) {
     cache->validate(spec.url, now);  // keeps the ranges of the same version, drops others
     if (!state->head.empty()) cache->store(spec.url, 0, state->head);

@@ -15,6 +15,7 @@
 #include "io/laz_reader.h"
 #include "lod/copc_format.h"
 #include "lod/copc_test_files.h"
+#include "lod/octree_export.h"
 
 namespace parallax {
 namespace {
@@ -96,6 +97,22 @@ TEST(CopcReader, SimpleFileEveryNodeEqualsThePlainLazReader) {
 
 TEST(CopcReader, EllipsoidFileEveryNodeEqualsThePlainLazReader) {
   expectNodesEqualPlainReader(copcData("ellipsoid.copc.laz"), 5, 100000);
+}
+
+// A query of the whole octree (what `convert URL -o FILE.las` and Python's query() read) is the
+// file's points in file order, the colours as stored included: simple.copc.laz keeps 8-bit
+// values in its 16-bit fields, which a LAS output must write back as they are.
+TEST(CopcReader, AWholeQueryKeepsTheStoredColours) {
+  const PointCloud all = readLaz(copcData("simple.copc.laz"));
+  const OctreePoints read = readOctreePoints(copcData("simple.copc.laz").string(), {});
+  ASSERT_EQ(read.cloud.count, all.count);
+  ASSERT_EQ(all.stored_colors.size(), all.count);
+  ASSERT_EQ(read.cloud.stored_colors.size(), all.count);
+  for (std::size_t i = 0; i < all.count; ++i) {
+    ASSERT_EQ(read.cloud.positions[i], all.positions[i]) << "point " << i;
+    ASSERT_EQ(read.cloud.stored_colors[i], all.stored_colors[i]) << "point " << i;
+  }
+  EXPECT_EQ(all.stored_colors[0], (Rgb16{100, 94, 122}));
 }
 
 TEST(CopcReader, KeysBecomePotreeNamesAndCubes) {

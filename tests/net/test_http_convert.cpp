@@ -4,7 +4,9 @@
 // read is an error that names it.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -102,6 +104,33 @@ TEST(HttpConvert, ALasFileFromAUrlConvertsByRangesToTheLocalFilesBytes) {
   }
 }
 
+// A COPC file's URL is read through its octree (the nodes a filter can meet), the local file as
+// the LAZ file it also is: both LAS outputs keep the source's header fields and records, the
+// WKT CRS among them, byte for byte.
+TEST(HttpConvert, ACopcFileFromAUrlConvertsToTheLocalFilesLasBytes) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "www");
+  std::filesystem::copy_file(test::testDataFile("laz/simple.copc.laz"),
+                             dir / "www" / "simple.copc.laz");
+  ::setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);
+  Nginx nginx(dir / "nginx", {.root = dir / "www"});
+
+  const Converted c = convertBoth(dir, nginx, "simple.copc.laz", "simple.las");
+  ASSERT_EQ(c.remote.exit_code, 0) << c.remote.err;
+  ASSERT_EQ(c.local.exit_code, 0) << c.local.err;
+  const PointFileHeader header = readPointFileHeader(c.remote_out);
+  EXPECT_NE(header.crs.summary().find("NAD83 / Oregon"), std::string::npos) << header.crs.summary();
+  // The header and the VLRs, up to the offset to the point data (bytes 96-99).
+  const std::string remote = fileText(c.remote_out), local = fileText(c.local_out);
+  ASSERT_GT(local.size(), 375u);
+  std::uint32_t points_at = 0;
+  std::memcpy(&points_at, local.data() + 96, 4);
+  ASSERT_LT(points_at, local.size());
+  EXPECT_EQ(remote.substr(0, points_at), local.substr(0, points_at));
+  // And the records: the colours as stored (8-bit values in 16-bit fields), not scaled up.
+  EXPECT_EQ(remote, local);
+}
+
 TEST(HttpConvert, APlyFromAUrlConvertsToTheLocalFilesPoints) {
   test::TempDir dir;
   std::filesystem::create_directories(dir / "www");
@@ -130,6 +159,23 @@ TEST(HttpConvert, APlyFromAUrlConvertsToTheLocalFilesPoints) {
   EXPECT_NEAR(got.worldZ(0), -3.0, 1e-4);
   EXPECT_EQ(got.colors[0].r, 255);
   EXPECT_EQ(got.colors[2].b, 70);
+}
+
+// A PCD file without its header is refused by the PCD reader (its name says PCD, its content
+// matches no signature), from a URL as from the disk, also when a query follows the name.
+TEST(HttpConvert, AQueryDoesNotHideTheFormatTheNameGives) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "www");
+  std::ofstream(dir / "www" / "cloud.pcd") << "1.5 2.5 3.5\n4.5 5.5 6.5\n";
+  ::setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);
+  Nginx nginx(dir / "nginx", {.root = dir / "www"});
+  const std::string url = nginx.url("cloud.pcd") + "?token=a.b&v=1";
+  const test::RunResult remote = test::runParallax(
+      dir, "convert -q " + quoted(url) + " -o " + quoted((dir / "x.xyz").string()));
+  EXPECT_EQ(remote.exit_code, 2) << remote.err;
+  EXPECT_NE(remote.err.find(url + ": line 1, element 'header'"), std::string::npos) << remote.err;
+  EXPECT_NE(remote.err.find("expected a PCD header keyword"), std::string::npos) << remote.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.xyz"));
 }
 
 TEST(HttpConvert, AMissingUrlIsAnErrorNamingIt) {

@@ -191,12 +191,15 @@ TEST(HttpSource, PersistentServerErrorsEndAfterTheLastAttempt) {
 TEST(HttpSource, AServerThatIgnoresRangeIsAnError) {
   Served s;
   {
-    // From the first request: the probe says so.
+    // From the first request, for a file over whole_file_bytes: the probe says so.
     auto proxy = s.proxy({"--mode", "ignore-range"});
     auto client = std::make_shared<HttpClient>();
-    const std::string message = errorOf(
-        [&] { HttpByteSource::open(proxy->url("data.bin"), client, nullptr, fastRetries()); });
-    expectContains(message, {"data.bin", "the server ignores Range requests"});
+    HttpSourceOptions options = fastRetries();
+    options.whole_file_bytes = kFileSize - 1;
+    const std::string message =
+        errorOf([&] { HttpByteSource::open(proxy->url("data.bin"), client, nullptr, options); });
+    expectContains(message, {"data.bin", "(1048576 bytes): the server ignores Range requests",
+                             "at most 0 MiB"});
   }
   // From a later request: the read of that range says so, and no byte of the body was taken.
   auto proxy = std::make_unique<FaultProxy>(
@@ -207,6 +210,28 @@ TEST(HttpSource, AServerThatIgnoresRangeIsAnError) {
   const std::string message = errorOf([&] { readRange(*source, 4096, 10, "node r3"); });
   expectContains(message, {"data.bin", "node r3", "ignores Range"});
   EXPECT_EQ(source->stats().bytes_received, 1u) << "only the probe's byte";
+}
+
+// A server without range requests (Python's http.server) answers the probe with the whole file:
+// up to whole_file_bytes it is kept, and every read is served from it, whatever the head asked
+// for (a 1-byte probe included), without asking for a range the server would answer whole again.
+TEST(HttpSource, AServerThatIgnoresRangeServesAFileUpToTheLimitWhole) {
+  Served s;
+  auto proxy = s.proxy({"--mode", "ignore-range"});
+  auto client = std::make_shared<HttpClient>();
+  HttpSourceOptions options = fastRetries();
+  options.whole_file_bytes = kFileSize;
+  const auto source = HttpByteSource::open(proxy->url("data.bin"), client, nullptr, options);
+  EXPECT_EQ(source->size(), kFileSize);
+  const std::vector<ByteRange> hint{{4096, 100}, {kFileSize - 10, 10}};
+  source->prefetch(hint);
+  EXPECT_EQ(readRange(*source, 0, 16), slice(s.bytes, 0, 16));
+  EXPECT_EQ(readRange(*source, 4096, 100), slice(s.bytes, 4096, 100));
+  EXPECT_EQ(readRange(*source, kFileSize - 10, 10), slice(s.bytes, kFileSize - 10, 10));
+  EXPECT_EQ(source->stats().requests, 1u) << "the probe only";
+  EXPECT_EQ(source->stats().bytes_received, kFileSize);
+  EXPECT_EQ(source->stats().head_hits, 3u);
+  EXPECT_EQ(proxy->log().size(), 1u);
 }
 
 TEST(HttpSource, AFileChangedWhileReadFailsEveryLaterRead) {

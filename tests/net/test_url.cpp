@@ -30,6 +30,15 @@ TEST(Url, SplitsTheQueryAndDropsTheFragment) {
   EXPECT_EQ(urlFileName("https://h"), "");
 }
 
+TEST(Url, AFilesExtensionIsThatOfItsNameWithoutTheQuery) {
+  EXPECT_EQ(fileExtensionOf("https://h/c/scan.pcd?X-Amz-Signature=a.b&x=1#top"), ".pcd");
+  EXPECT_EQ(fileExtensionOf("http://h/c/scan.PTS#part.2"), ".PTS");
+  EXPECT_EQ(fileExtensionOf("http://h.example.com/c/"), "");
+  EXPECT_EQ(fileExtensionOf("http://h.example.com?x.las"), "");
+  EXPECT_EQ(fileExtensionOf("/data/v1.2/scan.laz"), ".laz");
+  EXPECT_EQ(fileExtensionOf("/data/v1.2/scan"), "");
+}
+
 TEST(Url, CredentialsNeverReachAMessage) {
   EXPECT_EQ(urlForMessages("https://user:secret@h:8443/c/?q=1"), "https://h:8443/c/?q=1");
   EXPECT_EQ(urlForMessages("http://h/a@b"), "http://h/a@b");

@@ -109,6 +109,28 @@ def test_columns_are_views_of_the_cloud(data_dir):
     assert float(gps[0]) == first
 
 
+def test_item_assignment_writes_the_column(data_dir):
+    # docs/python.md's `ground["intensity"] *= 0.5`: in place, then handed back to __setitem__.
+    pc = parallax.read(str(data_dir / "laz/point-color-time.las"))
+    before = np.array(pc["intensity"])
+    view = pc["intensity"]
+    pc["intensity"] *= 0.5
+    np.testing.assert_array_equal(pc["intensity"], before * np.float32(0.5))
+    assert np.shares_memory(view, pc["intensity"]) and view[3] == before[3] * np.float32(0.5)
+    pc["classification"] = 9
+    assert set(pc["classification"].tolist()) == {9}
+    pc["user_data"] = np.arange(len(pc)) % 7
+    assert pc["user_data"].tolist() == [i % 7 for i in range(len(pc))]
+    with pytest.raises(ValueError, match=r'read only.*raw\("x"\)'):
+        pc["x"] = np.zeros(len(pc))
+    with pytest.raises(KeyError, match="no_such"):
+        pc["no_such"] = 1
+    with pytest.raises(ValueError):
+        pc["intensity"] = np.zeros(3)  # numpy: 3 values cannot broadcast to 1065
+    raw_x = np.array(pc.raw("x"))
+    assert pc.raw("x").tolist() == raw_x.tolist(), "the failed writes changed nothing"
+
+
 def test_raw_positions_scale_and_offset(data_dir):
     pc = parallax.read(str(data_dir / "laz/point-color-time.las"))
     raw = pc.raw("x")

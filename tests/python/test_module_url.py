@@ -104,3 +104,21 @@ def test_read_chunks_of_a_url_equal_the_local_chunks(name, served):
     if name.endswith(".las"):
         assert remote[0].point_format == whole.point_format == 2
         assert remote[0].raw("x").tolist() == local[0].raw("x").tolist()
+
+
+def test_render_and_pick_of_a_point_file_url_equal_the_local_file(served):
+    # As `parallax render URL` and `pick URL` do: a point file within the budget is read from
+    # its URL and drawn whole, the picture and the picked point those of the local file.
+    root, base, _ = served
+    options = dict(width=96, height=64)
+    local = parallax.render(str(root / "scan.las"), **options)
+    remote = parallax.render(f"{base}/scan.las", **options)
+    assert remote.shape == (64, 96, 3)
+    assert local.any()
+    np.testing.assert_array_equal(remote, local)
+    # A pixel a point was drawn on (not the background of the corner).
+    rows, cols = np.nonzero((local != local[0, 0]).any(axis=2))
+    pixel = (int(cols[len(cols) // 2]), int(rows[len(rows) // 2]))
+    picked = parallax.pick(f"{base}/scan.las", pixel, **options)
+    assert picked["found"]
+    assert picked == parallax.pick(str(root / "scan.las"), pixel, **options)

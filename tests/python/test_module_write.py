@@ -58,6 +58,34 @@ def test_a_write_through_a_view_reaches_the_file(generated, tmp_path):
     np.testing.assert_array_equal(back["green"], pc["green"])
 
 
+def test_colours_written_through_a_view_reach_a_las_file(data_dir, tmp_path):
+    # A LAS source keeps its 16-bit colours beside the 8-bit display ones; a colour written
+    # through pc["red"] must reach the file, by the reader's 8-bit rule, and the others stay.
+    pc = parallax.read(str(data_dir / "laz/point-color-time.las"))  # 8-bit values in 16 bits
+    before = np.array(pc.raw("green"))
+    pc["red"][:] = 7
+    pc["green"][0] = 200
+    parallax.write(tmp_path / "eight.las", pc)
+    back = parallax.read(str(tmp_path / "eight.las"))
+    assert (back.raw("red") == 7).all()
+    assert back.raw("green")[0] == 200
+    np.testing.assert_array_equal(back.raw("green")[1:], before[1:])
+    # 16-bit values: a changed point gets value * 257, the others keep every bit.
+    n = 4
+    parallax.write(tmp_path / "sixteen.las", {
+        "x": np.arange(n, dtype=np.float64), "y": np.zeros(n), "z": np.zeros(n),
+        "red": np.array([1000, 40000, 65535, 300], dtype=np.uint16),
+        "green": np.array([5, 6, 7, 8], dtype=np.uint16),
+        "blue": np.array([9, 10, 11, 12], dtype=np.uint16)})
+    pc = parallax.read(str(tmp_path / "sixteen.las"))
+    assert pc.raw("red").tolist() == [1000, 40000, 65535, 300]
+    pc["red"][1] = 10
+    parallax.write(tmp_path / "sixteen-edited.las", pc)
+    back = parallax.read(str(tmp_path / "sixteen-edited.las"))
+    assert back.raw("red").tolist() == [1000, 2570, 65535, 300]
+    assert back.raw("green").tolist() == [5, 6, 7, 8]
+
+
 def test_dict_of_arrays_round_trips(tmp_path):
     rng = np.random.default_rng(3)
     n = 1000
