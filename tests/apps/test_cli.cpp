@@ -35,6 +35,19 @@ constexpr const char* kTinyPly =
     "-4.5 0.25 10 0 128 64 20\n"
     "2 -8 0.5 7 64 0 30\n";
 
+TEST(Cli, VersionListsEveryFormatOfTheTable) {
+  // The formats line is the format table's (`info --formats`), not a list kept by hand.
+  TempDir dir;
+  const RunResult run = runParallax(dir, "--version");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto at = run.out.find("  formats: ");
+  ASSERT_NE(at, std::string::npos) << run.out;
+  const std::string line = run.out.substr(at, run.out.find('\n', at) - at);
+  for (const char* name : {"PLY", "LAS", "LAZ", "E57", "PCD", "PTX", "PTS", "text", "COPC"}) {
+    EXPECT_NE(line.find(name), std::string::npos) << name << " not in: " << line;
+  }
+}
+
 TEST(Cli, InfoJsonHasExactPointsBoundsAndAttributes) {
   TempDir dir;
   const auto file = dir.write("tiny.ply", kTinyPly);
