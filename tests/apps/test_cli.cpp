@@ -48,6 +48,26 @@ TEST(Cli, VersionListsEveryFormatOfTheTable) {
   }
 }
 
+TEST(Cli, ADirectoryOrAnEmptyFileIsSaidToBeOne) {
+  // Not "byte offset 0: ... found an unknown format": what the input is, and what was expected.
+  TempDir dir;
+  std::filesystem::create_directory(dir / "folder");
+  const auto empty = dir.write("empty.xyz", "");
+  RunResult run = runParallax(dir, "info " + quoted((dir / "folder").string()));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("folder: expected a point cloud file, or a Potree 2.0 octree directory"),
+            std::string::npos)
+      << run.err;
+  EXPECT_NE(run.err.find("found a directory without them"), std::string::npos) << run.err;
+  run = runParallax(
+      dir, "convert " + quoted(empty.string()) + " -o " + quoted((dir / "out.las").string()));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("empty.xyz: byte offset 0: expected a point cloud file, found an empty "
+                         "file (0 bytes)"),
+            std::string::npos)
+      << run.err;
+}
+
 TEST(Cli, InfoJsonHasExactPointsBoundsAndAttributes) {
   TempDir dir;
   const auto file = dir.write("tiny.ply", kTinyPly);
