@@ -31,9 +31,10 @@ std::optional<int> decimalsOf(double scale, double offset) {
       char buffer[64];
       auto printed =
           std::to_chars(buffer, buffer + sizeof buffer, offset, std::chars_format::fixed, e);
+      if (printed.ec != std::errc()) return std::nullopt;  // |offset| too large for fixed digits
       double back = 0;
       std::from_chars(buffer, printed.ptr, back);
-      if (printed.ec == std::errc() && back == offset) return e;
+      if (back == offset) return e;
     }
     return std::nullopt;
   }
