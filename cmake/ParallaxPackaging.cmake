@@ -22,8 +22,7 @@ parallax_add_feature("rendering: OpenGL 4.5 core through libepoxy ${epoxy_VERSIO
 parallax_add_feature("viewer: GLFW ${glfw3_VERSION} window, Dear ImGui ${imgui_VERSION} panel")
 parallax_add_feature("stereo: sbs, sbs-squeezed, tb, anaglyph, anaglyph-dubois, interlaced, "
                      "quad-buffer")
-parallax_add_feature("formats: PLY (ascii, binary), LAS 1.0-1.4 (point formats 0-10), text, "
-                     "Potree 2.0 octrees (read and write)")
+# The formats line is added by apps/parallax/command_line.cpp, from the format table.
 parallax_add_feature("parallel: oneTBB ${TBB_VERSION}")
 get_property(parallax_features GLOBAL PROPERTY PARALLAX_FEATURES)
 set(PARALLAX_FEATURE_LINES "")

@@ -8,16 +8,33 @@
 
 #include "commands.h"
 #include "core/error.h"
+#include "io/point_format.h"
 #include "parallax_build_info.h"
 
 namespace parallax::cli {
+namespace {
+
+// --version's formats line, from the format table (io/point_format.h), so that a format added
+// there is listed here too (a line written by hand in CMake had fallen behind: no LAZ, E57, PCD,
+// PTX, PTS or COPC).
+std::string formatsFeatureLine() {
+  std::string line = "  formats:";
+  const char* separator = " ";
+  for (const PointFormatEntry* row : pointFormats()) {
+    line += separator + row->name;
+    separator = ", ";
+  }
+  return line + " (read and write); Potree 2.0 and COPC octrees (read and write)\n";
+}
+
+}  // namespace
 
 int runCommandLine(int argc, char** argv) {
   CLI::App app{"Parallax: a viewer and toolkit for massive 3D point clouds"};
   // `parallax --version`: the version, this build's features, how it was built (for bug reports).
   app.set_version_flag("--version", std::string("parallax ") + build_info::kVersion +
                                         "\nfeatures:\n" + build_info::kFeatures +
-                                        "build: " + build_info::kBuild);
+                                        formatsFeatureLine() + "build: " + build_info::kBuild);
   app.require_subcommand(1);
   const std::vector<Command> commands = {
       addInfoCommand(app),    addGenerateCommand(app),    addBenchCommand(app),

@@ -66,6 +66,10 @@ struct SourceTypes {
   ScalarType color = ScalarType::UInt8;
   ScalarType normal = ScalarType::Float32;
   ScalarType intensity = ScalarType::Float32;
+  // > 0: the format defines its intensity on 0..intensity_full_scale (PTX: 0..1), which writers
+  // of 16-bit integer intensity (LAS, LAZ) map onto 0..65535; 0: the values are on that scale
+  // already (or the format says nothing), and are written rounded.
+  double intensity_full_scale = 0.0;
   ScalarType classification = ScalarType::UInt8;
   bool has_alpha = false;
   // The attributes in the order the source holds them, under attributeNames()'s names (a PLY of

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <optional>
@@ -554,11 +555,19 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options,
   }
   if (cloud.source.has_alpha) plan.losses.push_back("alpha (LAS has no alpha)");
   if (cloud.hasIntensity()) {
-    // Only worth a word when some value is not already a 16-bit integer.
-    bool exact = std::all_of(cloud.intensity.begin(), cloud.intensity.end(), [](float v) {
-      return v >= 0.0f && v <= 65535.0f && v == std::nearbyint(v);
-    });
-    if (!exact) plan.losses.push_back("intensity rounded and clamped to 16-bit integers");
+    const double full_scale = cloud.source.intensity_full_scale;
+    if (full_scale > 0.0) {
+      char range[32];
+      const auto end = std::to_chars(range, range + sizeof range, full_scale).ptr;
+      plan.losses.push_back("intensity 0.." + std::string(range, end) +
+                            " (the source format's scale) mapped onto 0..65535");
+    } else {
+      // Only worth a word when some value is not already a 16-bit integer.
+      bool exact = std::all_of(cloud.intensity.begin(), cloud.intensity.end(), [](float v) {
+        return v >= 0.0f && v <= 65535.0f && v == std::nearbyint(v);
+      });
+      if (!exact) plan.losses.push_back("intensity rounded and clamped to 16-bit integers");
+    }
   }
   return layout;
 }
@@ -588,8 +597,16 @@ void encodeBlock(const PointCloud& cloud, const Layout& layout, std::size_t firs
   }
   if (cloud.hasIntensity()) {
     const float* intensity = cloud.intensity.data() + first;
-    for (std::size_t i = 0; i < n; ++i) {
-      storeLE(out + i * stride + 12, clampRound<std::uint16_t>(intensity[i]));
+    const double full_scale = cloud.source.intensity_full_scale;
+    if (full_scale > 0.0) {
+      const double k = 65535.0 / full_scale;
+      for (std::size_t i = 0; i < n; ++i) {
+        storeLE(out + i * stride + 12, clampRound<std::uint16_t>(double(intensity[i]) * k));
+      }
+    } else {
+      for (std::size_t i = 0; i < n; ++i) {
+        storeLE(out + i * stride + 12, clampRound<std::uint16_t>(intensity[i]));
+      }
     }
   }
   for (const BitTarget& target : layout.bits) {

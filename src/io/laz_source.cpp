@@ -345,11 +345,15 @@ const std::byte* LazChunkDecoder::decode(LazSource& s, std::size_t index) {
          .byte_offset = chunk.offset,
          .element = describeLazChunk(s, index),
          .expected = "a valid compressed chunk of " + std::to_string(chunk.points) + " points in " +
-                     std::to_string(chunk.bytes) + " bytes",
+                     (s.sequential ? "at most the " + std::to_string(window) +
+                                         " bytes from its start on (its size unknown without the "
+                                         "chunk table)"
+                                   : std::to_string(chunk.bytes) + " bytes"),
          .found = std::string(e.what()) + ", noticed at point " + std::to_string(point) +
                   "; first point affected: " + std::to_string(chunk.first_point) +
                   " (the chunk's first)",
-         .hint = s.sequential ? s.table_note : "the file is damaged (truncated or altered)"});
+         .hint = s.sequential ? s.table_note + "; the file is damaged (truncated or altered)"
+                              : "the file is damaged (truncated or altered)"});
   }
   if (!s.compatibility) return raw_.data();
   const std::size_t out_bytes = std::size_t(chunk.points) * s.records.record_length;

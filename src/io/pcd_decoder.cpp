@@ -63,6 +63,31 @@ void dispatch(char type, std::uint32_t size, F&& f) {
   return f(std::uint64_t{});
 }
 
+// The model's LAS column that a PCD field's name (lower case) stands for, or null: ours or
+// PDAL's dimension name, compared without underscores (PDAL's PCD writer names the fields by its
+// dimensions: GpsTime, ReturnNumber, ...), and PDAL's names that differ from ours.
+const char* pcdLasColumnName(std::string_view lower_name) {
+  std::string bare;
+  for (char ch : lower_name) {
+    if (ch != '_') bare += ch;
+  }
+  namespace n = column_names;
+  for (const char* name :
+       {n::kReturnNumber, n::kNumberOfReturns, n::kScanDirectionFlag, n::kEdgeOfFlightLine,
+        n::kClassificationFlags, n::kScannerChannel, n::kScanAngleRank, n::kScanAngle, n::kUserData,
+        n::kPointSourceId, n::kGpsTime, n::kNir}) {
+    std::string model;
+    for (const char* c = name; *c; ++c) {
+      if (*c != '_') model += *c;
+    }
+    if (bare == model) return name;
+  }
+  if (bare == "classflags") return n::kClassificationFlags;
+  if (bare == "scanchannel") return n::kScannerChannel;
+  if (bare == "infrared") return n::kNir;
+  return nullptr;
+}
+
 [[noreturn]] void failField(const std::string& file, const std::string& field,
                             const std::string& expected, const std::string& found) {
   throw InputError(
@@ -77,6 +102,15 @@ Layout mapFields(const PcdHeader& header, const std::string& file) {
   for (const char* n : {"normal_x", "normal_y", "normal_z"}) normal_fields += header.find(n) >= 0;
   const bool normals = normal_fields == 3;
   bool has[3] = {false, false, false};
+  // Colour channels in three fields, where no packed rgb/rgba field gives the colour.
+  int channels = 0;
+  bool packed = false;
+  for (const PcdField& field : header.fields) {
+    const std::string name = lower(field.name);
+    packed |= (name == "rgb" || name == "rgba") && field.count == 1 && field.size == 4;
+    channels += (name == "red" || name == "green" || name == "blue") && field.count == 1;
+  }
+  const bool channel_colors = channels == 3 && !packed;
   for (std::size_t f = 0; f < header.fields.size(); ++f) {
     const PcdField& field = header.fields[f];
     const std::string name = lower(field.name);
@@ -112,15 +146,31 @@ Layout mapFields(const PcdHeader& header, const std::string& file) {
         c.target = name[7] == 'x' ? Target::Nx : name[7] == 'y' ? Target::Ny : Target::Nz;
         layout.normals = true;
         layout.source.normal = scalarTypeOf(field.type, field.size);
+      } else if (channel_colors && (name == "red" || name == "green" || name == "blue")) {
+        c.target = name == "red" ? Target::Red : name == "green" ? Target::Green : Target::Blue;
+        layout.colors = layout.channel_colors = true;
+        layout.wide_colors |= field.size > 1 || field.type == 'F';
       } else if (name == "intensity" && single && !layout.intensity) {
         c.target = Target::Intensity;
         layout.intensity = true;
         layout.source.intensity = scalarTypeOf(field.type, field.size);
+      } else if (name == "classification" && single && !layout.classification) {
+        c.target = Target::Classification;
+        layout.classification = true;
+        layout.source.classification = scalarTypeOf(field.type, field.size);
       } else if (name == "_") {
         c.target = Target::Skip;
       } else {
         c.target = Target::Scalar;
         c.scalar = layout.scalars.size();
+        // A LAS field under its model name, unless a field of the file already holds that name.
+        const char* las_name = single ? pcdLasColumnName(name) : nullptr;
+        if (las_name != nullptr &&
+            std::none_of(layout.scalars.begin(), layout.scalars.end(),
+                         [&](const auto& s) { return s.first == las_name; }) &&
+            header.find(las_name) < 0) {
+          c.name = las_name;
+        }
         layout.scalars.emplace_back(c.name, scalarTypeOf(field.type, field.size));
       }
       // The source's order, under the model's names (writers give it back).
@@ -140,6 +190,18 @@ Layout mapFields(const PcdHeader& header, const std::string& file) {
               layout.source.order.end(),
               {column_names::kRed, column_names::kGreen, column_names::kBlue});
           if (c.target == Target::Rgba) layout.source.order.push_back(column_names::kAlpha);
+          break;
+        case Target::Red:
+          layout.source.order.push_back(column_names::kRed);
+          break;
+        case Target::Green:
+          layout.source.order.push_back(column_names::kGreen);
+          break;
+        case Target::Blue:
+          layout.source.order.push_back(column_names::kBlue);
+          break;
+        case Target::Classification:
+          layout.source.order.push_back(column_names::kClassification);
           break;
         case Target::Nx:
           layout.source.order.push_back(column_names::kNx);
@@ -380,6 +442,24 @@ PositionScan scanPositions(const DataView& view, const Layout& layout, std::uint
     scan.bounds.extend(lo[0], lo[1], lo[2]);
     scan.bounds.extend(hi[0], hi[1], hi[2]);
   }
+  if (layout.wide_colors) {
+    // Every record's channels, invalid points' too: the rule is the file's, and a channel of an
+    // invalid point is still a value the writer of the file gave (PDAL writes no invalid ones).
+    for (std::size_t k = 0; k < layout.components.size() && !scan.color_above_255; ++k) {
+      const Target t = layout.components[k].target;
+      if (t != Target::Red && t != Target::Green && t != Target::Blue) continue;
+      const ComponentView& c = view.components[k];
+      dispatch(c.type, c.size, [&](auto tag) {
+        using T = decltype(tag);
+        for (std::uint64_t i = begin; i < end; ++i) {
+          if (loadLE<T>(c.base + i * c.stride) > T(255)) {
+            scan.color_above_255 = true;
+            break;
+          }
+        }
+      });
+    }
+  }
   return scan;
 }
 
@@ -466,6 +546,28 @@ void decodeRecords(const DataView& view, const Layout& layout, std::uint64_t beg
         });
         break;
       }
+      case Target::Red:
+      case Target::Green:
+      case Target::Blue: {
+        const int channel = c.target == Target::Red ? 0 : c.target == Target::Green ? 1 : 2;
+        if (layout.wide_colors) {
+          std::uint16_t* out = &cloud.stored_colors[first_index].r + channel;
+          decodeComponent(v, records, out, 3, [](auto value) {
+            return std::uint16_t(std::clamp(std::nearbyint(double(value)), 0.0, 65535.0));
+          });
+        } else {
+          std::uint8_t* out = &cloud.colors[first_index].r + channel;
+          decodeComponent(v, records, out, 4, [](auto value) {
+            return std::uint8_t(std::clamp(std::nearbyint(double(value)), 0.0, 255.0));
+          });
+        }
+        break;
+      }
+      case Target::Classification:
+        decodeComponent(v, records, &cloud.classification[first_index], 1, [](auto value) {
+          return std::uint8_t(std::clamp(std::nearbyint(double(value)), 0.0, 255.0));
+        });
+        break;
       case Target::Nx:
       case Target::Ny:
       case Target::Nz: {
@@ -517,6 +619,22 @@ void decodeRecords(const DataView& view, const Layout& layout, std::uint64_t beg
         break;
     }
   }
+  if (layout.channel_colors) {
+    // The display colours of channel fields: opaque, and from the stored 16 bits by the rule.
+    Rgba8* colors = &cloud.colors[first_index];
+    if (layout.wide_colors) {
+      const Rgb16* stored = &cloud.stored_colors[first_index];
+      auto to8 = [&](std::uint16_t value) {
+        return layout.colors_8bit ? std::uint8_t(value)
+                                  : std::uint8_t((unsigned(value) + 128) / 257);
+      };
+      for (std::uint64_t j = 0; j < records.count; ++j) {
+        colors[j] = {to8(stored[j].r), to8(stored[j].g), to8(stored[j].b), 255};
+      }
+    } else {
+      for (std::uint64_t j = 0; j < records.count; ++j) colors[j].a = 255;
+    }
+  }
 }
 
 PointCloud allocateCloud(const Layout& layout, std::uint64_t count, const Quantization& q) {
@@ -525,6 +643,8 @@ PointCloud allocateCloud(const Layout& layout, std::uint64_t count, const Quanti
   cloud.quantization = q;
   cloud.positions = Column<Int3>(count);
   if (layout.colors) cloud.colors = Column<Rgba8>(count);
+  if (layout.wide_colors) cloud.stored_colors = Column<Rgb16>(count);
+  if (layout.classification) cloud.classification = Column<std::uint8_t>(count);
   if (layout.normals) cloud.normals = Column<Float3>(count);
   if (layout.intensity) cloud.intensity = Column<float>(count);
   for (const auto& [name, type] : layout.scalars) {
@@ -532,6 +652,8 @@ PointCloud allocateCloud(const Layout& layout, std::uint64_t count, const Quanti
         {.name = name, .type = type, .data = ByteBuffer(count * scalarSize(type))});
   }
   cloud.source = layout.source;
+  // As las_reader.h tells 16-bit colour from 8-bit values in 16-bit fields.
+  if (layout.wide_colors && !layout.colors_8bit) cloud.source.color = ScalarType::UInt16;
   return cloud;
 }
 

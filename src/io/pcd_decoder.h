@@ -17,7 +17,23 @@
 
 namespace parallax::pcd {
 
-enum class Target { Skip, X, Y, Z, Rgb, Rgba, Nx, Ny, Nz, Intensity, Scalar };
+enum class Target {
+  Skip,
+  X,
+  Y,
+  Z,
+  Rgb,
+  Rgba,
+  Red,
+  Green,
+  Blue,
+  Nx,
+  Ny,
+  Nz,
+  Intensity,
+  Classification,
+  Scalar
+};
 
 // One value of a record: field `field`, its `index`-th value (fields of COUNT > 1 give several).
 struct Component {
@@ -34,14 +50,26 @@ struct Layout {
   std::vector<Component> components;
   std::size_t x = 0, y = 0, z = 0;  // components holding the position
   std::vector<std::pair<std::string, ScalarType>> scalars;
-  bool colors = false, alpha = false, normals = false, intensity = false;
+  bool colors = false, alpha = false, normals = false, intensity = false, classification = false;
+  // Colour from three fields red green blue (PDAL writes LAS colour so), not a packed rgb.
+  // `wide_colors`: some channel is wider than a byte; the values are kept as stored (16 bits,
+  // PointCloud::stored_colors) and shown by las_reader.h's rule: as is when `colors_8bit` (every
+  // value of the file below 256, which the caller finds with PositionScan::color_above_255),
+  // else value / 257.
+  bool channel_colors = false, wide_colors = false, colors_8bit = true;
   SourceTypes source;
 };
 
-// Maps the fields: x y z (any case) -> positions; rgb (packed 0x00RRGGBB) or rgba (0xAARRGGBB),
-// 4 bytes of type F or U -> colours; normal_x normal_y normal_z -> normals; intensity ->
-// intensity; "_" (PCL's padding) skipped; every other value -> a scalar column in its type (I8
-// and U8 as doubles, exact below 2^53). Throws InputError naming `file` and the field for: no x,
+// Maps the fields (names in any case): x y z -> positions; rgb (packed 0x00RRGGBB) or rgba
+// (0xAARRGGBB), 4 bytes of type F or U -> colours, else three fields red green blue (PDAL's
+// Red Green Blue, U1 or U2) -> colours; normal_x normal_y normal_z -> normals; intensity ->
+// intensity; classification -> classification; a LAS field under PDAL's dimension name or ours
+// without its underscores (GpsTime, ReturnNumber, NumberOfReturns, ScanAngleRank, UserData,
+// PointSourceId, ClassFlags, ScanChannel, Infrared, ...) -> the scalar column of
+// core/column_names.h (gps_time, return_number, ...) in the field's type, so that a PCD written
+// by PDAL from a LAS file gives the LAS fields back; "_" (PCL's padding) skipped; every other
+// value -> a scalar column under its own name in its type (I8 and U8 as doubles, exact below
+// 2^53). Throws InputError naming `file` and the field for: no x,
 // y or z, a position or colour field with COUNT > 1, a colour field not 4 bytes.
 Layout mapFields(const PcdHeader& header, const std::string& file);
 
@@ -92,6 +120,7 @@ void decompress(std::span<const std::byte> bytes, const PcdHeader& header, const
 struct PositionScan {
   std::uint64_t valid = 0;
   Bounds3 bounds;
+  bool color_above_255 = false;  // Layout::wide_colors: some valid point's channel is over 255
 };
 PositionScan scanPositions(const DataView& view, const Layout& layout, std::uint64_t begin,
                            std::uint64_t end);

@@ -117,16 +117,17 @@ PointCloud decodeAll(const PcdSource& data, const MappedFile* mapping,
   });
   Bounds3 bounds;
   std::vector<std::uint64_t> first(range_count + 1, 0);
+  pcd::Layout layout = data.layout;
   for (std::uint64_t r = 0; r < range_count; ++r) {
     bounds.extend(scans[r].bounds);
     first[r + 1] = first[r] + scans[r].valid;
+    if (scans[r].color_above_255) layout.colors_8bit = false;
   }
-  PointCloud cloud =
-      pcd::allocateCloud(data.layout, first[range_count], chooseQuantization(bounds));
+  PointCloud cloud = pcd::allocateCloud(layout, first[range_count], chooseQuantization(bounds));
   const bool binary = data.header.data == PcdData::Binary;
   forRanges([&](std::uint64_t r) {
     const std::uint64_t begin = r * kRangeRecords, end = rangeEnd(r);
-    pcd::decodeRecords(data.view, data.layout, begin, end, scans[r].valid, cloud, first[r]);
+    pcd::decodeRecords(data.view, layout, begin, end, scans[r].valid, cloud, first[r]);
     if (binary && mapping != nullptr) {
       mapping->releaseRead(data.header.data_offset + begin * data.header.record_size,
                            (end - begin) * data.header.record_size);
@@ -199,6 +200,7 @@ PcdChunkReader::PcdChunkReader(const std::filesystem::path& path, const Quantiza
       if (got == 0) break;
       const PositionScan scan = pcd::scanPositions(s.data.view, s.data.layout, 0, got);
       s.valid += scan.valid;
+      if (scan.color_above_255) s.data.layout.colors_8bit = false;
       bounds.extend(scan.bounds);
       records += got;
     }
@@ -216,6 +218,7 @@ PcdChunkReader::PcdChunkReader(const std::filesystem::path& path, const Quantiza
         pcd::scanPositions(s.data.view, s.data.layout, 0, s.data.view.records);
     s.valid = scan.valid;
     bounds = scan.bounds;
+    if (scan.color_above_255) s.data.layout.colors_8bit = false;
   }
   s.quantization = quantization ? *quantization : chooseQuantization(bounds);
 }

@@ -40,6 +40,12 @@ struct PlyElement {
   int findProperty(std::string_view property_name) const;  // -1 when absent
 };
 
+// The comment with which Parallax's PLY writer declares the grid its double positions lie on
+// (the cloud's quantization: "parallax quantization SX SY SZ OX OY OZ", shortest digits), so that
+// the reader takes the grid back (after checking that every point is on it) and a LAS file's
+// 0.01 m grid survives LAS -> PLY -> LAS exactly.
+inline constexpr std::string_view kPlyQuantizationComment = "parallax quantization";
+
 struct PlyHeader {
   PlyFormat format = PlyFormat::BinaryLittleEndian;
   std::string version = "1.0";

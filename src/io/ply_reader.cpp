@@ -14,9 +14,14 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
+#include <bit>
 #include <cassert>
+#include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 
 #include "core/byte_source.h"
 #include "core/error.h"
@@ -239,6 +244,72 @@ DecodeResult decodeAll(const DecodeContext& context, const std::vector<RecordRan
   return result;
 }
 
+// The grid a binary PLY's double positions declare (kPlyQuantizationComment, our writer's), when
+// every point lies exactly on it: offset + k * scale, k an int32, computed as the decoders
+// quantize and as Quantization::toWorld gives it back. One pass over the positions, only for
+// files that carry the comment; any point off the grid (an edited file, chunks written on other
+// grids) and the sampled power-of-two grid is used, as for any PLY.
+std::optional<Quantization> declaredPlyQuantization(const DecodeContext& context,
+                                                    const std::vector<RecordRange>& ranges) {
+  const PlyHeader& header = context.header;
+  const ply::PointLayout& layout = context.layout;
+  if (!readsRecordsByRange(context)) return std::nullopt;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (layout.properties[std::size_t(layout.position_index[axis])].type != ScalarType::Float64) {
+      return std::nullopt;
+    }
+  }
+  Quantization q;
+  bool found = false;
+  for (const std::string& comment : header.comments) {
+    std::string_view text = comment;
+    if (!text.starts_with(kPlyQuantizationComment)) continue;
+    text.remove_prefix(kPlyQuantizationComment.size());
+    double values[6];
+    int n = 0;
+    for (; n < 6; ++n) {
+      while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+      auto result = std::from_chars(text.data(), text.data() + text.size(), values[n]);
+      if (result.ec != std::errc() || !std::isfinite(values[n])) break;
+      text.remove_prefix(std::size_t(result.ptr - text.data()));
+    }
+    if (n != 6 || !(values[0] > 0 && values[1] > 0 && values[2] > 0)) return std::nullopt;
+    q.scale = {values[0], values[1], values[2]};
+    q.offset = {values[3], values[4], values[5]};
+    found = true;
+  }
+  if (!found) return std::nullopt;
+  const bool swap = header.format == PlyFormat::BinaryBigEndian;
+  std::size_t at[3];
+  for (int axis = 0; axis < 3; ++axis) {
+    at[axis] = layout.properties[std::size_t(layout.position_index[axis])].byte_offset;
+  }
+  const double inverse[3] = {1.0 / q.scale[0], 1.0 / q.scale[1], 1.0 / q.scale[2]};
+  // The ranges in parallel, as the decode reads them (a serial pass cost half a load again).
+  std::atomic<bool> on_grid{true};
+  tbb::parallel_for(std::size_t(0), ranges.size(), [&](std::size_t r) {
+    const RecordRange& range = ranges[r];
+    const std::byte* record = context.bytes.data() + range.begin;
+    for (std::uint64_t i = 0; i < range.count && on_grid.load(std::memory_order_relaxed);
+         ++i, record += layout.record_size) {
+      for (int axis = 0; axis < 3; ++axis) {
+        std::uint64_t bits;
+        std::memcpy(&bits, record + at[axis], 8);
+        if (swap) bits = __builtin_bswap64(bits);  // little-endian host (core/byte_order.h)
+        const double v = std::bit_cast<double>(bits);
+        const double k = (v - q.offset[axis]) * inverse[axis];
+        if (!(k > -2147483648.0 && k < 2147483647.0) ||
+            q.toWorld(axis, ply::quantizeClamped(v, q.offset[axis], inverse[axis])) != v) {
+          on_grid.store(false, std::memory_order_relaxed);
+          break;
+        }
+      }
+    }
+  });
+  if (!on_grid.load()) return std::nullopt;
+  return q;
+}
+
 // `path`: the file the bytes were mapped from (nullptr for bytes in memory), read again by range
 // where the records allow it.
 PointCloud readPlyBytes(std::span<const std::byte> bytes, const std::string& name,
@@ -251,9 +322,11 @@ PointCloud readPlyBytes(std::span<const std::byte> bytes, const std::string& nam
   DecodeContext context{bytes, name, header, layout, file};
 
   std::vector<RecordRange> ranges = ply::planRanges(context, kRangeBytes, options.parallel);
+  const std::optional<Quantization> declared = declaredPlyQuantization(context, ranges);
   Quantization quantization =
-      chooseQuantization(ply::sampleBounds(context, ranges, ply::kQuantizationSamples),
-                         ply::kQuantizationSampleMargin);
+      declared ? *declared
+               : chooseQuantization(ply::sampleBounds(context, ranges, ply::kQuantizationSamples),
+                                    ply::kQuantizationSampleMargin);
   std::unique_ptr<ByteSource> records;
   if (path != nullptr && readsRecordsByRange(context) && std::filesystem::is_regular_file(*path)) {
     records = openFileSource(*path);
@@ -303,9 +376,10 @@ struct PlyChunkReader::State {
         layout(ply::planPointLayout(header.elements[std::size_t(point_element)], file.path())),
         context{file.bytes(), file.path(), header, layout, &file},
         ranges(ply::planRanges(context, kRangeBytes, true)),
-        quantization(
-            chooseQuantization(ply::sampleBounds(context, ranges, ply::kQuantizationSamples),
-                               ply::kQuantizationSampleMargin)) {
+        quantization(declaredPlyQuantization(context, ranges)
+                         .value_or(chooseQuantization(
+                             ply::sampleBounds(context, ranges, ply::kQuantizationSamples),
+                             ply::kQuantizationSampleMargin))) {
     if (!ranges.empty()) cursor_byte = ranges.front().begin;
     if (readsRecordsByRange(context) && std::filesystem::is_regular_file(path)) {
       records = openFileSource(path);

@@ -7,6 +7,7 @@
 #include <exception>
 #include <memory>
 #include <stdexcept>
+#include <system_error>
 #include <utility>
 
 #include "core/byte_source.h"
@@ -20,10 +21,22 @@ namespace {
 constexpr std::size_t kSniffBytes = 64 << 10;
 
 [[noreturn]] void throwUnknownFormat(const std::filesystem::path& path) {
+  // What a user most often gives by mistake, said as such: a folder that is no octree, an empty
+  // file (a download or a copy that failed).
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    throw InputError({.file = path.string(),
+                      .expected = "a point cloud file, or a Potree 2.0 octree directory "
+                                  "(metadata.json, hierarchy.bin, octree.bin)",
+                      .found = "a directory without them",
+                      .hint = supportedFormatsText()});
+  }
+  const bool empty = std::filesystem::is_regular_file(path, error) &&
+                     std::filesystem::file_size(path, error) == 0 && !error;
   throw InputError({.file = path.string(),
                     .byte_offset = 0,
                     .expected = "a point cloud file",
-                    .found = "an unknown format",
+                    .found = empty ? "an empty file (0 bytes)" : "an unknown format",
                     .hint = supportedFormatsText()});
 }
 

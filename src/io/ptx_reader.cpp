@@ -269,6 +269,8 @@ PointCloud allocate(const PtxSurvey& s, std::uint64_t count, const Quantization&
                            .type = ScalarType::UInt16,
                            .data = ByteBuffer(count * sizeof(std::uint16_t))});
   cloud.source.position = ScalarType::Float64;
+  // Leica's PTX intensity is a float in 0..1: LAS gets it on 0..65535, not rounded to 0 or 1.
+  cloud.source.intensity_full_scale = 1.0;
   cloud.source.order = {column_names::kX, column_names::kY, column_names::kZ,
                         column_names::kIntensity};
   if (s.color)

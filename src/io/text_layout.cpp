@@ -243,8 +243,19 @@ Layout detectLayout(std::string_view text, const std::string& file,
              "the header line or --columns names a different number of columns");
     }
     bool has[3] = {false, false, false};
+    std::vector<Target> taken;
     for (const std::string& name : names) {
       ColumnSpec spec{name, targetFor(name), 0};
+      // Names match in any case: a second column for a model column already given (a LAS extra
+      // bytes field "Intensity" beside "intensity", as a LAS file written to text has them) is
+      // a scalar under its own name, not a second value overwriting the first.
+      if (spec.target != Target::Scalar && spec.target != Target::Skip) {
+        if (std::find(taken.begin(), taken.end(), spec.target) != taken.end()) {
+          spec.target = Target::Scalar;
+        } else {
+          taken.push_back(spec.target);
+        }
+      }
       if (spec.target == Target::Scalar) {
         spec.scalar = layout.scalars.size();
         layout.scalars.emplace_back(name, knownScalarType(name));

@@ -17,11 +17,26 @@
 namespace parallax {
 namespace {
 
-// d when `scale` is 10^-d (d = 0..9), the decimals that print a quantized value exactly.
-std::optional<int> decimalsOf(double scale) {
+// The decimals that print every value offset + k * scale exactly: d when `scale` is 10^-d
+// (d = 0..9) and `offset` has at most d decimals, else the offset's own decimals up to 9 (a LAS
+// offset such as 2014969.123479 under a scale of 1e-5: five decimals would move the point by up
+// to 5e-6); none (the shortest digits that read back to the same double) when the scale is no
+// power of ten or the offset needs more than 9 decimals.
+std::optional<int> decimalsOf(double scale, double offset) {
   double p = 1.0;
   for (int d = 0; d <= 9; ++d, p *= 10.0) {
-    if (std::abs(scale * p - 1.0) < 1e-9) return d;
+    if (std::abs(scale * p - 1.0) >= 1e-9) continue;
+    for (int e = d; e <= 9; ++e) {
+      // The offset printed with e decimals reads back as itself: it has at most e decimals.
+      char buffer[64];
+      auto printed =
+          std::to_chars(buffer, buffer + sizeof buffer, offset, std::chars_format::fixed, e);
+      if (printed.ec != std::errc()) return std::nullopt;  // |offset| too large for fixed digits
+      double back = 0;
+      std::from_chars(buffer, printed.ptr, back);
+      if (back == offset) return e;
+    }
+    return std::nullopt;
   }
   return std::nullopt;
 }
@@ -221,7 +236,8 @@ TextStreamWriter::TextStreamWriter(const std::filesystem::path& path, const Poin
   Plan& plan = state_->plan;
   plan.delimiter = options.pts ? ' ' : options.delimiter;
   for (int axis = 0; axis < 3; ++axis)
-    plan.decimals[axis] = decimalsOf(layout.quantization.scale[std::size_t(axis)]);
+    plan.decimals[axis] = decimalsOf(layout.quantization.scale[std::size_t(axis)],
+                                     layout.quantization.offset[std::size_t(axis)]);
   if (options.pts) {
     // PTS: x y z [intensity] [r g b], whatever the order asked.
     if (!options.properties.empty()) {

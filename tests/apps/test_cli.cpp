@@ -35,6 +35,39 @@ constexpr const char* kTinyPly =
     "-4.5 0.25 10 0 128 64 20\n"
     "2 -8 0.5 7 64 0 30\n";
 
+TEST(Cli, VersionListsEveryFormatOfTheTable) {
+  // The formats line is the format table's (`info --formats`), not a list kept by hand.
+  TempDir dir;
+  const RunResult run = runParallax(dir, "--version");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto at = run.out.find("  formats: ");
+  ASSERT_NE(at, std::string::npos) << run.out;
+  const std::string line = run.out.substr(at, run.out.find('\n', at) - at);
+  for (const char* name : {"PLY", "LAS", "LAZ", "E57", "PCD", "PTX", "PTS", "text", "COPC"}) {
+    EXPECT_NE(line.find(name), std::string::npos) << name << " not in: " << line;
+  }
+}
+
+TEST(Cli, ADirectoryOrAnEmptyFileIsSaidToBeOne) {
+  // Not "byte offset 0: ... found an unknown format": what the input is, and what was expected.
+  TempDir dir;
+  std::filesystem::create_directory(dir / "folder");
+  const auto empty = dir.write("empty.xyz", "");
+  RunResult run = runParallax(dir, "info " + quoted((dir / "folder").string()));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("folder: expected a point cloud file, or a Potree 2.0 octree directory"),
+            std::string::npos)
+      << run.err;
+  EXPECT_NE(run.err.find("found a directory without them"), std::string::npos) << run.err;
+  run = runParallax(
+      dir, "convert " + quoted(empty.string()) + " -o " + quoted((dir / "out.las").string()));
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("empty.xyz: byte offset 0: expected a point cloud file, found an empty "
+                         "file (0 bytes)"),
+            std::string::npos)
+      << run.err;
+}
+
 TEST(Cli, InfoJsonHasExactPointsBoundsAndAttributes) {
   TempDir dir;
   const auto file = dir.write("tiny.ply", kTinyPly);

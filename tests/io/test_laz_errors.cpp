@@ -222,6 +222,14 @@ TEST(LazFile, CorruptOrTruncatedChunksNameTheChunk) {
   for (std::size_t cut = header.point_data_offset; cut < good.size(); cut += 97) {
     EXPECT_THROW(readBytes(good.substr(0, cut)), InputError) << cut;
   }
+  // Cut inside the last chunk (the chunk table gone with the end): the chunk's size is unknown,
+  // so the message says what it read, not "in 0 bytes", and that the file is truncated.
+  const InputErrorInfo cut = errorOf(good.substr(0, std::size_t(table) - 10));
+  EXPECT_NE(cut.element.find("LAZ chunk 3 of 3"), std::string::npos) << cut.element;
+  EXPECT_EQ(cut.expected.find(" in 0 bytes"), std::string::npos) << cut.expected;
+  EXPECT_NE(cut.expected.find("its size unknown without the chunk table"), std::string::npos)
+      << cut.expected;
+  EXPECT_NE(cut.hint.find("truncated"), std::string::npos) << cut.hint;
 }
 
 TEST(LazFile, UnknownCompressorCoderOrItemIsRefused) {

@@ -313,21 +313,68 @@ TEST(PcdReaderErrors, BadCompressedSizesAndLzf) {
   EXPECT_EQ(e.property, "sizes");
 }
 
-TEST(PcdPdalFiles, AutzenEqualsItsLasTwin) {
+TEST(PcdPdalFiles, AutzenEqualsItsLasTwinInEveryLasField) {
+  // PDAL writes a PCD's fields under its dimension names (Intensity ReturnNumber ... GpsTime Red
+  // Green Blue): they are the LAS fields, under the model's names, equal to the LAS twin's.
   const PointCloud pcd = readPointFile(kFormatsData / "pcd/autzen-utm.pcd");
   const PointCloud las = readLas(kFormatsData / "pcd/autzen-utm.las");
   ASSERT_EQ(pcd.count, 1065u);
   ASSERT_EQ(las.count, 1065u);
-  const ScalarColumn& pcd_time = scalar(pcd, "GpsTime");
-  const ScalarColumn& las_time = scalar(las, "gps_time");
+  ASSERT_TRUE(pcd.hasClassification());
+  ASSERT_TRUE(pcd.hasColors());
+  ASSERT_TRUE(pcd.hasStoredColors());  // U2 fields: given back to a LAS writer as stored
+  for (const char* name : {"GpsTime", "Classification", "Red", "ReturnNumber"}) {
+    EXPECT_EQ(pcd.findScalar(name), nullptr) << name;
+  }
   for (std::size_t i = 0; i < pcd.count; ++i) {
     // Doubles on an int32 grid of 2^-21 m over 1.4 km: within half a step (LAS: 0.01 m).
     EXPECT_NEAR(pcd.worldX(i), las.worldX(i), 5e-7);
     EXPECT_NEAR(pcd.worldY(i), las.worldY(i), 5e-7);
     EXPECT_NEAR(pcd.worldZ(i), las.worldZ(i), 5e-7);
-    EXPECT_EQ(pcd_time.as<double>()[i], las_time.as<double>()[i]);
     EXPECT_EQ(pcd.intensity[i], las.intensity[i]);
+    EXPECT_EQ(pcd.classification[i], las.classification[i]);
+    EXPECT_EQ(pcd.colors[i], las.colors[i]);
+    EXPECT_EQ(pcd.stored_colors[i], las.stored_colors[i]);
   }
+  for (const char* name :
+       {"gps_time", "return_number", "number_of_returns", "scan_direction_flag",
+        "edge_of_flight_line", "scan_angle_rank", "user_data", "point_source_id"}) {
+    const ScalarColumn& a = scalar(pcd, name);
+    const ScalarColumn& b = scalar(las, name);
+    if (a.data.empty() || b.data.empty()) continue;
+    for (std::size_t i = 0; i < pcd.count; ++i) {
+      ASSERT_EQ(a.valueAsDouble(i), b.valueAsDouble(i)) << name << " of point " << i;
+    }
+  }
+}
+
+TEST(PcdFields, SixteenBitChannelsAreStoredAndShownDividedBy257) {
+  // Three 16-bit channel fields, one value over 255: kept as stored, shown as value / 257
+  // rounded, as a LAS file's colours are; a field "gps_time" already present keeps "GpsTime".
+  std::string text = header("x y z red green blue GpsTime gps_time", "4 4 4 2 2 2 8 8",
+                            "F F F U U U F F", "1 1 1 1 1 1 1 1", 2, 1, "ascii") +
+                     "0 0 0 65535 257 128 1.5 2.5\n1 2 3 0 1000 255 3.5 4.5\n";
+  const PointCloud cloud = readString(text);
+  ASSERT_EQ(cloud.count, 2u);
+  ASSERT_TRUE(cloud.hasStoredColors());
+  EXPECT_EQ(cloud.stored_colors[0], (Rgb16{65535, 257, 128}));
+  EXPECT_EQ(cloud.stored_colors[1], (Rgb16{0, 1000, 255}));
+  EXPECT_EQ(cloud.colors[0], (Rgba8{255, 1, 0, 255}));  // (128 + 128) / 257 = 0
+  EXPECT_EQ(cloud.colors[1], (Rgba8{0, 4, 1, 255}));    // (1000 + 128) / 257 = 4
+  EXPECT_EQ(cloud.source.color, ScalarType::UInt16);
+  EXPECT_EQ(scalar(cloud, "GpsTime").as<double>()[1], 3.5);
+  EXPECT_EQ(scalar(cloud, "gps_time").as<double>()[1], 4.5);
+
+  // Every value below 256: 8-bit colour in 16-bit fields, shown as is.
+  text = header("x y z Red Green Blue Classification", "4 4 4 2 2 2 1", "F F F U U U U",
+                "1 1 1 1 1 1 1", 1, 1, "ascii") +
+         "0 0 0 200 100 50 6\n";
+  const PointCloud small = readString(text);
+  EXPECT_EQ(small.colors[0], (Rgba8{200, 100, 50, 255}));
+  EXPECT_EQ(small.stored_colors[0], (Rgb16{200, 100, 50}));
+  EXPECT_EQ(small.source.color, ScalarType::UInt8);
+  ASSERT_TRUE(small.hasClassification());
+  EXPECT_EQ(small.classification[0], 6);
 }
 
 TEST(PcdPdalFiles, Utm17AsciiEqualsItsLasTwinAtFloatPrecisionAndMissingHeaderIsRefused) {

@@ -27,6 +27,56 @@ std::vector<std::string> listFolder(const std::filesystem::path& folder) {
   return names;
 }
 
+// Points on a LAS file's 0.01 m grid in UTM (point-color.las of the LAZ test set): x y z doubles
+// in the PLY, which read back on a power-of-two grid moved them by up to 3e-5 m.
+PointCloud makeLasGridCloud() {
+  PointCloud cloud;
+  cloud.count = 3;
+  cloud.quantization.scale = {0.01, 0.01, 0.01};
+  cloud.quantization.offset = {-0.0, -0.0, -0.0};
+  cloud.source.position = ScalarType::Int32;  // as the LAS reader says: written as doubles
+  cloud.positions = Column<Int3>(3);
+  cloud.positions[0] = {49435859, 487743982, 12976};
+  cloud.positions[1] = {49439276, 487751948, 13264};
+  cloud.positions[2] = {49499368, 487881702, 17873};
+  return cloud;
+}
+
+TEST(PlyWriter, DoublesOnADecimalGridReadBackExactly) {
+  test::TempDir dir;
+  const PointCloud cloud = makeLasGridCloud();
+  writePly(cloud, dir / "grid.ply");
+  for (int pass = 0; pass < 2; ++pass) {
+    SCOPED_TRACE(pass == 0 ? "readPly" : "PlyChunkReader");
+    PointCloud back;
+    if (pass == 0) {
+      back = readPly(dir / "grid.ply");
+    } else {
+      PlyChunkReader reader(dir / "grid.ply");
+      ASSERT_TRUE(reader.next(back, 100));
+    }
+    ASSERT_EQ(back.count, 3u);
+    EXPECT_EQ(back.quantization.scale, cloud.quantization.scale);
+    EXPECT_EQ(back.quantization.offset, cloud.quantization.offset);
+    for (std::size_t i = 0; i < 3; ++i) {
+      EXPECT_EQ(back.positions[i], cloud.positions[i]) << i;
+      EXPECT_EQ(back.worldX(i), cloud.worldX(i)) << i;
+      EXPECT_EQ(back.worldY(i), cloud.worldY(i)) << i;
+    }
+  }
+
+  // A point moved off the declared grid (an edited file): the grid is not taken, the value is
+  // read as any PLY's doubles are (within half a power-of-two step), not rounded to 0.01.
+  std::string bytes = fileBytes(dir / "grid.ply");
+  const std::size_t body = bytes.find("end_header\n") + 11;
+  const double moved = cloud.worldX(1) + 0.003;
+  std::memcpy(bytes.data() + body + 24, &moved, 8);  // point 1's x (records of x y z doubles)
+  std::ofstream(dir / "edited.ply", std::ios::binary) << bytes;
+  const PointCloud edited = readPly(dir / "edited.ply");
+  EXPECT_NE(edited.quantization.scale[0], 0.01);
+  EXPECT_NEAR(edited.worldX(1), moved, 1e-6);
+}
+
 // Two points at world (10, 20, 30) and (11, 19, 32), colours (1, 2, 3) and (250, 251, 252).
 PointCloud makeTinyCloud() {
   PointCloud cloud;

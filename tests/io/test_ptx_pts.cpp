@@ -2,6 +2,7 @@
 // the writer's round trip, bad input; PTS: count lines, with and without colour; PDAL's files.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 
 #include "core/error.h"
@@ -29,6 +30,26 @@ const std::string kTwoScans =
     "0 0 0 0.5 0 0 0\n"
     "0 2 0.5 0.75 4 5 6\n"
     "-1 -1 -1 0 7 8 9\n";
+
+TEST(PtxReader, IntensityOnZeroToOneIsWrittenToLasOnZeroTo65535) {
+  // PTX's intensity is a float in 0..1: a LAS written from it had every point's intensity 0 (or
+  // 1), rounded to 16-bit integers; it is mapped onto 0..65535.
+  const PointCloud cloud = readPtxFromMemory(test::asBytes(kTwoScans), "t.ptx", {});
+  EXPECT_EQ(cloud.source.intensity_full_scale, 1.0);
+  test::TempDir dir;
+  for (const char* name : {"t.las", "t.laz"}) {
+    SCOPED_TRACE(name);
+    writePointFile(cloud, dir / name);
+    const PointCloud las = readPointFile(dir / name);
+    ASSERT_EQ(las.count, cloud.count);
+    for (std::size_t i = 0; i < cloud.count; ++i) {
+      EXPECT_EQ(las.intensity[i], float(std::nearbyint(double(cloud.intensity[i]) * 65535.0))) << i;
+    }
+    EXPECT_EQ(las.intensity[0], 32768.0f);  // 0.5 * 65535 = 32767.5, to even
+    EXPECT_EQ(las.intensity[3], 49151.0f);  // 0.75 * 65535 = 49151.25
+    EXPECT_EQ(las.intensity[2], 65535.0f);
+  }
+}
 
 TEST(PtxReader, TwoScansWithTransformsAndZeroPointsSkipped) {
   std::vector<PtxScan> scans;

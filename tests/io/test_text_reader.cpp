@@ -50,6 +50,17 @@ TEST(TextReader, CommonLayoutByColumnCount) {
   EXPECT_EQ(nine.normals[0], (Float3{0, 0, 1}));
 }
 
+TEST(TextReader, ASecondColumnForAModelColumnIsAScalar) {
+  // A LAS file with an extra bytes field "Intensity" written to CSV has "intensity" and
+  // "Intensity": names match in any case, so the second became intensity again and was lost.
+  const PointCloud cloud = readString("x,y,z,intensity,Intensity\n1,2,3,10,20\n", "t.csv");
+  ASSERT_EQ(cloud.count, 1u);
+  EXPECT_EQ(cloud.intensity[0], 10.0f);
+  const ScalarColumn* second = cloud.findScalar("Intensity");
+  ASSERT_NE(second, nullptr);
+  EXPECT_EQ(second->valueAsDouble(0), 20.0);
+}
+
 TEST(TextReader, PtsCountLineAndIntensityRgb) {
   PointCloud pts = readString("2\n1 2 3 -1024 10 20 30\n4 5 6 2047 40 50 60\n", "scan.pts");
   ASSERT_EQ(pts.count, 2u);

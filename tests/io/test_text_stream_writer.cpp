@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <charconv>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -54,6 +55,26 @@ TEST(TextStreamWriter, BatchesGiveTheBytesOfTheWholeCloud) {
     writer.finish();
     EXPECT_EQ(fileBytes(dir / name), fileBytes(dir / (std::string("whole_") + name)));
   }
+}
+
+TEST(TextWriter, PositionsKeepTheOffsetsDecimals) {
+  // LAS offsets with more decimals than the scale (1815.las of the LAZ test set: scale 1e-5,
+  // offsets 2014969.123479 6493024.64672738 76.552602795884): every digit of offset + k * scale
+  // is printed, with the offset's decimals (x, y), or as the shortest digits of the double where
+  // the offset has more than 9 (z).
+  PointCloud cloud;
+  cloud.count = 1;
+  cloud.quantization.scale = {1e-5, 1e-5, 1e-5};
+  cloud.quantization.offset = {2014969.123479, 6493024.64672738, 76.552602795884};
+  cloud.positions = Column<Int3>(1);
+  cloud.positions[0] = {-84318401, -2207401, 2763};
+  test::TempDir dir;
+  writeText(cloud, dir / "out.csv", textOptionsForPath("out.csv"));
+  const double z = cloud.worldZ(0);
+  char digits[64];
+  const std::string z_text(digits, std::to_chars(digits, digits + sizeof digits, z).ptr);
+  EXPECT_EQ(fileBytes(dir / "out.csv"), "x,y,z\n2014125.939469,6493002.57271738," + z_text + "\n");
+  EXPECT_EQ(std::stod(z_text), z);
 }
 
 TEST(TextStreamWriter, HoldsABatchNotTheFile) {
