@@ -518,6 +518,7 @@ ProcessReport runProcess(const ProcessOptions& given) {
                                        nullptr, options.progress);
   report.input_points = tiles.points();
   report.tiles = tiles.tiles();
+  traceMemory("spill", tiles.points());
 
   Added added;
   for (const ProcessStep& step : options.steps) {
@@ -552,6 +553,7 @@ ProcessReport runProcess(const ProcessOptions& given) {
       runDistanceStep(std::get<DistanceStep>(step), context);
       added.distance = true;
     }
+    traceMemory("step " + context.label + " end");
   }
 
   // The write: the inputs once more, in order (twice for a LAS or LAZ output whose point
@@ -578,6 +580,7 @@ ProcessReport runProcess(const ProcessOptions& given) {
   if (const std::optional<PointCloud> maxima = writeOutput(pass, report, nullptr)) {
     writeOutput(pass, report, &*maxima);
   }
+  traceMemory("write", report.output_points);
   if (kind == OutputKind::kPointFile) return report;
   check();
   report.losses.clear();  // those of the temporary LAS; an octree keeps every attribute

@@ -9,8 +9,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <functional>
 #include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -56,29 +58,58 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
                        const TileSet& searched, Answer&& answer) {
   if (queries.empty()) return;
   std::vector<std::uint32_t> pending;
+  std::vector<double> halos;  // each pending query's halo for its next box
   tbb::enumerable_thread_specific<std::vector<Neighbour>> scratch;
+  // Where a later round's query checks its answer: its own box's bounds (the points of the
+  // other boxes loaded with it are real points of the cloud too, so they never make an answer
+  // wrong; only the box says what is complete).
+  tbb::enumerable_thread_specific<TileNeighbourhood> views;
+  const bool one_box = std::getenv("PARALLAX_PROCESS_ONE_BOX") != nullptr;  // TEMPORARY
   bool first = true;
+  int round = 0;
   while (first || !pending.empty()) {
+    ++round;
     TileNeighbourhood hood;
+    std::vector<PointBox> boxes;  // TEMPORARY one-box mode
+    std::vector<std::uint32_t> box_of;
+    std::vector<BallGroup> groups;
+    std::vector<QueryBall> balls;
+    std::vector<std::uint32_t> ball_of;
     if (first) {
       hood = load(halo);
-    } else {
-      double lo[3], hi[3];
+    } else if (one_box) {
+      PointBox box;
       for (int a = 0; a < 3; ++a) {
-        lo[a] = TileSet::kInfinity;
-        hi[a] = -TileSet::kInfinity;
+        box.lo[a] = TileSet::kInfinity;
+        box.hi[a] = -TileSet::kInfinity;
       }
-      for (std::uint32_t i : pending) {
-        const double v[3] = {queries[i].x, queries[i].y, queries[i].z};
+      for (std::size_t j = 0; j < pending.size(); ++j) {
+        const GridPoint& q = queries[pending[j]];
+        const double v[3] = {q.x, q.y, q.z};
         for (int a = 0; a < 3; ++a) {
-          lo[a] = std::min(lo[a], v[a] - halo);
-          hi[a] = std::max(hi[a], v[a] + halo);
+          box.lo[a] = std::min(box.lo[a], v[a] - halos[j]);
+          box.hi[a] = std::max(box.hi[a], v[a] + halos[j]);
         }
       }
-      hood = loadBox(searched, lo, hi);
+      hood = loadBox(searched, box.lo, box.hi);
+      for (int a = 0; a < 3; ++a) {
+        box.lo[a] = hood.lo[a];
+        box.hi[a] = hood.hi[a];
+      }
+      boxes.push_back(box);
+      box_of.assign(pending.size(), 0);
+      searched.noteLaterRound(hood.points.size(), 1);
+    } else {
+      groupQueryBalls(queries, pending, halos, groups, balls, ball_of);
+      searched.appendKeptInBalls(groups, balls, hood.points);
+      searched.noteLaterRound(hood.points.size(), groups.size());
     }
+    const std::string round_name = "round " + std::to_string(round);
+    traceMemory(round_name + " load (" + std::to_string(groups.size()) + " groups)",
+                hood.points.size());
     // The loaded points move into the index (the answers read them as grid.points()).
     const NeighbourIndex grid(std::move(hood.points));
+    traceMemory(round_name + " index", pending.size());
     hood.points = {};
     const std::span<const GridPoint> tree = grid.treePoints();
     // Where each asked query's position is read: its place in the tree (the queries are the
@@ -101,32 +132,70 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
       asked.resize(pending.size());
       for (std::size_t j = 0; j < pending.size(); ++j) asked[j] = queries[pending[j]];
     }
-    first = false;
+    if (first) halos.assign(pending.size(), halo);
     std::vector<std::uint8_t> exact(pending.size(), 0);
     std::vector<double> needed(pending.size(), 0.0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         std::vector<Neighbour>& local = scratch.local();
+                        TileNeighbourhood& view = views.local();
                         for (std::size_t j = range.begin(); j != range.end(); ++j) {
                           const GridPoint& q = from_tree ? tree[in_tree[j]] : asked[j];
-                          exact[j] = answer(hood, grid, pending[j], q, local, needed[j]);
+                          if (first) {
+                            exact[j] = answer(hood, grid, pending[j], q, local, needed[j]);
+                            continue;
+                          }
+                          if (one_box) {
+                            const PointBox& box = boxes[box_of[j]];
+                            for (int a = 0; a < 3; ++a) {
+                              view.lo[a] = box.lo[a];
+                              view.hi[a] = box.hi[a];
+                            }
+                          } else {
+                            view.within = halos[j];
+                          }
+                          exact[j] = answer(view, grid, pending[j], q, local, needed[j]);
                         }
                       });
+    traceMemory(round_name + " answers", pending.size());
+    // The next halo of a query still pending: doubled, or the radius its answer over the points
+    // loaded reached, whichever is larger (a hair over it: covers() wants the ball strictly
+    // inside the box's upper side).
     std::vector<std::uint32_t> again;
-    double farthest = 0.0;
+    std::vector<double> again_halos;
     for (std::size_t j = 0; j < pending.size(); ++j) {
       if (exact[j]) continue;
+      // A ball holds every point when it reaches the cloud's farthest corner.
+      const bool everything = first ? hood.everything() : one_box ? [&] {
+        const PointBox& box = boxes[box_of[j]];
+        for (int a = 0; a < 3; ++a) {
+          if (box.lo[a] != -TileSet::kInfinity || box.hi[a] != TileSet::kInfinity) return false;
+        }
+        return true;
+      }() : [&] {
+        const GridPoint& q = queries[pending[j]];
+        const double* lo = searched.min();
+        const double* hi = searched.max();
+        const double far = squaredDistance(std::max(q.x - lo[0], hi[0] - q.x), std::max(q.y - lo[1], hi[1] - q.y),
+                                           std::max(q.z - lo[2], hi[2] - q.z), 0, 0, 0);
+        return far * (1.0 + 1e-6) < halos[j] * halos[j];
+      }();
+      if (everything) {
+        // With every point loaded each answer is exact: a query that says otherwise is a bug.
+        throw std::logic_error(
+            "process: a query over the whole cloud reported an incomplete answer");
+      }
       again.push_back(pending[j]);
-      farthest = std::max(farthest, needed[j]);
+      const double reach = std::isfinite(needed[j]) ? needed[j] * (1.0 + 1e-9) : 0.0;
+      again_halos.push_back(std::max(halos[j] > 0.0 ? 2.0 * halos[j] : 1.0, reach));
     }
-    if (hood.everything() && !again.empty()) {
-      // With every point loaded each answer is exact: a query that says otherwise is a bug.
-      throw std::logic_error("process: a query over the whole cloud reported an incomplete answer");
+    if (one_box && !again_halos.empty()) {  // TEMPORARY: main's one halo for all
+      const double widest = *std::max_element(again_halos.begin(), again_halos.end());
+      again_halos.assign(again_halos.size(), widest);
     }
+    first = false;
     pending = std::move(again);
-    // A hair over the radius needed: covers() wants the ball strictly inside the box's upper side.
-    const double reach = std::isfinite(farthest) ? farthest * (1.0 + 1e-9) : 0.0;
-    halo = std::max(halo > 0.0 ? 2.0 * halo : 1.0, reach);
+    halos = std::move(again_halos);
   }
 }
 
