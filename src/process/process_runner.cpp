@@ -555,6 +555,7 @@ ProcessReport runProcess(const ProcessOptions& given) {
     }
     traceMemory("step " + context.label + " end");
   }
+  report.later_rounds = tiles.statistics();
 
   // The write: the inputs once more, in order (twice for a LAS or LAZ output whose point
   // format the first batch did not foresee). An octree is built from a point file of the

@@ -1,6 +1,7 @@
 // What every neighbourhood step does on a tile: load it with a halo, build a grid, answer each
-// kept point's query, and load again with twice the halo for the points whose answer reached
-// past what was loaded, until none is left. Internal to the process module.
+// kept point's query, and load again, around each query whose answer reached past what was
+// loaded, the points within its own larger halo, until none is left. Internal to the process
+// module.
 #pragma once
 
 #include <tbb/enumerable_thread_specific.h>
@@ -9,7 +10,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <functional>
 #include <span>
 #include <string>
@@ -40,14 +40,17 @@ struct StepContext {
 // needed)` (`hood`'s points moved into `grid`: grid.points()), which returns whether its answer
 // is exact (TileNeighbourhood::covers) and, when it is not, sets `needed` to the radius its
 // answer over the points loaded reached (infinite: too few points); those that are not are asked
-// again with a larger halo. `load(halo)` loads the points searched for the first round; later
-// rounds load only the points of `searched` in the box of the pending queries, grown by the
-// halo: doubled, or the largest radius the pending queries needed, whichever is larger. That
-// radius bounds what they need over the whole cloud (their K-th distance over a subset of it is
-// at least their K-th distance over all of it), so one round answers them however far they are
-// from the rest (a bogus return hundreds of metres above a scan: doubling from a neighbour's
-// distance took about seven rounds, each loading the whole slab again). The halo at least doubles,
-// so the box becomes infinite (everything loaded) before a query could fail again.
+// again with a larger halo. `load(halo)` loads the points searched for the first round. In each
+// later round every pending query has a halo of its own: its last one doubled, or the radius its
+// answer needed, whichever is larger. That radius bounds what it needs over the whole cloud (its
+// K-th distance over a subset of it is at least its K-th distance over all of it), so one more
+// round answers it however far it is from the rest. The round loads, in one pass over the slab
+// files of `searched`, every point within some pending query's halo (groupQueryBalls, a point
+// once however many balls hold it), and a query's answer is exact when its reach is within its
+// own halo. One box around all pending queries, as before, spanned the slab and its neighbours
+// from the ground up as soon as one of them was a bogus return hundreds of metres up, and each
+// later round reloaded all of that (the 100 M-point run's peak, NOTES.md). A halo at least
+// doubles, so it reaches the whole cloud (everything loaded) before a query could fail again.
 //
 // Queries are asked in Morton order, so that consecutive ones walk the same nodes and leaves:
 // when the first load holds the queries themselves first (`hood.core == queries.size()`, as
@@ -58,47 +61,22 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
                        const TileSet& searched, Answer&& answer) {
   if (queries.empty()) return;
   std::vector<std::uint32_t> pending;
-  std::vector<double> halos;  // each pending query's halo for its next box
+  std::vector<double> halos;  // each pending query's halo for its next round (later rounds)
   tbb::enumerable_thread_specific<std::vector<Neighbour>> scratch;
-  // Where a later round's query checks its answer: its own box's bounds (the points of the
-  // other boxes loaded with it are real points of the cloud too, so they never make an answer
-  // wrong; only the box says what is complete).
+  // What a later round's query checks its answer against: its own halo (the points loaded for
+  // the other queries are real points of the cloud too, so they never make an answer wrong;
+  // only its own ball says what is complete).
   tbb::enumerable_thread_specific<TileNeighbourhood> views;
-  const bool one_box = std::getenv("PARALLAX_PROCESS_ONE_BOX") != nullptr;  // TEMPORARY
   bool first = true;
   int round = 0;
   while (first || !pending.empty()) {
     ++round;
     TileNeighbourhood hood;
-    std::vector<PointBox> boxes;  // TEMPORARY one-box mode
-    std::vector<std::uint32_t> box_of;
     std::vector<BallGroup> groups;
     std::vector<QueryBall> balls;
     std::vector<std::uint32_t> ball_of;
     if (first) {
       hood = load(halo);
-    } else if (one_box) {
-      PointBox box;
-      for (int a = 0; a < 3; ++a) {
-        box.lo[a] = TileSet::kInfinity;
-        box.hi[a] = -TileSet::kInfinity;
-      }
-      for (std::size_t j = 0; j < pending.size(); ++j) {
-        const GridPoint& q = queries[pending[j]];
-        const double v[3] = {q.x, q.y, q.z};
-        for (int a = 0; a < 3; ++a) {
-          box.lo[a] = std::min(box.lo[a], v[a] - halos[j]);
-          box.hi[a] = std::max(box.hi[a], v[a] + halos[j]);
-        }
-      }
-      hood = loadBox(searched, box.lo, box.hi);
-      for (int a = 0; a < 3; ++a) {
-        box.lo[a] = hood.lo[a];
-        box.hi[a] = hood.hi[a];
-      }
-      boxes.push_back(box);
-      box_of.assign(pending.size(), 0);
-      searched.noteLaterRound(hood.points.size(), 1);
     } else {
       groupQueryBalls(queries, pending, halos, groups, balls, ball_of);
       searched.appendKeptInBalls(groups, balls, hood.points);
@@ -132,7 +110,6 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
       asked.resize(pending.size());
       for (std::size_t j = 0; j < pending.size(); ++j) asked[j] = queries[pending[j]];
     }
-    if (first) halos.assign(pending.size(), halo);
     std::vector<std::uint8_t> exact(pending.size(), 0);
     std::vector<double> needed(pending.size(), 0.0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending.size(), 1024),
@@ -145,15 +122,7 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
                             exact[j] = answer(hood, grid, pending[j], q, local, needed[j]);
                             continue;
                           }
-                          if (one_box) {
-                            const PointBox& box = boxes[box_of[j]];
-                            for (int a = 0; a < 3; ++a) {
-                              view.lo[a] = box.lo[a];
-                              view.hi[a] = box.hi[a];
-                            }
-                          } else {
-                            view.within = halos[j];
-                          }
+                          view.within = halos[j];
                           exact[j] = answer(view, grid, pending[j], q, local, needed[j]);
                         }
                       });
@@ -166,18 +135,13 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
     for (std::size_t j = 0; j < pending.size(); ++j) {
       if (exact[j]) continue;
       // A ball holds every point when it reaches the cloud's farthest corner.
-      const bool everything = first ? hood.everything() : one_box ? [&] {
-        const PointBox& box = boxes[box_of[j]];
-        for (int a = 0; a < 3; ++a) {
-          if (box.lo[a] != -TileSet::kInfinity || box.hi[a] != TileSet::kInfinity) return false;
-        }
-        return true;
-      }() : [&] {
+      const bool everything = first ? hood.everything() : [&] {
         const GridPoint& q = queries[pending[j]];
         const double* lo = searched.min();
         const double* hi = searched.max();
-        const double far = squaredDistance(std::max(q.x - lo[0], hi[0] - q.x), std::max(q.y - lo[1], hi[1] - q.y),
-                                           std::max(q.z - lo[2], hi[2] - q.z), 0, 0, 0);
+        const double far =
+            squaredDistance(std::max(q.x - lo[0], hi[0] - q.x), std::max(q.y - lo[1], hi[1] - q.y),
+                            std::max(q.z - lo[2], hi[2] - q.z), 0, 0, 0);
         return far * (1.0 + 1e-6) < halos[j] * halos[j];
       }();
       if (everything) {
@@ -186,12 +150,9 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
             "process: a query over the whole cloud reported an incomplete answer");
       }
       again.push_back(pending[j]);
+      const double was = first ? halo : halos[j];
       const double reach = std::isfinite(needed[j]) ? needed[j] * (1.0 + 1e-9) : 0.0;
-      again_halos.push_back(std::max(halos[j] > 0.0 ? 2.0 * halos[j] : 1.0, reach));
-    }
-    if (one_box && !again_halos.empty()) {  // TEMPORARY: main's one halo for all
-      const double widest = *std::max_element(again_halos.begin(), again_halos.end());
-      again_halos.assign(again_halos.size(), widest);
+      again_halos.push_back(std::max(was > 0.0 ? 2.0 * was : 1.0, reach));
     }
     first = false;
     pending = std::move(again);

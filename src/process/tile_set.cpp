@@ -529,14 +529,4 @@ TileNeighbourhood loadAround(const TileSet& set, std::size_t t, double halo) {
   return hood;
 }
 
-TileNeighbourhood loadBox(const TileSet& set, const double lo[3], const double hi[3]) {
-  TileNeighbourhood hood;
-  for (int a = 0; a < 3; ++a) {
-    hood.lo[a] = lo[a] < set.min()[a] ? -TileSet::kInfinity : lo[a];
-    hood.hi[a] = hi[a] > set.max()[a] ? TileSet::kInfinity : hi[a];
-  }
-  set.appendKeptInBox(hood.lo, hood.hi, SIZE_MAX, hood.points);
-  return hood;
-}
-
 }  // namespace parallax

@@ -181,11 +181,6 @@ TileNeighbourhood loadNeighbourhood(const TileSet& tiles, std::size_t tile, doub
                                     const std::vector<GridPoint>& core_points,
                                     const std::vector<std::uint8_t>& core_kept);
 
-// Every kept point of `set` in the box [lo, hi) (bounds past the cloud's made infinite): the
-// later rounds of a tile's queries, which need only the surroundings of the few still pending
-// (an isolated point far from the rest would otherwise pull in a wide slice of the cloud).
-TileNeighbourhood loadBox(const TileSet& set, const double lo[3], const double hi[3]);
-
 // The balls of a later round: each pending query (`pending` indexes `queries`, `halos` their
 // halos, in the same order) with a ball of its halo (a hair over it: the answer checks its reach
 // against the halo itself, so rounding never makes a loaded point look missing), the balls
