@@ -321,12 +321,21 @@ class BoxBuckets {
         hi_[a] = std::isfinite(finite_hi) ? finite_hi : 0.0;
       }
     }
-    // About two boxes a cell across, at most 256 x 256 cells.
-    const std::size_t side = std::clamp<std::size_t>(
+    // About two boxes a cell across, at most 256 x 256 cells, and coarser while the boxes would
+    // be listed in more than 4 M cells in all (many boxes as wide as the cloud).
+    std::size_t side = std::clamp<std::size_t>(
         std::size_t(std::ceil(std::sqrt(double(boxes.size())) * 2.0)), 1, 256);
-    for (int a = 0; a < 2; ++a) {
-      cells_[a] = hi_[a] > lo_[a] ? side : 1;
-      scale_[a] = hi_[a] > lo_[a] ? double(cells_[a]) / (hi_[a] - lo_[a]) : 0.0;
+    for (;; side /= 2) {
+      for (int a = 0; a < 2; ++a) {
+        cells_[a] = hi_[a] > lo_[a] ? side : 1;
+        scale_[a] = hi_[a] > lo_[a] ? double(cells_[a]) / (hi_[a] - lo_[a]) : 0.0;
+      }
+      std::uint64_t listed = 0;
+      for (const PointBox& b : boxes) {
+        listed += std::uint64_t(cell(0, b.hi[0]) - cell(0, b.lo[0]) + 1) *
+                  std::uint64_t(cell(1, b.hi[1]) - cell(1, b.lo[1]) + 1);
+      }
+      if (side <= 1 || listed <= (std::uint64_t(4) << 20)) break;
     }
     start_.assign(cells_[0] * cells_[1] + 1, 0);
     auto forCells = [&](const PointBox& b, auto&& visit) {
