@@ -518,6 +518,7 @@ ProcessReport runProcess(const ProcessOptions& given) {
                                        nullptr, options.progress);
   report.input_points = tiles.points();
   report.tiles = tiles.tiles();
+  traceMemory("spill", tiles.points());
 
   Added added;
   for (const ProcessStep& step : options.steps) {
@@ -552,7 +553,9 @@ ProcessReport runProcess(const ProcessOptions& given) {
       runDistanceStep(std::get<DistanceStep>(step), context);
       added.distance = true;
     }
+    traceMemory("step " + context.label + " end");
   }
+  report.later_rounds = tiles.statistics();
 
   // The write: the inputs once more, in order (twice for a LAS or LAZ output whose point
   // format the first batch did not foresee). An octree is built from a point file of the
@@ -578,6 +581,7 @@ ProcessReport runProcess(const ProcessOptions& given) {
   if (const std::optional<PointCloud> maxima = writeOutput(pass, report, nullptr)) {
     writeOutput(pass, report, &*maxima);
   }
+  traceMemory("write", report.output_points);
   if (kind == OutputKind::kPointFile) return report;
   check();
   report.losses.clear();  // those of the temporary LAS; an octree keeps every attribute

@@ -21,6 +21,7 @@
 #include "lod/convert_stages.h"
 #include "lod/output_kind.h"
 #include "process/process_steps.h"
+#include "process/tile_set.h"
 
 namespace parallax {
 
@@ -49,6 +50,9 @@ struct ProcessReport {
   std::uint64_t output_points = 0;
   std::size_t tiles = 0;
   std::vector<std::string> losses;  // what the output's format drops (describeWriteLosses)
+  // What the neighbourhood steps' rounds after each tile's first loaded (tile_queries.h): the
+  // points beyond a slab and its halo that a run holds at once.
+  TileStatistics later_rounds;
 };
 
 // Bytes a point of a tile takes while a step works on it (its record, the grid's copy and sort

@@ -326,6 +326,7 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
         });
     tiles.writeRecords<Normal>(t, "normals", normals);
     if (step.curvature) tiles.writeRecords<float>(t, "curvature", curvature);
+    traceMemory("normals slab " + std::to_string(t) + " written", points.size());
     if (bar) bar->advance(points.size());
   }
   if (step.orientation == NormalOrientation::kPropagate) {

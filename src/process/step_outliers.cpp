@@ -84,6 +84,7 @@ void meanDistances(const OutliersStep& step, const StepContext& context, Fixed& 
       ++valid;
     }
     tiles.writeRecords<float>(t, "meandist", mean);
+    traceMemory("mean distances slab " + std::to_string(t) + " written", points.size());
     if (bar) bar->advance(points.size());
   }
 }

@@ -61,6 +61,7 @@ void voxelSubsample(const SubsampleStep& step, const StepContext& context) {
                   std::uint32_t(i)};
     }
     tbb::parallel_sort(keyed.begin(), keyed.end());
+    traceMemory("voxel slab " + std::to_string(t) + " sorted", hood.points.size());
     for (std::size_t i = 0; i < hood.core; ++i) kept[hood.slot[i]] = 0;
     for (std::size_t begin = 0; begin < keyed.size();) {
       std::size_t end = begin + 1;

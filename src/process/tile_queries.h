@@ -1,6 +1,7 @@
 // What every neighbourhood step does on a tile: load it with a halo, build a grid, answer each
-// kept point's query, and load again with twice the halo for the points whose answer reached
-// past what was loaded, until none is left. Internal to the process module.
+// kept point's query, and load again, around each query whose answer reached past what was
+// loaded, the points within its own larger halo, until none is left. Internal to the process
+// module.
 #pragma once
 
 #include <tbb/enumerable_thread_specific.h>
@@ -11,6 +12,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -38,14 +40,17 @@ struct StepContext {
 // needed)` (`hood`'s points moved into `grid`: grid.points()), which returns whether its answer
 // is exact (TileNeighbourhood::covers) and, when it is not, sets `needed` to the radius its
 // answer over the points loaded reached (infinite: too few points); those that are not are asked
-// again with a larger halo. `load(halo)` loads the points searched for the first round; later
-// rounds load only the points of `searched` in the box of the pending queries, grown by the
-// halo: doubled, or the largest radius the pending queries needed, whichever is larger. That
-// radius bounds what they need over the whole cloud (their K-th distance over a subset of it is
-// at least their K-th distance over all of it), so one round answers them however far they are
-// from the rest (a bogus return hundreds of metres above a scan: doubling from a neighbour's
-// distance took about seven rounds, each loading the whole slab again). The halo at least doubles,
-// so the box becomes infinite (everything loaded) before a query could fail again.
+// again with a larger halo. `load(halo)` loads the points searched for the first round. In each
+// later round every pending query has a halo of its own: its last one doubled, or the radius its
+// answer needed, whichever is larger. That radius bounds what it needs over the whole cloud (its
+// K-th distance over a subset of it is at least its K-th distance over all of it), so one more
+// round answers it however far it is from the rest. The round loads, in one pass over the slab
+// files of `searched`, every point within some pending query's halo (groupQueryBalls, a point
+// once however many balls hold it), and a query's answer is exact when its reach is within its
+// own halo. One box around all pending queries, as before, spanned the slab and its neighbours
+// from the ground up as soon as one of them was a bogus return hundreds of metres up, and each
+// later round reloaded all of that (the 100 M-point run's peak, NOTES.md). A halo at least
+// doubles, so it reaches the whole cloud (everything loaded) before a query could fail again.
 //
 // Queries are asked in Morton order, so that consecutive ones walk the same nodes and leaves:
 // when the first load holds the queries themselves first (`hood.core == queries.size()`, as
@@ -56,29 +61,33 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
                        const TileSet& searched, Answer&& answer) {
   if (queries.empty()) return;
   std::vector<std::uint32_t> pending;
+  std::vector<double> halos;  // each pending query's halo for its next round (later rounds)
   tbb::enumerable_thread_specific<std::vector<Neighbour>> scratch;
+  // What a later round's query checks its answer against: its own halo (the points loaded for
+  // the other queries are real points of the cloud too, so they never make an answer wrong;
+  // only its own ball says what is complete).
+  tbb::enumerable_thread_specific<TileNeighbourhood> views;
   bool first = true;
+  int round = 0;
   while (first || !pending.empty()) {
+    ++round;
     TileNeighbourhood hood;
+    std::vector<BallGroup> groups;
+    std::vector<QueryBall> balls;
+    std::vector<std::uint32_t> ball_of;
     if (first) {
       hood = load(halo);
     } else {
-      double lo[3], hi[3];
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = TileSet::kInfinity;
-        hi[a] = -TileSet::kInfinity;
-      }
-      for (std::uint32_t i : pending) {
-        const double v[3] = {queries[i].x, queries[i].y, queries[i].z};
-        for (int a = 0; a < 3; ++a) {
-          lo[a] = std::min(lo[a], v[a] - halo);
-          hi[a] = std::max(hi[a], v[a] + halo);
-        }
-      }
-      hood = loadBox(searched, lo, hi);
+      groupQueryBalls(queries, pending, halos, groups, balls, ball_of);
+      searched.appendKeptInBalls(groups, balls, hood.points);
+      searched.noteLaterRound(hood.points.size(), groups.size());
     }
+    const std::string round_name = "round " + std::to_string(round);
+    traceMemory(round_name + " load (" + std::to_string(groups.size()) + " groups)",
+                hood.points.size());
     // The loaded points move into the index (the answers read them as grid.points()).
     const NeighbourIndex grid(std::move(hood.points));
+    traceMemory(round_name + " index", pending.size());
     hood.points = {};
     const std::span<const GridPoint> tree = grid.treePoints();
     // Where each asked query's position is read: its place in the tree (the queries are the
@@ -101,32 +110,53 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
       asked.resize(pending.size());
       for (std::size_t j = 0; j < pending.size(); ++j) asked[j] = queries[pending[j]];
     }
-    first = false;
     std::vector<std::uint8_t> exact(pending.size(), 0);
     std::vector<double> needed(pending.size(), 0.0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pending.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         std::vector<Neighbour>& local = scratch.local();
+                        TileNeighbourhood& view = views.local();
                         for (std::size_t j = range.begin(); j != range.end(); ++j) {
                           const GridPoint& q = from_tree ? tree[in_tree[j]] : asked[j];
-                          exact[j] = answer(hood, grid, pending[j], q, local, needed[j]);
+                          if (first) {
+                            exact[j] = answer(hood, grid, pending[j], q, local, needed[j]);
+                            continue;
+                          }
+                          view.within = halos[j];
+                          exact[j] = answer(view, grid, pending[j], q, local, needed[j]);
                         }
                       });
+    traceMemory(round_name + " answers", pending.size());
+    // The next halo of a query still pending: doubled, or the radius its answer over the points
+    // loaded reached, whichever is larger (a hair over it: covers() wants the ball strictly
+    // inside the box's upper side).
     std::vector<std::uint32_t> again;
-    double farthest = 0.0;
+    std::vector<double> again_halos;
     for (std::size_t j = 0; j < pending.size(); ++j) {
       if (exact[j]) continue;
+      // A ball holds every point when it reaches the cloud's farthest corner.
+      const bool everything = first ? hood.everything() : [&] {
+        const GridPoint& q = queries[pending[j]];
+        const double* lo = searched.min();
+        const double* hi = searched.max();
+        const double far =
+            squaredDistance(std::max(q.x - lo[0], hi[0] - q.x), std::max(q.y - lo[1], hi[1] - q.y),
+                            std::max(q.z - lo[2], hi[2] - q.z), 0, 0, 0);
+        return far * (1.0 + 1e-6) < halos[j] * halos[j];
+      }();
+      if (everything) {
+        // With every point loaded each answer is exact: a query that says otherwise is a bug.
+        throw std::logic_error(
+            "process: a query over the whole cloud reported an incomplete answer");
+      }
       again.push_back(pending[j]);
-      farthest = std::max(farthest, needed[j]);
+      const double was = first ? halo : halos[j];
+      const double reach = std::isfinite(needed[j]) ? needed[j] * (1.0 + 1e-9) : 0.0;
+      again_halos.push_back(std::max(was > 0.0 ? 2.0 * was : 1.0, reach));
     }
-    if (hood.everything() && !again.empty()) {
-      // With every point loaded each answer is exact: a query that says otherwise is a bug.
-      throw std::logic_error("process: a query over the whole cloud reported an incomplete answer");
-    }
+    first = false;
     pending = std::move(again);
-    // A hair over the radius needed: covers() wants the ball strictly inside the box's upper side.
-    const double reach = std::isfinite(farthest) ? farthest * (1.0 + 1e-9) : 0.0;
-    halo = std::max(halo > 0.0 ? 2.0 * halo : 1.0, reach);
+    halos = std::move(again_halos);
   }
 }
 

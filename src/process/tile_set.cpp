@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
 #include <memory>
 #include <stdexcept>
 #include <system_error>
@@ -51,7 +54,40 @@ struct Xyz {
   double x, y, z;
 };
 
+// VmRSS and VmHWM of /proc/self/status in kB (0 where not read).
+void readResidentKb(std::uint64_t& rss, std::uint64_t& hwm) {
+  rss = hwm = 0;
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) rss = std::strtoull(line.c_str() + 6, nullptr, 10);
+    if (line.rfind("VmHWM:", 0) == 0) hwm = std::strtoull(line.c_str() + 6, nullptr, 10);
+  }
+}
+
 }  // namespace
+
+bool memoryTraceOn() {
+  static const bool on = [] {
+    const char* value = std::getenv("PARALLAX_PROCESS_TRACE");
+    return value && *value && std::strcmp(value, "0") != 0;
+  }();
+  return on;
+}
+
+void traceMemory(const std::string& what, std::uint64_t points) {
+  if (!memoryTraceOn()) return;
+  std::uint64_t rss = 0, hwm = 0;
+  readResidentKb(rss, hwm);
+  std::fprintf(stderr, "parallax process: memory %-40s rss %7.1f MB  peak %7.1f MB  points %llu\n",
+               what.c_str(), double(rss) / 1024.0, double(hwm) / 1024.0,
+               static_cast<unsigned long long>(points));
+  // "5" resets the peak to the current resident size (proc(5), /proc/PID/clear_refs).
+  if (std::FILE* refs = std::fopen("/proc/self/clear_refs", "w")) {
+    std::fputs("5", refs);
+    std::fclose(refs);
+  }
+}
 
 std::size_t TileSet::batchPointsFor(std::uint64_t max_tile_points) {
   return std::size_t(
@@ -254,6 +290,146 @@ void TileSet::appendKeptInBox(const double lo[3], const double hi[3], std::size_
   }
 }
 
+namespace {
+
+// The boxes of a round bucketed by a grid over their x-y extent, so that a point is tested
+// against the few boxes of its cell, not all of them.
+class BoxBuckets {
+ public:
+  explicit BoxBuckets(std::span<const BallGroup> groups) : groups_(groups) {
+    std::vector<PointBox> boxes(groups.size());
+    for (std::size_t i = 0; i < groups.size(); ++i) boxes[i] = groups[i].box;
+    for (int a = 0; a < 2; ++a) {
+      lo_[a] = TileSet::kInfinity;
+      hi_[a] = -TileSet::kInfinity;
+      for (const PointBox& b : boxes) {
+        lo_[a] = std::min(lo_[a], b.lo[a]);
+        hi_[a] = std::max(hi_[a], b.hi[a]);
+      }
+      // An infinite side: the cells span the finite bounds, the end cells take the rest.
+      if (!std::isfinite(lo_[a]) || !std::isfinite(hi_[a])) {
+        double finite_lo = TileSet::kInfinity, finite_hi = -TileSet::kInfinity;
+        for (const PointBox& b : boxes) {
+          for (const double v : {b.lo[a], b.hi[a]}) {
+            if (std::isfinite(v)) {
+              finite_lo = std::min(finite_lo, v);
+              finite_hi = std::max(finite_hi, v);
+            }
+          }
+        }
+        lo_[a] = std::isfinite(finite_lo) ? finite_lo : 0.0;
+        hi_[a] = std::isfinite(finite_hi) ? finite_hi : 0.0;
+      }
+    }
+    // About two boxes a cell across, at most 256 x 256 cells, and coarser while the boxes would
+    // be listed in more than 4 M cells in all (many boxes as wide as the cloud).
+    std::size_t side = std::clamp<std::size_t>(
+        std::size_t(std::ceil(std::sqrt(double(boxes.size())) * 2.0)), 1, 256);
+    for (;; side /= 2) {
+      for (int a = 0; a < 2; ++a) {
+        cells_[a] = hi_[a] > lo_[a] ? side : 1;
+        scale_[a] = hi_[a] > lo_[a] ? double(cells_[a]) / (hi_[a] - lo_[a]) : 0.0;
+      }
+      std::uint64_t listed = 0;
+      for (const PointBox& b : boxes) {
+        listed += std::uint64_t(cell(0, b.hi[0]) - cell(0, b.lo[0]) + 1) *
+                  std::uint64_t(cell(1, b.hi[1]) - cell(1, b.lo[1]) + 1);
+      }
+      if (side <= 1 || listed <= (std::uint64_t(4) << 20)) break;
+    }
+    start_.assign(cells_[0] * cells_[1] + 1, 0);
+    auto forCells = [&](const PointBox& b, auto&& visit) {
+      const std::size_t x0 = cell(0, b.lo[0]), x1 = cell(0, b.hi[0]);
+      const std::size_t y0 = cell(1, b.lo[1]), y1 = cell(1, b.hi[1]);
+      for (std::size_t y = y0; y <= y1; ++y) {
+        for (std::size_t x = x0; x <= x1; ++x) visit(y * cells_[0] + x);
+      }
+    };
+    for (const PointBox& b : boxes) forCells(b, [&](std::size_t c) { ++start_[c + 1]; });
+    for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+    in_cell_.resize(start_.back());
+    std::vector<std::size_t> next(start_.begin(), start_.end() - 1);
+    for (std::uint32_t i = 0; i < boxes.size(); ++i) {
+      forCells(boxes[i], [&](std::size_t c) { in_cell_[next[c]++] = i; });
+    }
+  }
+
+  // Whether p is in one of the balls of a group whose box holds it.
+  bool holds(const GridPoint& p, std::span<const QueryBall> balls) const {
+    const std::size_t c = cell(1, p.y) * cells_[0] + cell(0, p.x);
+    for (std::size_t j = start_[c]; j < start_[c + 1]; ++j) {
+      const BallGroup& g = groups_[in_cell_[j]];
+      const PointBox& b = g.box;
+      if (!(p.x >= b.lo[0] && p.x < b.hi[0] && p.y >= b.lo[1] && p.y < b.hi[1] && p.z >= b.lo[2] &&
+            p.z < b.hi[2])) {
+        continue;
+      }
+      for (std::uint32_t k = g.begin; k < g.end; ++k) {
+        const QueryBall& ball = balls[k];
+        if (squaredDistance(p.x, p.y, p.z, ball.x, ball.y, ball.z) <= ball.r2) return true;
+      }
+    }
+    return false;
+  }
+
+ private:
+  std::size_t cell(int a, double v) const {
+    const double c = (v - lo_[a]) * scale_[a];
+    if (!(c > 0.0)) return 0;  // below, NaN-free: -inf and the lower bound
+    return std::min(cells_[a] - 1, std::size_t(std::min(c, 1e18)));
+  }
+
+  std::span<const BallGroup> groups_;
+  double lo_[2], hi_[2], scale_[2];
+  std::size_t cells_[2];
+  std::vector<std::size_t> start_;
+  std::vector<std::uint32_t> in_cell_;
+};
+
+}  // namespace
+
+void TileSet::appendKeptInBalls(std::span<const BallGroup> groups, std::span<const QueryBall> balls,
+                                std::vector<GridPoint>& out) const {
+  if (groups.empty()) return;
+  const BoxBuckets buckets(groups);
+  std::vector<std::size_t> overlapping;
+  std::uint64_t bound = 0;
+  for (std::size_t t = 0; t < tiles(); ++t) {
+    if (counts_[t] == 0) continue;
+    const bool overlaps = std::any_of(groups.begin(), groups.end(), [&](const BallGroup& g) {
+      return this->hi(t) > g.box.lo[0] && this->lo(t) < g.box.hi[0];
+    });
+    if (!overlaps) continue;
+    overlapping.push_back(t);
+    bound += counts_[t];
+  }
+  // As appendKeptInBox: a bound reserved once, its untouched pages never made resident.
+  out.reserve(out.size() + std::size_t(bound));
+  const std::size_t records = std::min(batch_points_, kMostBlockRecords);
+  std::vector<GridPoint> block(records);
+  std::vector<std::uint8_t> flags(records);
+  for (const std::size_t t : overlapping) {
+    File points = openFile(file(t, "points"), "rb");
+    File kept = openFile(file(t, "kept"), "rb");
+    for (std::uint64_t done = 0; done < counts_[t];) {
+      const std::size_t n = std::size_t(std::min<std::uint64_t>(records, counts_[t] - done));
+      readAll(points.get(), block.data(), n * sizeof(GridPoint), file(t, "points"));
+      readAll(kept.get(), flags.data(), n, file(t, "kept"));
+      for (std::size_t i = 0; i < n; ++i) {
+        if (flags[i] && buckets.holds(block[i], balls)) out.push_back(block[i]);
+      }
+      done += n;
+    }
+  }
+}
+
+void TileSet::noteLaterRound(std::uint64_t points, std::size_t boxes) const {
+  ++statistics_.later_rounds;
+  statistics_.later_round_points += points;
+  statistics_.largest_later_round = std::max(statistics_.largest_later_round, points);
+  statistics_.later_round_boxes += boxes;
+}
+
 void TileSet::renameAll(const std::string& from, const std::string& to) const {
   for (std::size_t t = 0; t < tiles(); ++t) std::filesystem::rename(file(t, from), file(t, to));
 }
@@ -288,6 +464,70 @@ TileNeighbourhood loadNeighbourhood(const TileSet& tiles, std::size_t tile, doub
   return hood;
 }
 
+void groupQueryBalls(std::span<const GridPoint> queries, std::span<const std::uint32_t> pending,
+                     std::span<const double> halos, std::vector<BallGroup>& groups,
+                     std::vector<QueryBall>& balls, std::vector<std::uint32_t>& ball_of) {
+  // A query's cell: the grid of width 2^e >= its halo (frexp: halo = m 2^e, m in [0.5, 1)).
+  struct Cell {
+    int exponent;
+    std::int64_t at[3];
+    std::uint32_t j;  // into pending
+    bool operator<(const Cell& o) const {
+      if (exponent != o.exponent) return exponent < o.exponent;
+      for (int a = 0; a < 3; ++a) {
+        if (at[a] != o.at[a]) return at[a] < o.at[a];
+      }
+      return j < o.j;
+    }
+    bool sameCell(const Cell& o) const {
+      return exponent == o.exponent && at[0] == o.at[0] && at[1] == o.at[1] && at[2] == o.at[2];
+    }
+  };
+  std::vector<Cell> cells(pending.size());
+  for (std::uint32_t j = 0; j < pending.size(); ++j) {
+    int exponent = 0;
+    std::frexp(halos[j], &exponent);
+    const double width = std::ldexp(1.0, exponent);
+    const GridPoint& q = queries[pending[j]];
+    const double v[3] = {q.x, q.y, q.z};
+    cells[j].exponent = exponent;
+    cells[j].j = j;
+    for (int a = 0; a < 3; ++a) {
+      cells[j].at[a] = std::int64_t(std::clamp(std::floor(v[a] / width), -4e18, 4e18));
+    }
+  }
+  std::sort(cells.begin(), cells.end());
+  groups.clear();
+  balls.resize(pending.size());
+  ball_of.assign(pending.size(), 0);
+  for (std::size_t begin = 0; begin < cells.size();) {
+    std::size_t end = begin + 1;
+    while (end < cells.size() && cells[end].sameCell(cells[begin])) ++end;
+    BallGroup group;
+    group.begin = std::uint32_t(begin);
+    group.end = std::uint32_t(end);
+    for (int a = 0; a < 3; ++a) {
+      group.box.lo[a] = TileSet::kInfinity;
+      group.box.hi[a] = -TileSet::kInfinity;
+    }
+    for (std::size_t c = begin; c < end; ++c) {
+      const std::uint32_t j = cells[c].j;
+      const GridPoint& q = queries[pending[j]];
+      const double r = halos[j] * (1.0 + 1e-6);
+      balls[c] = {q.x, q.y, q.z, r * r};
+      ball_of[j] = std::uint32_t(c);
+      const double v[3] = {q.x, q.y, q.z};
+      // The box a hair wider than the ball: a bucket, not a bound that decides.
+      for (int a = 0; a < 3; ++a) {
+        group.box.lo[a] = std::min(group.box.lo[a], v[a] - 1.001 * r);
+        group.box.hi[a] = std::max(group.box.hi[a], v[a] + 1.001 * r);
+      }
+    }
+    groups.push_back(group);
+    begin = end;
+  }
+}
+
 TileNeighbourhood loadAround(const TileSet& set, std::size_t t, double halo) {
   TileNeighbourhood hood;
   hood.lo[0] = set.lo(t) - halo;
@@ -295,16 +535,6 @@ TileNeighbourhood loadAround(const TileSet& set, std::size_t t, double halo) {
   if (hood.lo[0] < set.min()[0]) hood.lo[0] = -TileSet::kInfinity;
   if (hood.hi[0] > set.max()[0]) hood.hi[0] = TileSet::kInfinity;
   set.appendKeptInRange(hood.lo[0], hood.hi[0], SIZE_MAX, hood.points);
-  return hood;
-}
-
-TileNeighbourhood loadBox(const TileSet& set, const double lo[3], const double hi[3]) {
-  TileNeighbourhood hood;
-  for (int a = 0; a < 3; ++a) {
-    hood.lo[a] = lo[a] < set.min()[a] ? -TileSet::kInfinity : lo[a];
-    hood.hi[a] = hi[a] > set.max()[a] ? TileSet::kInfinity : hi[a];
-  }
-  set.appendKeptInBox(hood.lo, hood.hi, SIZE_MAX, hood.points);
   return hood;
 }
 

@@ -26,6 +26,39 @@
 
 namespace parallax {
 
+// PARALLAX_PROCESS_TRACE set (to anything but 0): each call prints to stderr the process's
+// resident memory now (VmRSS) and its peak since the call before (VmHWM, then reset through
+// /proc/self/clear_refs, so each phase's own peak is read), with `what` (a phase, a slab's round)
+// and `points` (what the phase loaded). Nothing without the variable. Linux only; elsewhere the
+// line says "n/a".
+bool memoryTraceOn();
+void traceMemory(const std::string& what, std::uint64_t points = 0);
+
+// A box [lo, hi) on every axis (an infinite bound: nothing beyond on that side).
+struct PointBox {
+  double lo[3], hi[3];
+};
+
+// A query's ball: the points p with squaredDistance(p, centre) <= r2 (neighbour_index.h's
+// expression) are loaded for it.
+struct QueryBall {
+  double x, y, z, r2;
+};
+// A run of balls, balls[begin, end), and a box holding all of them.
+struct BallGroup {
+  PointBox box;
+  std::uint32_t begin = 0, end = 0;
+};
+
+// What the rounds after a tile's first loaded (answerTileQueries, tile_queries.h), over a run:
+// the points a round holds beyond the first load's are what pushes the peak past --memory.
+struct TileStatistics {
+  std::uint64_t later_rounds = 0;         // rounds after a tile's first, all steps
+  std::uint64_t later_round_points = 0;   // the points they loaded, summed
+  std::uint64_t largest_later_round = 0;  // the most points one of them loaded
+  std::uint64_t later_round_boxes = 0;    // the boxes they loaded (a box per cluster of queries)
+};
+
 class TileSet {
  public:
   static constexpr double kInfinity = std::numeric_limits<double>::infinity();
@@ -66,6 +99,16 @@ class TileSet {
   void appendKeptInBox(const double lo[3], const double hi[3], std::size_t except,
                        std::vector<GridPoint>& out) const;
 
+  // Every kept point of every tile within the ball of at least one of `balls`, appended once
+  // however many hold it, in one pass over the files of the tiles the groups' boxes overlap in
+  // x; `groups` (boxes around runs of `balls`) say which balls a point may be in.
+  void appendKeptInBalls(std::span<const BallGroup> groups, std::span<const QueryBall> balls,
+                         std::vector<GridPoint>& out) const;
+
+  // A round after a tile's first loaded `points` in `boxes` boxes (TileStatistics).
+  void noteLaterRound(std::uint64_t points, std::size_t boxes) const;
+  const TileStatistics& statistics() const { return statistics_; }
+
   // Per-point records of `what` ("kept", "normals", ...), `record_size` bytes each.
   template <class T>
   void writeRecords(std::size_t tile, const std::string& what, std::span<const T> records) const {
@@ -95,6 +138,7 @@ class TileSet {
   std::uint64_t points_ = 0;
   std::size_t batch_points_ = 1;
   double min_[3] = {0, 0, 0}, max_[3] = {0, 0, 0};
+  mutable TileStatistics statistics_;  // counted by the steps, which see the tiles as const
 };
 
 // A tile's kept points and the kept points within a halo around it: the input of a step's
@@ -107,9 +151,14 @@ struct TileNeighbourhood {
   double lo[3] = {-TileSet::kInfinity, -TileSet::kInfinity, -TileSet::kInfinity};
   double hi[3] = {TileSet::kInfinity, TileSet::kInfinity, TileSet::kInfinity};
 
+  // For a later round's query (answerTileQueries): every kept point within this distance of it
+  // is loaded, and the box is not what says so (the box is then infinite).
+  double within = TileSet::kInfinity;
+
   // Whether a ball of radius `r` around `q` lies within what was loaded, so that a query
   // answered with that radius is exact.
   bool covers(const GridPoint& q, double r) const {
+    if (!(r <= within)) return false;
     const double v[3] = {q.x, q.y, q.z};
     for (int a = 0; a < 3; ++a) {
       if (lo[a] != -TileSet::kInfinity && !(v[a] - r >= lo[a])) return false;
@@ -118,6 +167,7 @@ struct TileNeighbourhood {
     return true;
   }
   bool everything() const {
+    if (within != TileSet::kInfinity) return false;
     for (int a = 0; a < 3; ++a) {
       if (lo[a] != -TileSet::kInfinity || hi[a] != TileSet::kInfinity) return false;
     }
@@ -131,10 +181,17 @@ TileNeighbourhood loadNeighbourhood(const TileSet& tiles, std::size_t tile, doub
                                     const std::vector<GridPoint>& core_points,
                                     const std::vector<std::uint8_t>& core_kept);
 
-// Every kept point of `set` in the box [lo, hi) (bounds past the cloud's made infinite): the
-// later rounds of a tile's queries, which need only the surroundings of the few still pending
-// (an isolated point far from the rest would otherwise pull in a wide slice of the cloud).
-TileNeighbourhood loadBox(const TileSet& set, const double lo[3], const double hi[3]);
+// The balls of a later round: each pending query (`pending` indexes `queries`, `halos` their
+// halos, in the same order) with a ball of its halo (a hair over it: the answer checks its reach
+// against the halo itself, so rounding never makes a loaded point look missing), the balls
+// grouped by a grid whose cells are as wide as their halo rounded up to a power of two, each
+// group with the bounding box of its balls. `balls[j]` is pending[j]'s, in group order through
+// `ball_of[j]`. A query far from the rest (a bogus return high above the ground) loads the
+// points within its own reach, not a box around all pending queries that spans the slab, and
+// not even its own box (whose corners would reach the ground below it).
+void groupQueryBalls(std::span<const GridPoint> queries, std::span<const std::uint32_t> pending,
+                     std::span<const double> halos, std::vector<BallGroup>& groups,
+                     std::vector<QueryBall>& balls, std::vector<std::uint32_t>& ball_of);
 
 // Every kept point of `set` within `halo` of tile t's x interval (an infinite halo past the
 // cloud's ends), none of them "core": another cloud's points around a tile of the processed one

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 
@@ -109,6 +111,59 @@ TEST(ProcessMemory, LoadBoxAllocatesWhatItLoadsOnce) {
   // Each slab read allocates its block and flags buffers once.
   const std::uint64_t buffers = set.tiles() * set.batchPoints() * (sizeof(GridPoint) + 1);
   EXPECT_LE(bytes, kPoints * sizeof(GridPoint) + buffers + (64u << 10));
+}
+
+TEST(ProcessMemory, LaterRoundsLoadTheirQueriesSurroundingsNotTheSlab) {
+  // A gently rolling ground (100 x 100 m, 9 838 points) and 100 bogus returns 60-100 m above it
+  // (aerial LAS files have such), at --memory 1: three slabs of at most 4 096 points. A bogus
+  // return's 16th neighbour, another bogus return about 30 m away, lies outside its slab, so its
+  // query is asked again in a later round, as are the sparse strip's near the slabs' edges. One
+  // box around all pending queries, grown by the farthest reach (the code before), takes the
+  // slab and its neighbours from the ground up: 9 938 points, the whole cloud, and this fails.
+  // A ball per query takes what lies within its own reach: 146 points in the largest round
+  // (bounded here by a tenth of a slab). Either way the bytes are the one-slab run's.
+  test::TempDir dir;
+  std::mt19937 random(2611);
+  std::uniform_real_distribution<double> across(0.0, 100.0), up(60.0, 100.0);
+  std::string text;
+  auto ground = [&](double x, double y) {
+    text += format("%.3f %.3f %.3f\n", x, y, 0.3 * std::sin(x / 7.0) + 0.2 * std::cos(y / 5.0));
+  };
+  for (std::size_t i = 0; i < 9600; ++i) ground(double(i % 120) * (100.0 / 120.0), double(i / 120));
+  // A sparse strip (a point every 3 m): there a query's 16th neighbour lies beyond the first
+  // halo (sized for the dense ground), so near the slabs' edges its queries are pending too.
+  for (double y = 81.0; y < 100.0; y += 3.0) {
+    for (double x = 0.5; x < 100.0; x += 3.0) ground(x, y);
+  }
+  for (std::size_t i = 0; i < 100; ++i) {
+    const double x = across(random), y = across(random), z = up(random);
+    text += format("%.3f %.3f %.3f\n", x, y, z);
+  }
+  const auto in = dir.write("aerial.xyz", text);
+  auto run = [&](const std::string& name, std::uint64_t memory_mb) {
+    ProcessOptions options;
+    options.inputs = {ConvertInput{.path = in, .text_columns = {"x", "y", "z"}}};
+    options.output = dir / name;
+    options.steps = {NormalsStep{.k = 16}};
+    options.memory_mb = memory_mb;
+    return runProcess(options);
+  };
+  const ProcessReport tiled = run("tiled.ply", 1);
+  const ProcessReport whole = run("whole.ply", 16000);
+  EXPECT_EQ(tiled.tiles, 3u);
+  EXPECT_EQ(whole.tiles, 1u);
+  // The later rounds happened (the bogus returns' queries), and each loaded little.
+  EXPECT_GE(tiled.later_rounds.later_rounds, 3u);
+  EXPECT_LE(tiled.later_rounds.largest_later_round, 400u);
+  EXPECT_LE(tiled.later_rounds.later_round_points, 2000u);
+  EXPECT_EQ(whole.later_rounds.later_rounds, 0u);
+  auto bytes = [](const std::filesystem::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  const std::string a = bytes(dir / "tiled.ply");
+  EXPECT_GT(a.size(), 9938u * 12u);  // at least the normals
+  EXPECT_TRUE(a == bytes(dir / "whole.ply"));
 }
 
 }  // namespace
