@@ -20,6 +20,7 @@
 #include "io/text_writer.h"
 #include "lod/copc_converter.h"
 #include "lod/potree_converter.h"
+#include "lod/potree_reader.h"
 #include "process/sensor_positions.h"
 #include "process/tile_queries.h"
 #include "process/tile_set.h"
@@ -569,8 +570,8 @@ ProcessReport runProcess(const ProcessOptions& given) {
   const OutputKind kind = outputKind(options.output);
   const bool las_inputs =
       std::all_of(options.inputs.begin(), options.inputs.end(), [](const ConvertInput& input) {
-        std::error_code ignored;
-        if (std::filesystem::is_directory(input.path, ignored)) return false;
+        // An octree, local or at a URL (whose "directory" no file test sees), is no LAS file.
+        if (isPotreeDirectory(input.path)) return false;
         const PointFormat format = detectPointFormat(input.path);
         return format == PointFormat::Las || format == PointFormat::Laz;
       });

@@ -178,6 +178,33 @@ TEST(HttpConvert, AQueryDoesNotHideTheFormatTheNameGives) {
   EXPECT_FALSE(std::filesystem::exists(dir / "x.xyz"));
 }
 
+// `parallax process` takes a Potree octree's URL as it takes the local directory: the same
+// bytes out (a directory URL was once opened as a file and answered 404).
+TEST(HttpConvert, AProcessOfAPotreeUrlEqualsTheLocalDirectorys) {
+  test::TempDir dir;
+  std::filesystem::create_directories(dir / "www");
+  ::setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);
+  const test::RunResult built = test::runParallax(
+      dir, "convert -q " + quoted(test::testDataFile("laz/ellipsoid.laz").string()) + " -o " +
+               quoted((dir / "www" / "octree").string()));
+  ASSERT_EQ(built.exit_code, 0) << built.err;
+  Nginx nginx(dir / "nginx", {.root = dir / "www"});
+  const std::string steps = " --normals 8 --outliers statistical:8,2 -q -o ";
+  for (const std::string& url : {nginx.url("octree/metadata.json"), nginx.url("octree/")}) {
+    SCOPED_TRACE(url);
+    const test::RunResult remote = test::runParallax(
+        dir, "process " + quoted(url) + steps + quoted((dir / "remote.las").string()));
+    ASSERT_EQ(remote.exit_code, 0) << remote.err;
+    const test::RunResult local =
+        test::runParallax(dir, "process " + quoted((dir / "www" / "octree").string()) + steps +
+                                   quoted((dir / "local.las").string()));
+    ASSERT_EQ(local.exit_code, 0) << local.err;
+    const std::string remote_bytes = fileText(dir / "remote.las");
+    EXPECT_GT(readPointFileHeader(dir / "remote.las").point_count.value_or(0), 50000u);
+    EXPECT_EQ(remote_bytes, fileText(dir / "local.las"));
+  }
+}
+
 TEST(HttpConvert, AMissingUrlIsAnErrorNamingIt) {
   test::TempDir dir;
   std::filesystem::create_directories(dir / "www");
