@@ -1084,6 +1084,33 @@ TEST_F(XrViewTest, TheToolButtonHeldTakesTheProfilesPanelAway) {
   }
 }
 
+// The left controller's script of the delete tests: a distance a -> b, then d -> c (trigger
+// pulls), then the tool button (Y) held from frame 8 with the laser on `held_on`, let go at 54.
+nlohmann::json twoDistancesThenToolHeld(const TestPoint& a, const TestPoint& b, const TestPoint& d,
+                                        const TestPoint& c, const TestPoint& held_on) {
+  const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
+    return frameAimingAt(frame, "left", p, inputs);
+  };
+  const nlohmann::json none = nlohmann::json::object();
+  const nlohmann::json pull{{"trigger/value", 1.0}}, hold{{"y/click", true}};
+  return {{"profile", "/interaction_profiles/oculus/touch_controller"},
+          {"frames",
+           {at(0, a, none), at(1, a, pull), at(2, b, none), at(3, b, pull), at(4, d, none),
+            at(5, d, pull), at(6, c, none), at(7, c, pull), at(8, held_on, hold),
+            at(54, held_on, none)}}};
+}
+
+// The length on the one "deleted distance" line of `err` (NaN, and a failure, without one).
+double deletedDistance(const std::string& err) {
+  const auto deleted = err.find("--xr: deleted distance ");
+  EXPECT_NE(deleted, std::string::npos) << err;
+  if (deleted == std::string::npos) return std::nan("");
+  EXPECT_EQ(err.find("--xr: deleted ", deleted + 1), std::string::npos) << "deleted once";
+  double length = std::nan("");
+  EXPECT_EQ(std::sscanf(err.c_str() + deleted, "--xr: deleted distance %lf m", &length), 1);
+  return length;
+}
+
 // --measurements FILE that exists: its measurements and annotations are kept, the headset's are
 // added, and the tool button held half a second (45 frames at the runtime's 90 Hz) with the laser
 // on no measurement deletes the last one, which the file then lacks.
@@ -1094,18 +1121,8 @@ TEST_F(XrViewTest, TheToolButtonHeldDeletesTheLastMeasurementAndTheFileKeepsTheR
   const TestPoint& c = points_[26];
   const TestPoint& d = points_[8];     // not b: a press on the first distance's vertex grabs it
   const TestPoint& away = points_[0];  // the laser on no measurement: tens of degrees off them
-  const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
-    return frameAimingAt(frame, "left", p, inputs);
-  };
-  const nlohmann::json none = nlohmann::json::object();
-  const nlohmann::json pull{{"trigger/value", 1.0}}, hold{{"y/click", true}};
-  const nlohmann::json controllers{
-      {"profile", "/interaction_profiles/oculus/touch_controller"},
-      {"frames",
-       {at(0, a, none), at(1, a, pull), at(2, b, none), at(3, b, pull),  // a distance a -> b
-        at(4, d, none), at(5, d, pull), at(6, c, none), at(7, c, pull),  // and d -> c
-        at(8, away, hold),  // held from frame 8: 45 periods later, frame 53, deletes d -> c
-        at(54, away, none)}}};
+  // Held from frame 8: 45 periods later, frame 53, deletes d -> c.
+  const nlohmann::json controllers = twoDistancesThenToolHeld(a, b, d, c, away);
   const std::filesystem::path file = dir_ / "kept.json";
   std::ofstream(file) << R"({"format": "parallax-measurements", "version": 1,
     "measurements": [{"kind": "height", "name": "mast", "points": [[1, 2, 3], [1, 2, 7.5]]}],
@@ -1116,12 +1133,7 @@ TEST_F(XrViewTest, TheToolButtonHeldDeletesTheLastMeasurementAndTheFileKeepsTheR
   const std::vector<glm::dvec3> picks = laserPicks(err);
   ASSERT_EQ(picks.size(), 4u) << err;
   EXPECT_EQ(err.find("tool "), std::string::npos) << "a long press is no short one: " << err;
-  const auto deleted = err.find("--xr: deleted distance ");
-  ASSERT_NE(deleted, std::string::npos) << err;
-  EXPECT_EQ(err.find("--xr: deleted ", deleted + 1), std::string::npos) << "deleted once";
-  double deleted_length = 0;
-  ASSERT_EQ(std::sscanf(err.c_str() + deleted, "--xr: deleted distance %lf m", &deleted_length), 1);
-  EXPECT_NEAR(deleted_length, glm::length(picks[3] - picks[2]), 1e-6);
+  EXPECT_NEAR(deletedDistance(err), glm::length(picks[3] - picks[2]), 1e-6);
 
   const std::vector<SavedMeasurement> saved = savedMeasurements(file);
   ASSERT_EQ(saved.size(), 2u);
@@ -1219,30 +1231,15 @@ TEST_F(XrViewTest, TheToolButtonHeldOnAMeasurementDeletesThatOne) {
   const TestPoint& c = points_[26];
   const TestPoint& d = points_[8];
   const TestPoint middle{0.5 * (a.file + b.file), 0, 0, 0};
-  const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
-    return frameAimingAt(frame, "left", p, inputs);
-  };
-  const nlohmann::json none = nlohmann::json::object();
-  const nlohmann::json pull{{"trigger/value", 1.0}}, hold{{"y/click", true}};
-  const nlohmann::json controllers{
-      {"profile", "/interaction_profiles/oculus/touch_controller"},
-      {"frames",
-       {at(0, a, none), at(1, a, pull), at(2, b, none), at(3, b, pull),  // a distance a -> b
-        at(4, d, none), at(5, d, pull), at(6, c, none), at(7, c, pull),  // and d -> c
-        at(8, middle, hold),  // held from frame 8 on a -> b's line: frame 53 deletes a -> b
-        at(54, middle, none)}}};
+  // Held from frame 8 on a -> b's line: frame 53 deletes a -> b.
+  const nlohmann::json controllers = twoDistancesThenToolHeld(a, b, d, c, middle);
   const std::filesystem::path file = dir_ / "second.json";
   const auto result = run(eyes, 64, 48, 55, "--measurements " + quoted(file.string()), controllers);
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const std::string& err = result.err;
   const std::vector<glm::dvec3> picks = laserPicks(err);
   ASSERT_EQ(picks.size(), 4u) << err;
-  const auto deleted = err.find("--xr: deleted distance ");
-  ASSERT_NE(deleted, std::string::npos) << err;
-  EXPECT_EQ(err.find("--xr: deleted ", deleted + 1), std::string::npos) << "deleted once";
-  double deleted_length = 0;
-  ASSERT_EQ(std::sscanf(err.c_str() + deleted, "--xr: deleted distance %lf m", &deleted_length), 1);
-  EXPECT_NEAR(deleted_length, glm::length(picks[1] - picks[0]), 1e-6);
+  EXPECT_NEAR(deletedDistance(err), glm::length(picks[1] - picks[0]), 1e-6);
   const std::vector<SavedMeasurement> saved = savedMeasurements(file);
   ASSERT_EQ(saved.size(), 1u);
   EXPECT_EQ(saved[0].kind, "distance");
