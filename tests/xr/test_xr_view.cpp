@@ -519,6 +519,13 @@ nlohmann::json frameAimingAt(int frame, const char* side, const TestPoint& p,
   return {{"frame", frame}, {side, handAimingAt(p.file, inputs)}};
 }
 
+// One hand's script: at(frame, p, inputs) is a frame of `side` aiming at `p` with `inputs`.
+auto handScript(const char* side) {
+  return [side](int frame, const TestPoint& p, const nlohmann::json& inputs) {
+    return frameAimingAt(frame, side, p, inputs);
+  };
+}
+
 TEST_F(XrViewTest, TheLaserPicksThePointItAimsAtAndMeasuresADistance) {
   const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
   const TestPoint& a = points_[7];
@@ -582,9 +589,7 @@ TEST_F(XrViewTest, TheToolButtonChoosesHeightAndAreaWhosePicksAreMeasured) {
   // The area's other points: not a and b, the height's vertices (a press on one grabs it).
   const TestPoint& d = points_[8];
   const TestPoint& e = points_[53];
-  const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
-    return frameAimingAt(frame, "right", p, inputs);
-  };
+  const auto at = handScript("right");
   const nlohmann::json none = nlohmann::json::object();
   const nlohmann::json pull{{"trigger/value", 1.0}}, button{{"b/click", true}};
   const nlohmann::json controllers{
@@ -736,9 +741,7 @@ TEST_F(XrViewTest, AngleProfileAndPointToolsMeasureThePicksAndAreSaved) {
   const TestPoint& a = points_[7];
   const TestPoint& b = points_[52];
   const TestPoint& c = points_[26];
-  const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
-    return frameAimingAt(frame, "right", p, inputs);
-  };
+  const auto at = handScript("right");
   // The profile's and the point's: not the angle's vertices (a press on one grabs it).
   const TestPoint& d = points_[8];
   const TestPoint& e = points_[53];
@@ -907,9 +910,7 @@ Eye panelEye(double x) {
 nlohmann::json profileScript(const std::vector<TestPoint>& points, bool hold) {
   const TestPoint& a = points[7];
   const TestPoint& b = points[52];
-  const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
-    return frameAimingAt(frame, "right", p, inputs);
-  };
+  const auto at = handScript("right");
   const nlohmann::json none = nlohmann::json::object();
   const nlohmann::json pull{{"trigger/value", 1.0}}, button{{"b/click", true}};
   // Short presses act at their release: height at frame 2, area 4, angle 6, profile 8.
@@ -1088,9 +1089,7 @@ TEST_F(XrViewTest, TheToolButtonHeldTakesTheProfilesPanelAway) {
 // pulls), then the tool button (Y) held from frame 8 with the laser on `held_on`, let go at 54.
 nlohmann::json twoDistancesThenToolHeld(const TestPoint& a, const TestPoint& b, const TestPoint& d,
                                         const TestPoint& c, const TestPoint& held_on) {
-  const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
-    return frameAimingAt(frame, "left", p, inputs);
-  };
+  const auto at = handScript("left");
   const nlohmann::json none = nlohmann::json::object();
   const nlohmann::json pull{{"trigger/value", 1.0}}, hold{{"y/click", true}};
   return {{"profile", "/interaction_profiles/oculus/touch_controller"},
@@ -1156,9 +1155,7 @@ TEST_F(XrViewTest, TheTriggerOnAVertexGrabsItAndItFollowsTheLaserUntilLetGo) {
   const TestPoint& a = points_[7];
   const TestPoint& b = points_[52];
   const TestPoint& c = points_[26];
-  const auto at = [](int frame, const TestPoint& p, const nlohmann::json& inputs) {
-    return frameAimingAt(frame, "right", p, inputs);
-  };
+  const auto at = handScript("right");
   const nlohmann::json none = nlohmann::json::object();
   const nlohmann::json pull{{"trigger/value", 1.0}};
   const nlohmann::json controllers{
