@@ -35,9 +35,14 @@
 
 namespace parallax {
 
+// A transfer slower than this for the whole stall timeout is stalled: a server that trickles a
+// few bytes a second (broken, or hostile) never finishes a node but never goes quiet either.
+// Far below any real link, even shared by a connection's multiplexed transfers.
+inline constexpr long kStallBytesPerSecond = 64;
+
 struct HttpOptions {
   std::chrono::milliseconds connect_timeout{10'000};
-  // No byte received for this long ends a transfer (1 s granularity).
+  // Under kStallBytesPerSecond received for this long ends a transfer (1 s granularity).
   std::chrono::milliseconds stall_timeout{20'000};
   long max_host_connections = 8;  // HTTP/1.1 connections per host (HTTP/2 multiplexes more)
   bool verify_tls = true;

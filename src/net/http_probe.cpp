@@ -4,6 +4,7 @@
 
 #include "core/url.h"
 #include "net/http_byte_source.h"
+#include "net/http_client.h"
 #include "net/http_source_state.h"
 
 namespace parallax {
@@ -86,8 +87,8 @@ std::string describeFailure(const HttpResponse& r) {
 std::string hintForFailure(const HttpResponse& r) {
   switch (r.transport) {
     case TransportError::Timeout:
-      return "the server sent nothing for the stall timeout; PARALLAX_HTTP_TIMEOUT=SECONDS "
-             "allows longer";
+      return "the server sent nothing, or under " + std::to_string(kStallBytesPerSecond) +
+             " bytes a second, for the stall timeout; PARALLAX_HTTP_TIMEOUT=SECONDS allows longer";
     case TransportError::ConnectFailed:
       return "is the server up, and the host and port right?";
     case TransportError::Reset:

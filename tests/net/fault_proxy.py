@@ -14,6 +14,7 @@ Sits between the client and a real server (nginx) and spoils some answers on pur
   no-validators forwards the answer without its ETag and Last-Modified (a server that states
                 no version of the file)
   stall         sends nothing for --delay-ms, then closes
+  trickle       sends the headers, then the body one byte every --delay-ms
 
 Which requests: those whose path ends with --path-suffix (default: all), after the first
 --after of them, every --every'th (1: each), the same request (path and Range) at most
@@ -44,7 +45,8 @@ def parse_args():
     parser.add_argument("--port", type=int, default=0)
     parser.add_argument("--mode", default="pass",
                         choices=["pass", "delay", "drop", "503", "404", "truncate",
-                                 "ignore-range", "etag", "no-validators", "stall"])
+                                 "ignore-range", "etag", "no-validators", "stall",
+                                 "trickle"])
     parser.add_argument("--path-suffix", default="")
     parser.add_argument("--after", type=int, default=0)
     parser.add_argument("--every", type=int, default=1)
@@ -188,6 +190,16 @@ def make_handler(faults, args):
                     self.connection.shutdown(socket.SHUT_RDWR)
                 except OSError:
                     pass
+                self.close_connection = True
+                return
+            if mode == "trickle":
+                try:
+                    for i in range(len(send_body)):
+                        self.wfile.write(send_body[i:i + 1])
+                        self.wfile.flush()
+                        time.sleep(args.delay_ms / 1000.0)
+                except OSError:
+                    pass  # the client gave up: what the test expects
                 self.close_connection = True
                 return
             self.wfile.write(send_body)

@@ -259,6 +259,20 @@ TEST(HttpSource, AStalledServerTimesOut) {
                  {"data.bin", "node r1", "timed out", "2 attempts", "PARALLAX_HTTP_TIMEOUT"});
 }
 
+// A server that sends a byte every 50 ms never goes quiet, but a 64 KiB range would take an hour:
+// under kStallBytesPerSecond for the stall timeout is a stall too.
+TEST(HttpSource, ATricklingServerTimesOut) {
+  Served s;
+  auto proxy = s.proxy({"--mode", "trickle", "--delay-ms", "50", "--after", "1"});
+  HttpOptions http;
+  http.stall_timeout = 1s;
+  auto client = std::make_shared<HttpClient>(http);
+  const auto source = HttpByteSource::open(proxy->url("data.bin"), client, nullptr, fastRetries(2));
+  const std::string message = errorOf([&] { readRange(*source, 100, 65536, "node r1"); });
+  expectContains(message,
+                 {"data.bin", "node r1", "timed out", "2 attempts", "under 64 bytes a second"});
+}
+
 TEST(HttpSource, CancelledReadsThrowAndTheirRequestsEnd) {
   Served s;
   auto proxy = s.proxy({"--mode", "delay", "--delay-ms", "30000", "--after", "1"});
