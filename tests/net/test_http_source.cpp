@@ -247,14 +247,21 @@ TEST(HttpSource, AFileChangedWhileReadFailsEveryLaterRead) {
   expectContains(later, {"node r6", "changed on the server"});
 }
 
-TEST(HttpSource, AStalledServerTimesOut) {
-  Served s;
-  auto proxy = s.proxy({"--mode", "stall", "--delay-ms", "60000", "--after", "1"});
+// The error of reading `size` bytes of data.bin at offset 100 through a fault proxy with `args`
+// (its first request, the probe, passed), with a 1 s stall timeout and two attempts.
+std::string slowServerError(Served& s, const std::vector<std::string>& args, std::size_t size) {
+  auto proxy = s.proxy(args);
   HttpOptions http;
   http.stall_timeout = 1s;
   auto client = std::make_shared<HttpClient>(http);
   const auto source = HttpByteSource::open(proxy->url("data.bin"), client, nullptr, fastRetries(2));
-  const std::string message = errorOf([&] { readRange(*source, 100, 10, "node r1"); });
+  return errorOf([&] { readRange(*source, 100, size, "node r1"); });
+}
+
+TEST(HttpSource, AStalledServerTimesOut) {
+  Served s;
+  const std::string message =
+      slowServerError(s, {"--mode", "stall", "--delay-ms", "60000", "--after", "1"}, 10);
   expectContains(message,
                  {"data.bin", "node r1", "timed out", "2 attempts", "PARALLAX_HTTP_TIMEOUT"});
 }
@@ -263,12 +270,8 @@ TEST(HttpSource, AStalledServerTimesOut) {
 // under kStallBytesPerSecond for the stall timeout is a stall too.
 TEST(HttpSource, ATricklingServerTimesOut) {
   Served s;
-  auto proxy = s.proxy({"--mode", "trickle", "--delay-ms", "50", "--after", "1"});
-  HttpOptions http;
-  http.stall_timeout = 1s;
-  auto client = std::make_shared<HttpClient>(http);
-  const auto source = HttpByteSource::open(proxy->url("data.bin"), client, nullptr, fastRetries(2));
-  const std::string message = errorOf([&] { readRange(*source, 100, 65536, "node r1"); });
+  const std::string message =
+      slowServerError(s, {"--mode", "trickle", "--delay-ms", "50", "--after", "1"}, 65536);
   expectContains(message,
                  {"data.bin", "node r1", "timed out", "2 attempts", "under 64 bytes a second"});
 }
