@@ -67,20 +67,18 @@ void dispatch(char type, std::uint32_t size, F&& f) {
 // PDAL's dimension name, compared without underscores (PDAL's PCD writer names the fields by its
 // dimensions: GpsTime, ReturnNumber, ...), and PDAL's names that differ from ours.
 const char* pcdLasColumnName(std::string_view lower_name) {
-  std::string bare;
-  for (char ch : lower_name) {
-    if (ch != '_') bare += ch;
-  }
+  const auto withoutUnderscores = [](std::string_view text) {
+    std::string bare(text);
+    std::erase(bare, '_');
+    return bare;
+  };
+  const std::string bare = withoutUnderscores(lower_name);
   namespace n = column_names;
   for (const char* name :
        {n::kReturnNumber, n::kNumberOfReturns, n::kScanDirectionFlag, n::kEdgeOfFlightLine,
         n::kClassificationFlags, n::kScannerChannel, n::kScanAngleRank, n::kScanAngle, n::kUserData,
         n::kPointSourceId, n::kGpsTime, n::kNir}) {
-    std::string model;
-    for (const char* c = name; *c; ++c) {
-      if (*c != '_') model += *c;
-    }
-    if (bare == model) return name;
+    if (bare == withoutUnderscores(name)) return name;
   }
   if (bare == "classflags") return n::kClassificationFlags;
   if (bare == "scanchannel") return n::kScannerChannel;
