@@ -470,6 +470,16 @@ TEST(HeadsetMeasureTool, TheToolButtonRemovesAHeldVertexDownToItsKindsMinimum) {
   ASSERT_TRUE(removal);
   EXPECT_FALSE(removal->removed) << "a height has exactly two";
   EXPECT_EQ(list[0].points, (std::vector<glm::dvec3>{kA, kB}));
+  tool.release(kRightHand);
+  // A profile of three points (the window draws polylines) keeps them all: the headset's profile
+  // is a straight section, and its vertices are only moved.
+  list.push_back({.kind = MeasurementKind::Profile, .points = {kA, kB, kC}});
+  ASSERT_EQ(tool.grab(kRightHand, list, {kC + glm::dvec3(0.0, 0.0, 50.0), {0.0, 0.0, -1.0}}),
+            (MeasurementVertex{3, 2}));
+  removal = tool.removeHeld(kRightHand, list);
+  ASSERT_TRUE(removal);
+  EXPECT_FALSE(removal->removed) << "no vertex of a profile goes";
+  EXPECT_EQ(list[3].points, (std::vector<glm::dvec3>{kA, kB, kC}));
 }
 
 }  // namespace
