@@ -270,17 +270,18 @@ int runXrView(const XrViewOptions& o) {
             erase(under.value_or(measurements.measurements.size() - 1));
           }
           if (events.let_go[h]) {
+            const bool added = tool.holdsInserted(h);
             if (const auto moved = tool.release(h)) {
               // The vertex stays where the last pick put it; the measurement's value is measure/'s
               // on its new points, as for a fresh pick.
               const Measurement& m = measurements.measurements[moved->measurement];
               const glm::dvec3& at = m.points[moved->vertex];
-              std::fprintf(
-                  stderr,
-                  "parallax view --xr: moved vertex %zu of measurement %zu to %s,%s,%s: %s\n",
-                  moved->vertex + 1, moved->measurement + 1, formatAttributeValue(at.x).c_str(),
-                  formatAttributeValue(at.y).c_str(), formatAttributeValue(at.z).c_str(),
-                  describeMeasurement(m, 6).c_str());
+              std::fprintf(stderr,
+                           "parallax view --xr: %s vertex %zu of measurement %zu %s %s,%s,%s: %s\n",
+                           added ? "added" : "moved", moved->vertex + 1, moved->measurement + 1,
+                           added ? "at" : "to", formatAttributeValue(at.x).c_str(),
+                           formatAttributeValue(at.y).c_str(), formatAttributeValue(at.z).c_str(),
+                           describeMeasurement(m, 6).c_str());
               if (m.kind == MeasurementKind::Profile) {
                 std::erase_if(profiles, [&](const HeadsetProfileSummary& p) {
                   return p.measurement == moved->measurement;
@@ -289,13 +290,50 @@ int runXrView(const XrViewOptions& o) {
               }
             }
           }
+          if (events.tool_down[h] && tool.grabbed(h)) {
+            // The tool button on a held vertex removes it, at once; the press is nothing else
+            // (no next tool at its release, no delete when held).
+            locomotion.claimToolPress(h);
+            const VertexRemoval removal = *tool.removeHeld(h, measurements.measurements);
+            const Measurement& m = measurements.measurements[removal.vertex.measurement];
+            const std::string kind(measurementKindName(m.kind));
+            if (removal.removed) {
+              std::fprintf(stderr,
+                           "parallax view --xr: removed vertex %zu of measurement %zu: %s\n",
+                           removal.vertex.vertex + 1, removal.vertex.measurement + 1,
+                           describeMeasurement(m, 6).c_str());
+            } else if (vertexCountIsFree(m.kind)) {
+              std::fprintf(stderr,
+                           "parallax view --xr: vertex %zu of measurement %zu stays: the %s keeps "
+                           "at least %zu points\n",
+                           removal.vertex.vertex + 1, removal.vertex.measurement + 1, kind.c_str(),
+                           minimumVertices(m.kind));
+            } else {
+              std::fprintf(stderr,
+                           "parallax view --xr: vertex %zu of measurement %zu stays: the headset "
+                           "removes vertices of distances and areas only (this is a %s)\n",
+                           removal.vertex.vertex + 1, removal.vertex.measurement + 1, kind.c_str());
+            }
+          }
           bool picks = events.pick[h];
           if (picks) {
-            // A press on a vertex grabs it; only a press on no vertex picks.
-            if (const auto grabbed = tool.grab(h, measurements.measurements,
-                                               laserRay(locomotion.placement(), hand.aim))) {
+            // A press on a vertex grabs it; a press on a distance's or an area's line adds a
+            // vertex there and grabs it; only a press on neither picks.
+            const LaserRay ray = laserRay(locomotion.placement(), hand.aim);
+            if (const auto grabbed = tool.grab(h, measurements.measurements, ray)) {
               std::fprintf(stderr, "parallax view --xr: grabbed vertex %zu of measurement %zu\n",
                            grabbed->vertex + 1, grabbed->measurement + 1);
+              picks = false;
+            } else if (const auto segment = segmentUnderLaser(measurements.measurements, ray)) {
+              // At the laser's point on the cloud, as a drag would put it; on the line itself
+              // when the laser hits nothing there.
+              const auto hit = laserPick(h);
+              const MeasurementVertex added = tool.insert(h, measurements.measurements, *segment,
+                                                          hit ? hit->position : segment->closest);
+              std::fprintf(stderr,
+                           "parallax view --xr: inserted vertex %zu in measurement %zu (%s)\n",
+                           added.vertex + 1, added.measurement + 1,
+                           hit ? "at the laser's point" : "on its line");
               picks = false;
             }
           } else if (tool.grabbed(h) && !events.let_go[h]) {

@@ -21,6 +21,16 @@
 //                 the trigger is held the caller moves it to the laser's pick of every later
 //                 frame (drag), and letting go leaves it at the last one (release). A press starts
 //                 a new pick only when no vertex is under the laser.
+//   trigger on a  (a press with no vertex under the laser but a line of a finished distance or
+//   line          area within kVertexConeDeg: segmentUnderLaser) adds a vertex there, between
+//                 the line's two, at the laser's pick on the cloud (or, when it hits nothing, the
+//                 line's closest point to the ray), and grabs it at once (insert): it follows the
+//                 laser as a grabbed vertex does. Only kinds whose vertex count is free
+//                 (vertexCountIsFree); a press on another kind's line picks.
+//   tool button   (pressed while that hand's trigger holds a vertex; it acts at the press, and
+//   on a held     that press is then nothing else: Locomotion::claimToolPress) removes the held
+//   vertex        vertex when its measurement keeps at least minimumVertices of its kind
+//                 (removeHeld); otherwise the vertex stays, still held.
 // Positions are the cloud's file coordinates in double, as everywhere in measure/.
 #pragma once
 
@@ -70,6 +80,34 @@ std::optional<std::size_t> measurementUnderLaser(std::span<const Measurement> me
                                                  const LaserRay& ray,
                                                  double cone_deg = kVertexConeDeg);
 
+// True for the kinds whose vertices the headset adds and removes: distance (a polyline) and area.
+// Not point, height and angle (an exact count) nor profile (a straight section in the headset).
+bool vertexCountIsFree(MeasurementKind kind);
+
+// A line of a measurement under the laser: between its vertices `segment` and `segment + 1` (an
+// area's closing line: the last and 0), and its point closest to the ray (file coordinates).
+struct MeasurementSegment {
+  std::size_t measurement = 0;
+  std::size_t segment = 0;
+  glm::dvec3 closest{0.0};
+};
+
+// The line of a distance or an area (vertexCountIsFree) that comes closest in angle to the ray
+// within `cone_deg`, as measurementUnderLaser measures lines (the first in the list on a tie,
+// then the first line); none when none does. It does not look at vertices: a caller asks
+// vertexUnderLaser first. `closest` is the line's point nearest the ray (the half-line from the
+// origin) in 3D distance.
+std::optional<MeasurementSegment> segmentUnderLaser(std::span<const Measurement> measurements,
+                                                    const LaserRay& ray,
+                                                    double cone_deg = kVertexConeDeg);
+
+// What removeHeld did: the vertex, and whether it left (false: its measurement is at its kind's
+// minimumVertices, and it stays, still held).
+struct VertexRemoval {
+  MeasurementVertex vertex;
+  bool removed = false;
+};
+
 class HeadsetMeasureTool {
  public:
   // `profile_width`: the corridor's full width of the profiles it makes (view's --profile-width).
@@ -105,9 +143,25 @@ class HeadsetMeasureTool {
   // their measurement's new index.
   void erased(std::size_t index);
 
+  // Adding and removing vertices of finished distances and areas (vertexCountIsFree).
+  // The trigger went down on `hand` over `segment` (segmentUnderLaser of `measurements`): a
+  // vertex goes in at `point`, between the segment's two (index segment + 1), and `hand` holds
+  // it, as grab() would; another hand's grab of a later vertex of it follows its new index.
+  // Returns the new vertex.
+  MeasurementVertex insert(int hand, std::vector<Measurement>& measurements,
+                           const MeasurementSegment& segment, const glm::dvec3& point);
+  // True while the vertex `hand` holds is one that insert() added (until the release).
+  bool holdsInserted(int hand) const;
+  // The tool button pressed while `hand` holds a vertex: it leaves its measurement when that
+  // keeps at least minimumVertices of its kind (a distance 2, an area 3) and the kind's count is
+  // free, and the grab ends (the other hand's grab of a later vertex follows its new index);
+  // otherwise it stays, held. None when the hand holds nothing.
+  std::optional<VertexRemoval> removeHeld(int hand, std::vector<Measurement>& measurements);
+
  private:
   double profile_width_;
   std::array<std::optional<MeasurementVertex>, 2> grabbed_;
+  std::array<bool, 2> inserted_{false, false};  // the grab is of a vertex insert() added
   Measurement current_{.kind = MeasurementKind::Distance};
 };
 

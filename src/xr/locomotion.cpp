@@ -1,5 +1,6 @@
 #include "xr/locomotion.h"
 
+#include <cassert>
 #include <cmath>
 
 namespace parallax {
@@ -63,7 +64,7 @@ LocomotionEvents Locomotion::update(const XrInput& input) {
     hold[h] = hand.tracked && hand.squeeze >= (holding_[h] ? kLetGoAt : kGrabAt);
     if (!hand.tracked) {
       events.let_go[h] = trigger_down_[h];
-      trigger_down_[h] = primary_down_[h] = secondary_down_[h] = secondary_long_[h] = false;
+      trigger_down_[h] = primary_down_[h] = secondary_down_[h] = secondary_spent_[h] = false;
       continue;
     }
     const bool trigger_was_down = trigger_down_[h];
@@ -75,18 +76,20 @@ LocomotionEvents Locomotion::update(const XrInput& input) {
     if (hand.secondary && !secondary_down_[h]) {
       secondary_down_[h] = true;
       secondary_held_s_[h] = 0.0;
-      secondary_long_[h] = false;
+      secondary_spent_[h] = false;
+      events.tool_down[h] = true;
     } else if (hand.secondary) {
       secondary_held_s_[h] += input.period_s;
       // Within half a period: a runtime's period is whole nanoseconds (11 111 111 at 90 Hz), and
       // 45 of them fall short of 0.5 s.
-      if (!secondary_long_[h] && secondary_held_s_[h] + 0.5 * input.period_s >= kLongPressSeconds) {
-        secondary_long_[h] = true;
+      if (!secondary_spent_[h] &&
+          secondary_held_s_[h] + 0.5 * input.period_s >= kLongPressSeconds) {
+        secondary_spent_[h] = true;
         events.remove[h] = true;
       }
     } else if (secondary_down_[h]) {
       secondary_down_[h] = false;
-      events.tool[h] = !secondary_long_[h];
+      events.tool[h] = !secondary_spent_[h];
     }
   }
   // A grab restarts from where things are whenever a hand takes hold or lets go, so the world
@@ -140,6 +143,11 @@ void Locomotion::teleportTo(const glm::dvec3& file_point, const glm::dvec3& head
   const glm::dvec3 floor(head.x, 0.0, head.z);
   placement_ = translatedBy(placement_, floor - fileToStage(placement_, file_point));
   grab_start_ = placement_;
+}
+
+void Locomotion::claimToolPress(int hand) {
+  assert((hand == 0 || hand == 1) && "a hand is 0 (left) or 1 (right)");
+  if (secondary_down_[hand]) secondary_spent_[hand] = true;
 }
 
 }  // namespace parallax

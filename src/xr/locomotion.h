@@ -50,15 +50,19 @@ constexpr double kLongPressSeconds = 0.5;
 
 // What a frame's input asks of the application beyond the placement, per hand: a pick (the
 // trigger went down; or a grab of the vertex under the laser, headset_measure_tool.h), the
-// trigger let go (ending a grab; also when the hand is no longer tracked), a teleport (the primary button went down), the tool button (the secondary
-// button let go before kLongPressSeconds: a short press) or a delete (the secondary button held
-// for kLongPressSeconds; once, and its release is then nothing).
+// trigger let go (ending a grab; also when the hand is no longer tracked), a teleport (the
+// primary button went down), the tool button (the secondary button let go before
+// kLongPressSeconds: a short press) or a delete (the secondary button held for
+// kLongPressSeconds; once, and its release is then nothing). `tool_down` is the secondary
+// button going down, for the one use that acts at once (removing a held vertex): a caller that
+// acts on it calls Locomotion::claimToolPress, and that press then makes no tool or delete event.
 struct LocomotionEvents {
   std::array<bool, 2> pick{false, false};
   std::array<bool, 2> let_go{false, false};
   std::array<bool, 2> teleport{false, false};
   std::array<bool, 2> tool{false, false};
   std::array<bool, 2> remove{false, false};
+  std::array<bool, 2> tool_down{false, false};
 };
 
 class Locomotion {
@@ -69,6 +73,9 @@ class Locomotion {
   LocomotionEvents update(const XrInput& input);
   // Puts the file point at the floor under the head (a teleport; see above).
   void teleportTo(const glm::dvec3& file_point, const glm::dvec3& head);
+  // The secondary button's press that is down on `hand` has acted (its tool_down was used): its
+  // release is no tool event and holding it deletes nothing. Nothing when the button is up.
+  void claimToolPress(int hand);
 
   const StagePlacement& placement() const { return placement_; }
   // True while the left stick flies (the vignette narrows the view then).
@@ -87,7 +94,8 @@ class Locomotion {
   std::array<bool, 2> primary_down_{false, false};
   std::array<bool, 2> secondary_down_{false, false};
   std::array<double, 2> secondary_held_s_{0.0, 0.0};  // display periods since it went down
-  std::array<bool, 2> secondary_long_{false, false};  // this press has deleted: no tool event
+  // This press has acted (deleted, or was claimed): no more events until the next one.
+  std::array<bool, 2> secondary_spent_{false, false};
 };
 
 }  // namespace parallax

@@ -22,7 +22,8 @@ struct XrHandInput {
   glm::dvec2 thumbstick{0.0};  // -1..1, x right, y forward: fly (left), snap turn (right)
   bool primary = false;        // A (X on a left Touch controller): teleport to the laser's point
   bool secondary = false;      // B (Y on a left Touch controller): the next measurement tool;
-                               // held, deletes the measurement under the laser (or the last)
+                               // held, deletes the measurement under the laser (or the last);
+                               // pressed while the trigger holds a vertex, removes that vertex
 };
 
 struct XrInput {

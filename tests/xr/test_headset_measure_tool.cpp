@@ -301,5 +301,186 @@ TEST(HeadsetMeasureTool, TheTriggersReleaseIsAnEvent) {
   EXPECT_FALSE(locomotion.update(input).let_go[kRightHand]);
 }
 
+// --- adding and removing a vertex of a finished distance or area ------------------------------
+
+// The tool button's press is an event of its own (tool_down, the frame it goes down); a press
+// claimed by the caller (it removed a held vertex) makes no tool event at its release and deletes
+// nothing however long it is held; the next press is an ordinary one again.
+TEST(HeadsetMeasureTool, AClaimedSecondaryPressIsNoToolEventAndDeletesNothing) {
+  Locomotion locomotion(StagePlacement{});
+  XrInput input;
+  input.period_s = 0.125;
+  input.hands[kRightHand].tracked = true;
+  locomotion.claimToolPress(kRightHand);  // the button is up: nothing to claim
+  input.hands[kRightHand].secondary = true;
+  LocomotionEvents events = locomotion.update(input);
+  EXPECT_TRUE(events.tool_down[kRightHand]);
+  EXPECT_FALSE(events.tool_down[kLeftHand]);
+  locomotion.claimToolPress(kRightHand);
+  for (int frame = 0; frame < 8; ++frame) {  // a second: twice a long press
+    events = locomotion.update(input);
+    EXPECT_FALSE(events.tool_down[kRightHand]) << "once a press: " << frame;
+    EXPECT_FALSE(events.remove[kRightHand]) << frame;
+  }
+  input.hands[kRightHand].secondary = false;
+  EXPECT_FALSE(locomotion.update(input).tool[kRightHand]) << "the claimed press's release";
+  // A short press claimed is no tool event either; an unclaimed one is.
+  input.hands[kRightHand].secondary = true;
+  EXPECT_TRUE(locomotion.update(input).tool_down[kRightHand]);
+  locomotion.claimToolPress(kRightHand);
+  input.hands[kRightHand].secondary = false;
+  EXPECT_FALSE(locomotion.update(input).tool[kRightHand]);
+  input.hands[kRightHand].secondary = true;
+  EXPECT_TRUE(locomotion.update(input).tool_down[kRightHand]);
+  input.hands[kRightHand].secondary = false;
+  EXPECT_TRUE(locomotion.update(input).tool[kRightHand]);
+}
+
+// The line under the laser that takes a vertex: a distance's or an area's (an area's closing one
+// too), not a height's, angle's or profile's, whatever their angle; the point on it nearest the
+// ray. The points are written so that the nearest point is known: each line runs across the
+// ray (file +y from kA) at a known depth, so its nearest point is where it passes x = 0.
+TEST(HeadsetMeasureTool, TheSegmentUnderTheLaserIsADistancesOrAnAreasAndItsPointNearestTheRay) {
+  const double z8 = 8.0 * std::tan(glm::radians(0.3)), z10 = 10.0 * std::tan(glm::radians(0.2));
+  std::vector<Measurement> list{
+      // A height and a profile straight across the ray, on it: no vertices to add there.
+      {.kind = MeasurementKind::Height,
+       .points = {kA + glm::dvec3(-1.0, 5.0, 0.0), kA + glm::dvec3(1.0, 5.0, 0.0)}},
+      {.kind = MeasurementKind::Profile,
+       .points = {kA + glm::dvec3(-1.0, 6.0, 0.0), kA + glm::dvec3(1.0, 6.0, 0.0)}},
+      // A distance of three points whose second line runs slantwise through depth 8 at x = 0,
+      // 0.3 degrees above the ray: from x -1 at depth 6 to x 1 at depth 10.
+      {.kind = MeasurementKind::Distance,
+       .points = {kA + glm::dvec3(-3.0, 2.0, 4.0), kA + glm::dvec3(-1.0, 6.0, z8),
+                  kA + glm::dvec3(1.0, 10.0, z8)}},
+      // An area whose closing line (vertex 3 to vertex 0) crosses at depth 10, 0.2 degrees above.
+      {.kind = MeasurementKind::Area,
+       .points = {kA + glm::dvec3(-1.0, 10.0, z10), kA + glm::dvec3(-1.0, 10.0, 5.0),
+                  kA + glm::dvec3(1.0, 10.0, 5.0), kA + glm::dvec3(1.0, 10.0, z10)}}};
+  EXPECT_EQ(measurementUnderLaser(list, kLaser), 0u) << "the height's line is on the ray";
+  auto segment = segmentUnderLaser(list, kLaser);
+  ASSERT_TRUE(segment);
+  EXPECT_EQ(segment->measurement, 3u) << "0.2 degrees, the area's closing line";
+  EXPECT_EQ(segment->segment, 3u);
+  const glm::dvec3 on_area = kA + glm::dvec3(0.0, 10.0, z10);
+  EXPECT_NEAR(glm::length(segment->closest - on_area), 0.0, 1e-9);
+  list[3].points[0].z = list[3].points[3].z = 10.0 * std::tan(glm::radians(0.6));
+  segment = segmentUnderLaser(list, kLaser);
+  ASSERT_TRUE(segment);
+  EXPECT_EQ(segment->measurement, 2u) << "0.3 degrees, the distance's second line";
+  EXPECT_EQ(segment->segment, 1u);
+  const glm::dvec3 on_distance = kA + glm::dvec3(0.0, 8.0, z8);
+  EXPECT_NEAR(glm::length(segment->closest - on_distance), 0.0, 1e-9);
+  // A line that ends short of the ray (x from 0.01 to 2 at depth 8): its nearest point is its end.
+  list[2].points = {kA + glm::dvec3(0.01, 8.0, 0.0), kA + glm::dvec3(2.0, 8.0, 0.0)};
+  segment = segmentUnderLaser(list, kLaser);
+  ASSERT_TRUE(segment);
+  EXPECT_EQ(segment->measurement, 2u);
+  EXPECT_EQ(segment->segment, 0u);
+  EXPECT_EQ(segment->closest, list[2].points[0]);
+  // Nothing free within the cone: 0.6 degrees and beyond.
+  list[2].points[0].x = list[2].points[1].x = 8.0 * std::tan(glm::radians(0.6));
+  EXPECT_FALSE(segmentUnderLaser(list, kLaser));
+  EXPECT_EQ(measurementUnderLaser(list, kLaser), 0u);
+}
+
+// An inserted vertex goes between its line's two ends, the hand holds it (a drag moves it, the
+// area's value follows), the other hand's grab of a later vertex follows its new index, and the
+// release ends it; a vertex on an area's closing line comes last.
+TEST(HeadsetMeasureTool, AnInsertedVertexGoesBetweenItsLinesEndsAndIsHeld) {
+  HeadsetMeasureTool tool;
+  const glm::dvec3 p0 = kA, p1 = kA + glm::dvec3(4.0, 0.0, 0.0),
+                   p2 = kA + glm::dvec3(0.0, 3.0, 0.0);
+  std::vector<Measurement> list{{.kind = MeasurementKind::Area, .points = {p0, p1, p2}}};
+  // The left hand holds vertex 2 (p2).
+  ASSERT_EQ(tool.grab(kLeftHand, list, {kA + glm::dvec3(0.0, 3.0, 10.0), {0.0, 0.0, -1.0}}),
+            (MeasurementVertex{0, 2}));
+  const glm::dvec3 mid = kA + glm::dvec3(2.0, -1.0, 0.0);  // under p0 -> p1, pulled out 1 m
+  const MeasurementVertex added =
+      tool.insert(kRightHand, list, {.measurement = 0, .segment = 0, .closest = mid}, mid);
+  EXPECT_EQ(added, (MeasurementVertex{0, 1}));
+  EXPECT_EQ(list[0].points, (std::vector<glm::dvec3>{p0, mid, p1, p2}));
+  EXPECT_EQ(tool.grabbed(kRightHand), added);
+  EXPECT_TRUE(tool.holdsInserted(kRightHand));
+  EXPECT_EQ(tool.grabbed(kLeftHand), (MeasurementVertex{0, 3})) << "p2 is vertex 3 now";
+  EXPECT_FALSE(tool.holdsInserted(kLeftHand));
+  EXPECT_TRUE(tool.inProgress().points.empty()) << "an insert is no pick";
+  // The triangle (4 x 3 / 2 = 6 m²) and the triangle p0, mid, p1 below it (4 x 1 / 2 = 2 m²).
+  EXPECT_DOUBLE_EQ(measurementValues(list[0]).area_3d, 8.0);
+  const glm::dvec3 to = kA + glm::dvec3(2.0, -2.0, 0.0);
+  EXPECT_EQ(tool.drag(kRightHand, list, to), added);
+  EXPECT_EQ(list[0].points[1], to);
+  EXPECT_DOUBLE_EQ(measurementValues(list[0]).area_3d, 10.0);
+  EXPECT_EQ(tool.release(kRightHand), added);
+  EXPECT_FALSE(tool.holdsInserted(kRightHand));
+  EXPECT_EQ(tool.release(kLeftHand), (MeasurementVertex{0, 3}));
+  // The closing line (p2 -> p0), segment 3: the new vertex is the last.
+  const glm::dvec3 left = kA + glm::dvec3(-1.0, 1.5, 0.0);
+  EXPECT_EQ(tool.insert(kLeftHand, list, {.measurement = 0, .segment = 3, .closest = left}, left),
+            (MeasurementVertex{0, 4}));
+  EXPECT_EQ(list[0].points, (std::vector<glm::dvec3>{p0, to, p1, p2, left}));
+  // Taken over by the other hand, it is still an added vertex.
+  EXPECT_EQ(tool.grab(kRightHand, list, {left + glm::dvec3(0.0, 0.0, 5.0), {0.0, 0.0, -1.0}}),
+            (MeasurementVertex{0, 4}));
+  EXPECT_FALSE(tool.grabbed(kLeftHand));
+  EXPECT_TRUE(tool.holdsInserted(kRightHand));
+  tool.erased(0);
+  EXPECT_FALSE(tool.holdsInserted(kRightHand));
+}
+
+// The tool button on a held vertex removes it while its measurement keeps its kind's minimum
+// (an area 3 points, a distance 2); at the minimum it stays, still held; a height's never goes.
+TEST(HeadsetMeasureTool, TheToolButtonRemovesAHeldVertexDownToItsKindsMinimum) {
+  HeadsetMeasureTool tool;
+  std::vector<Measurement> list{
+      {.kind = MeasurementKind::Height, .points = {kA, kB}},
+      {.kind = MeasurementKind::Area, .points = {kA, kB, kC, kA + glm::dvec3(1.0, 0.0, 0.0)}},
+      {.kind = MeasurementKind::Distance, .points = {kA, kB, kC}}};
+  EXPECT_FALSE(tool.removeHeld(kRightHand, list)) << "nothing held";
+  // The area's vertex 2 (kC), the other hand holding its vertex 3.
+  ASSERT_EQ(tool.grab(kLeftHand, list, {kA + glm::dvec3(1.0, 0.0, 50.0), {0.0, 0.0, -1.0}}),
+            (MeasurementVertex{1, 3}));
+  ASSERT_EQ(tool.grab(kRightHand, list, {kC + glm::dvec3(0.0, 0.0, 50.0), {0.0, 0.0, -1.0}}),
+            (MeasurementVertex{1, 2}));
+  auto removal = tool.removeHeld(kRightHand, list);
+  ASSERT_TRUE(removal);
+  EXPECT_TRUE(removal->removed);
+  EXPECT_EQ(removal->vertex, (MeasurementVertex{1, 2}));
+  EXPECT_EQ(list[1].points, (std::vector<glm::dvec3>{kA, kB, kA + glm::dvec3(1.0, 0.0, 0.0)}));
+  EXPECT_FALSE(tool.grabbed(kRightHand)) << "the vertex is gone, and its grab";
+  EXPECT_EQ(tool.grabbed(kLeftHand), (MeasurementVertex{1, 2})) << "the later vertex's new index";
+  // Three left: the area keeps them all.
+  removal = tool.removeHeld(kLeftHand, list);
+  ASSERT_TRUE(removal);
+  EXPECT_FALSE(removal->removed);
+  EXPECT_EQ(removal->vertex, (MeasurementVertex{1, 2}));
+  EXPECT_EQ(list[1].points.size(), 3u);
+  EXPECT_EQ(tool.grabbed(kLeftHand), (MeasurementVertex{1, 2})) << "still held";
+  tool.release(kLeftHand);
+  // The distance: three points to two, then no further.
+  ASSERT_EQ(tool.grab(kRightHand, list, {kC + glm::dvec3(0.0, 0.0, 50.0), {0.0, 0.0, -1.0}}),
+            (MeasurementVertex{2, 2}));
+  removal = tool.removeHeld(kRightHand, list);
+  ASSERT_TRUE(removal && removal->removed);
+  EXPECT_EQ(list[2].points, (std::vector<glm::dvec3>{kA, kB}));
+  ASSERT_EQ(tool.grab(kRightHand, list, {kB + glm::dvec3(0.0, 0.0, 50.0), {0.0, 0.0, -1.0}}),
+            (MeasurementVertex{0, 1}))
+      << "the height's, the first of the three that share kB";
+  removal = tool.removeHeld(kRightHand, list);
+  ASSERT_TRUE(removal);
+  EXPECT_FALSE(removal->removed) << "a height has exactly two";
+  EXPECT_EQ(list[0].points, (std::vector<glm::dvec3>{kA, kB}));
+  tool.release(kRightHand);
+  // A profile of three points (the window draws polylines) keeps them all: the headset's profile
+  // is a straight section, and its vertices are only moved.
+  list.push_back({.kind = MeasurementKind::Profile, .points = {kA, kB, kC}});
+  ASSERT_EQ(tool.grab(kRightHand, list, {kC + glm::dvec3(0.0, 0.0, 50.0), {0.0, 0.0, -1.0}}),
+            (MeasurementVertex{3, 2}));
+  removal = tool.removeHeld(kRightHand, list);
+  ASSERT_TRUE(removal);
+  EXPECT_FALSE(removal->removed) << "no vertex of a profile goes";
+  EXPECT_EQ(list[3].points, (std::vector<glm::dvec3>{kA, kB, kC}));
+}
+
 }  // namespace
 }  // namespace parallax

@@ -1244,6 +1244,173 @@ TEST_F(XrViewTest, TheToolButtonHeldOnAMeasurementDeletesThatOne) {
   EXPECT_NE(err.find("1 measurements saved to "), std::string::npos) << err;
 }
 
+// --- adding and removing a vertex of a finished area ------------------------------------------
+
+// A measurement file holding one area whose vertices are `corners` (their file coordinates,
+// exactly: the JSON keeps every digit of a double).
+void writeAreaFile(const std::filesystem::path& file,
+                   const std::vector<const TestPoint*>& corners) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const TestPoint* corner : corners) {
+    points.push_back({corner->file.x, corner->file.y, corner->file.z});
+  }
+  const nlohmann::json doc{{"format", "parallax-measurements"},
+                           {"version", 1},
+                           {"measurements", {{{"kind", "area"}, {"points", points}}}}};
+  std::ofstream(file) << doc.dump();
+}
+
+// The three values of an area's printed line at `from` ("area 3D A m², projected P m²,
+// perimeter L m"), NaN and a failure where there is none.
+glm::dvec3 printedArea(const std::string& err, std::size_t from) {
+  glm::dvec3 values(std::nan(""));
+  const auto at = err.find("area 3D ", from);
+  EXPECT_NE(at, std::string::npos) << err.substr(from);
+  if (at == std::string::npos) return values;
+  EXPECT_EQ(std::sscanf(err.c_str() + at, "area 3D %lf m², projected %lf m², perimeter %lf m",
+                        &values.x, &values.y, &values.z),
+            3)
+      << err.substr(at);
+  return values;
+}
+
+// The test's own arithmetic on a closed polygon: half the length of the sum of the triangles'
+// cross products from its first vertex (3D), half the absolute sum of their z (projected), and
+// the boundary's length.
+glm::dvec3 polygonValues(const std::vector<glm::dvec3>& p) {
+  glm::dvec3 cross(0.0);
+  double perimeter = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const glm::dvec3& q = p[(i + 1) % p.size()];
+    cross += glm::cross(p[i] - p[0], q - p[0]);
+    perimeter += glm::length(q - p[i]);
+  }
+  return {0.5 * glm::length(cross), 0.5 * std::abs(cross.z), perimeter};
+}
+
+// The vertex and its measurement's values on the line "--xr: added vertex V of measurement 1 at
+// X,Y,Z: area ..." (NaN and a failure where there is none); `from` moves past it.
+glm::dvec3 addedVertex(const std::string& err, int vertex, std::size_t& from, glm::dvec3& values) {
+  const std::string line = "--xr: added vertex " + std::to_string(vertex) + " of measurement 1 at ";
+  glm::dvec3 p(std::nan(""));
+  from = err.find(line, from);
+  EXPECT_NE(from, std::string::npos) << line << " in " << err;
+  if (from == std::string::npos) return p;
+  EXPECT_EQ(std::sscanf(err.c_str() + from + line.size(), "%lf,%lf,%lf", &p.x, &p.y, &p.z), 3);
+  values = printedArea(err, from);
+  ++from;
+  return p;
+}
+
+// The trigger pressed with the laser on a finished area's line (the middle of it: no vertex
+// near, nothing of the grid within 2 degrees) adds a vertex on that line and holds it: let go at
+// once, it stays on the line, where the laser crosses it; on another line, held and turned to a
+// grid point, it follows the laser there. Each release prints the area of the new polygon, the
+// test's own arithmetic on the vertices, and the file saves the five in order. (The area is
+// the file's, from --measurements: the headset's own areas are tested above.)
+TEST_F(XrViewTest, TheTriggerOnAnAreasLineAddsAVertexThereThatFollowsTheLaser) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const TestPoint& a = points_[7];
+  const TestPoint& b = points_[52];
+  const TestPoint& c = points_[26];
+  const TestPoint& to = points_[8];  // where the second new vertex is taken
+  const TestPoint ab{0.5 * (a.file + b.file), 0, 0, 0}, bc{0.5 * (b.file + c.file), 0, 0, 0};
+  const std::filesystem::path file = dir_ / "added.json";
+  writeAreaFile(file, {&a, &b, &c});
+  const auto at = handScript("right");
+  const nlohmann::json none = nlohmann::json::object(), pull{{"trigger/value", 1.0}};
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames",
+       {at(0, ab, pull), at(1, ab, none),                      // added on a -> b, let go there
+        at(2, bc, pull), at(3, to, pull), at(4, to, none)}}};  // added on b -> c, taken to `to`
+  const auto result = run(eyes, 64, 48, 5, "--measurements " + quoted(file.string()), controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::string& err = result.err;
+  EXPECT_TRUE(laserPicks(err).empty()) << "the presses on the lines are no picks: " << err;
+  EXPECT_NE(err.find("--xr: inserted vertex 2 in measurement 1 (on its line)\n"), std::string::npos)
+      << err;
+  EXPECT_NE(err.find("--xr: inserted vertex 4 in measurement 1 (on its line)\n"), std::string::npos)
+      << err;
+
+  // Let go where it was added: the line's point nearest the laser, which was aimed at its middle.
+  std::size_t from = 0;
+  glm::dvec3 values(0.0);
+  const glm::dvec3 first = addedVertex(err, 2, from, values);
+  EXPECT_LT(glm::length(first - ab.file), 1e-6) << err;
+  glm::dvec3 expected = polygonValues({a.file, first, b.file, c.file});
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(values[i], expected[i], 2e-6) << i;
+  EXPECT_NEAR(values.x, polygonValues({a.file, b.file, c.file}).x, 2e-6)
+      << "a vertex on a line leaves the area as it was";
+
+  // Taken to `to`: the laser's pick of it, vertex 4 of five.
+  const glm::dvec3 second = addedVertex(err, 4, from, values);
+  EXPECT_LT(glm::length(second - to.file), 1e-3) << err;
+  expected = polygonValues({a.file, first, b.file, second, c.file});
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(values[i], expected[i], 2e-6) << i;
+  EXPECT_GT(std::abs(values.x - polygonValues({a.file, b.file, c.file}).x), 0.1)
+      << "the area changed with the moved vertex";
+
+  const std::vector<SavedMeasurement> saved = savedMeasurements(file);
+  ASSERT_EQ(saved.size(), 1u);
+  EXPECT_EQ(saved[0].kind, "area");
+  ASSERT_EQ(saved[0].points.size(), 5u);
+  EXPECT_EQ(saved[0].points[0], a.file);
+  EXPECT_LT(glm::length(saved[0].points[1] - first), 1e-6);
+  EXPECT_EQ(saved[0].points[2], b.file);
+  EXPECT_LT(glm::length(saved[0].points[3] - second), 1e-6);
+  EXPECT_EQ(saved[0].points[4], c.file);
+}
+
+// The tool button pressed while the trigger holds an area's vertex removes it: the line printed
+// is the area of the other three, the test's own arithmetic; at three vertices a second press
+// removes nothing and says so. Neither press is a tool button's short press (no next tool), and
+// the file saves the three.
+TEST_F(XrViewTest, TheToolButtonOnAHeldVertexRemovesItDownToThreeForAnArea) {
+  const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
+  const TestPoint& a = points_[7];
+  const TestPoint& b = points_[8];
+  const TestPoint& c = points_[53];
+  const TestPoint& d = points_[26];
+  const std::filesystem::path file = dir_ / "removed.json";
+  writeAreaFile(file, {&a, &b, &c, &d});
+  const auto at = handScript("right");
+  const nlohmann::json none = nlohmann::json::object(), pull{{"trigger/value", 1.0}};
+  const nlohmann::json pull_button{{"trigger/value", 1.0}, {"b/click", true}};
+  const nlohmann::json controllers{
+      {"profile", "/interaction_profiles/oculus/touch_controller"},
+      {"frames",
+       {at(0, d, pull), at(1, d, pull_button), at(2, d, pull), at(3, d, none),     // d removed
+        at(4, c, pull), at(5, c, pull_button), at(6, c, pull), at(7, c, none)}}};  // c stays
+  const auto result = run(eyes, 64, 48, 8, "--measurements " + quoted(file.string()), controllers);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::string& err = result.err;
+  EXPECT_TRUE(laserPicks(err).empty()) << err;
+  EXPECT_NE(err.find("--xr: grabbed vertex 4 of measurement 1\n"), std::string::npos) << err;
+  const auto removed = err.find("--xr: removed vertex 4 of measurement 1: area 3D ");
+  ASSERT_NE(removed, std::string::npos) << err;
+  EXPECT_EQ(err.find("--xr: removed ", removed + 1), std::string::npos) << "removed once: " << err;
+  const glm::dvec3 values = printedArea(err, removed);
+  const glm::dvec3 expected = polygonValues({a.file, b.file, c.file});
+  for (int i = 0; i < 3; ++i) EXPECT_NEAR(values[i], expected[i], 2e-6) << i;
+  EXPECT_NE(err.find("(3 points)", removed), std::string::npos) << err;
+  EXPECT_NE(err.find("--xr: grabbed vertex 3 of measurement 1\n", removed), std::string::npos)
+      << err;
+  EXPECT_NE(err.find("--xr: vertex 3 of measurement 1 stays: the area keeps at least 3 points\n"),
+            std::string::npos)
+      << err;
+  EXPECT_EQ(err.find("--xr: tool "), std::string::npos) << "no short press: " << err;
+  EXPECT_EQ(err.find("--xr: deleted "), std::string::npos) << err;
+
+  const std::vector<SavedMeasurement> saved = savedMeasurements(file);
+  ASSERT_EQ(saved.size(), 1u);
+  EXPECT_EQ(saved[0].kind, "area");
+  ASSERT_EQ(saved[0].points.size(), 3u);
+  EXPECT_EQ(saved[0].points[0], a.file);
+  EXPECT_EQ(saved[0].points[1], b.file);
+  EXPECT_LT(glm::length(saved[0].points[2] - c.file), 1e-3) << "held on c: the laser's c";
+}
+
 TEST_F(XrViewTest, TheAButtonTeleportsToTheLaserPointOnTheFloorUnderTheHead) {
   const Eye eyes[2] = {straightEye(-0.032), straightEye(0.032)};
   const TestPoint& target = points_[33];
