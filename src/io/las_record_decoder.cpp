@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "core/byte_order.h"
+#include "core/color_depth.h"
 #include "core/column_names.h"
 #include "io/las_reader.h"
 #include "io/laz/chunk_codec.h"
@@ -163,11 +164,10 @@ void storeColors(const std::byte* c, std::size_t stride, std::size_t m, bool col
                  std::uint8_t(loadLE<std::uint16_t>(p + 4)), 255};
     }
   } else {
-    auto to8 = [](std::uint16_t v) { return std::uint8_t((unsigned(v) + 128) / 257); };
     for (std::size_t i = 0; i < m; ++i) {
       const std::byte* p = c + i * stride;
-      rgba[i] = {to8(loadLE<std::uint16_t>(p)), to8(loadLE<std::uint16_t>(p + 2)),
-                 to8(loadLE<std::uint16_t>(p + 4)), 255};
+      rgba[i] = {colorTo8Bits(loadLE<std::uint16_t>(p)), colorTo8Bits(loadLE<std::uint16_t>(p + 2)),
+                 colorTo8Bits(loadLE<std::uint16_t>(p + 4)), 255};
     }
   }
 }

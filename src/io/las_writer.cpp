@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "core/byte_order.h"
+#include "core/color_depth.h"
 #include "core/column_names.h"
 #include "io/las_reader.h"
 #include "io/laz/laz_layout.h"
@@ -656,8 +657,8 @@ void encodeBlock(const PointCloud& cloud, const Layout& layout, std::size_t firs
     for (std::size_t i = 0; i < n; ++i) {
       // 8-bit colours (PLY uchar): LAS 1.4 R15 normalises colours to 16 bits; c * 257 maps 255
       // to 65535 exactly, and a LAS reader's value / 257 gives c back.
-      std::uint16_t rgb[3] = {std::uint16_t(colors[i].r * 257), std::uint16_t(colors[i].g * 257),
-                              std::uint16_t(colors[i].b * 257)};
+      std::uint16_t rgb[3] = {colorTo16Bits(colors[i].r), colorTo16Bits(colors[i].g),
+                              colorTo16Bits(colors[i].b)};
       std::memcpy(out + i * stride + *layout.color_offset, rgb, 6);
     }
   } else if (layout.color_offset) {

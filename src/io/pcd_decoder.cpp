@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "core/byte_order.h"
+#include "core/color_depth.h"
 #include "core/column_names.h"
 #include "core/error.h"
 #include "io/ply_decoder.h"  // quantizeClamped
@@ -622,10 +623,7 @@ void decodeRecords(const DataView& view, const Layout& layout, std::uint64_t beg
     Rgba8* colors = &cloud.colors[first_index];
     if (layout.wide_colors) {
       const Rgb16* stored = &cloud.stored_colors[first_index];
-      auto to8 = [&](std::uint16_t value) {
-        return layout.colors_8bit ? std::uint8_t(value)
-                                  : std::uint8_t((unsigned(value) + 128) / 257);
-      };
+      auto to8 = [&](std::uint16_t value) { return shownColor(value, layout.colors_8bit); };
       for (std::uint64_t j = 0; j < records.count; ++j) {
         colors[j] = {to8(stored[j].r), to8(stored[j].g), to8(stored[j].b), 255};
       }
