@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "core/color_depth.h"
 #include "core/quantization.h"
 #include "python_module.h"
 
@@ -265,8 +266,7 @@ PointCloud cloudFromArrays(const py::dict& arrays,
       for (std::size_t i = 0; i < count; ++i) {
         const Rgb16 c{r.data()[i], g.data()[i], b.data()[i]};
         cloud.stored_colors[i] = c;
-        cloud.colors[i] = {std::uint8_t((c.r + 128) / 257), std::uint8_t((c.g + 128) / 257),
-                           std::uint8_t((c.b + 128) / 257), 255};
+        cloud.colors[i] = {colorTo8Bits(c.r), colorTo8Bits(c.g), colorTo8Bits(c.b), 255};
       }
     } else {
       const auto r = columnOf<std::uint8_t>(arrays["red"], "red", count);

@@ -10,6 +10,7 @@
 #include <mutex>
 #include <set>
 
+#include "core/color_depth.h"
 #include "core/progress.h"
 #include "core/throttled_progress.h"
 #include "io/coordinate_system.h"
@@ -74,20 +75,16 @@ void keepOnlyColumns(PointCloud& cloud, const std::vector<std::string>& wanted) 
 // source's stored 16-bit values would be written back over them (core/point_cloud.h: code that
 // changes `colors` must update `stored_colors`). Before a write, every point whose display colour
 // is no longer that of its stored one gets a stored colour from it, by the reader's 8-bit rule
-// (las_record_decoder.cpp: values all below 256 are kept as they are, others are v * 257).
+// (core/color_depth.h: in a file whose values are all below 256 they are kept as they are).
 void storeChangedColours(PointCloud& cloud) {
   if (cloud.stored_colors.size() != cloud.count || cloud.colors.size() != cloud.count) return;
   const Rgb16* stored = cloud.stored_colors.data();
   const bool eight = std::all_of(stored, stored + cloud.count, [](const Rgb16& c) {
     return c.r < 256 && c.g < 256 && c.b < 256;
   });
-  const auto shown = [eight](std::uint16_t v) {
-    return eight ? std::uint8_t(v) : std::uint8_t((unsigned(v) + 128) / 257);
-  };
-  const auto kept = [eight](std::uint8_t v) { return std::uint16_t(eight ? v : v * 257); };
   // Channel by channel: a 16-bit value whose display form is unchanged keeps every bit.
   const auto sync = [&](std::uint16_t& value, std::uint8_t display) {
-    if (shown(value) != display) value = kept(display);
+    if (shownColor(value, eight) != display) value = storedColor(display, eight);
   };
   for (std::size_t i = 0; i < cloud.count; ++i) {
     const Rgba8 c = cloud.colors[i];

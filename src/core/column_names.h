@@ -41,6 +41,14 @@ inline constexpr const char* kUserData = "user_data";
 inline constexpr const char* kPointSourceId = "point_source_id";
 inline constexpr const char* kGpsTime = "gps_time";
 inline constexpr const char* kNir = "nir";
+// The wave packet fields of point formats 4, 5, 9 and 10 (LAS 1.4 R15 Table 13).
+inline constexpr const char* kWavePacketDescriptorIndex = "wave_packet_descriptor_index";
+inline constexpr const char* kWavePacketOffset = "wave_packet_offset";
+inline constexpr const char* kWavePacketSize = "wave_packet_size";
+inline constexpr const char* kReturnPointWaveformLocation = "return_point_waveform_location";
+inline constexpr const char* kWaveformDx = "waveform_dx";
+inline constexpr const char* kWaveformDy = "waveform_dy";
+inline constexpr const char* kWaveformDz = "waveform_dz";
 
 // The scan a point came from, in files of several scans (E57, PTX): its index in file order.
 inline constexpr const char* kScanIndex = "scan_index";

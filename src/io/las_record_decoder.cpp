@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "core/byte_order.h"
+#include "core/color_depth.h"
 #include "core/column_names.h"
 #include "io/las_reader.h"
 #include "io/laz/chunk_codec.h"
@@ -91,15 +92,15 @@ LasDecodePlan makePlanImpl(const LasHeader& header, const AttributeSelection& se
   if (lasFormatHasWavePacket(format)) {
     // LAS 1.4 R15 Table 13: index, offset, size, location, x(t), y(t), z(t): 29 bytes.
     const std::uint32_t w = f::kWavePacket;
-    add.copy("wave_packet_descriptor_index", w, ScalarType::UInt8, end);
-    add.other("wave_packet_offset", w,
+    add.copy(kWavePacketDescriptorIndex, w, ScalarType::UInt8, end);
+    add.other(kWavePacketOffset, w,
               {.kind = LasFieldDecoder::Kind::UInt64ToDouble, .offset = end + 1},
               ScalarType::Float64);
-    add.copy("wave_packet_size", w, ScalarType::UInt32, end + 9);
-    add.copy("return_point_waveform_location", w, ScalarType::Float32, end + 13);
-    add.copy("waveform_dx", w, ScalarType::Float32, end + 17);
-    add.copy("waveform_dy", w, ScalarType::Float32, end + 21);
-    add.copy("waveform_dz", w, ScalarType::Float32, end + 25);
+    add.copy(kWavePacketSize, w, ScalarType::UInt32, end + 9);
+    add.copy(kReturnPointWaveformLocation, w, ScalarType::Float32, end + 13);
+    add.copy(kWaveformDx, w, ScalarType::Float32, end + 17);
+    add.copy(kWaveformDy, w, ScalarType::Float32, end + 21);
+    add.copy(kWaveformDz, w, ScalarType::Float32, end + 25);
   }
   const std::optional<std::array<std::size_t, 3>> normal_extras =
       lasNormalExtraBytes(header.extra_bytes);
@@ -163,11 +164,10 @@ void storeColors(const std::byte* c, std::size_t stride, std::size_t m, bool col
                  std::uint8_t(loadLE<std::uint16_t>(p + 4)), 255};
     }
   } else {
-    auto to8 = [](std::uint16_t v) { return std::uint8_t((unsigned(v) + 128) / 257); };
     for (std::size_t i = 0; i < m; ++i) {
       const std::byte* p = c + i * stride;
-      rgba[i] = {to8(loadLE<std::uint16_t>(p)), to8(loadLE<std::uint16_t>(p + 2)),
-                 to8(loadLE<std::uint16_t>(p + 4)), 255};
+      rgba[i] = {colorTo8Bits(loadLE<std::uint16_t>(p)), colorTo8Bits(loadLE<std::uint16_t>(p + 2)),
+                 colorTo8Bits(loadLE<std::uint16_t>(p + 4)), 255};
     }
   }
 }

@@ -5,14 +5,15 @@
 
 #include <algorithm>
 #include <cassert>
-#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstring>
 #include <optional>
 
 #include "core/byte_order.h"
+#include "core/color_depth.h"
 #include "core/column_names.h"
+#include "io/las_field_names.h"
 #include "io/las_reader.h"
 #include "io/laz/laz_layout.h"
 #include "io/laz_writer.h"
@@ -20,77 +21,6 @@
 
 namespace parallax {
 namespace {
-
-enum class Field {
-  None,
-  ReturnNumber,
-  NumberOfReturns,
-  ScanDirection,
-  Edge,
-  ClassFlags,
-  Synthetic,
-  KeyPoint,
-  Withheld,
-  Overlap,
-  Channel,
-  ScanAngleRank,
-  ScanAngle,
-  UserData,
-  PointSourceId,
-  GpsTime,
-  Nir,
-  WaveIndex,
-  WaveOffset,
-  WaveSize,
-  WaveLocation,
-  WaveDx,
-  WaveDy,
-  WaveDz
-};
-
-// Lower case without '_', ' ', '-' and a leading "scalar_" (CloudCompare's prefix).
-std::string normalise(std::string_view name) {
-  std::string text;
-  for (char c : name) text += char(std::tolower(static_cast<unsigned char>(c)));
-  if (text.starts_with("scalar_")) text.erase(0, 7);
-  std::erase_if(text, [](char c) { return c == '_' || c == ' ' || c == '-'; });
-  return text;
-}
-
-Field fieldFor(std::string_view name) {
-  static const std::pair<const char*, Field> kNames[] = {
-      {"returnnumber", Field::ReturnNumber},
-      {"numberofreturns", Field::NumberOfReturns},
-      {"scandirectionflag", Field::ScanDirection},
-      {"scandirection", Field::ScanDirection},
-      {"edgeofflightline", Field::Edge},
-      {"classificationflags", Field::ClassFlags},
-      {"synthetic", Field::Synthetic},
-      {"keypoint", Field::KeyPoint},
-      {"withheld", Field::Withheld},
-      {"overlap", Field::Overlap},
-      {"scannerchannel", Field::Channel},
-      {"scananglerank", Field::ScanAngleRank},
-      {"scanangle", Field::ScanAngle},
-      {"userdata", Field::UserData},
-      {"pointsourceid", Field::PointSourceId},
-      {"gpstime", Field::GpsTime},
-      {"nir", Field::Nir},
-      {"nearinfrared", Field::Nir},
-      {"wavepacketdescriptorindex", Field::WaveIndex},
-      {"wavepacketoffset", Field::WaveOffset},
-      {"wavepacketsize", Field::WaveSize},
-      {"returnpointwaveformlocation", Field::WaveLocation},
-      {"waveformdx", Field::WaveDx},
-      {"waveformdy", Field::WaveDy},
-      {"waveformdz", Field::WaveDz},
-  };
-  std::string key = normalise(name);
-  for (const auto& [text, field] : kNames) {
-    if (key == text) return field;
-  }
-  return Field::None;
-}
 
 struct Source {
   const std::byte* data = nullptr;
@@ -245,23 +175,23 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options,
   Layout layout;
   LasWritePlan& plan = layout.plan;
   const std::size_t count = cloud.count;
-  std::vector<std::pair<Field, const ScalarColumn*>> mapped;
+  std::vector<std::pair<LasField, const ScalarColumn*>> mapped;
   std::vector<const ScalarColumn*> extras;
-  auto find = [&](Field field) -> const ScalarColumn* {
+  auto find = [&](LasField field) -> const ScalarColumn* {
     for (const auto& [f, column] : mapped) {
       if (f == field) return column;
     }
     return nullptr;
   };
   for (const ScalarColumn& column : cloud.scalars) {
-    Field field = fieldFor(column.name);
-    if (field == Field::None || find(field) != nullptr) {
+    LasField field = lasFieldNamed(column.name);
+    if (field == LasField::None || find(field) != nullptr) {
       extras.push_back(&column);
     } else {
       mapped.emplace_back(field, &column);
     }
   }
-  auto maxOf = [&](Field field) {
+  auto maxOf = [&](LasField field) {
     const ScalarColumn* column = find(field);
     return column ? maximum(sourceOf(*column), count) : 0.0;
   };
@@ -273,16 +203,17 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options,
 
   const LasHeader* src = options.source.get();
   // The first field the cloud holds that only formats 6-10 have room for; null when none.
-  const char* extended_field =
-      find(Field::Channel)                                         ? "scanner_channel"
-      : max_class > 31                                             ? "classification above 31"
-      : maxOf(Field::ReturnNumber) > 7                             ? "return_number above 7"
-      : maxOf(Field::NumberOfReturns) > 7                          ? "number_of_returns above 7"
-      : maxOf(Field::ClassFlags) >= 8 || maxOf(Field::Overlap) > 0 ? "the overlap flag"
-      : find(Field::ScanAngle) && !find(Field::ScanAngleRank) ? "scan_angle (0.006 degree steps)"
-                                                              : nullptr;
-  const bool has_wave = find(Field::WaveIndex) || find(Field::WaveOffset) ||
-                        find(Field::WaveSize) || find(Field::WaveLocation);
+  const char* extended_field = find(LasField::Channel)                ? "scanner_channel"
+                               : max_class > 31                       ? "classification above 31"
+                               : maxOf(LasField::ReturnNumber) > 7    ? "return_number above 7"
+                               : maxOf(LasField::NumberOfReturns) > 7 ? "number_of_returns above 7"
+                               : maxOf(LasField::ClassFlags) >= 8 || maxOf(LasField::Overlap) > 0
+                                   ? "the overlap flag"
+                               : find(LasField::ScanAngle) && !find(LasField::ScanAngleRank)
+                                   ? "scan_angle (0.006 degree steps)"
+                                   : nullptr;
+  const bool has_wave = find(LasField::WaveIndex) || find(LasField::WaveOffset) ||
+                        find(LasField::WaveSize) || find(LasField::WaveLocation);
   const bool format_forced = options.point_format >= 0;
   assert(options.point_format <= kLasMaxPointFormat && "LAS point format must be 0-10");
   assert(
@@ -298,10 +229,10 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options,
   } else if (src) {
     format = src->point_format;
     // The source's format grows (never shrinks) to hold what the cloud has.
-    const bool ext = lasFormatIsExtended(format) || extended_field || find(Field::Nir);
-    const bool gps = lasFormatHasGpsTime(format) || find(Field::GpsTime);
+    const bool ext = lasFormatIsExtended(format) || extended_field || find(LasField::Nir);
+    const bool gps = lasFormatHasGpsTime(format) || find(LasField::GpsTime);
     const bool color = lasFormatHasColor(format) || cloud.hasColors();
-    const bool nir = lasFormatHasNir(format) || find(Field::Nir);
+    const bool nir = lasFormatHasNir(format) || find(LasField::Nir);
     const bool wave = lasFormatHasWavePacket(format) || has_wave;
     const int grown = lasFormatHolding(ext, gps, color, nir, wave);
     if (grown != format) {
@@ -317,13 +248,13 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options,
     }
   } else {
     if (minor == 0) {
-      bool needs14 = extended_field || find(Field::Nir) || point_count > UINT32_MAX;
+      bool needs14 = extended_field || find(LasField::Nir) || point_count > UINT32_MAX;
       minor = needs14 ? 4 : 2;
     }
     if (minor == 4) {
-      format = find(Field::Nir) ? 8 : cloud.hasColors() ? 7 : 6;
+      format = find(LasField::Nir) ? 8 : cloud.hasColors() ? 7 : 6;
     } else {
-      format = (find(Field::GpsTime) ? 1 : 0) + (cloud.hasColors() ? 2 : 0);
+      format = (find(LasField::GpsTime) ? 1 : 0) + (cloud.hasColors() ? 2 : 0);
     }
   }
   if (minor == 0) {
@@ -355,7 +286,7 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options,
   const bool ext = lasFormatIsExtended(format);
   std::size_t record = lasPointFormatSize(format);
 
-  auto bit = [&](Field field, std::size_t offset, int shift, unsigned max) {
+  auto bit = [&](LasField field, std::size_t offset, int shift, unsigned max) {
     if (const ScalarColumn* column = find(field)) {
       layout.bits.push_back({sourceOf(*column), offset, shift, max});
       if (maxOf(field) > max) {
@@ -364,14 +295,14 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options,
       }
     }
   };
-  auto value = [&](Field field, std::size_t offset, std::optional<ScalarType> type,
+  auto value = [&](LasField field, std::size_t offset, std::optional<ScalarType> type,
                    double factor = 1.0) {
     if (const ScalarColumn* column = find(field)) {
       layout.values.push_back({sourceOf(*column), offset, type, factor});
     }
   };
   // A field the format has no place for is kept as extra bytes.
-  auto extra = [&](Field field) {
+  auto extra = [&](LasField field) {
     if (const ScalarColumn* column = find(field)) extras.push_back(column);
   };
   if (cloud.hasClassification()) {
@@ -387,48 +318,48 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options,
     }
   }
   if (ext) {
-    bit(Field::ReturnNumber, 14, 0, 15);
-    bit(Field::NumberOfReturns, 14, 4, 15);
-    bit(Field::ClassFlags, 15, 0, 15);
-    bit(Field::Synthetic, 15, 0, 1);
-    bit(Field::KeyPoint, 15, 1, 1);
-    bit(Field::Withheld, 15, 2, 1);
-    bit(Field::Overlap, 15, 3, 1);
-    bit(Field::Channel, 15, 4, 3);
-    bit(Field::ScanDirection, 15, 6, 1);
-    bit(Field::Edge, 15, 7, 1);
-    value(Field::UserData, 17, ScalarType::UInt8);
-    if (find(Field::ScanAngle)) {
-      value(Field::ScanAngle, 18, ScalarType::Int16);
+    bit(LasField::ReturnNumber, 14, 0, 15);
+    bit(LasField::NumberOfReturns, 14, 4, 15);
+    bit(LasField::ClassFlags, 15, 0, 15);
+    bit(LasField::Synthetic, 15, 0, 1);
+    bit(LasField::KeyPoint, 15, 1, 1);
+    bit(LasField::Withheld, 15, 2, 1);
+    bit(LasField::Overlap, 15, 3, 1);
+    bit(LasField::Channel, 15, 4, 3);
+    bit(LasField::ScanDirection, 15, 6, 1);
+    bit(LasField::Edge, 15, 7, 1);
+    value(LasField::UserData, 17, ScalarType::UInt8);
+    if (find(LasField::ScanAngle)) {
+      value(LasField::ScanAngle, 18, ScalarType::Int16);
     } else {
-      value(Field::ScanAngleRank, 18, ScalarType::Int16, 1.0 / 0.006);  // degrees to 0.006°
+      value(LasField::ScanAngleRank, 18, ScalarType::Int16, 1.0 / 0.006);  // degrees to 0.006°
     }
-    value(Field::PointSourceId, 20, ScalarType::UInt16);
-    value(Field::GpsTime, 22, ScalarType::Float64);
-    if (find(Field::ScanAngleRank) && find(Field::ScanAngle)) extra(Field::ScanAngleRank);
+    value(LasField::PointSourceId, 20, ScalarType::UInt16);
+    value(LasField::GpsTime, 22, ScalarType::Float64);
+    if (find(LasField::ScanAngleRank) && find(LasField::ScanAngle)) extra(LasField::ScanAngleRank);
   } else {
-    bit(Field::ReturnNumber, 14, 0, 7);
-    bit(Field::NumberOfReturns, 14, 3, 7);
-    bit(Field::ScanDirection, 14, 6, 1);
-    bit(Field::Edge, 14, 7, 1);
-    bit(Field::ClassFlags, 15, 5, 7);
-    bit(Field::Synthetic, 15, 5, 1);
-    bit(Field::KeyPoint, 15, 6, 1);
-    bit(Field::Withheld, 15, 7, 1);
-    if (find(Field::ScanAngleRank)) {
-      value(Field::ScanAngleRank, 16, ScalarType::Int8);
+    bit(LasField::ReturnNumber, 14, 0, 7);
+    bit(LasField::NumberOfReturns, 14, 3, 7);
+    bit(LasField::ScanDirection, 14, 6, 1);
+    bit(LasField::Edge, 14, 7, 1);
+    bit(LasField::ClassFlags, 15, 5, 7);
+    bit(LasField::Synthetic, 15, 5, 1);
+    bit(LasField::KeyPoint, 15, 6, 1);
+    bit(LasField::Withheld, 15, 7, 1);
+    if (find(LasField::ScanAngleRank)) {
+      value(LasField::ScanAngleRank, 16, ScalarType::Int8);
     } else {
-      value(Field::ScanAngle, 16, ScalarType::Int8, 0.006);
+      value(LasField::ScanAngle, 16, ScalarType::Int8, 0.006);
     }
-    value(Field::UserData, 17, ScalarType::UInt8);
-    value(Field::PointSourceId, 18, ScalarType::UInt16);
-    if (lasFormatHasGpsTime(format)) value(Field::GpsTime, 20, ScalarType::Float64);
+    value(LasField::UserData, 17, ScalarType::UInt8);
+    value(LasField::PointSourceId, 18, ScalarType::UInt16);
+    if (lasFormatHasGpsTime(format)) value(LasField::GpsTime, 20, ScalarType::Float64);
     // Fields formats 0-5 have no place for become extra bytes.
-    extra(Field::Channel);
-    extra(Field::Overlap);
-    if (find(Field::ScanAngleRank) && find(Field::ScanAngle)) extra(Field::ScanAngle);
+    extra(LasField::Channel);
+    extra(LasField::Overlap);
+    if (find(LasField::ScanAngleRank) && find(LasField::ScanAngle)) extra(LasField::ScanAngle);
   }
-  if (!lasFormatHasGpsTime(format)) extra(Field::GpsTime);
+  if (!lasFormatHasGpsTime(format)) extra(LasField::GpsTime);
   if (lasFormatHasColor(format)) {
     layout.color_offset = ext ? 30 : format == 2 ? 20 : 28;
   } else if (cloud.hasColors()) {
@@ -436,27 +367,27 @@ Layout makeLayout(const PointCloud& cloud, const LasWriteOptions& options,
                           " has no colour)");
   }
   if (lasFormatHasNir(format)) {
-    value(Field::Nir, 36, ScalarType::UInt16);
+    value(LasField::Nir, 36, ScalarType::UInt16);
   } else {
-    extra(Field::Nir);
+    extra(LasField::Nir);
   }
   // LAS 1.4 R15 Table 13: index, offset, size, location, x(t), y(t), z(t), the last 29 bytes.
   const std::size_t wave = lasPointFormatSize(format) - 29;
   for (auto [field, offset, type] :
-       {std::tuple{Field::WaveIndex, 0, std::optional(ScalarType::UInt8)},
-        std::tuple{Field::WaveOffset, 1, std::optional<ScalarType>()},
-        std::tuple{Field::WaveSize, 9, std::optional(ScalarType::UInt32)},
-        std::tuple{Field::WaveLocation, 13, std::optional(ScalarType::Float32)},
-        std::tuple{Field::WaveDx, 17, std::optional(ScalarType::Float32)},
-        std::tuple{Field::WaveDy, 21, std::optional(ScalarType::Float32)},
-        std::tuple{Field::WaveDz, 25, std::optional(ScalarType::Float32)}}) {
+       {std::tuple{LasField::WaveIndex, 0, std::optional(ScalarType::UInt8)},
+        std::tuple{LasField::WaveOffset, 1, std::optional<ScalarType>()},
+        std::tuple{LasField::WaveSize, 9, std::optional(ScalarType::UInt32)},
+        std::tuple{LasField::WaveLocation, 13, std::optional(ScalarType::Float32)},
+        std::tuple{LasField::WaveDx, 17, std::optional(ScalarType::Float32)},
+        std::tuple{LasField::WaveDy, 21, std::optional(ScalarType::Float32)},
+        std::tuple{LasField::WaveDz, 25, std::optional(ScalarType::Float32)}}) {
     if (lasFormatHasWavePacket(format)) {
       value(field, wave + std::size_t(offset), type);
     } else {
       extra(field);
     }
   }
-  if (const ScalarColumn* column = find(Field::ReturnNumber))
+  if (const ScalarColumn* column = find(LasField::ReturnNumber))
     layout.return_number = sourceOf(*column);
 
   // The source's extra bytes, at their offsets after the fixed fields, from the columns the
@@ -656,8 +587,8 @@ void encodeBlock(const PointCloud& cloud, const Layout& layout, std::size_t firs
     for (std::size_t i = 0; i < n; ++i) {
       // 8-bit colours (PLY uchar): LAS 1.4 R15 normalises colours to 16 bits; c * 257 maps 255
       // to 65535 exactly, and a LAS reader's value / 257 gives c back.
-      std::uint16_t rgb[3] = {std::uint16_t(colors[i].r * 257), std::uint16_t(colors[i].g * 257),
-                              std::uint16_t(colors[i].b * 257)};
+      std::uint16_t rgb[3] = {colorTo16Bits(colors[i].r), colorTo16Bits(colors[i].g),
+                              colorTo16Bits(colors[i].b)};
       std::memcpy(out + i * stride + *layout.color_offset, rgb, 6);
     }
   } else if (layout.color_offset) {

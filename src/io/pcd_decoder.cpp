@@ -10,8 +10,10 @@
 #include <limits>
 
 #include "core/byte_order.h"
+#include "core/color_depth.h"
 #include "core/column_names.h"
 #include "core/error.h"
+#include "io/las_field_names.h"
 #include "io/ply_decoder.h"  // quantizeClamped
 
 namespace parallax::pcd {
@@ -61,29 +63,6 @@ void dispatch(char type, std::uint32_t size, F&& f) {
   if (size == 2) return f(std::uint16_t{});
   if (size == 4) return f(std::uint32_t{});
   return f(std::uint64_t{});
-}
-
-// The model's LAS column that a PCD field's name (lower case) stands for, or null: ours or
-// PDAL's dimension name, compared without underscores (PDAL's PCD writer names the fields by its
-// dimensions: GpsTime, ReturnNumber, ...), and PDAL's names that differ from ours.
-const char* pcdLasColumnName(std::string_view lower_name) {
-  const auto withoutUnderscores = [](std::string_view text) {
-    std::string bare(text);
-    std::erase(bare, '_');
-    return bare;
-  };
-  const std::string bare = withoutUnderscores(lower_name);
-  namespace n = column_names;
-  for (const char* name :
-       {n::kReturnNumber, n::kNumberOfReturns, n::kScanDirectionFlag, n::kEdgeOfFlightLine,
-        n::kClassificationFlags, n::kScannerChannel, n::kScanAngleRank, n::kScanAngle, n::kUserData,
-        n::kPointSourceId, n::kGpsTime, n::kNir}) {
-    if (bare == withoutUnderscores(name)) return name;
-  }
-  if (bare == "classflags") return n::kClassificationFlags;
-  if (bare == "scanchannel") return n::kScannerChannel;
-  if (bare == "infrared") return n::kNir;
-  return nullptr;
 }
 
 [[noreturn]] void failField(const std::string& file, const std::string& field,
@@ -162,7 +141,7 @@ Layout mapFields(const PcdHeader& header, const std::string& file) {
         c.target = Target::Scalar;
         c.scalar = layout.scalars.size();
         // A LAS field under its model name, unless a field of the file already holds that name.
-        const char* las_name = single ? pcdLasColumnName(name) : nullptr;
+        const char* las_name = single ? lasFieldColumn(lasFieldNamed(name)) : nullptr;
         if (las_name != nullptr &&
             std::none_of(layout.scalars.begin(), layout.scalars.end(),
                          [&](const auto& s) { return s.first == las_name; }) &&
@@ -622,10 +601,7 @@ void decodeRecords(const DataView& view, const Layout& layout, std::uint64_t beg
     Rgba8* colors = &cloud.colors[first_index];
     if (layout.wide_colors) {
       const Rgb16* stored = &cloud.stored_colors[first_index];
-      auto to8 = [&](std::uint16_t value) {
-        return layout.colors_8bit ? std::uint8_t(value)
-                                  : std::uint8_t((unsigned(value) + 128) / 257);
-      };
+      auto to8 = [&](std::uint16_t value) { return shownColor(value, layout.colors_8bit); };
       for (std::uint64_t j = 0; j < records.count; ++j) {
         colors[j] = {to8(stored[j].r), to8(stored[j].g), to8(stored[j].b), 255};
       }

@@ -8,6 +8,7 @@
 // same bits (the contract in ply_writer.h).
 #include "io/ply_writer.h"
 
+#include "core/color_depth.h"
 #include "core/column_names.h"
 #include "io/partial_output.h"
 
@@ -196,7 +197,7 @@ struct FieldReader {
     if constexpr (std::is_floating_point_v<Out>) {
       return Out(c) / Out(255);
     } else if constexpr (sizeof(Out) == 2) {
-      return Out(c * 257);  // 0xab -> 0xabab: the full 16-bit range, and >> 8 gives c back
+      return Out(colorTo16Bits(c));  // the full 16-bit range (core/color_depth.h)
     } else {
       return Out(c);
     }

@@ -6,6 +6,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include "core/byte_order.h"
+#include "core/color_depth.h"
 #include "core/column_names.h"
 
 namespace parallax {
@@ -175,10 +176,9 @@ void PotreeLayout::encode(const PointCloud& cloud, std::uint64_t first, std::uin
         const bool has = cloud.hasColors();
         for (std::uint64_t i = first; i < first + n; ++i) {
           const Rgba8 c = has ? cloud.colors[i] : Rgba8{0, 0, 0, 255};
-          const std::uint16_t rgb[3] = {
-              stored ? cloud.stored_colors[i].r : std::uint16_t(c.r * 257),
-              stored ? cloud.stored_colors[i].g : std::uint16_t(c.g * 257),
-              stored ? cloud.stored_colors[i].b : std::uint16_t(c.b * 257)};
+          const std::uint16_t rgb[3] = {stored ? cloud.stored_colors[i].r : colorTo16Bits(c.r),
+                                        stored ? cloud.stored_colors[i].g : colorTo16Bits(c.g),
+                                        stored ? cloud.stored_colors[i].b : colorTo16Bits(c.b)};
           std::memcpy(base + (i - first) * stride, rgb, sizeof rgb);
           for (int e = 0; e < 3; ++e) widen(stats, a, e, rgb[e]);
         }
@@ -249,9 +249,9 @@ PointCloud PotreeLayout::decode(const std::byte* records, std::uint64_t count,
         cloud.source.color = ScalarType::UInt16;
         for (std::uint64_t i = 0; i < count; ++i) {
           const std::byte* at = base + i * stride;
-          auto eight = [](std::uint16_t v) { return std::uint8_t((v + 128) / 257); };
-          cloud.colors[i] = {eight(loadLE<std::uint16_t>(at)), eight(loadLE<std::uint16_t>(at + 2)),
-                             eight(loadLE<std::uint16_t>(at + 4)), 255};
+          cloud.colors[i] = {colorTo8Bits(loadLE<std::uint16_t>(at)),
+                             colorTo8Bits(loadLE<std::uint16_t>(at + 2)),
+                             colorTo8Bits(loadLE<std::uint16_t>(at + 4)), 255};
         }
         break;
       case S::NormalX:

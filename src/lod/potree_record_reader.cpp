@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "core/byte_order.h"
+#include "core/color_depth.h"
 #include "core/column_names.h"
 #include "io/las_reader.h"
 
@@ -228,7 +229,7 @@ PointCloud PotreeRecordReader::decode(std::span<const std::byte> bytes, std::uin
         // Rounded v / 257: 65535 -> 255 and c * 257 -> c. A value above 255 in a file whose
         // metadata promised 8 bits (a lying max) saturates instead of wrapping.
         rgba[c] =
-            color_.scale_down ? std::uint8_t((v + 128) / 257) : std::uint8_t(v > 255 ? 255 : v);
+            color_.scale_down ? colorTo8Bits(std::uint16_t(v)) : std::uint8_t(v > 255 ? 255 : v);
       }
       cloud.colors[i] = {rgba[0], rgba[1], rgba[2], rgba[3]};
     }

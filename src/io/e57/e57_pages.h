@@ -20,6 +20,10 @@ namespace parallax {
 
 inline constexpr std::uint64_t kE57PageSize = 1024;
 inline constexpr std::uint64_t kE57PageData = 1020;
+// The file header (ASTM E2807): the signature, the version, the file's physical length, the
+// XML section's offset and length, and the page size. The reader and the writer share it.
+inline constexpr char kE57Signature[8] = {'A', 'S', 'T', 'M', '-', 'E', '5', '7'};
+inline constexpr std::size_t kE57FileHeaderSize = 48;
 
 // CRC-32C (Castagnoli, reflected, initial and final xor 0xFFFFFFFF) of `bytes`. Uses the SSE 4.2
 // instruction where the CPU has it, a table otherwise.

@@ -14,8 +14,6 @@
 namespace parallax {
 namespace {
 
-constexpr char kSignature[8] = {'A', 'S', 'T', 'M', '-', 'E', '5', '7'};
-constexpr std::size_t kFileHeaderSize = 48;
 // Decoding in batches keeps the fields' value arrays in cache whatever the chunk size.
 constexpr std::size_t kBatchRecords = 16384;
 
@@ -114,7 +112,7 @@ struct E57ChunkReader::State {
 };
 
 void E57ChunkReader::State::open(std::span<const std::byte> bytes, const std::string& name) {
-  if (bytes.size() < kFileHeaderSize || std::memcmp(bytes.data(), kSignature, 8) != 0) {
+  if (bytes.size() < kE57FileHeaderSize || std::memcmp(bytes.data(), kE57Signature, 8) != 0) {
     throw InputError({.file = name,
                       .byte_offset = 0,
                       .element = "E57 file header",
@@ -146,7 +144,7 @@ void E57ChunkReader::State::open(std::span<const std::byte> bytes, const std::st
                declared_length > bytes.size() ? "the file is truncated" : "");
   }
   pages.emplace(bytes, name);
-  std::byte head[kFileHeaderSize];
+  std::byte head[kE57FileHeaderSize];
   pages->read(0, head, "E57 file header");
   header.version_major = loadLe32(head + 8);
   header.version_minor = loadLe32(head + 12);
@@ -372,7 +370,7 @@ Bounds3 E57ChunkReader::State::measureBounds() {
 }
 
 bool looksLikeE57(std::span<const std::byte> bytes) {
-  return bytes.size() >= 8 && std::memcmp(bytes.data(), kSignature, 8) == 0;
+  return bytes.size() >= 8 && std::memcmp(bytes.data(), kE57Signature, 8) == 0;
 }
 
 E57ChunkReader::E57ChunkReader(const std::filesystem::path& path)

@@ -16,7 +16,6 @@ namespace parallax {
 namespace {
 
 constexpr std::size_t kPacketMax = 64 * 1024;
-constexpr std::uint64_t kFileHeaderSize = 48;
 constexpr std::uint64_t kSectionHeaderSize = 32;
 constexpr std::uint64_t kIndexPacketSize = 32;  // a 16-byte header and one 16-byte entry
 
@@ -266,7 +265,7 @@ void writeE57Scans(std::span<const E57ScanSource> scans, const std::filesystem::
                    Progress* progress) {
   OutputFile file(path);
   E57PageWriter pages(file);
-  std::byte placeholder[kFileHeaderSize] = {};
+  std::byte placeholder[kE57FileHeaderSize] = {};
   pages.write(placeholder);
   std::mt19937_64 random(std::random_device{}());
   std::string scans_xml;
@@ -294,8 +293,8 @@ void writeE57Scans(std::span<const E57ScanSource> scans, const std::filesystem::
   pages.write({reinterpret_cast<const std::byte*>(xml.data()), xml.size()});
   pages.finish();
   const std::uint64_t length = pages.physicalPosition();  // whole pages after finish()
-  std::byte header[kFileHeaderSize] = {};
-  std::memcpy(header, "ASTM-E57", 8);
+  std::byte header[kE57FileHeaderSize] = {};
+  std::memcpy(header, kE57Signature, 8);
   store32(header + 8, 1);
   store32(header + 12, 0);
   store64(header + 16, length);
