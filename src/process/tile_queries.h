@@ -41,16 +41,19 @@ struct StepContext {
 // is exact (TileNeighbourhood::covers) and, when it is not, sets `needed` to the radius its
 // answer over the points loaded reached (infinite: too few points); those that are not are asked
 // again with a larger halo. `load(halo)` loads the points searched for the first round. In each
-// later round every pending query has a halo of its own: its last one doubled, or the radius its
-// answer needed, whichever is larger. That radius bounds what it needs over the whole cloud (its
-// K-th distance over a subset of it is at least its K-th distance over all of it), so one more
-// round answers it however far it is from the rest. The round loads, in one pass over the slab
-// files of `searched`, every point within some pending query's halo (groupQueryBalls, a point
-// once however many balls hold it), and a query's answer is exact when its reach is within its
-// own halo. One box around all pending queries, as before, spanned the slab and its neighbours
-// from the ground up as soon as one of them was a bogus return hundreds of metres up, and each
-// later round reloaded all of that (the 100 M-point run's peak, NOTES.md). A halo at least
-// doubles, so it reaches the whole cloud (everything loaded) before a query could fail again.
+// later round every pending query has a halo of its own: the radius its answer needed, or, where
+// it found too few points, its last halo doubled. That radius bounds what it needs over the whole
+// cloud (its K-th distance over a subset of it is at least its K-th distance over all of it), so
+// one more round answers it however far it is from the rest; its last halo doubled as well (the
+// rule before) only made its ball larger (4 times the points on a surface) for nothing. The
+// round loads every point within some pending query's halo (groupQueryBalls, a point once
+// however many balls hold it), in batches of at most TileSet::roundPoints() points, a slab's
+// worth (BallBatches: one pass over the slab files of `searched` a batch, one batch unless the
+// round's balls hold more), and a query's answer is exact when its reach is within its own halo.
+// One box around all pending queries, as before, spanned the slab and its neighbours from the
+// ground up as soon as one of them was a bogus return hundreds of metres up, and each later
+// round reloaded all of that (the 100 M-point run's peak, NOTES.md). A query with too few points
+// doubles its halo, so it reaches the whole cloud (everything loaded) before it could fail again.
 //
 // Queries are asked in Morton order, so that consecutive ones walk the same nodes and leaves:
 // when the first load holds the queries themselves first (`hood.core == queries.size()`, as
@@ -157,9 +160,9 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
       searched.noteLaterRound(batches.points(), batches.largest(), groups.size(), batches.batches(),
                               batches.passes());
     }
-    // The next halo of a query still pending: doubled, or the radius its answer over the points
-    // loaded reached, whichever is larger (a hair over it: covers() wants the ball strictly
-    // inside the box's upper side).
+    // The next halo of a query still pending: the radius its answer over the points loaded
+    // reached (a hair over it: covers() wants the ball strictly inside the box's upper side),
+    // or doubled where it found too few points.
     std::vector<std::uint32_t> again;
     std::vector<double> again_halos;
     for (std::size_t j = 0; j < pending.size(); ++j) {
@@ -182,7 +185,7 @@ void answerTileQueries(std::span<const GridPoint> queries, double halo, Load&& l
       again.push_back(pending[j]);
       const double was = first ? halo : halos[j];
       const double reach = std::isfinite(needed[j]) ? needed[j] * (1.0 + 1e-9) : 0.0;
-      again_halos.push_back(std::max(was > 0.0 ? 2.0 * was : 1.0, reach));
+      again_halos.push_back(reach > 0.0 ? reach : was > 0.0 ? 2.0 * was : 1.0);
     }
     first = false;
     pending = std::move(again);
