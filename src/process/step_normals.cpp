@@ -84,7 +84,7 @@ std::vector<std::uint32_t> propagateOrientation(const std::vector<GridPoint>& li
       }
     }
   }
-  found = {};
+  found = std::vector<std::uint32_t>();  // `= {}` would keep the capacity (assign)
   auto normal = [&](std::uint32_t i) -> Normal& { return *normal_of[i]; };
   auto weight = [&](std::uint32_t a, std::uint32_t b) {
     const Normal& na = normal(a);
@@ -305,8 +305,9 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
         queries, halo,
         [&](double h) {
           TileNeighbourhood hood = loadNeighbourhood(tiles, t, h, points, kept);
-          points = {};
-          kept = {};
+          // Not `= {}`: that is assign(initializer_list), which keeps the capacity.
+          points = std::vector<GridPoint>();
+          kept = std::vector<std::uint8_t>();
           return hood;
         },
         tiles,

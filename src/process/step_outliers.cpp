@@ -66,7 +66,7 @@ void meanDistances(const OutliersStep& step, const StepContext& context, Fixed& 
         queries, 1.5 * NeighbourIndex::radiusForCount(queries, double(k)),
         [&](double h) {
           TileNeighbourhood hood = loadNeighbourhood(tiles, t, h, points, kept);
-          points = {};
+          points = std::vector<GridPoint>();  // not `= {}`: that keeps the capacity
           return hood;
         },
         tiles,

@@ -439,8 +439,8 @@ bool TileSet::appendKeptInBalls(std::span<const BallGroup> groups, std::span<con
           continue;
         }
         if (complete && out.size() >= limit) {
-          complete = false;  // over the limit: counted only, from here on
-          out = {};
+          complete = false;                // over the limit: counted only, from here on
+          out = std::vector<GridPoint>();  // freed (`= {}` would keep the capacity)
         }
         if (complete) out.push_back(block[i]);
         const std::uint32_t after = to < none ? buckets.firstHolder(block[i], balls, to) : none;
