@@ -26,11 +26,13 @@ void runDistanceStep(const DistanceStep& step, const StepContext& context) {
   }
   auto bar = context.progress ? context.progress(context.label, tiles.points()) : nullptr;
   for (std::size_t t = 0; t < tiles.tiles(); ++t) {
-    const std::vector<GridPoint> points = tiles.readPoints(t);
-    const std::vector<std::uint8_t> kept = tiles.readKept(t);
-    std::vector<float> distance(points.size(), 0.0f);
-    const TileNeighbourhood own = loadNeighbourhood(tiles, t, 0.0, points, kept);
-    const std::vector<GridPoint> queries(own.points.begin(), own.points.begin() + own.core);
+    std::vector<float> distance(tiles.count(t), 0.0f);
+    // The tile's kept points are the queries (with no halo, the whole of the load): the slab's
+    // records, a copy of them, are not held through the rounds.
+    TileNeighbourhood own =
+        loadNeighbourhood(tiles, t, 0.0, tiles.readPoints(t), tiles.readKept(t));
+    const std::vector<GridPoint> queries = std::move(own.points);
+    own.points = {};
     // The reference points in the tile and its halo: the reference's own tile t is no "core".
     auto load = [&](double halo) { return loadAround(reference, t, halo); };
     const double halo =
@@ -61,7 +63,7 @@ void runDistanceStep(const DistanceStep& step, const StepContext& context) {
           return true;
         });
     tiles.writeRecords<float>(t, "distance", distance);
-    if (bar) bar->advance(points.size());
+    if (bar) bar->advance(tiles.count(t));
   }
 }
 

@@ -277,7 +277,7 @@ void runHeightAboveGroundStep(const HeightAboveGroundStep&, const StepContext& c
           appendGroundFromTiles(tiles, region.lo[0], region.hi[0], &region, ground);
         }
         const GroundTriangulation triangulation(ground, true);
-        ground = {};
+        ground = std::vector<std::array<double, 3>>();  // freed: `= {}` keeps the capacity
         for (std::size_t k = begin; k < end; ++k) {
           const std::uint32_t j = order[k].second;
           const GridPoint& q = points[morton[pending[j]]];

@@ -84,7 +84,7 @@ std::vector<std::uint32_t> propagateOrientation(const std::vector<GridPoint>& li
       }
     }
   }
-  found = {};
+  found = std::vector<std::uint32_t>();  // `= {}` would keep the capacity (assign)
   auto normal = [&](std::uint32_t i) -> Normal& { return *normal_of[i]; };
   auto weight = [&](std::uint32_t a, std::uint32_t b) {
     const Normal& na = normal(a);
@@ -287,10 +287,13 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
   const TileSet& tiles = context.tiles;
   auto bar = context.progress ? context.progress(context.label, tiles.points()) : nullptr;
   for (std::size_t t = 0; t < tiles.tiles(); ++t) {
-    const std::vector<GridPoint> points = tiles.readPoints(t);
-    const std::vector<std::uint8_t> kept = tiles.readKept(t);
-    std::vector<Normal> normals(points.size(), Normal{0, 0, 0});
-    std::vector<float> curvature(points.size(), 0.0f);
+    // The slab's records (32 bytes a point) are read by the first round only: freed once it has
+    // loaded, before its index is built (the step's peak), not held through the later rounds.
+    std::vector<GridPoint> points = tiles.readPoints(t);
+    std::vector<std::uint8_t> kept = tiles.readKept(t);
+    const std::size_t count = points.size();
+    std::vector<Normal> normals(count, Normal{0, 0, 0});
+    std::vector<float> curvature(count, 0.0f);
     TileNeighbourhood first = loadNeighbourhood(tiles, t, 0.0, points, kept);
     // With no halo the neighbourhood is the tile's kept points alone: they are the queries.
     const std::vector<GridPoint> queries = std::move(first.points);
@@ -299,7 +302,14 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
     const double halo = step.k ? 1.5 * NeighbourIndex::radiusForCount(queries, double(step.k))
                                : step.radius * (1.0 + 1e-9);
     answerTileQueries(
-        queries, halo, [&](double h) { return loadNeighbourhood(tiles, t, h, points, kept); },
+        queries, halo,
+        [&](double h) {
+          TileNeighbourhood hood = loadNeighbourhood(tiles, t, h, points, kept);
+          // Not `= {}`: that is assign(initializer_list), which keeps the capacity.
+          points = std::vector<GridPoint>();
+          kept = std::vector<std::uint8_t>();
+          return hood;
+        },
         tiles,
         [&](const TileNeighbourhood& hood, const NeighbourIndex& grid, std::uint32_t i,
             const GridPoint& q, std::vector<Neighbour>& neighbours, double& needed) -> bool {
@@ -326,8 +336,8 @@ void runNormalsStep(const NormalsStep& step, const StepContext& context) {
         });
     tiles.writeRecords<Normal>(t, "normals", normals);
     if (step.curvature) tiles.writeRecords<float>(t, "curvature", curvature);
-    traceMemory("normals slab " + std::to_string(t) + " written", points.size());
-    if (bar) bar->advance(points.size());
+    traceMemory("normals slab " + std::to_string(t) + " written", count);
+    if (bar) bar->advance(count);
   }
   if (step.orientation == NormalOrientation::kPropagate) {
     propagateOverTiles(tiles, step.k ? step.k : 8);

@@ -50,9 +50,12 @@ void meanDistances(const OutliersStep& step, const StepContext& context, Fixed& 
   sum = sum_squares = 0;
   valid = 0;
   for (std::size_t t = 0; t < tiles.tiles(); ++t) {
-    const std::vector<GridPoint> points = tiles.readPoints(t);
+    // The slab's records (32 bytes a point) are read by the first round only: freed once it has
+    // loaded, before its index is built (the step's peak), not held through the later rounds.
+    std::vector<GridPoint> points = tiles.readPoints(t);
     const std::vector<std::uint8_t> kept = tiles.readKept(t);
-    std::vector<float> mean(points.size(), std::nanf(""));
+    const std::size_t count = points.size();
+    std::vector<float> mean(count, std::nanf(""));
     TileNeighbourhood first = loadNeighbourhood(tiles, t, 0.0, points, kept);
     // With no halo the neighbourhood is the tile's kept points alone: they are the queries.
     const std::vector<GridPoint> queries = std::move(first.points);
@@ -61,7 +64,12 @@ void meanDistances(const OutliersStep& step, const StepContext& context, Fixed& 
     const std::size_t k = std::size_t(step.k) + 1;
     answerTileQueries(
         queries, 1.5 * NeighbourIndex::radiusForCount(queries, double(k)),
-        [&](double h) { return loadNeighbourhood(tiles, t, h, points, kept); }, tiles,
+        [&](double h) {
+          TileNeighbourhood hood = loadNeighbourhood(tiles, t, h, points, kept);
+          points = std::vector<GridPoint>();  // not `= {}`: that keeps the capacity
+          return hood;
+        },
+        tiles,
         [&](const TileNeighbourhood& hood, const NeighbourIndex& grid, std::uint32_t i,
             const GridPoint& q, std::vector<Neighbour>& neighbours, double& needed) -> bool {
           grid.nearest(q.x, q.y, q.z, k, neighbours);
@@ -76,7 +84,7 @@ void meanDistances(const OutliersStep& step, const StepContext& context, Fixed& 
           mean[slot[i]] = float(total / double(step.k));
           return true;
         });
-    for (std::size_t i = 0; i < points.size(); ++i) {
+    for (std::size_t i = 0; i < count; ++i) {
       if (!kept[i]) continue;
       const double d = mean[i];
       sum += Fixed(d * kFixedScale);
@@ -84,8 +92,8 @@ void meanDistances(const OutliersStep& step, const StepContext& context, Fixed& 
       ++valid;
     }
     tiles.writeRecords<float>(t, "meandist", mean);
-    traceMemory("mean distances slab " + std::to_string(t) + " written", points.size());
-    if (bar) bar->advance(points.size());
+    traceMemory("mean distances slab " + std::to_string(t) + " written", count);
+    if (bar) bar->advance(count);
   }
 }
 

@@ -101,6 +101,7 @@ TileSet TileSet::spill(const std::vector<ConvertInput>& inputs, const std::files
   set.dir_ = dir;
   set.name_ = name;
   set.batch_points_ = batchPointsFor(max_tile_points);
+  set.round_points_ = std::max<std::uint64_t>(max_tile_points, 1);
   std::uint64_t total = 0;
   for (const ConvertInput& input : inputs) {
     PointStream probe(input.path, input.text_columns, nullptr, &input.filter);
@@ -157,6 +158,7 @@ TileSet TileSet::spill(const std::vector<ConvertInput>& inputs, const std::files
     set.edges_ = *edges;
   } else if (set.points_ > 0 && set.max_[0] > set.min_[0]) {
     max_tile_points = std::max<std::uint64_t>({max_tile_points, 1, set.points_ / kMaxTiles + 1});
+    set.round_points_ = max_tile_points;
     std::vector<std::uint64_t> histogram(kHistogramBins, 0);
     const double width = (set.max_[0] - set.min_[0]) / double(kHistogramBins);
     auto binOf = [&](double x) {
@@ -354,22 +356,26 @@ class BoxBuckets {
     }
   }
 
-  // Whether p is in one of the balls of a group whose box holds it.
-  bool holds(const GridPoint& p, std::span<const QueryBall> balls) const {
+  // The first of balls[at_least, end) that holds p (balls.size() when none): the groups of p's
+  // cell are listed in ascending order, and their balls are runs in the same order, so the first
+  // group that holds p has the first ball.
+  std::uint32_t firstHolder(const GridPoint& p, std::span<const QueryBall> balls,
+                            std::uint32_t at_least) const {
     const std::size_t c = cell(1, p.y) * cells_[0] + cell(0, p.x);
     for (std::size_t j = start_[c]; j < start_[c + 1]; ++j) {
       const BallGroup& g = groups_[in_cell_[j]];
+      if (g.end <= at_least) continue;
       const PointBox& b = g.box;
       if (!(p.x >= b.lo[0] && p.x < b.hi[0] && p.y >= b.lo[1] && p.y < b.hi[1] && p.z >= b.lo[2] &&
             p.z < b.hi[2])) {
         continue;
       }
-      for (std::uint32_t k = g.begin; k < g.end; ++k) {
+      for (std::uint32_t k = std::max(g.begin, at_least); k < g.end; ++k) {
         const QueryBall& ball = balls[k];
-        if (squaredDistance(p.x, p.y, p.z, ball.x, ball.y, ball.z) <= ball.r2) return true;
+        if (squaredDistance(p.x, p.y, p.z, ball.x, ball.y, ball.z) <= ball.r2) return k;
       }
     }
-    return false;
+    return std::uint32_t(balls.size());
   }
 
  private:
@@ -388,26 +394,34 @@ class BoxBuckets {
 
 }  // namespace
 
-void TileSet::appendKeptInBalls(std::span<const BallGroup> groups, std::span<const QueryBall> balls,
-                                std::vector<GridPoint>& out) const {
-  if (groups.empty()) return;
+bool TileSet::appendKeptInBalls(std::span<const BallGroup> groups, std::span<const QueryBall> balls,
+                                std::uint32_t from, std::uint32_t to, std::uint64_t limit,
+                                std::vector<GridPoint>& out,
+                                std::vector<std::uint64_t>& from_counts,
+                                std::vector<std::uint64_t>& to_counts) const {
+  const std::uint32_t none = std::uint32_t(balls.size());
+  from_counts.assign(balls.size(), 0);
+  to_counts.assign(balls.size(), 0);
+  if (groups.empty() || from >= none) return true;
   const BoxBuckets buckets(groups);
   std::vector<std::size_t> overlapping;
   std::uint64_t bound = 0;
   for (std::size_t t = 0; t < tiles(); ++t) {
     if (counts_[t] == 0) continue;
     const bool overlaps = std::any_of(groups.begin(), groups.end(), [&](const BallGroup& g) {
-      return this->hi(t) > g.box.lo[0] && this->lo(t) < g.box.hi[0];
+      return g.end > from && this->hi(t) > g.box.lo[0] && this->lo(t) < g.box.hi[0];
     });
     if (!overlaps) continue;
     overlapping.push_back(t);
     bound += counts_[t];
   }
-  // As appendKeptInBox: a bound reserved once, its untouched pages never made resident.
-  out.reserve(out.size() + std::size_t(bound));
+  // As appendKeptInBox: a bound reserved once (no more than the limit), its untouched pages never
+  // made resident.
+  out.reserve(out.size() + std::size_t(std::min(bound, limit)));
   const std::size_t records = std::min(batch_points_, kMostBlockRecords);
   std::vector<GridPoint> block(records);
   std::vector<std::uint8_t> flags(records);
+  bool complete = true;
   for (const std::size_t t : overlapping) {
     File points = openFile(file(t, "points"), "rb");
     File kept = openFile(file(t, "kept"), "rb");
@@ -416,18 +430,36 @@ void TileSet::appendKeptInBalls(std::span<const BallGroup> groups, std::span<con
       readAll(points.get(), block.data(), n * sizeof(GridPoint), file(t, "points"));
       readAll(kept.get(), flags.data(), n, file(t, "kept"));
       for (std::size_t i = 0; i < n; ++i) {
-        if (flags[i] && buckets.holds(block[i], balls)) out.push_back(block[i]);
+        if (!flags[i]) continue;
+        const std::uint32_t first = buckets.firstHolder(block[i], balls, from);
+        if (first == none) continue;
+        ++from_counts[first];
+        if (first >= to) {
+          ++to_counts[first];
+          continue;
+        }
+        if (complete && out.size() >= limit) {
+          complete = false;                // over the limit: counted only, from here on
+          out = std::vector<GridPoint>();  // freed (`= {}` would keep the capacity)
+        }
+        if (complete) out.push_back(block[i]);
+        const std::uint32_t after = to < none ? buckets.firstHolder(block[i], balls, to) : none;
+        if (after != none) ++to_counts[after];
       }
       done += n;
     }
   }
+  return complete;
 }
 
-void TileSet::noteLaterRound(std::uint64_t points, std::size_t boxes) const {
+void TileSet::noteLaterRound(std::uint64_t points, std::uint64_t largest, std::size_t boxes,
+                             std::size_t batches, std::size_t passes) const {
   ++statistics_.later_rounds;
   statistics_.later_round_points += points;
-  statistics_.largest_later_round = std::max(statistics_.largest_later_round, points);
+  statistics_.largest_later_round = std::max(statistics_.largest_later_round, largest);
   statistics_.later_round_boxes += boxes;
+  statistics_.later_round_batches += batches;
+  statistics_.later_round_passes += passes;
 }
 
 void TileSet::renameAll(const std::string& from, const std::string& to) const {
@@ -446,8 +478,22 @@ TileNeighbourhood loadNeighbourhood(const TileSet& tiles, std::size_t tile, doub
                                     const std::vector<GridPoint>& core_points,
                                     const std::vector<std::uint8_t>& core_kept) {
   TileNeighbourhood hood;
-  // Reserved: grown by push_back, the copies of a large tile cost more than the loop.
-  hood.points.reserve(core_points.size());
+  hood.lo[0] = tiles.lo(tile) - halo;
+  hood.hi[0] = tiles.hi(tile) + halo;
+  // Past the cloud's ends there is nothing more to load: the halo is infinite there.
+  if (hood.lo[0] < tiles.min()[0]) hood.lo[0] = -TileSet::kInfinity;
+  if (hood.hi[0] > tiles.max()[0]) hood.hi[0] = TileSet::kInfinity;
+  // Reserved once for the tile and every point of the tiles its halo overlaps (appendKeptInBox
+  // then finds the room): reserved for the tile alone, the halo's reserve moved the tile's copy
+  // into a larger block, the old and new held at once beside the tile's records, round 1's
+  // peak (20 M-point trace, NOTES.md). Untouched reserved pages are never made resident.
+  std::uint64_t halo_bound = 0;
+  for (std::size_t t = 0; halo > 0.0 && t < tiles.tiles(); ++t) {
+    if (t != tile && tiles.hi(t) > hood.lo[0] && tiles.lo(t) < hood.hi[0]) {
+      halo_bound += tiles.count(t);
+    }
+  }
+  hood.points.reserve(core_points.size() + std::size_t(halo_bound));
   hood.slot.reserve(core_points.size());
   for (std::size_t i = 0; i < core_points.size(); ++i) {
     if (!core_kept[i]) continue;
@@ -455,11 +501,6 @@ TileNeighbourhood loadNeighbourhood(const TileSet& tiles, std::size_t tile, doub
     hood.slot.push_back(std::uint32_t(i));
   }
   hood.core = hood.points.size();
-  hood.lo[0] = tiles.lo(tile) - halo;
-  hood.hi[0] = tiles.hi(tile) + halo;
-  // Past the cloud's ends there is nothing more to load: the halo is infinite there.
-  if (hood.lo[0] < tiles.min()[0]) hood.lo[0] = -TileSet::kInfinity;
-  if (hood.hi[0] > tiles.max()[0]) hood.hi[0] = TileSet::kInfinity;
   if (halo > 0.0) tiles.appendKeptInRange(hood.lo[0], hood.hi[0], tile, hood.points);
   return hood;
 }
@@ -525,6 +566,45 @@ void groupQueryBalls(std::span<const GridPoint> queries, std::span<const std::ui
     }
     groups.push_back(group);
     begin = end;
+  }
+}
+
+BallBatches::BallBatches(const TileSet& tiles, std::span<const BallGroup> groups,
+                         std::span<const QueryBall> balls, std::uint64_t limit)
+    : tiles_(tiles), groups_(groups), balls_(balls), limit_(std::max<std::uint64_t>(limit, 1)) {}
+
+bool BallBatches::next(std::vector<GridPoint>& points) {
+  points.clear();
+  const std::uint32_t end = std::uint32_t(balls_.size());
+  const std::uint32_t from = to_;
+  if (from >= end) return false;
+  for (;;) {
+    // Known counts: the longest run from `from` within the limit (a ball at least); unknown
+    // (the round's first pass): the whole round, counted as it goes.
+    std::uint32_t to = end;
+    std::uint64_t limit = limit_;
+    if (counted_) {
+      std::uint64_t sum = counts_[from];
+      to = from + 1;
+      while (to < end && sum + counts_[to] <= limit_) sum += counts_[to++];
+      limit = std::max(sum, limit_);
+    }
+    ++passes_;
+    const bool loaded =
+        tiles_.appendKeptInBalls(groups_, balls_, from, to, limit, points, spare_, counts_);
+    counted_ = true;
+    if (!loaded) {
+      // Over the limit: the counts from `from` on are known now (spare_), the batches follow.
+      std::swap(counts_, spare_);
+      points.clear();
+      continue;
+    }
+    from_ = from;
+    to_ = to;
+    ++batches_;
+    points_ += points.size();
+    largest_ = std::max<std::uint64_t>(largest_, points.size());
+    return true;
   }
 }
 

@@ -51,12 +51,16 @@ struct BallGroup {
 };
 
 // What the rounds after a tile's first loaded (answerTileQueries, tile_queries.h), over a run:
-// the points a round holds beyond the first load's are what pushes the peak past --memory.
+// the points a round holds beyond the first load's are what pushes the peak past --memory. A
+// round is loaded in batches of at most TileSet::roundPoints() points (BallBatches).
 struct TileStatistics {
   std::uint64_t later_rounds = 0;         // rounds after a tile's first, all steps
-  std::uint64_t later_round_points = 0;   // the points they loaded, summed
-  std::uint64_t largest_later_round = 0;  // the most points one of them loaded
+  std::uint64_t later_round_points = 0;   // the points their batches loaded, summed
+  std::uint64_t largest_later_round = 0;  // the most points one batch of them held at once
   std::uint64_t later_round_boxes = 0;    // the boxes they loaded (a box per cluster of queries)
+  std::uint64_t later_round_batches = 0;  // their batches (one per round when it fits)
+  std::uint64_t later_round_passes = 0;   // their passes over the slab files: a pass a batch,
+                                          // and one more where a round was counted first
 };
 
 class TileSet {
@@ -76,6 +80,9 @@ class TileSet {
   // so that a small --memory reads in small batches too (the default's batches are 1 M points).
   static std::size_t batchPointsFor(std::uint64_t max_tile_points);
   std::size_t batchPoints() const { return batch_points_; }
+  // The most points a later round of a tile's queries loads at once (BallBatches): what a slab
+  // may hold (`max_tile_points` as spill used it), the share of --memory a step's load has.
+  std::uint64_t roundPoints() const { return round_points_; }
 
   std::size_t tiles() const { return counts_.size(); }
   std::uint64_t points() const { return points_; }
@@ -99,14 +106,23 @@ class TileSet {
   void appendKeptInBox(const double lo[3], const double hi[3], std::size_t except,
                        std::vector<GridPoint>& out) const;
 
-  // Every kept point of every tile within the ball of at least one of `balls`, appended once
-  // however many hold it, in one pass over the files of the tiles the groups' boxes overlap in
-  // x; `groups` (boxes around runs of `balls`) say which balls a point may be in.
-  void appendKeptInBalls(std::span<const BallGroup> groups, std::span<const QueryBall> balls,
-                         std::vector<GridPoint>& out) const;
+  // One pass over the files of the tiles that the boxes of the groups holding balls[from, end)
+  // overlap in x (BallBatches). Appends to `out` every kept point within a ball of
+  // balls[from, to), once however many hold it, unless that would make more than `limit`: then
+  // `out` is emptied and the pass goes on counting only, and it returns false. For each kept
+  // point within a ball of balls[from, end), adds one to `from_counts` at the first such ball,
+  // and, for a point within a ball of balls[to, end), to `to_counts` at the first of those
+  // (both balls.size() long): how many points balls[from, b) or balls[to, b) hold in all,
+  // summed, for any b.
+  bool appendKeptInBalls(std::span<const BallGroup> groups, std::span<const QueryBall> balls,
+                         std::uint32_t from, std::uint32_t to, std::uint64_t limit,
+                         std::vector<GridPoint>& out, std::vector<std::uint64_t>& from_counts,
+                         std::vector<std::uint64_t>& to_counts) const;
 
-  // A round after a tile's first loaded `points` in `boxes` boxes (TileStatistics).
-  void noteLaterRound(std::uint64_t points, std::size_t boxes) const;
+  // A round after a tile's first: `batches` batches (`passes` passes over the files, `boxes`
+  // boxes) that loaded `points` in all, `largest` at once (TileStatistics).
+  void noteLaterRound(std::uint64_t points, std::uint64_t largest, std::size_t boxes,
+                      std::size_t batches, std::size_t passes) const;
   const TileStatistics& statistics() const { return statistics_; }
 
   // Per-point records of `what` ("kept", "normals", ...), `record_size` bytes each.
@@ -137,6 +153,7 @@ class TileSet {
   std::vector<std::uint64_t> counts_;
   std::uint64_t points_ = 0;
   std::size_t batch_points_ = 1;
+  std::uint64_t round_points_ = 1;
   double min_[3] = {0, 0, 0}, max_[3] = {0, 0, 0};
   mutable TileStatistics statistics_;  // counted by the steps, which see the tiles as const
 };
@@ -192,6 +209,44 @@ TileNeighbourhood loadNeighbourhood(const TileSet& tiles, std::size_t tile, doub
 void groupQueryBalls(std::span<const GridPoint> queries, std::span<const std::uint32_t> pending,
                      std::span<const double> halos, std::vector<BallGroup>& groups,
                      std::vector<QueryBall>& balls, std::vector<std::uint32_t>& ball_of);
+
+// The batches a later round's balls are loaded in (answerTileQueries): runs balls[from, to) of
+// the balls in group order, each holding at most TileSet::roundPoints() points (a point once
+// however many of its balls hold it), each loaded in one pass over the slab files. A sparse
+// region as wide as a slab, or a K larger than most neighbourhoods, can leave pending queries
+// whose balls together hold more than a slab: loaded at once they would take more than --memory.
+// How the points of a run are known before it is loaded: a pass counts, for each point, the
+// first ball at or after `from` that holds it, so that balls[from, to) hold exactly the sum of
+// the counts over [from, to) (a point in any of them has its first one there); the pass that
+// loads a batch counts from its end for the next. The first pass tries the whole round at once
+// (nothing known yet) and counts too; only when that would go over does it load nothing and
+// the batches follow. A single ball holding more than the limit is a batch of its own: its query
+// needs every one of them.
+class BallBatches {
+ public:
+  BallBatches(const TileSet& tiles, std::span<const BallGroup> groups,
+              std::span<const QueryBall> balls, std::uint64_t limit);
+  // The next batch's points into `points` (emptied first): false when every ball was loaded.
+  bool next(std::vector<GridPoint>& points);
+  // The balls of the batch `next` loaded last.
+  std::uint32_t from() const { return from_; }
+  std::uint32_t to() const { return to_; }
+  std::size_t batches() const { return batches_; }
+  std::size_t passes() const { return passes_; }
+  std::uint64_t points() const { return points_; }
+  std::uint64_t largest() const { return largest_; }
+
+ private:
+  const TileSet& tiles_;
+  std::span<const BallGroup> groups_;
+  std::span<const QueryBall> balls_;
+  std::uint64_t limit_;
+  std::uint32_t from_ = 0, to_ = 0;
+  bool counted_ = false;  // counts_ holds the first-ball counts from to_ on
+  std::vector<std::uint64_t> counts_, spare_;
+  std::size_t batches_ = 0, passes_ = 0;
+  std::uint64_t points_ = 0, largest_ = 0;
+};
 
 // Every kept point of `set` within `halo` of tile t's x interval (an infinite halo past the
 // cloud's ends), none of them "core": another cloud's points around a tile of the processed one
