@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -128,14 +127,6 @@ RasterReport buildRaster(const RasterOptions& options) {
         alignedGrid(extent.min_x, extent.min_y, extent.max_x, extent.max_y, options.resolution);
   }
   const RasterGrid& grid = report.grid;
-  if (grid.columns > std::numeric_limits<int>::max() ||
-      grid.rows > std::numeric_limits<int>::max()) {
-    throw std::invalid_argument("--resolution: " + std::to_string(options.resolution) +
-                                " makes a grid of " + std::to_string(grid.columns) + " x " +
-                                std::to_string(grid.rows) +
-                                " cells, beyond GeoTIFF's 2^31 - 1 "
-                                "a side");
-  }
   const double idw_radius = options.idw_radius > 0.0 ? options.idw_radius : options.resolution;
 
   // The band plan: the accumulator and the band's output floats within --memory.

@@ -53,6 +53,8 @@ struct RasterGrid {
 
 // The grid covering [minx, maxx] x [miny, maxy] with edges on multiples of `resolution` (the
 // cell rule above). `resolution` must be positive and the bounds finite.
+// Throws std::invalid_argument (naming --resolution) when a side would pass GeoTIFF's 2^31 - 1
+// cells; this and boundedGrid.
 RasterGrid alignedGrid(double minx, double miny, double maxx, double maxy, double resolution);
 
 // The grid with its lower-left corner at (minx, miny) and ceil((max - min) / R) cells a side
