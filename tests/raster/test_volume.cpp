@@ -210,6 +210,21 @@ TEST(Volume, ABaseRasterThatIsMissingShortOrInAnotherCrsIsAnError) {
   EXPECT_NEAR(computeVolume(options).cut, expected, 0.005 * expected);
 }
 
+// A grid beyond any machine's memory (1e16 cells at 1e-5 over 1000 x 1000; 1000 / 1e-5 rounds
+// below 1e8, so no extra column) is an error that names --resolution, said before the cloud is
+// read; it was a bare std::bad_alloc ("out of memory").
+TEST(Volume, AGridOverTheMachinesMemoryIsAnErrorNamingTheResolution) {
+  TempDir dir;
+  VolumeOptions options = squareAround(writeCloud(dir, slopedBase, cone, 0.5, 1), 1e-5);
+  options.polygon = {{0, 0}, {1000, 0}, {1000, 1000}, {0, 1000}};
+  const std::string message = volumeError<std::invalid_argument>(options);
+  EXPECT_EQ(message.rfind("--resolution 1e-05: the polygon's bounding box (1000 x 1000) makes "
+                          "100000000 x 100000000 cells, 152587890625 MB held whole",
+                          0),
+            0u)
+      << message;
+}
+
 TEST(Volume, FitPlaneNeedsThreePointsNotOnALine) {
   double a, b, c;
   EXPECT_FALSE(fitPlane({{0, 0, 1}, {1, 1, 2}}, a, b, c));
