@@ -178,6 +178,11 @@ VolumeReport computeVolume(const VolumeOptions& options) {
     throw std::invalid_argument("--resolution: expected a positive number of units a cell, found " +
                                 std::to_string(options.resolution));
   }
+  // 0 is the default (10 cells); a negative or non-finite radius is a mistake, as for raster.
+  if (options.fill_radius < 0.0 || !std::isfinite(options.fill_radius)) {
+    throw std::invalid_argument("--fill-radius: expected a positive distance, found " +
+                                std::to_string(options.fill_radius));
+  }
   if (options.surface != RasterValue::Max && options.surface != RasterValue::Mean) {
     throw std::invalid_argument("--surface: expected max or mean");
   }

@@ -225,6 +225,19 @@ TEST(Volume, AGridOverTheMachinesMemoryIsAnErrorNamingTheResolution) {
       << message;
 }
 
+// A negative or non-finite --fill-radius is refused as raster refuses it; it was taken as the
+// default (10 cells) without a word.
+TEST(Volume, ANegativeFillRadiusIsAnError) {
+  TempDir dir;
+  VolumeOptions options = squareAround(writeCloud(dir, slopedBase, cone, 0.5, 1), 0.5);
+  options.fill_radius = -1.0;
+  EXPECT_EQ(volumeError<std::invalid_argument>(options),
+            "--fill-radius: expected a positive distance, found -1.000000");
+  options.fill_radius = std::nan("");
+  EXPECT_EQ(volumeError<std::invalid_argument>(options),
+            "--fill-radius: expected a positive distance, found nan");
+}
+
 TEST(Volume, FitPlaneNeedsThreePointsNotOnALine) {
   double a, b, c;
   EXPECT_FALSE(fitPlane({{0, 0, 1}, {1, 1, 2}}, a, b, c));
