@@ -1085,6 +1085,17 @@ TEST(ProcessSteps, UnavailableStepsAndOutputsFailBeforeAnyWork) {
   DistanceStep distance;
   distance.reference = dir / "missing.ply";
   EXPECT_THROW(run(in, dir / "out.ply", {distance}), InputError);
+  // A point file in a folder that does not exist: an error before any work, and no folder made
+  // (the work folder beside the output made it, and the run succeeded).
+  try {
+    run(in, dir / "missing" / "out.ply", {normals});
+    ADD_FAILURE() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), "-o " + (dir / "missing" / "out.ply").string() +
+                                         ": the folder " + (dir / "missing").string() +
+                                         " does not exist");
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "missing"));
 }
 
 }  // namespace
