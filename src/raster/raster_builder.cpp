@@ -44,6 +44,14 @@ void checkOptions(const RasterOptions& options) {
     }
   }
   if (options.output.empty()) throw std::invalid_argument("-o: an output file is needed");
+  // The cloud is read before the GeoTIFF replaces the output, so naming the input as the output
+  // ran and replaced the point file with a GeoTIFF.
+  std::error_code same_error;
+  if (std::filesystem::equivalent(options.output, options.input.path, same_error)) {
+    throw std::invalid_argument("-o " + options.output.string() +
+                                ": is the input point file, which the GeoTIFF would replace: "
+                                "expected another file");
+  }
   const std::filesystem::path folder =
       options.output.has_parent_path() ? options.output.parent_path() : ".";
   std::error_code error;

@@ -178,6 +178,13 @@ VolumeReport computeVolume(const VolumeOptions& options) {
     throw std::invalid_argument("--resolution: expected a positive number of units a cell, found " +
                                 std::to_string(options.resolution));
   }
+  std::error_code same_error;
+  if (!options.raster_out.empty() &&
+      std::filesystem::equivalent(options.raster_out, options.input.path, same_error)) {
+    throw std::invalid_argument("--raster-out " + options.raster_out.string() +
+                                ": is the input point file, which the GeoTIFF would replace: "
+                                "expected another file");
+  }
   // 0 is the default (10 cells); a negative or non-finite radius is a mistake, as for raster.
   if (options.fill_radius < 0.0 || !std::isfinite(options.fill_radius)) {
     throw std::invalid_argument("--fill-radius: expected a positive distance, found " +

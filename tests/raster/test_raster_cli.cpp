@@ -362,6 +362,18 @@ TEST(RasterCli, BadOptionsNameTheOptionAndWriteNothing) {
   r = runParallax(
       dir, "raster " + quoted((dir / "none.las").string()) + " -o " + out + " --resolution 1");
   EXPECT_EQ(r.exit_code, 2) << r.err;
+  // The input as the output (through another spelling of its path): refused, the input kept; it
+  // was replaced by the GeoTIFF.
+  const std::uintmax_t input_size = std::filesystem::file_size(input);
+  const std::filesystem::path again = dir / "." / input.filename();
+  r = runParallax(
+      dir, base.substr(0, base.size() - 4) + " -o " + quoted(again.string()) + " --resolution 1");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("-o " + again.string() +
+                       ": is the input point file, which the GeoTIFF would replace"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(std::filesystem::file_size(input), input_size);
 }
 
 TEST(VolumeCli, JsonResultAndPolygonErrorsNamingTheFile) {

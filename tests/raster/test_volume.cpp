@@ -238,6 +238,20 @@ TEST(Volume, ANegativeFillRadiusIsAnError) {
             "--fill-radius: expected a positive distance, found nan");
 }
 
+// --raster-out naming the input cloud is refused before any work; it replaced the cloud.
+TEST(Volume, ARasterOutThatIsTheInputIsAnError) {
+  TempDir dir;
+  const auto cloud = writeCloud(dir, slopedBase, cone, 0.5, 1);
+  const std::uintmax_t size = std::filesystem::file_size(cloud);
+  VolumeOptions options = squareAround(cloud, 0.5);
+  options.raster_out = cloud;
+  EXPECT_EQ(
+      volumeError<std::invalid_argument>(options),
+      "--raster-out " + cloud.string() +
+          ": is the input point file, which the GeoTIFF would replace: expected another file");
+  EXPECT_EQ(std::filesystem::file_size(cloud), size);
+}
+
 TEST(Volume, FitPlaneNeedsThreePointsNotOnALine) {
   double a, b, c;
   EXPECT_FALSE(fitPlane({{0, 0, 1}, {1, 1, 2}}, a, b, c));
