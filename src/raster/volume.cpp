@@ -185,6 +185,17 @@ VolumeReport computeVolume(const VolumeOptions& options) {
                                 ": is the input point file, which the GeoTIFF would replace: "
                                 "expected another file");
   }
+  // The raster's folder before the work, as raster checks -o: a missing one failed in GDAL after
+  // the whole computation.
+  if (!options.raster_out.empty()) {
+    const std::filesystem::path folder =
+        options.raster_out.has_parent_path() ? options.raster_out.parent_path() : ".";
+    std::error_code folder_error;
+    if (!std::filesystem::is_directory(folder, folder_error)) {
+      throw std::invalid_argument("--raster-out " + options.raster_out.string() + ": the folder " +
+                                  folder.string() + " does not exist");
+    }
+  }
   // 0 is the default (10 cells); a negative or non-finite radius is a mistake, as for raster.
   if (options.fill_radius < 0.0 || !std::isfinite(options.fill_radius)) {
     throw std::invalid_argument("--fill-radius: expected a positive distance, found " +

@@ -238,8 +238,8 @@ TEST(Volume, ANegativeFillRadiusIsAnError) {
             "--fill-radius: expected a positive distance, found nan");
 }
 
-// --raster-out naming the input cloud is refused before any work; it replaced the cloud.
-TEST(Volume, ARasterOutThatIsTheInputIsAnError) {
+// --raster-out naming the input cloud, or in a missing folder, is refused before any work.
+TEST(Volume, ARasterOutThatIsTheInputOrInAMissingFolderIsAnError) {
   TempDir dir;
   const auto cloud = writeCloud(dir, slopedBase, cone, 0.5, 1);
   const std::uintmax_t size = std::filesystem::file_size(cloud);
@@ -250,6 +250,12 @@ TEST(Volume, ARasterOutThatIsTheInputIsAnError) {
       "--raster-out " + cloud.string() +
           ": is the input point file, which the GeoTIFF would replace: expected another file");
   EXPECT_EQ(std::filesystem::file_size(cloud), size);
+  // A raster in a folder that does not exist: said before the work (it was GDAL's error after
+  // it), as raster says it of -o.
+  options.raster_out = dir / "missing" / "d.tif";
+  EXPECT_EQ(volumeError<std::invalid_argument>(options),
+            "--raster-out " + options.raster_out.string() + ": the folder " +
+                (dir / "missing").string() + " does not exist");
 }
 
 TEST(Volume, FitPlaneNeedsThreePointsNotOnALine) {
