@@ -135,6 +135,7 @@ RasterReport buildRaster(const RasterOptions& options) {
         alignedGrid(extent.min_x, extent.min_y, extent.max_x, extent.max_y, options.resolution);
   }
   const RasterGrid& grid = report.grid;
+  checkGeoTiffTiles(grid);
   const double idw_radius = options.idw_radius > 0.0 ? options.idw_radius : options.resolution;
 
   // The band plan: the accumulator and the band's output floats within --memory.

@@ -66,6 +66,25 @@ RasterGrid boundedGrid(double minx, double miny, double maxx, double maxy, doubl
   return grid;
 }
 
+void checkGeoTiffTiles(const RasterGrid& grid) {
+  // GeoTiffWriter's tiles (geotiff.cpp: BLOCKXSIZE, BLOCKYSIZE 256), and libtiff's limit on the
+  // tile index that GDAL's GTiff driver enforces: its offsets and byte counts, 8 bytes a tile
+  // in a BigTIFF (any raster this large is one), under 2 GB, so at most 2^28 tiles.
+  constexpr double kTileSide = 256.0;
+  constexpr double kMaxTiles = 268435456.0;
+  const double tiles =
+      std::ceil(double(grid.columns) / kTileSide) * std::ceil(double(grid.rows) / kTileSide);
+  if (tiles > kMaxTiles) {
+    throw std::invalid_argument(
+        "--resolution " + shortNumber(grid.resolution) + ": the grid of " +
+        std::to_string(grid.columns) + " x " + std::to_string(grid.rows) + " cells is " +
+        shortNumber(tiles) +
+        " tiles of 256 x 256, over the 268435456 a GeoTIFF's tile index holds: expected a "
+        "resolution of at least " +
+        shortNumber(grid.resolution * std::sqrt(tiles / kMaxTiles)));
+  }
+}
+
 bool sameGrid(const RasterGrid& a, const RasterGrid& b) {
   if (a.columns != b.columns || a.rows != b.rows) return false;
   const double tolerance = 1e-6 * a.resolution;

@@ -43,6 +43,30 @@ TEST(RasterGrid, ASideOverGeoTiffsLimitIsAnErrorNamingTheResolution) {
   EXPECT_EQ(widest.rows, 1);
 }
 
+// More 256 x 256 tiles than a GeoTIFF's tile index holds (2^28) is refused naming --resolution:
+// A4.e57 (0.65 x 0.46) at 1e-9 is under 2^31 - 1 cells a side and ended in GDAL's "File too
+// large regarding tile size", which named neither (1 / 1e-9 rounds below 1e9: no extra cell).
+// 16384 x 16384 tiles exactly still fit.
+TEST(RasterGrid, MoreTilesThanAGeoTiffIndexHoldsIsAnErrorNamingTheResolution) {
+  auto message = [](const RasterGrid& grid) -> std::string {
+    try {
+      checkGeoTiffTiles(grid);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(message(alignedGrid(0.0, 0.0, 1.0, 1.0, 1e-9)),
+            "--resolution 1e-09: the grid of 1000000000 x 1000000000 cells is 1.52588e+13 tiles "
+            "of 256 x 256, over the 268435456 a GeoTIFF's tile index holds: expected a resolution "
+            "of at least 2.38419e-07");
+  EXPECT_EQ(message(alignedGrid(0.0, 0.0, 4194304.0, 4194303.0, 1.0)),
+            "--resolution 1: the grid of 4194305 x 4194304 cells is 2.68452e+08 tiles of 256 x "
+            "256, over the 268435456 a GeoTIFF's tile index holds: expected a resolution of at "
+            "least 1.00003");
+  EXPECT_EQ(message(alignedGrid(0.0, 0.0, 4194303.0, 4194303.0, 1.0)), "no error");
+}
+
 TEST(RasterGrid, EdgesAlignToTheResolutionAndAPointOnAnEdgeGoesRightAndUp) {
   const RasterGrid grid = alignedGrid(0.3, 0.7, 2.0, 2.9, 0.5);
   EXPECT_EQ(grid.left, 0.0);

@@ -374,6 +374,13 @@ TEST(RasterCli, BadOptionsNameTheOptionAndWriteNothing) {
             std::string::npos)
       << r.err;
   EXPECT_EQ(std::filesystem::file_size(input), input_size);
+  // A grid under 2^31 - 1 cells a side but over a GeoTIFF's tile index: the option named, exit 1
+  // (it was GDAL's "File too large regarding tile size").
+  r = runParallax(dir, base + out + " --resolution 1e-9 --bounds 0,0,1,1");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--resolution 1e-09: the grid of 1000000000 x 1000000000 cells"),
+            std::string::npos)
+      << r.err;
 }
 
 TEST(VolumeCli, JsonResultAndPolygonErrorsNamingTheFile) {
