@@ -259,7 +259,8 @@ TEST(RasterCli, BandsOfRowsWithinMemoryGiveTheSameRaster) {
   for (int i = 0; i < 30000; ++i)
     text << xy(random) << ' ' << xy(random) << ' ' << z(random) << '\n';
   const auto input = dir.write("big.xyz", text.str());
-  // 600 x 600 cells of 4 + 4 bytes: 2.7 MB; --memory 1 makes bands of 218 rows, three reads.
+  // 600 x 600 cells of 4 + 4 bytes: 2.7 MB; --memory 1, less an eighth for GDAL's block cache,
+  // makes bands of 191 rows, four reads.
   const auto whole = runParallax(dir, "raster " + quoted(input.string()) + " -o " +
                                           quoted((dir / "whole.tif").string()) +
                                           " --resolution 1 --bounds 0,0,600,600 --value max");
@@ -270,7 +271,7 @@ TEST(RasterCli, BandsOfRowsWithinMemoryGiveTheSameRaster) {
                                            " --resolution 1 --bounds 0,0,600,600 --value max "
                                            "--memory 1");
   ASSERT_EQ(banded.exit_code, 0) << banded.err;
-  EXPECT_NE(banded.err.find("3 pass(es)"), std::string::npos) << banded.err;
+  EXPECT_NE(banded.err.find("4 pass(es)"), std::string::npos) << banded.err;
   EXPECT_EQ(readRaster(dir / "whole.tif").values, readRaster(dir / "banded.tif").values);
   // --fill needs the grid whole: refused within 1 MB, naming --memory.
   const auto fill = runParallax(dir, "raster " + quoted(input.string()) + " -o " +

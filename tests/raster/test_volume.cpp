@@ -258,6 +258,20 @@ TEST(Volume, ARasterOutThatIsTheInputOrInAMissingFolderIsAnError) {
                 (dir / "missing").string() + " does not exist");
 }
 
+// raster's GDAL block cache is within --memory (an eighth of it, at most 64 MB): left at GDAL's
+// default (5 % of the machine's memory) it took B2.e57 at 1e-6 to 3.0 GB resident at 2048 MB.
+TEST(RasterMemory, GdalsBlockCacheIsAnEighthOfTheBudget) {
+  TempDir dir;
+  RasterOptions options;
+  options.input.path = writeCloud(dir, slopedBase, cone, 0.5, 1);
+  options.output = dir / "r.tif";
+  options.resolution = 1.0;
+  options.memory_mb = 16;
+  buildRaster(options);
+  EXPECT_EQ(gdalCacheLimit(), 2u << 20);
+  EXPECT_TRUE(std::filesystem::exists(dir / "r.tif"));
+}
+
 TEST(Volume, FitPlaneNeedsThreePointsNotOnALine) {
   double a, b, c;
   EXPECT_FALSE(fitPlane({{0, 0, 1}, {1, 1, 2}}, a, b, c));
