@@ -42,6 +42,18 @@ void checkSteps(const ProcessOptions& options) {
                                 "name ending in '/' or without extension)");
   }
   if (options.inputs.empty()) throw std::invalid_argument("process: no input");
+  // A point file goes into an existing folder, as convert's and raster's do (an octree's folders
+  // are made, as convert makes them). The work folder beside the output used to create the
+  // missing ones silently.
+  if (kind == OutputKind::kPointFile) {
+    const std::filesystem::path folder =
+        options.output.has_parent_path() ? options.output.parent_path() : ".";
+    std::error_code error;
+    if (!std::filesystem::is_directory(folder, error)) {
+      throw std::invalid_argument("-o " + options.output.string() + ": the folder " +
+                                  folder.string() + " does not exist");
+    }
+  }
 }
 
 // The hidden work folder, removed with everything in it however the run ends.

@@ -135,15 +135,18 @@ void runGroundStep(const GroundStep& step, const StepContext& context) {
   const bool pmf = step.method == GroundStep::Method::kPmf;
   const bool csf = step.method == GroundStep::Method::kCsf;
   const double cell = pmf ? step.pmf.cell_size : csf ? step.csf.resolution : step.smrf.cell;
-  const std::uint64_t cells = ElevationGrid::cellsCovering(tiles.min()[0], tiles.min()[1],
-                                                           tiles.max()[0], tiles.max()[1], cell);
-  const std::uint64_t budget = context.memory_mb * (std::uint64_t(1) << 20);
-  if (tiles.points() > 0 && (cells > budget / kGridBytesPerCell || cells > (1ull << 32))) {
-    throw std::invalid_argument(
-        context.label + ": the cloud's extent at cell " + std::to_string(cell) + " is " +
-        std::to_string(cells) + " cells, " + std::to_string(cells * kGridBytesPerCell >> 20) +
-        " MB at " + std::to_string(kGridBytesPerCell) + " bytes a cell, over --memory " +
-        std::to_string(context.memory_mb) + ": raise --memory or the cell");
+  const double cells = ElevationGrid::cellsCovering(tiles.min()[0], tiles.min()[1], tiles.max()[0],
+                                                    tiles.max()[1], cell);
+  const double budget = double(context.memory_mb) * double(std::uint64_t(1) << 20);
+  if (tiles.points() > 0 && (cells > budget / kGridBytesPerCell || cells > 0x1p32)) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  ": the cloud's extent at cell %g is %.6g cells, %.6g MB at %llu bytes a cell, "
+                  "over --memory %llu: raise --memory or the cell",
+                  cell, cells, cells * double(kGridBytesPerCell) / 1048576.0,
+                  static_cast<unsigned long long>(kGridBytesPerCell),
+                  static_cast<unsigned long long>(context.memory_mb));
+    throw std::invalid_argument(context.label + text);
   }
   if (tiles.points() == 0) return;
   auto bar = context.progress ? context.progress(context.label, tiles.tiles()) : nullptr;

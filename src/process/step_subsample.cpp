@@ -43,8 +43,11 @@ void voxelSubsample(const SubsampleStep& step, const StepContext& context) {
     const std::vector<GridPoint> points = tiles.readPoints(t);
     std::vector<std::uint8_t> kept = tiles.readKept(t);
     const TileNeighbourhood hood = loadNeighbourhood(tiles, t, step.size * 1.0001, points, kept);
+    // The voxel's integer coordinates held as doubles: floor() is exact, and a quotient past
+    // 2^63 (a tiny SIZE) stays a distinct, ordered key instead of an out-of-range integer
+    // conversion (undefined; on x86 every such point fell in one voxel).
     struct Keyed {
-      std::array<std::int64_t, 3> voxel;
+      std::array<double, 3> voxel;
       std::uint64_t id;
       std::uint32_t at;
       bool operator<(const Keyed& o) const {
@@ -54,11 +57,11 @@ void voxelSubsample(const SubsampleStep& step, const StepContext& context) {
     std::vector<Keyed> keyed(hood.points.size());
     for (std::size_t i = 0; i < hood.points.size(); ++i) {
       const GridPoint& p = hood.points[i];
-      keyed[i] = {{std::int64_t(std::floor((p.x - corner[0]) / step.size)),
-                   std::int64_t(std::floor((p.y - corner[1]) / step.size)),
-                   std::int64_t(std::floor((p.z - corner[2]) / step.size))},
-                  p.id,
-                  std::uint32_t(i)};
+      keyed[i] = {
+          {std::floor((p.x - corner[0]) / step.size), std::floor((p.y - corner[1]) / step.size),
+           std::floor((p.z - corner[2]) / step.size)},
+          p.id,
+          std::uint32_t(i)};
     }
     tbb::parallel_sort(keyed.begin(), keyed.end());
     traceMemory("voxel slab " + std::to_string(t) + " sorted", hood.points.size());

@@ -6,9 +6,11 @@
 #include <gdal.h>
 #include <ogr_srs_api.h>
 
+#include <algorithm>
 #include <array>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <mutex>
@@ -217,6 +219,15 @@ void GeoTiffWriter::commit() {
   }
   renameInto(temp_, path_);
   committed_ = true;
+}
+
+void limitGdalCache(std::uint64_t bytes) {
+  const auto limit = static_cast<GIntBig>(std::min<std::uint64_t>(bytes, INT64_MAX));
+  if (GDALGetCacheMax64() > limit) GDALSetCacheMax64(limit);
+}
+
+std::uint64_t gdalCacheLimit() {
+  return std::uint64_t(GDALGetCacheMax64());
 }
 
 void writeGeoTiff(const RasterImage& image, const std::filesystem::path& path) {

@@ -55,6 +55,12 @@ class GeoTiffWriter {
 
 void writeGeoTiff(const RasterImage& image, const std::filesystem::path& path);
 
+// GDAL's block cache is process-wide and by default 5 % of the machine's memory, on top of any
+// budget: the tiles written through GeoTiffWriter wait there. Lowers its limit to `bytes` (never
+// raises it); gdalCacheLimit is the limit in effect.
+void limitGdalCache(std::uint64_t bytes);
+std::uint64_t gdalCacheLimit();
+
 // Band 1 of any raster GDAL reads, as float32, with its geotransform (north-up, square cells),
 // nodata (kRasterNodata where the file states none) and WKT. Throws InputError naming the file
 // for a file GDAL cannot open, a rotated or non-square grid.

@@ -53,11 +53,18 @@ struct RasterGrid {
 
 // The grid covering [minx, maxx] x [miny, maxy] with edges on multiples of `resolution` (the
 // cell rule above). `resolution` must be positive and the bounds finite.
+// Throws std::invalid_argument (naming --resolution) when a side would pass GeoTIFF's 2^31 - 1
+// cells; this and boundedGrid.
 RasterGrid alignedGrid(double minx, double miny, double maxx, double maxy, double resolution);
 
 // The grid with its lower-left corner at (minx, miny) and ceil((max - min) / R) cells a side
 // (--bounds): at least one cell.
 RasterGrid boundedGrid(double minx, double miny, double maxx, double maxy, double resolution);
+
+// Throws std::invalid_argument (naming --resolution) when the grid is more 256 x 256 tiles than
+// a GeoTIFF's tile index holds (2^28: libtiff's 2 GB of offsets, as GDAL checks it, whose own
+// message named neither the option nor the cause). A grid to be written by GeoTiffWriter.
+void checkGeoTiffTiles(const RasterGrid& grid);
 
 // Whether two grids are the same cells (same size and, within a millionth of a cell, the same
 // corner and resolution): rasters that can be subtracted cell by cell.

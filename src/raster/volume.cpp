@@ -1,5 +1,7 @@
 #include "raster/volume.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -17,6 +19,29 @@
 namespace parallax {
 
 namespace {
+
+// The grid is held whole (no --memory bands): the surface's accumulator, the surface, its copy
+// in fillNodata and the difference raster. Refused above the machine's physical memory, before
+// any allocation: at --resolution 1e-4 over a 500 x 1000 polygon (5e13 cells) the allocation
+// failed with a bare "out of memory", and under AddressSanitizer (over its 1 TB allocation
+// limit) aborted; a grid under that limit but over the memory would be killed by the kernel.
+void checkVolumeGridFits(const RasterGrid& grid, const VolumeOptions& options) {
+  const double bytes = double(grid.columns) * double(grid.rows) *
+                       double(CellAccumulator::bytesPerCell(options.surface) + 3 * sizeof(float));
+  const double memory = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGE_SIZE));
+  if (memory > 0 && bytes > memory) {
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "--resolution %g: the polygon's bounding box (%g x %g) makes %lld x %lld cells, "
+                  "%.0f MB held whole, over this machine's %.0f MB of memory: expected a "
+                  "coarser resolution (at least %.3g)",
+                  options.resolution, double(grid.columns) * grid.resolution,
+                  double(grid.rows) * grid.resolution, static_cast<long long>(grid.columns),
+                  static_cast<long long>(grid.rows), bytes / 1048576.0, memory / 1048576.0,
+                  options.resolution * std::sqrt(bytes / memory));
+    throw std::invalid_argument(text);
+  }
+}
 
 // The surface at the centres of the cells the ring crosses, each cell once.
 std::vector<std::array<double, 3>> boundarySamples(const RasterImage& surface,
@@ -153,6 +178,29 @@ VolumeReport computeVolume(const VolumeOptions& options) {
     throw std::invalid_argument("--resolution: expected a positive number of units a cell, found " +
                                 std::to_string(options.resolution));
   }
+  std::error_code same_error;
+  if (!options.raster_out.empty() &&
+      std::filesystem::equivalent(options.raster_out, options.input.path, same_error)) {
+    throw std::invalid_argument("--raster-out " + options.raster_out.string() +
+                                ": is the input point file, which the GeoTIFF would replace: "
+                                "expected another file");
+  }
+  // The raster's folder before the work, as raster checks -o: a missing one failed in GDAL after
+  // the whole computation.
+  if (!options.raster_out.empty()) {
+    const std::filesystem::path folder =
+        options.raster_out.has_parent_path() ? options.raster_out.parent_path() : ".";
+    std::error_code folder_error;
+    if (!std::filesystem::is_directory(folder, folder_error)) {
+      throw std::invalid_argument("--raster-out " + options.raster_out.string() + ": the folder " +
+                                  folder.string() + " does not exist");
+    }
+  }
+  // 0 is the default (10 cells); a negative or non-finite radius is a mistake, as for raster.
+  if (options.fill_radius < 0.0 || !std::isfinite(options.fill_radius)) {
+    throw std::invalid_argument("--fill-radius: expected a positive distance, found " +
+                                std::to_string(options.fill_radius));
+  }
   if (options.surface != RasterValue::Max && options.surface != RasterValue::Mean) {
     throw std::invalid_argument("--surface: expected max or mean");
   }
@@ -165,6 +213,7 @@ VolumeReport computeVolume(const VolumeOptions& options) {
   VolumeReport report;
   report.grid = alignedGrid(minx, miny, maxx, maxy, options.resolution);
   const RasterGrid& grid = report.grid;
+  checkVolumeGridFits(grid, options);
 
   // A base raster first: a wrong one is said before the cloud is read.
   RasterImage base_raster;

@@ -8,8 +8,10 @@ namespace parallax {
 
 namespace {
 
-std::uint64_t cellsAlong(double lo, double hi, double cell) {
-  return std::uint64_t(std::floor((hi - lo) / cell)) + 1;
+// In double: a tiny cell makes more cells than any integer holds (an out-of-range conversion is
+// undefined); the count is exact up to 2^53, far past any grid that is made.
+double cellsAlong(double lo, double hi, double cell) {
+  return std::floor((hi - lo) / cell) + 1.0;
 }
 
 }  // namespace
@@ -19,8 +21,8 @@ ElevationGrid::ElevationGrid(double x0, double y0, double cell, std::size_t nx, 
   assert(cell > 0.0 && nx > 0 && ny > 0 && "a grid needs a positive cell and at least one cell");
 }
 
-std::uint64_t ElevationGrid::cellsCovering(double min_x, double min_y, double max_x, double max_y,
-                                           double cell) {
+double ElevationGrid::cellsCovering(double min_x, double min_y, double max_x, double max_y,
+                                    double cell) {
   return cellsAlong(min_x, max_x, cell) * cellsAlong(min_y, max_y, cell);
 }
 

@@ -26,9 +26,9 @@ class ElevationGrid {
   // corner (the maximum falls in the last cell).
   static ElevationGrid covering(double min_x, double min_y, double max_x, double max_y,
                                 double cell);
-  // Cells the grid covering that box would have (to check a budget before allocating it).
-  static std::uint64_t cellsCovering(double min_x, double min_y, double max_x, double max_y,
-                                     double cell);
+  // Cells the grid covering that box would have (to check a budget before allocating it), as a
+  // double: a tiny cell gives more than 2^64.
+  static double cellsCovering(double min_x, double min_y, double max_x, double max_y, double cell);
 
   std::size_t nx() const { return nx_; }
   std::size_t ny() const { return ny_; }

@@ -243,5 +243,15 @@ TEST(E57Writer, ConvertReportsWhatE57Drops) {
   EXPECT_NE(losses[0].find("normals"), std::string::npos);
 }
 
+// A_B.e57's two scans are written as one: the report says so (it kept quiet, scan_index left out
+// of the report whatever its values); one scan's cloud loses nothing.
+TEST(E57Writer, ConvertReportsScansJoinedIntoOne) {
+  const PointCloud two = readPointFile(test::e57DataFile("A_B.e57"));
+  EXPECT_EQ(
+      describeWriteLosses(two, "out.e57"),
+      (std::vector<std::string>{"scan_index (the points of scans 0 to 1 written as one scan)"}));
+  EXPECT_TRUE(describeWriteLosses(readPointFile(test::e57DataFile("A4.e57")), "out.e57").empty());
+}
+
 }  // namespace
 }  // namespace parallax

@@ -524,6 +524,19 @@ TEST(ProcessSubsample, VoxelKeepsThePointNearestEachOccupiedVoxelsCentroid) {
   EXPECT_EQ(kept, expected);
 }
 
+// A voxel far smaller than the points' spacing holds one point each (a repeated position shares
+// one, the smaller id kept): the voxel coordinates, 1e300 and more, used to be converted to
+// 64-bit integers out of range, and the points at x 1, 2 and 3 fell in one voxel.
+TEST(ProcessSubsample, TinyVoxelKeepsEveryDistinctPoint) {
+  TempDir dir;
+  const auto in =
+      writeCloud(dir, "in.ply", {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {2, 0, 0}});
+  SubsampleStep step;
+  step.size = 1e-300;
+  run(in, dir / "out.ply", {step});
+  EXPECT_EQ(ids(readPointFile(dir / "out.ply")), (std::vector<std::uint32_t>{0, 1, 2, 3}));
+}
+
 // The greedy definition by brute force: columns of width D in x from the minimum x, input order
 // within a column; a point is kept when no point kept before it is closer than D.
 std::vector<std::uint32_t> greedySpacing(const std::vector<Xyz>& points, double d) {
@@ -1072,6 +1085,17 @@ TEST(ProcessSteps, UnavailableStepsAndOutputsFailBeforeAnyWork) {
   DistanceStep distance;
   distance.reference = dir / "missing.ply";
   EXPECT_THROW(run(in, dir / "out.ply", {distance}), InputError);
+  // A point file in a folder that does not exist: an error before any work, and no folder made
+  // (the work folder beside the output made it, and the run succeeded).
+  try {
+    run(in, dir / "missing" / "out.ply", {normals});
+    ADD_FAILURE() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()), "-o " + (dir / "missing" / "out.ply").string() +
+                                         ": the folder " + (dir / "missing").string() +
+                                         " does not exist");
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "missing"));
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 #include "raster/cell_accumulator.h"
 #include "raster/hillshade.h"
@@ -14,6 +16,56 @@ namespace parallax {
 namespace {
 
 constexpr float kNo = kRasterNodata;
+
+// A resolution so fine that a side passes 2^31 - 1 cells is refused with the smallest one that
+// fits, before the count becomes an integer (1e-300 used to give a negative count and an empty
+// raster written without error). 2^31 - 2 cells across an extent of 1 still fit.
+TEST(RasterGrid, ASideOverGeoTiffsLimitIsAnErrorNamingTheResolution) {
+  auto message = [](auto make) -> std::string {
+    try {
+      make();
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(message([] { alignedGrid(0.0, 0.0, 1.0, 1.0, 1e-300); }),
+            "--resolution 1e-300: the extent of 1 in x makes 1e+300 cells, over GeoTIFF's "
+            "2147483647 a side: expected a resolution of at least 4.65661e-10");
+  EXPECT_EQ(message([] { alignedGrid(0.0, 0.0, 0.0, 2.5, 1e-9); }),
+            "--resolution 1e-09: the extent of 2.5 in y makes 2.5e+09 cells, over GeoTIFF's "
+            "2147483647 a side: expected a resolution of at least 1.16415e-09");
+  EXPECT_EQ(message([] { boundedGrid(0.0, 0.0, 1.0, 3.0, 1e-9); }),
+            "--resolution 1e-09: the extent of 3 in y makes 3e+09 cells, over GeoTIFF's "
+            "2147483647 a side: expected a resolution of at least 1.39698e-09");
+  const RasterGrid widest = alignedGrid(0.0, 0.0, 1.0, 0.0, 1.0 / 2147483646.0);
+  EXPECT_EQ(widest.columns, 2147483647);
+  EXPECT_EQ(widest.rows, 1);
+}
+
+// More 256 x 256 tiles than a GeoTIFF's tile index holds (2^28) is refused naming --resolution:
+// A4.e57 (0.65 x 0.46) at 1e-9 is under 2^31 - 1 cells a side and ended in GDAL's "File too
+// large regarding tile size", which named neither (1 / 1e-9 rounds below 1e9: no extra cell).
+// 16384 x 16384 tiles exactly still fit.
+TEST(RasterGrid, MoreTilesThanAGeoTiffIndexHoldsIsAnErrorNamingTheResolution) {
+  auto message = [](const RasterGrid& grid) -> std::string {
+    try {
+      checkGeoTiffTiles(grid);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(message(alignedGrid(0.0, 0.0, 1.0, 1.0, 1e-9)),
+            "--resolution 1e-09: the grid of 1000000000 x 1000000000 cells is 1.52588e+13 tiles "
+            "of 256 x 256, over the 268435456 a GeoTIFF's tile index holds: expected a resolution "
+            "of at least 2.38419e-07");
+  EXPECT_EQ(message(alignedGrid(0.0, 0.0, 4194304.0, 4194303.0, 1.0)),
+            "--resolution 1: the grid of 4194305 x 4194304 cells is 2.68452e+08 tiles of 256 x "
+            "256, over the 268435456 a GeoTIFF's tile index holds: expected a resolution of at "
+            "least 1.00003");
+  EXPECT_EQ(message(alignedGrid(0.0, 0.0, 4194303.0, 4194303.0, 1.0)), "no error");
+}
 
 TEST(RasterGrid, EdgesAlignToTheResolutionAndAPointOnAnEdgeGoesRightAndUp) {
   const RasterGrid grid = alignedGrid(0.3, 0.7, 2.0, 2.9, 0.5);

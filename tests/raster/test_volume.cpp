@@ -210,6 +210,68 @@ TEST(Volume, ABaseRasterThatIsMissingShortOrInAnotherCrsIsAnError) {
   EXPECT_NEAR(computeVolume(options).cut, expected, 0.005 * expected);
 }
 
+// A grid beyond any machine's memory (1e16 cells at 1e-5 over 1000 x 1000; 1000 / 1e-5 rounds
+// below 1e8, so no extra column) is an error that names --resolution, said before the cloud is
+// read; it was a bare std::bad_alloc ("out of memory").
+TEST(Volume, AGridOverTheMachinesMemoryIsAnErrorNamingTheResolution) {
+  TempDir dir;
+  VolumeOptions options = squareAround(writeCloud(dir, slopedBase, cone, 0.5, 1), 1e-5);
+  options.polygon = {{0, 0}, {1000, 0}, {1000, 1000}, {0, 1000}};
+  const std::string message = volumeError<std::invalid_argument>(options);
+  EXPECT_EQ(message.rfind("--resolution 1e-05: the polygon's bounding box (1000 x 1000) makes "
+                          "100000000 x 100000000 cells, 152587890625 MB held whole",
+                          0),
+            0u)
+      << message;
+}
+
+// A negative or non-finite --fill-radius is refused as raster refuses it; it was taken as the
+// default (10 cells) without a word.
+TEST(Volume, ANegativeFillRadiusIsAnError) {
+  TempDir dir;
+  VolumeOptions options = squareAround(writeCloud(dir, slopedBase, cone, 0.5, 1), 0.5);
+  options.fill_radius = -1.0;
+  EXPECT_EQ(volumeError<std::invalid_argument>(options),
+            "--fill-radius: expected a positive distance, found -1.000000");
+  options.fill_radius = std::nan("");
+  EXPECT_EQ(volumeError<std::invalid_argument>(options),
+            "--fill-radius: expected a positive distance, found nan");
+}
+
+// --raster-out naming the input cloud, or in a missing folder, is refused before any work.
+TEST(Volume, ARasterOutThatIsTheInputOrInAMissingFolderIsAnError) {
+  TempDir dir;
+  const auto cloud = writeCloud(dir, slopedBase, cone, 0.5, 1);
+  const std::uintmax_t size = std::filesystem::file_size(cloud);
+  VolumeOptions options = squareAround(cloud, 0.5);
+  options.raster_out = cloud;
+  EXPECT_EQ(
+      volumeError<std::invalid_argument>(options),
+      "--raster-out " + cloud.string() +
+          ": is the input point file, which the GeoTIFF would replace: expected another file");
+  EXPECT_EQ(std::filesystem::file_size(cloud), size);
+  // A raster in a folder that does not exist: said before the work (it was GDAL's error after
+  // it), as raster says it of -o.
+  options.raster_out = dir / "missing" / "d.tif";
+  EXPECT_EQ(volumeError<std::invalid_argument>(options),
+            "--raster-out " + options.raster_out.string() + ": the folder " +
+                (dir / "missing").string() + " does not exist");
+}
+
+// raster's GDAL block cache is within --memory (an eighth of it, at most 64 MB): left at GDAL's
+// default (5 % of the machine's memory) it took B2.e57 at 1e-6 to 3.0 GB resident at 2048 MB.
+TEST(RasterMemory, GdalsBlockCacheIsAnEighthOfTheBudget) {
+  TempDir dir;
+  RasterOptions options;
+  options.input.path = writeCloud(dir, slopedBase, cone, 0.5, 1);
+  options.output = dir / "r.tif";
+  options.resolution = 1.0;
+  options.memory_mb = 16;
+  buildRaster(options);
+  EXPECT_EQ(gdalCacheLimit(), 2u << 20);
+  EXPECT_TRUE(std::filesystem::exists(dir / "r.tif"));
+}
+
 TEST(Volume, FitPlaneNeedsThreePointsNotOnALine) {
   double a, b, c;
   EXPECT_FALSE(fitPlane({{0, 0, 1}, {1, 1, 2}}, a, b, c));

@@ -45,7 +45,7 @@ TEST(ElevationGrid, CellsAreHalfOpenFromTheMinimumCornerAndTheMaximumFallsInTheL
   const ElevationGrid grid = ElevationGrid::covering(10.0, 20.0, 13.0, 21.5, 1.0);
   EXPECT_EQ(grid.nx(), 4u);  // 10-11, 11-12, 12-13 and 13 itself
   EXPECT_EQ(grid.ny(), 2u);
-  EXPECT_EQ(ElevationGrid::cellsCovering(10.0, 20.0, 13.0, 21.5, 1.0), 8u);
+  EXPECT_EQ(ElevationGrid::cellsCovering(10.0, 20.0, 13.0, 21.5, 1.0), 8.0);
   EXPECT_EQ(grid.column(10.0), 0u);
   EXPECT_EQ(grid.column(10.999), 0u);
   EXPECT_EQ(grid.column(11.0), 1u);

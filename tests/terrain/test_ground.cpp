@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <stdexcept>
 
 #include "io/las_writer.h"
@@ -396,6 +397,25 @@ TEST(GroundSmrf, BadParametersAreErrorsNamingTheStep) {
     EXPECT_NE(std::string(e.what()).find("over --memory 1"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(std::filesystem::exists(dir / "out.las"));
+  // A cell so small that the count passes 2^64 (the scene is about 120 x 80: 9.6e21 cells at 1e-9): it was
+  // converted to an integer out of range and the message gave the cell as 0.000000 and a wrapped
+  // count. The count and its MB are read back from the message and checked against the extent.
+  try {
+    run(in, dir / "out.las", "smrf:cell=1e-9", false, 2048);
+    ADD_FAILURE() << "no error";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    const std::string lead = "the cloud's extent at cell 1e-09 is ";
+    const std::size_t at = what.find(lead);
+    ASSERT_NE(at, std::string::npos) << what;
+    std::istringstream rest(what.substr(at + lead.size()));
+    double cells = 0.0, mb = 0.0;
+    std::string word;
+    rest >> cells >> word >> mb;
+    EXPECT_GT(cells, 100e9 * 60e9) << what;
+    EXPECT_LT(cells, 140e9 * 100e9) << what;
+    EXPECT_NEAR(mb, cells * 64 / 1048576.0, 1e-5 * mb) << what;
+  }
 }
 
 }  // namespace

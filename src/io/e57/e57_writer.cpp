@@ -9,6 +9,7 @@
 #include <numbers>
 #include <random>
 
+#include "core/column_names.h"
 #include "io/e57/e57_pages.h"
 #include "io/point_file.h"
 
@@ -311,7 +312,18 @@ std::vector<std::string> describeE57Losses(const PointCloud& cloud) {
   if (cloud.hasClassification()) losses.push_back("classification (E57 points have none)");
   if (cloud.hasColors() && cloud.source.has_alpha) losses.push_back("alpha (E57 has no alpha)");
   for (const ScalarColumn& scalar : cloud.scalars) {
-    if (scalar.name != "scan_index") losses.push_back(scalar.name + " (not written to E57)");
+    if (scalar.name != column_names::kScanIndex) {
+      losses.push_back(scalar.name + " (not written to E57)");
+      continue;
+    }
+    // writeE57 writes one scan: the points of several (A_B.e57's two) become scan 0, and the
+    // report said nothing of it.
+    double last = 0.0;
+    for (std::size_t i = 0; i < cloud.count; ++i) last = std::max(last, scalar.valueAsDouble(i));
+    if (last > 0.0) {
+      losses.push_back("scan_index (the points of scans 0 to " +
+                       std::to_string(std::uint64_t(last)) + " written as one scan)");
+    }
   }
   return losses;
 }
