@@ -33,6 +33,9 @@ class InputError : public std::runtime_error {
 };
 
 // "file: line 12, element 'vertex', property 'x': expected a number, found 'abc'. hint"
+// The message is printable whatever the parts hold: control characters (C0, DEL, C1) and bytes
+// that are not valid UTF-8 are written \xNN, valid UTF-8 is kept; the element and the property,
+// often names read from the file, are cut to their first 120 bytes ("...").
 std::string formatInputError(const InputErrorInfo& info);
 
 // Quotes a piece of untrusted input for a message: at most `max_chars` characters, control

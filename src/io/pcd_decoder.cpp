@@ -450,6 +450,14 @@ struct Records {
   std::uint64_t operator[](std::uint64_t j) const { return begin + (list ? list[j] : j); }
 };
 
+// A colour channel or a classification from a value of any type: rounded and clamped to
+// [0, max], NaN giving 0 (a float field may hold anything; converting NaN to an integer is
+// undefined behaviour, and UBSan stopped the fuzz target on a NaN classification).
+double pcdRoundClamped(double value, double max) {
+  if (std::isnan(value)) return 0.0;
+  return std::clamp(std::nearbyint(value), 0.0, max);
+}
+
 template <class Out, class Convert>
 void decodeComponent(const ComponentView& c, const Records& records, Out* out,
                      std::size_t out_stride, Convert convert) {
@@ -530,19 +538,19 @@ void decodeRecords(const DataView& view, const Layout& layout, std::uint64_t beg
         if (layout.wide_colors) {
           std::uint16_t* out = &cloud.stored_colors[first_index].r + channel;
           decodeComponent(v, records, out, 3, [](auto value) {
-            return std::uint16_t(std::clamp(std::nearbyint(double(value)), 0.0, 65535.0));
+            return std::uint16_t(pcdRoundClamped(double(value), 65535.0));
           });
         } else {
           std::uint8_t* out = &cloud.colors[first_index].r + channel;
           decodeComponent(v, records, out, 4, [](auto value) {
-            return std::uint8_t(std::clamp(std::nearbyint(double(value)), 0.0, 255.0));
+            return std::uint8_t(pcdRoundClamped(double(value), 255.0));
           });
         }
         break;
       }
       case Target::Classification:
         decodeComponent(v, records, &cloud.classification[first_index], 1, [](auto value) {
-          return std::uint8_t(std::clamp(std::nearbyint(double(value)), 0.0, 255.0));
+          return std::uint8_t(pcdRoundClamped(double(value), 255.0));
         });
         break;
       case Target::Nx:

@@ -23,6 +23,29 @@ TEST(InputError, ByteOffsetAndFoundWithoutExpected) {
   EXPECT_STREQ(error.what(), "a.ply: byte offset 4096: end of file");
 }
 
+// A damaged PLY header's names reach the message: control characters and stray bytes must not
+// reach the terminal (the fuzzer's inputs gave element names of 0x04 and 0xff runs, an escape
+// sequence would recolour or rewrite the terminal).
+TEST(InputError, NamesFromTheFileAreEscaped) {
+  InputError error({.file = "a.ply",
+                    .line = 3,
+                    .element = "vert\x1b[2Jex\x04",
+                    .property = "b\x90\xc2\x9b\xc3\xb6\xc3",
+                    .expected = "a number",
+                    .found = "properties a\tb\x7f"});
+  EXPECT_STREQ(error.what(),
+               "a.ply: line 3, element 'vert\\x1b[2Jex\\x04', property "
+               "'b\\x90\\xc2\\x9b\xc3\xb6\\xc3': expected a number, found "
+               "properties a\\x09b\\x7f");
+}
+
+TEST(InputError, LongNamesAreCut) {
+  const std::string name(200, 'n');
+  InputError error({.file = "a.pcd", .property = name, .expected = "a type"});
+  EXPECT_EQ(std::string(error.what()),
+            "a.pcd: property '" + std::string(120, 'n') + "...': expected a type");
+}
+
 TEST(QuoteInput, EscapesControlBytesAndTruncates) {
   EXPECT_EQ(quoteInput("ab\x01"
                        "c"),

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 
 #include "core/error.h"
 #include "io/las_reader.h"
@@ -375,6 +376,24 @@ TEST(PcdFields, SixteenBitChannelsAreStoredAndShownDividedBy257) {
   EXPECT_EQ(small.source.color, ScalarType::UInt8);
   ASSERT_TRUE(small.hasClassification());
   EXPECT_EQ(small.classification[0], 6);
+}
+
+// Float channels and classifications may hold NaN: each gives 0 (converting NaN to an integer is
+// undefined behaviour; UBSan stopped the fuzz target on a NaN classification), infinities clamp.
+TEST(PcdFields, NaNChannelsAndClassificationGiveZero) {
+  const float nan = std::nanf(""), inf = std::numeric_limits<float>::infinity();
+  std::string text = header("x y z classification red green blue", "4 4 4 4 4 4 4", "F F F F F F F",
+                            "1 1 1 1 1 1 1", 2, 1, "binary");
+  for (float v : {0.0f, 0.0f, 0.0f, nan, nan, -inf, 300.0f}) put(text, v);
+  for (float v : {1.0f, 1.0f, 1.0f, 2.4f, 10.6f, inf, nan}) put(text, v);
+  const PointCloud cloud = readString(text);
+  ASSERT_EQ(cloud.count, 2u);
+  ASSERT_TRUE(cloud.hasClassification());
+  EXPECT_EQ(cloud.classification[0], 0);
+  EXPECT_EQ(cloud.classification[1], 2);
+  ASSERT_TRUE(cloud.hasStoredColors());
+  EXPECT_EQ(cloud.stored_colors[0], (Rgb16{0, 0, 300}));
+  EXPECT_EQ(cloud.stored_colors[1], (Rgb16{11, 65535, 0}));
 }
 
 TEST(PcdPdalFiles, Utm17AsciiEqualsItsLasTwinAtFloatPrecisionAndMissingHeaderIsRefused) {
