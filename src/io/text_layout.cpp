@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <span>
 
 #include "core/column_names.h"
 #include "core/error.h"
@@ -163,6 +164,15 @@ std::vector<std::string> commonLayout(std::size_t n) {
   }
 }
 
+// True when every value is written with a decimal point and lies in [0, 1]: colours as
+// fractions. Colours written 0..255 are integers ("112"), so an .xyzrgb file of those keeps them.
+bool unitFractions(std::span<const std::string_view> values) {
+  return std::all_of(values.begin(), values.end(), [](std::string_view token) {
+    double v = -1;
+    return token.find('.') != std::string_view::npos && parseNumber(token, v) && v >= 0 && v <= 1;
+  });
+}
+
 }  // namespace
 
 Layout detectLayout(std::string_view text, const std::string& file,
@@ -226,6 +236,20 @@ Layout detectLayout(std::string_view text, const std::string& file,
                        std::none_of(names_in_comment.begin(), names_in_comment.end(), isNumber);
       if (all_names) {
         for (auto t : names_in_comment) names.emplace_back(t);
+      }
+    }
+    if (names.empty() && values.size() == 6) {
+      // Open3D's fixed layouts, named by the extension alone (open3d/io/file_format/
+      // FilePointCloud*: .xyzn holds x y z nx ny nz, .xyzrgb x y z r g b with colours as
+      // fractions 0..1 printed "%.10f"). Read as the common 6-column layout, normals would be
+      // colours and fractional colours rounded to 0 or 1.
+      const std::string extension = lower(fileExtensionOf(file));
+      if (extension == ".xyzn") {
+        names = {column_names::kX,  column_names::kY,  column_names::kZ,
+                 column_names::kNx, column_names::kNy, column_names::kNz};
+      } else if (extension == ".xyzrgb" && unitFractions(std::span(values).subspan(3))) {
+        names = commonLayout(6);
+        layout.color_scale = 255;
       }
     }
     if (names.empty()) names = commonLayout(values.size());

@@ -61,6 +61,32 @@ TEST(TextReader, ASecondColumnForAModelColumnIsAScalar) {
   EXPECT_EQ(second->valueAsDouble(0), 20.0);
 }
 
+TEST(TextReader, Open3dXyznAndXyzrgbLayouts) {
+  // Lines as Open3D 0.16's write_point_cloud prints them ("%.10f"). Read as the common 6-column
+  // layout, the normals of .xyzn were colours (rounded to 0 or 1) and the colours of .xyzrgb,
+  // fractions of full scale, were rounded to 0 or 1.
+  const std::string normals =
+      "889.7968750000 250.1875000000 468.3593750000 0.3068979979 0.1421974748 -0.9410597682\n";
+  const PointCloud xyzn = readString(normals, "cloud.xyzn");
+  ASSERT_TRUE(xyzn.hasNormals());
+  EXPECT_FALSE(xyzn.hasColors());
+  EXPECT_EQ(xyzn.normals[0], (Float3{0.3068979979f, 0.1421974748f, -0.9410597682f}));
+  EXPECT_EQ(xyzn.worldZ(0), 468.359375);
+
+  // 112/255, 154/255, 1 and 0: Open3D's colours of (112, 154, 255) and (0, 0, 0).
+  const PointCloud xyzrgb = readString(
+      "1 2 3 0.4392156863 0.6039215686 1.0000000000\n4 5 6 0.0000000000 0.0000000000 "
+      "0.0000000000\n",
+      "cloud.xyzrgb");
+  ASSERT_TRUE(xyzrgb.hasColors());
+  EXPECT_EQ(xyzrgb.colors[0], (Rgba8{112, 154, 255, 255}));
+  EXPECT_EQ(xyzrgb.colors[1], (Rgba8{0, 0, 0, 255}));
+  // 0..255 integers under that extension stay as they are; other extensions keep the common
+  // layout.
+  EXPECT_EQ(readString("1 2 3 112 154 1\n", "cloud.xyzrgb").colors[0], (Rgba8{112, 154, 1, 255}));
+  EXPECT_EQ(readString("1 2 3 0.4 0.6 1.0\n", "cloud.txt").colors[0], (Rgba8{0, 1, 1, 255}));
+}
+
 TEST(TextReader, PtsCountLineAndIntensityRgb) {
   PointCloud pts = readString("2\n1 2 3 -1024 10 20 30\n4 5 6 2047 40 50 60\n", "scan.pts");
   ASSERT_EQ(pts.count, 2u);
