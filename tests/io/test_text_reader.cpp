@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "io/point_file.h"
 #include "io/text_writer.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
@@ -232,6 +233,26 @@ TEST(TextReader, BadLinesAreNamedByLineAndColumn) {
   big += "1 2 x\n";
   info = errorOf(big);
   EXPECT_EQ(info.line, 200001u);
+}
+
+TEST(TextWriter, XyzHasAHeaderLineOnlyWhereTheReaderNeedsOne) {
+  // Open3D 0.16's tensor reader refuses an .xyz file with a header line ("Read TXT failed at
+  // line: x y z"): an .xyz whose columns the reader takes by their count is numbers only.
+  test::TempDir dir;
+  const PointCloud xyzrgb = readString("1.5 2 3 10 20 30\n4 5 6 40 50 60\n", "in.txt");
+  const auto plain = dir / "plain.xyz";
+  writeText(xyzrgb, plain, textOptionsForPath(plain));
+  EXPECT_EQ(test::fileBytes(plain), "1.5 2 3 10 20 30\n4.0 5 6 40 50 60\n");
+  const PointCloud back = readPointFile(plain);
+  EXPECT_EQ(back.colors[1], (Rgba8{40, 50, 60, 255}));
+  EXPECT_EQ(back.worldX(0), 1.5);
+  // Other columns need the names; other extensions keep the header line.
+  const PointCloud extra = readString("x y z temperature\n1 2 3 4\n", "in.txt");
+  writeText(extra, plain, textOptionsForPath(plain));
+  EXPECT_EQ(test::fileBytes(plain), "x y z temperature\n1 2 3 4\n");
+  const auto txt = dir / "plain.txt";
+  writeText(xyzrgb, txt, textOptionsForPath(txt));
+  EXPECT_EQ(test::fileBytes(txt).substr(0, 21), "x y z red green blue\n");
 }
 
 TEST(TextReader, DetectedByContent) {
