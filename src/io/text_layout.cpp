@@ -173,6 +173,34 @@ bool unitFractions(std::span<const std::string_view> values) {
   });
 }
 
+bool isColorValue(std::string_view token) {
+  double v = -1;
+  return parseNumber(token, v) && v >= 0 && v <= 255 && v == double(std::int64_t(v));
+}
+
+// Seven numbers a line without names are Leica's x y z intensity r g b (PTS, and Cyclone's text
+// exports) or CloudCompare's x y z r g b and a scalar field (its ASCII export without a header,
+// the scalar often the intensity). Read in the wrong order every value after z is shifted, in
+// silence. CloudCompare's order is taken when, over the first lines, columns 4-6 are always
+// colour values (integers 0..255) and column 7 is at least once not one; else Leica's.
+bool colorsBeforeAScalar(std::string_view body, char delimiter) {
+  const char* p = body.data();
+  const char* const end = p + body.size();
+  bool seventh_not_a_color = false;
+  for (int lines = 0; p < end && lines < 1024; ++lines) {
+    const Line line = lineAt(p, end);
+    p = line.next;
+    if (isCommentOrBlank(line)) continue;
+    const auto values = tokens(line, delimiter);
+    if (values.size() != 7) break;
+    for (std::size_t i = 3; i < 6; ++i) {
+      if (!isColorValue(values[i])) return false;
+    }
+    if (!isColorValue(values[6])) seventh_not_a_color = true;
+  }
+  return seventh_not_a_color;
+}
+
 }  // namespace
 
 Layout detectLayout(std::string_view text, const std::string& file,
@@ -251,6 +279,12 @@ Layout detectLayout(std::string_view text, const std::string& file,
         names = commonLayout(6);
         layout.color_scale = 255;
       }
+    }
+    if (names.empty() && values.size() == 7 && !layout.pts &&
+        colorsBeforeAScalar(std::string_view(p, std::size_t(end - p)), delimiter)) {
+      // CloudCompare's ASCII export without a header: X Y Z R G B, then the scalar field.
+      names = {column_names::kX,        column_names::kY, column_names::kZ, "r", "g", "b",
+               column_names::kIntensity};
     }
     if (names.empty()) names = commonLayout(values.size());
     if (names.empty()) {

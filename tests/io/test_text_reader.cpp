@@ -88,6 +88,25 @@ TEST(TextReader, Open3dXyznAndXyzrgbLayouts) {
   EXPECT_EQ(readString("1 2 3 0.4 0.6 1.0\n", "cloud.txt").colors[0], (Rgba8{0, 1, 1, 255}));
 }
 
+TEST(TextReader, CloudCompareSevenColumnsWithoutAHeader) {
+  // CloudCompare 2.11's "-C_EXPORT_FMT ASC" without -ADD_HEADER, colours and one scalar field:
+  // X Y Z R G B SF. Read in Leica's order (x y z intensity r g b) every value after z moved one
+  // column: intensity 112 (the red), colour 154 114 226 (green, blue and the scalar rounded).
+  const std::string cc =
+      "889.796875000 250.187500000 468.359375000 112 154 114 225.625000000\n"
+      "794.421875000 156.578125000 651.359375000 163 140 173 116.812500000\n";
+  const PointCloud cloud = readString(cc, "cc.asc");
+  ASSERT_TRUE(cloud.hasColors());
+  EXPECT_EQ(cloud.colors[0], (Rgba8{112, 154, 114, 255}));
+  EXPECT_EQ(cloud.colors[1], (Rgba8{163, 140, 173, 255}));
+  EXPECT_EQ(cloud.intensity[1], 116.8125f);
+  // Leica's order where column 4 is no colour value, or where both orders fit (all integers
+  // 0..255), and always in a .pts file.
+  EXPECT_EQ(readString("1 2 3 -1024 10 20 30\n", "t.txt").colors[0], (Rgba8{10, 20, 30, 255}));
+  EXPECT_EQ(readString("1 2 3 7 10 20 30\n", "t.txt").intensity[0], 7.0f);
+  EXPECT_EQ(readString("1\n1 2 3 7 10 20 30.5\n", "t.pts").intensity[0], 7.0f);
+}
+
 TEST(TextReader, PtsCountLineAndIntensityRgb) {
   PointCloud pts = readString("2\n1 2 3 -1024 10 20 30\n4 5 6 2047 40 50 60\n", "scan.pts");
   ASSERT_EQ(pts.count, 2u);
