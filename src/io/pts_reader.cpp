@@ -14,6 +14,7 @@ struct Line {
   std::string_view text;
   std::size_t words = 0;
   bool integer = false;  // one word, all digits
+  bool comment = false;  // '#' or "//" after blanks: skipped, as the text reader skips it
 };
 
 Line lineAt(std::string_view text, std::size_t& pos) {
@@ -29,6 +30,9 @@ Line lineAt(std::string_view text, std::size_t& pos) {
     in_word = !blank;
   }
   line.integer = line.words == 1 && digits;
+  const std::size_t first = line.text.find_first_not_of(" \t\r");
+  line.comment = first != std::string_view::npos &&
+                 (line.text[first] == '#' || line.text.substr(first, 2) == "//");
   return line;
 }
 
@@ -52,7 +56,9 @@ std::uint64_t checkPtsCounts(std::string_view text, const std::string& name) {
   while (pos < text.size()) {
     const Line line = lineAt(text, pos);
     ++line_number;
-    if (line.words == 0) continue;
+    // Comments are no points: CloudCompare's -ADD_HEADER puts "//X Y Z R G B ..." before the
+    // count line (which the text reader takes for the column names).
+    if (line.words == 0 || line.comment) continue;
     if (line.integer) {
       closeScan(line_number - 1);
       started = true;
@@ -74,7 +80,9 @@ std::uint64_t checkPtsCounts(std::string_view text, const std::string& name) {
                         .line = line_number,
                         .element = "scan count",
                         .expected = "a first line holding the point count (PTS)",
-                        .found = quoteInput(line.text)});
+                        .found = quoteInput(line.text),
+                        .hint = "a text file of points named .pts: rename it .txt to read it as "
+                                "text (CloudCompare writes the count with -ADD_PTS_COUNT)"});
     }
     ++seen, ++total;
   }

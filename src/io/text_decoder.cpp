@@ -222,6 +222,7 @@ ParseResult parseLines(std::string_view text, std::size_t begin, std::size_t end
   const char* p = text.data() + begin;
   const char* const end = text.data() + end_byte;
   const char delimiter = layout.delimiter;
+  const double color_scale = layout.color_scale;
   const std::size_t n = layout.columns.size();
   // Positions only: the line is left after its last x, y or z.
   const std::size_t needed = out.positions_only ? layout.lastPositionColumn() + 1 : n;
@@ -326,16 +327,16 @@ ParseResult parseLines(std::string_view text, std::size_t begin, std::size_t end
               break;
             }
             case Target::R:
-              colors[point].r = roundToInteger<std::uint8_t>(v);
+              colors[point].r = roundToInteger<std::uint8_t>(v * color_scale);
               break;
             case Target::G:
-              colors[point].g = roundToInteger<std::uint8_t>(v);
+              colors[point].g = roundToInteger<std::uint8_t>(v * color_scale);
               break;
             case Target::B:
-              colors[point].b = roundToInteger<std::uint8_t>(v);
+              colors[point].b = roundToInteger<std::uint8_t>(v * color_scale);
               break;
             case Target::A:
-              colors[point].a = roundToInteger<std::uint8_t>(v);
+              colors[point].a = roundToInteger<std::uint8_t>(v * color_scale);
               break;
             case Target::Nx:
               normals[point].x = float(v);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <span>
 
 #include "core/column_names.h"
 #include "core/error.h"
@@ -163,6 +164,43 @@ std::vector<std::string> commonLayout(std::size_t n) {
   }
 }
 
+// True when every value is written with a decimal point and lies in [0, 1]: colours as
+// fractions. Colours written 0..255 are integers ("112"), so an .xyzrgb file of those keeps them.
+bool unitFractions(std::span<const std::string_view> values) {
+  return std::all_of(values.begin(), values.end(), [](std::string_view token) {
+    double v = -1;
+    return token.find('.') != std::string_view::npos && parseNumber(token, v) && v >= 0 && v <= 1;
+  });
+}
+
+bool isColorValue(std::string_view token) {
+  double v = -1;
+  return parseNumber(token, v) && v >= 0 && v <= 255 && v == double(std::int64_t(v));
+}
+
+// Seven numbers a line without names are Leica's x y z intensity r g b (PTS, and Cyclone's text
+// exports) or CloudCompare's x y z r g b and a scalar field (its ASCII export without a header,
+// the scalar often the intensity). Read in the wrong order every value after z is shifted, in
+// silence. CloudCompare's order is taken when, over the first lines, columns 4-6 are always
+// colour values (integers 0..255) and column 7 is at least once not one; else Leica's.
+bool colorsBeforeAScalar(std::string_view body, char delimiter) {
+  const char* p = body.data();
+  const char* const end = p + body.size();
+  bool seventh_not_a_color = false;
+  for (int lines = 0; p < end && lines < 1024; ++lines) {
+    const Line line = lineAt(p, end);
+    p = line.next;
+    if (isCommentOrBlank(line)) continue;
+    const auto values = tokens(line, delimiter);
+    if (values.size() != 7) break;
+    for (std::size_t i = 3; i < 6; ++i) {
+      if (!isColorValue(values[i])) return false;
+    }
+    if (!isColorValue(values[6])) seventh_not_a_color = true;
+  }
+  return seventh_not_a_color;
+}
+
 }  // namespace
 
 Layout detectLayout(std::string_view text, const std::string& file,
@@ -227,6 +265,26 @@ Layout detectLayout(std::string_view text, const std::string& file,
       if (all_names) {
         for (auto t : names_in_comment) names.emplace_back(t);
       }
+    }
+    if (names.empty() && values.size() == 6) {
+      // Open3D's fixed layouts, named by the extension alone (open3d/io/file_format/
+      // FilePointCloud*: .xyzn holds x y z nx ny nz, .xyzrgb x y z r g b with colours as
+      // fractions 0..1 printed "%.10f"). Read as the common 6-column layout, normals would be
+      // colours and fractional colours rounded to 0 or 1.
+      const std::string extension = lower(fileExtensionOf(file));
+      if (extension == ".xyzn") {
+        names = {column_names::kX,  column_names::kY,  column_names::kZ,
+                 column_names::kNx, column_names::kNy, column_names::kNz};
+      } else if (extension == ".xyzrgb" && unitFractions(std::span(values).subspan(3))) {
+        names = commonLayout(6);
+        layout.color_scale = 255;
+      }
+    }
+    if (names.empty() && values.size() == 7 && !layout.pts &&
+        colorsBeforeAScalar(std::string_view(p, std::size_t(end - p)), delimiter)) {
+      // CloudCompare's ASCII export without a header: X Y Z R G B, then the scalar field.
+      names = {column_names::kX,        column_names::kY, column_names::kZ, "r", "g", "b",
+               column_names::kIntensity};
     }
     if (names.empty()) names = commonLayout(values.size());
     if (names.empty()) {

@@ -27,6 +27,9 @@ struct ColumnSpec {
 struct Layout {
   char delimiter = ' ';  // ',' ';' or ' ' (any run of blanks)
   bool pts = false;      // one-integer lines are PTS scan counts, skipped
+  // Colour values are fractions of full scale (0..1), not 0..255: Open3D's .xyzrgb. The decoder
+  // multiplies them by this before rounding; 1 for every other layout.
+  double color_scale = 1;
   std::vector<ColumnSpec> columns;
   std::vector<std::pair<std::string, ScalarType>> scalars;  // name and type of each Scalar column
   std::size_t body_offset = 0;                              // the first data line

@@ -9,8 +9,11 @@
 //   - the column names are, in order of precedence: TextReadOptions::columns, a header line (the
 //     first non-comment line when it is not all numbers), the last comment line before the data
 //     when it holds one name per column (CloudCompare writes "//X,Y,Z,R,G,B"), else the common
-//     layouts by column count: 3 xyz, 4 xyz intensity, 6 xyz rgb, 7 xyz intensity rgb (PTS),
-//     9 xyz rgb nx ny nz.
+//     layouts by column count: 3 xyz, 4 xyz intensity, 6 xyz rgb, 7 xyz intensity rgb (PTS;
+//     outside a .pts file xyz rgb intensity, CloudCompare's ASCII export, when columns 4-6 of
+//     the first 1024 lines are integers 0..255 and column 7 is not always one),
+//     9 xyz rgb nx ny nz; Open3D's fixed layouts by extension: .xyzn x y z nx ny nz, .xyzrgb
+//     x y z r g b with colours as fractions 0..1 (scaled to 0..255; integers stay as they are).
 // Names (case-insensitive): x y z; r g b [a] or red green blue [alpha]; nx ny nz or normal_x ...;
 // intensity or i; classification or class; "_" skips a column; any other name is a scalar column
 // (the LAS names of las_reader.h in their LAS types, anything else as double).

@@ -196,6 +196,19 @@ void formatBlock(const PointCloud& cloud, const Plan& plan, std::size_t first, s
   }
 }
 
+// The layouts text_layout.cpp's commonLayout gives a file of 3, 4, 6, 7 or 9 columns without
+// names, under the names this writer prints.
+bool isLayoutReadByCount(const std::vector<std::string>& names) {
+  using namespace column_names;
+  static const std::vector<std::vector<std::string>> kLayouts = {
+      {kX, kY, kZ},
+      {kX, kY, kZ, kIntensity},
+      {kX, kY, kZ, kRed, kGreen, kBlue},
+      {kX, kY, kZ, kIntensity, kRed, kGreen, kBlue},
+      {kX, kY, kZ, kRed, kGreen, kBlue, kNx, kNy, kNz}};
+  return std::find(kLayouts.begin(), kLayouts.end(), names) != kLayouts.end();
+}
+
 }  // namespace
 
 TextWriteOptions textOptionsForPath(const std::filesystem::path& path) {
@@ -205,6 +218,7 @@ TextWriteOptions textOptionsForPath(const std::filesystem::path& path) {
   TextWriteOptions options;
   if (ext == ".csv") options.delimiter = ',';
   if (ext == ".pts") options.pts = true;
+  if (ext == ".xyz") options.header_only_when_needed = true;
   return options;
 }
 
@@ -258,7 +272,8 @@ TextStreamWriter::TextStreamWriter(const std::filesystem::path& path, const Poin
   state_->progress = options.progress;
   if (options.pts) {
     state_->out.write(std::to_string(count) + "\n");
-  } else if (options.header) {
+  } else if (options.header &&
+             !(options.header_only_when_needed && isLayoutReadByCount(plan.names))) {
     std::string line;
     for (std::size_t i = 0; i < plan.names.size(); ++i) {
       if (i) line += plan.delimiter;

@@ -27,15 +27,20 @@ namespace parallax {
 
 struct TextWriteOptions {
   char delimiter = ' ';
-  bool header = true;            // a first line naming the columns
-  bool pts = false;              // PTS layout (overrides delimiter and header)
+  bool header = true;  // a first line naming the columns
+  bool pts = false;    // PTS layout (overrides delimiter and header)
+  // No header line when the columns are a layout the text reader takes by their count (x y z,
+  // x y z intensity, x y z r g b, x y z intensity r g b, x y z r g b nx ny nz): .xyz, whose
+  // readers elsewhere expect numbers only (Open3D 0.16's tensor reader refuses a header line).
+  bool header_only_when_needed = false;
   Progress* progress = nullptr;  // advanced by points written
   // The columns to write, in this order (as PLY's PlyWriteOptions::properties); empty: every
   // attribute in the source's order. Not for PTS (a fixed layout: std::invalid_argument).
   std::vector<std::string> properties;
 };
 
-// The options a path's extension implies: .csv comma-separated, .pts PTS, others blanks.
+// The options a path's extension implies: .csv comma-separated, .pts PTS, others blanks; .xyz
+// without a header line where the reader needs none.
 TextWriteOptions textOptionsForPath(const std::filesystem::path& path);
 
 // What writing `cloud` with `options` would drop (PTS only keeps xyz, intensity and colour).

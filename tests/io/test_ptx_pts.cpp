@@ -207,6 +207,26 @@ TEST(PtsReader, CountLinesWithAndWithoutColourAndTheirErrors) {
   }
 }
 
+TEST(PtsReader, CloudCompareHeaderCommentBeforeTheCount) {
+  // CloudCompare 2.11's "-C_EXPORT_FMT ASC -EXT pts -ADD_HEADER -ADD_PTS_COUNT": the column names
+  // as a comment, then the count. The count check took the comment for a point line before any
+  // count and refused the file; the text reader takes it for the names.
+  const std::string text =
+      "//X Y Z R G B intensity Nx Ny Nz\n2\n"
+      "889.796875000 250.187500000 468.359375000 112 154 114 225.625000000 0.308109 0.142517 "
+      "-0.940615\n"
+      "794.421875000 156.578125000 651.359375000 163 140 173 116.812500000 -0.051091 -0.868550 "
+      "-0.492961\n";
+  const PointCloud cloud = readPtsFromMemory(test::asBytes(text), "cc.pts");
+  ASSERT_EQ(cloud.count, 2u);
+  EXPECT_EQ(cloud.worldX(0), 889.796875);
+  EXPECT_EQ(cloud.colors[1], (Rgba8{163, 140, 173, 255}));
+  EXPECT_EQ(cloud.intensity[0], 225.625f);
+  EXPECT_EQ(cloud.normals[1], (Float3{-0.051091f, -0.868550f, -0.492961f}));
+  // A comment among the points is not counted as one.
+  EXPECT_EQ(readPtsFromMemory(test::asBytes("1\n# scan 1\n1 2 3 4\n"), "t.pts").count, 1u);
+}
+
 TEST(PtsPdalFiles, TestPtsValuesAndAWrittenPtsReadsBack) {
   test::TempDir dir;
   const PointCloud cloud = readPointFile(kPtxData / "pts/test.pts");

@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "io/point_file.h"
 #include "io/text_writer.h"
+#include "support/file_bytes.h"
 #include "support/temp_dir.h"
 
 namespace parallax {
@@ -59,6 +60,51 @@ TEST(TextReader, ASecondColumnForAModelColumnIsAScalar) {
   const ScalarColumn* second = cloud.findScalar("Intensity");
   ASSERT_NE(second, nullptr);
   EXPECT_EQ(second->valueAsDouble(0), 20.0);
+}
+
+TEST(TextReader, Open3dXyznAndXyzrgbLayouts) {
+  // Lines as Open3D 0.16's write_point_cloud prints them ("%.10f"). Read as the common 6-column
+  // layout, the normals of .xyzn were colours (rounded to 0 or 1) and the colours of .xyzrgb,
+  // fractions of full scale, were rounded to 0 or 1.
+  const std::string normals =
+      "889.7968750000 250.1875000000 468.3593750000 0.3068979979 0.1421974748 -0.9410597682\n";
+  const PointCloud xyzn = readString(normals, "cloud.xyzn");
+  ASSERT_TRUE(xyzn.hasNormals());
+  EXPECT_FALSE(xyzn.hasColors());
+  EXPECT_EQ(xyzn.normals[0], (Float3{0.3068979979f, 0.1421974748f, -0.9410597682f}));
+  EXPECT_EQ(xyzn.worldZ(0), 468.359375);
+
+  // 112/255, 154/255, 1 and 0: Open3D's colours of (112, 154, 255) and (0, 0, 0).
+  const PointCloud xyzrgb = readString(
+      "1 2 3 0.4392156863 0.6039215686 1.0000000000\n4 5 6 0.0000000000 0.0000000000 "
+      "0.0000000000\n",
+      "cloud.xyzrgb");
+  ASSERT_TRUE(xyzrgb.hasColors());
+  EXPECT_EQ(xyzrgb.colors[0], (Rgba8{112, 154, 255, 255}));
+  EXPECT_EQ(xyzrgb.colors[1], (Rgba8{0, 0, 0, 255}));
+  // 0..255 integers under that extension stay as they are; other extensions keep the common
+  // layout.
+  EXPECT_EQ(readString("1 2 3 112 154 1\n", "cloud.xyzrgb").colors[0], (Rgba8{112, 154, 1, 255}));
+  EXPECT_EQ(readString("1 2 3 0.4 0.6 1.0\n", "cloud.txt").colors[0], (Rgba8{0, 1, 1, 255}));
+}
+
+TEST(TextReader, CloudCompareSevenColumnsWithoutAHeader) {
+  // CloudCompare 2.11's "-C_EXPORT_FMT ASC" without -ADD_HEADER, colours and one scalar field:
+  // X Y Z R G B SF. Read in Leica's order (x y z intensity r g b) every value after z moved one
+  // column: intensity 112 (the red), colour 154 114 226 (green, blue and the scalar rounded).
+  const std::string cc =
+      "889.796875000 250.187500000 468.359375000 112 154 114 225.625000000\n"
+      "794.421875000 156.578125000 651.359375000 163 140 173 116.812500000\n";
+  const PointCloud cloud = readString(cc, "cc.asc");
+  ASSERT_TRUE(cloud.hasColors());
+  EXPECT_EQ(cloud.colors[0], (Rgba8{112, 154, 114, 255}));
+  EXPECT_EQ(cloud.colors[1], (Rgba8{163, 140, 173, 255}));
+  EXPECT_EQ(cloud.intensity[1], 116.8125f);
+  // Leica's order where column 4 is no colour value, or where both orders fit (all integers
+  // 0..255), and always in a .pts file.
+  EXPECT_EQ(readString("1 2 3 -1024 10 20 30\n", "t.txt").colors[0], (Rgba8{10, 20, 30, 255}));
+  EXPECT_EQ(readString("1 2 3 7 10 20 30\n", "t.txt").intensity[0], 7.0f);
+  EXPECT_EQ(readString("1\n1 2 3 7 10 20 30.5\n", "t.pts").intensity[0], 7.0f);
 }
 
 TEST(TextReader, PtsCountLineAndIntensityRgb) {
@@ -206,6 +252,26 @@ TEST(TextReader, BadLinesAreNamedByLineAndColumn) {
   big += "1 2 x\n";
   info = errorOf(big);
   EXPECT_EQ(info.line, 200001u);
+}
+
+TEST(TextWriter, XyzHasAHeaderLineOnlyWhereTheReaderNeedsOne) {
+  // Open3D 0.16's tensor reader refuses an .xyz file with a header line ("Read TXT failed at
+  // line: x y z"): an .xyz whose columns the reader takes by their count is numbers only.
+  test::TempDir dir;
+  const PointCloud xyzrgb = readString("1.5 2 3 10 20 30\n4 5 6 40 50 60\n", "in.txt");
+  const auto plain = dir / "plain.xyz";
+  writeText(xyzrgb, plain, textOptionsForPath(plain));
+  EXPECT_EQ(test::fileBytes(plain), "1.5 2 3 10 20 30\n4.0 5 6 40 50 60\n");
+  const PointCloud back = readPointFile(plain);
+  EXPECT_EQ(back.colors[1], (Rgba8{40, 50, 60, 255}));
+  EXPECT_EQ(back.worldX(0), 1.5);
+  // Other columns need the names; other extensions keep the header line.
+  const PointCloud extra = readString("x y z temperature\n1 2 3 4\n", "in.txt");
+  writeText(extra, plain, textOptionsForPath(plain));
+  EXPECT_EQ(test::fileBytes(plain), "x y z temperature\n1 2 3 4\n");
+  const auto txt = dir / "plain.txt";
+  writeText(xyzrgb, txt, textOptionsForPath(txt));
+  EXPECT_EQ(test::fileBytes(txt).substr(0, 21), "x y z red green blue\n");
 }
 
 TEST(TextReader, DetectedByContent) {
