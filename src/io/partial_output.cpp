@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
+#include <stdexcept>
 #include <system_error>
 
 namespace parallax {
@@ -128,6 +129,26 @@ PartialCleanup removeStalePartialOutputs(const std::filesystem::path& target) {
     cleanup.removed.push_back(std::move(partial));
   }
   return cleanup;
+}
+
+void requireOutputFolder(const std::filesystem::path& output, const std::string& option) {
+  const std::filesystem::path folder = output.has_parent_path() ? output.parent_path() : ".";
+  std::error_code error;
+  if (!std::filesystem::is_directory(folder, error)) {
+    throw std::invalid_argument(option + " " + output.string() + ": the folder " + folder.string() +
+                                " does not exist");
+  }
+}
+
+void requireOutputIsNotInput(const std::filesystem::path& output,
+                             const std::filesystem::path& input, const std::string& option,
+                             const std::string& kind) {
+  std::error_code error;
+  if (std::filesystem::equivalent(output, input, error)) {
+    throw std::invalid_argument(option + " " + output.string() +
+                                ": is the input point file, which the " + kind +
+                                " would replace: expected another file");
+  }
 }
 
 std::string formatBytes(std::uint64_t bytes) {

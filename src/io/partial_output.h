@@ -55,6 +55,17 @@ std::vector<PartialOutput> findPartialOutputs(const std::filesystem::path& targe
 // as running (left where it is) rather than failing the conversion.
 PartialCleanup removeStalePartialOutputs(const std::filesystem::path& target);
 
+// The checks every command makes of an output before any work, so that a mistake in a path fails
+// at once rather than after hours (GDAL's or a rename's error at the end). `option` names it in
+// messages ("-o", "--raster-out"); both throw std::invalid_argument.
+// The output's folder exists (a point file or a GeoTIFF goes into an existing folder; octree
+// outputs make theirs).
+void requireOutputFolder(const std::filesystem::path& output, const std::string& option);
+// The output is not `input`, which writing a `kind` ("GeoTIFF") over it would replace.
+void requireOutputIsNotInput(const std::filesystem::path& output,
+                             const std::filesystem::path& input, const std::string& option,
+                             const std::string& kind);
+
 // "1.4 GB", "12.0 MB", "512 bytes": for messages.
 std::string formatBytes(std::uint64_t bytes);
 

@@ -16,6 +16,7 @@
 #include "core/point_gather.h"
 #include "io/las_writer.h"
 #include "io/laz_writer.h"
+#include "io/partial_output.h"
 #include "io/ply_writer.h"
 #include "io/text_writer.h"
 #include "lod/copc_converter.h"
@@ -45,15 +46,7 @@ void checkSteps(const ProcessOptions& options) {
   // A point file goes into an existing folder, as convert's and raster's do (an octree's folders
   // are made, as convert makes them). The work folder beside the output used to create the
   // missing ones silently.
-  if (kind == OutputKind::kPointFile) {
-    const std::filesystem::path folder =
-        options.output.has_parent_path() ? options.output.parent_path() : ".";
-    std::error_code error;
-    if (!std::filesystem::is_directory(folder, error)) {
-      throw std::invalid_argument("-o " + options.output.string() + ": the folder " +
-                                  folder.string() + " does not exist");
-    }
-  }
+  if (kind == OutputKind::kPointFile) requireOutputFolder(options.output, "-o");
 }
 
 // The hidden work folder, removed with everything in it however the run ends.

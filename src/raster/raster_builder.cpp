@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "io/partial_output.h"
 #include "io/point_file.h"
 #include "lod/convert_stages.h"
 #include "raster/geotiff.h"
@@ -46,19 +47,10 @@ void checkOptions(const RasterOptions& options) {
   if (options.output.empty()) throw std::invalid_argument("-o: an output file is needed");
   // The cloud is read before the GeoTIFF replaces the output, so naming the input as the output
   // ran and replaced the point file with a GeoTIFF.
-  std::error_code same_error;
-  if (std::filesystem::equivalent(options.output, options.input.path, same_error)) {
-    throw std::invalid_argument("-o " + options.output.string() +
-                                ": is the input point file, which the GeoTIFF would replace: "
-                                "expected another file");
-  }
+  requireOutputIsNotInput(options.output, options.input.path, "-o", "GeoTIFF");
+  requireOutputFolder(options.output, "-o");
   const std::filesystem::path folder =
       options.output.has_parent_path() ? options.output.parent_path() : ".";
-  std::error_code error;
-  if (!std::filesystem::is_directory(folder, error)) {
-    throw std::invalid_argument("-o " + options.output.string() + ": the folder " +
-                                folder.string() + " does not exist");
-  }
   if (::access(folder.c_str(), W_OK) != 0) {
     throw std::invalid_argument("-o " + options.output.string() + ": the folder " +
                                 folder.string() + " is not writable");

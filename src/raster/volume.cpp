@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "core/point_filter.h"
+#include "io/partial_output.h"
 #include "io/point_file.h"
 #include "raster/geotiff.h"
 #include "raster/raster_fill.h"
@@ -178,23 +179,11 @@ VolumeReport computeVolume(const VolumeOptions& options) {
     throw std::invalid_argument("--resolution: expected a positive number of units a cell, found " +
                                 std::to_string(options.resolution));
   }
-  std::error_code same_error;
-  if (!options.raster_out.empty() &&
-      std::filesystem::equivalent(options.raster_out, options.input.path, same_error)) {
-    throw std::invalid_argument("--raster-out " + options.raster_out.string() +
-                                ": is the input point file, which the GeoTIFF would replace: "
-                                "expected another file");
-  }
-  // The raster's folder before the work, as raster checks -o: a missing one failed in GDAL after
+  // The raster's path before the work, as raster checks -o: a missing folder failed in GDAL after
   // the whole computation.
   if (!options.raster_out.empty()) {
-    const std::filesystem::path folder =
-        options.raster_out.has_parent_path() ? options.raster_out.parent_path() : ".";
-    std::error_code folder_error;
-    if (!std::filesystem::is_directory(folder, folder_error)) {
-      throw std::invalid_argument("--raster-out " + options.raster_out.string() + ": the folder " +
-                                  folder.string() + " does not exist");
-    }
+    requireOutputIsNotInput(options.raster_out, options.input.path, "--raster-out", "GeoTIFF");
+    requireOutputFolder(options.raster_out, "--raster-out");
   }
   // 0 is the default (10 cells); a negative or non-finite radius is a mistake, as for raster.
   if (options.fill_radius < 0.0 || !std::isfinite(options.fill_radius)) {
